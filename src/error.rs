@@ -1,0 +1,186 @@
+//! The one error type of freefloat: every variant carries the numbers that explain it.
+
+use std::path::PathBuf;
+
+use crate::model::Configuration;
+
+/// A condition of a feedback transformation's domain of existence (Theorem 1; Figs. 13-14).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Singularity {
+    /// `sin theta2 = 0`: the domain condition of Eqs. (11) and (12).
+    SinTheta2,
+    /// `sigma = 0` (Eq. 9): the robot's posture singularity, where `[g1, g2]` lies in the span
+    /// of `g1, g2`.
+    Sigma,
+    /// `P = 0` (Eq. 13): the boundary between the two branches `sign(P)` of Eq. (14).
+    P,
+    /// An `arcsin` argument of Eq. (14) outside [-1, 1].
+    ArcsinArgument,
+    /// `d = U^2 - 4 f^2 <= 0` (Eq. 15).
+    DNonPositive,
+}
+
+impl std::fmt::Display for Singularity {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Singularity::SinTheta2 => "sin(theta2) = 0",
+            Singularity::Sigma => "sigma = 0 (Eq. 9)",
+            Singularity::P => "P = 0 (Eq. 13)",
+            Singularity::ArcsinArgument => "an arcsin argument of Eq. (14) outside [-1, 1]",
+            Singularity::DNonPositive => "d = U^2 - 4 f^2 <= 0 (Eq. 15)",
+        })
+    }
+}
+
+fn fmt_q(q: &Configuration) -> String {
+    format!(
+        "(phi, theta1, theta2) = ({:.4}, {:.4}, {:.4}) deg",
+        q.phi.to_degrees(),
+        q.theta1.to_degrees(),
+        q.theta2.to_degrees()
+    )
+}
+
+fn fmt_t(t: &Option<f64>) -> String {
+    t.map(|t| format!(" at t = {t:.6} s")).unwrap_or_default()
+}
+
+/// Everything that can go wrong in freefloat.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum Error {
+    /// A parameter is out of range; `name` is the key as the user wrote it.
+    #[error("invalid value {value} for `{name}`: expected {expected}")]
+    InvalidParameter {
+        /// The parameter's name, e.g. `robot.m1` or `--time`.
+        name: String,
+        /// The rejected value.
+        value: f64,
+        /// What is accepted.
+        expected: &'static str,
+    },
+    /// A robot file could not be read or parsed.
+    #[error("cannot read robot file {}: {reason}", path.display())]
+    RobotFile {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong, e.g. the TOML parser's message naming an unknown key.
+        reason: String,
+    },
+    /// A file could not be read or written.
+    #[error("cannot access {}: {source}", path.display())]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The operating system's error.
+        #[source]
+        source: std::io::Error,
+    },
+    /// A transformation was asked for where it does not apply (e.g. Eq. (11) with a != 0).
+    #[error("transformation {transform} is not available here: {reason}")]
+    TransformUnavailable {
+        /// The transformation's name.
+        transform: &'static str,
+        /// Why.
+        reason: &'static str,
+    },
+    /// A configuration lies outside the domain of the feedback transformation: at the start,
+    /// at the goal, or on the planned path at time `t`.
+    #[error(
+        "{where_} {} is outside the domain of {transform}: {which}{} (value {value:.3e}); {hint}",
+        fmt_q(q), fmt_t(t)
+    )]
+    Singular {
+        /// Which condition fails.
+        which: Singularity,
+        /// The transformation.
+        transform: &'static str,
+        /// `start`, `goal` or `path`.
+        where_: &'static str,
+        /// The configuration.
+        q: Configuration,
+        /// Time on the path [s], when on the path.
+        t: Option<f64>,
+        /// The value of the failing function (or, for a crossing, its value on the far side).
+        value: f64,
+        /// What to do about it.
+        hint: &'static str,
+    },
+    /// Start and goal lie in different connected components of the transformation's domain.
+    #[error(
+        "start and goal lie in different components of the domain of {transform}: sign of {which} \
+         is {start_sign:+} at the start and {goal_sign:+} at the goal; no path of this transformation \
+         joins them (try another mounting point, another goal, or `freefloat domain`)"
+    )]
+    DifferentComponents {
+        /// The transformation.
+        transform: &'static str,
+        /// The function whose sign differs.
+        which: Singularity,
+        /// Its sign at the start.
+        start_sign: f64,
+        /// Its sign at the goal.
+        goal_sign: f64,
+    },
+    /// The inverse map's Newton iteration (Sec. 6, item 2) did not converge.
+    #[error(
+        "Newton's method for theta2 did not converge{}: {iterations} iterations, residual \
+         {residual:.3e} (target z2 = {target}); the path probably leaves the domain",
+        fmt_t(t)
+    )]
+    NewtonFailed {
+        /// Iterations made.
+        iterations: usize,
+        /// Last residual `|h3(theta1, theta2) - z2|`.
+        residual: f64,
+        /// The value of `z2` sought.
+        target: f64,
+        /// Time on the path [s].
+        t: Option<f64>,
+    },
+    /// The polynomial steering of Sec. 5 divides by `w2 = zd2 - z02`.
+    #[error(
+        "the polynomial steering of Sec. 5 needs z2 to change between start and goal, but \
+         w2 = zd2 - z02 = {w2:.3e}; choose a slightly different goal"
+    )]
+    DegenerateSteering {
+        /// `zd2 - z02`.
+        w2: f64,
+    },
+    /// The adaptive integrator could not continue.
+    #[error("integration failed at t = {t}: {reason}")]
+    Integration {
+        /// Time reached [s].
+        t: f64,
+        /// Why.
+        reason: &'static str,
+    },
+    /// A plan was computed, but its verification failed the tolerance.
+    #[error(
+        "the plan is not certified: verified final error {final_error:.3e} rad exceeds the \
+         tolerance {tolerance:.1e} rad ({level} level)"
+    )]
+    NotCertified {
+        /// The verified final error [rad].
+        final_error: f64,
+        /// The tolerance [rad].
+        tolerance: f64,
+        /// `velocity` or `torque`.
+        level: &'static str,
+    },
+}
+
+impl Error {
+    /// True when the user's input is at fault (exit code 2); otherwise the problem has no
+    /// certified plan with this method (exit code 3).
+    pub fn is_bad_input(&self) -> bool {
+        matches!(
+            self,
+            Error::InvalidParameter { .. }
+                | Error::RobotFile { .. }
+                | Error::Io { .. }
+                | Error::TransformUnavailable { .. }
+        )
+    }
+}

@@ -1,0 +1,30 @@
+#![doc = include_str!("../README.md")]
+//!
+//! # The pipeline
+//! Motion planning with the Normal Form Approach, after K. Tchoń, J. Ratajczak et al.,
+//! *Normal form approach in the motion planning of space robots: a case study*:
+//!
+//! 1. [`model`]: the robot ([`RobotParams`]) and its lumped constants (Sec. 3.1);
+//! 2. [`system`]: the driftless system (7) at zero angular momentum;
+//! 3. [`normal_form`]: the feedback transformations (11), (12), (14) to the chained form (10);
+//! 4. [`steering`]: polynomial controls of the chained form (Sec. 5);
+//! 5. [`plan`]: the inverse map back to `q` (Sec. 6) and the plan with its certificate;
+//! 6. [`ode`]: the adaptive integrator that verifies every plan.
+
+pub mod error;
+pub mod model;
+pub mod normal_form;
+pub mod ode;
+pub mod plan;
+pub mod steering;
+pub mod system;
+
+pub use error::{Error, Singularity};
+pub use model::{Configuration, Lumped, Mount, RobotParams, paper_problem};
+pub use normal_form::{NormalForm, Transform};
+
+
+/// The scalar type of every formula: `f64` or a (nested) dual number of `num-dual`, so that
+/// exact derivatives come from forward-mode automatic differentiation.
+pub trait Scalar: num_dual::DualNum<Primitive = f64> + Copy {}
+impl<T: num_dual::DualNum<Primitive = f64> + Copy> Scalar for T {}
