@@ -22,6 +22,7 @@ pub mod system;
 pub use error::{Error, Singularity};
 pub use model::{Configuration, Lumped, Mount, RobotParams, paper_problem};
 pub use normal_form::{NormalForm, Transform};
+pub use plan::{Motion, NfaOptions, NormalFormPlanner, Plan, Planner, PlanningProblem, Trajectory};
 
 
 /// The scalar type of every formula: `f64` or a (nested) dual number of `num-dual`, so that

@@ -1,1 +1,510 @@
-//! Planning problems and plans.
+//! Planning problems, planners and plans with their certificates (Secs. 2, 5 and 6).
+//!
+//! A [`Planner`] turns a [`PlanningProblem`] into a [`Plan`]: a sampled [`Trajectory`] plus a
+//! [`Verification`], obtained by integrating the original system (7) with the planned controls,
+//! evaluated exactly at any time through the plan's [`Motion`].
+
+use std::time::Instant;
+
+use num_dual::Dual64;
+use serde::Serialize;
+
+use crate::error::Error;
+use crate::model::{Configuration, RobotParams};
+use crate::normal_form::{NewtonOptions, NormalForm, Transform};
+use crate::ode::{OdeOptions, OdeStats, integrate};
+use crate::steering::PolynomialSteering;
+use crate::system::{velocity, velocity_acceleration};
+
+/// Drive the robot from `start` to `goal` in time `horizon`, joint velocities zero at both
+/// ends, zero angular momentum (SPEC §2).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct PlanningProblem {
+    /// The robot, with its mounting point.
+    pub robot: RobotParams,
+    /// `q0` [rad].
+    pub start: Configuration,
+    /// `qd` [rad], taken literally (not reduced modulo 2 pi).
+    pub goal: Configuration,
+    /// `T` [s].
+    pub horizon: f64,
+}
+
+impl PlanningProblem {
+    /// A validated problem: robot valid, angles finite, `T` finite and positive.
+    pub fn new(robot: RobotParams, start: Configuration, goal: Configuration, horizon: f64) -> Result<Self, Error> {
+        robot.validate()?;
+        for (name, q) in [("start", start), ("goal", goal)] {
+            for (axis, x) in ["phi", "theta1", "theta2"].iter().zip(q.to_array()) {
+                if !x.is_finite() {
+                    return Err(Error::InvalidParameter { name: format!("{name}.{axis}"), value: x, expected: "a finite angle" });
+                }
+            }
+        }
+        if !(horizon.is_finite() && horizon > 0.0) {
+            return Err(Error::InvalidParameter { name: "time".into(), value: horizon, expected: "a positive, finite horizon [s]" });
+        }
+        Ok(Self { robot, start, goal, horizon })
+    }
+
+    /// The paper's problem (Sec. 5) for `robot`: `q0 = (45, 120, 80)` deg,
+    /// `qd = (0, 180, 140)` deg, `T = 10` s.
+    pub fn paper(robot: RobotParams) -> Self {
+        let (start, goal, horizon) = crate::model::paper_problem();
+        Self { robot, start, goal, horizon }
+    }
+}
+
+/// A planned motion, evaluated exactly at any time `t` in `[0, T]`.
+pub trait Motion {
+    /// The horizon `T` [s].
+    fn horizon(&self) -> f64;
+    /// The planned configuration, joint velocities `u` and their derivatives `du` at `t`.
+    fn at(&self, t: f64) -> Result<MotionPoint, Error>;
+    /// The joint velocities `u(t)` [rad/s] alone (the velocity-level control signal).
+    fn controls(&self, t: f64) -> Result<[f64; 2], Error> {
+        Ok(self.at(t)?.u)
+    }
+}
+
+/// A point of a [`Motion`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MotionPoint {
+    /// Planned configuration [rad].
+    pub q: Configuration,
+    /// Joint velocities `(theta1', theta2')` [rad/s]: the controls of system (7).
+    pub u: [f64; 2],
+    /// Their time derivatives [rad/s^2].
+    pub du: [f64; 2],
+}
+
+/// A sampled trajectory, one entry per sample in every column (SI units, radians).
+#[derive(Debug, Clone, Default, PartialEq, Serialize)]
+pub struct Trajectory {
+    /// Times [s].
+    pub t: Vec<f64>,
+    /// Configurations `(phi, theta1, theta2)` [rad].
+    pub q: Vec<[f64; 3]>,
+    /// Velocities `q'` [rad/s]; `(dq[1], dq[2])` are the controls `u`.
+    pub dq: Vec<[f64; 3]>,
+    /// Accelerations `q''` [rad/s^2], when computed.
+    pub ddq: Option<Vec<[f64; 3]>>,
+    /// Chained-form state `z` (NFA only).
+    pub z: Option<Vec<[f64; 3]>>,
+    /// Joint torques `(tau1, tau2)` [N m], when computed.
+    pub tau: Option<Vec<[f64; 2]>>,
+}
+
+/// The certificate of a plan: system (7) integrated from `q0` with the planned controls.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Verification {
+    /// `max_i |wrap(q_i(T) - qd_i)|` [rad] (SPEC §2).
+    pub final_error: f64,
+    /// `q(T)` reached by the integration [rad].
+    pub reached: Configuration,
+    /// Largest `max_i |q_i(t) - q_plan_i(t)|` over the integrator's steps [rad].
+    pub max_path_deviation: f64,
+    /// Tolerance the final error is held to [rad].
+    pub tolerance: f64,
+    /// `final_error <= tolerance`.
+    pub certified: bool,
+    /// Integrator work.
+    pub stats: OdeStats,
+}
+
+/// Wall time of each stage [s].
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize)]
+pub struct Seconds {
+    /// Planning (the velocity-level plan, sampled).
+    pub plan: f64,
+    /// Inverse dynamics, when torques were asked for.
+    pub torques: Option<f64>,
+    /// Verification (integration of system (7)).
+    pub verify: f64,
+}
+
+/// The planning method.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Method {
+    /// Normal Form Approach.
+    Nfa,
+    /// Endogenous Configuration Space Approach.
+    Ecsa,
+}
+
+/// A plan with its certificate.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Plan {
+    /// The method used.
+    pub method: Method,
+    /// The feedback transformation (NFA only).
+    pub transform: Option<Transform>,
+    /// The problem solved.
+    pub problem: PlanningProblem,
+    /// Chained-form start `z0 = h(q0)` (NFA only).
+    pub z0: Option<[f64; 3]>,
+    /// Chained-form goal `zd = h(qd)` (NFA only).
+    pub zd: Option<[f64; 3]>,
+    /// The sampled trajectory.
+    pub trajectory: Trajectory,
+    /// `[max |u1|, max |u2|]` over the samples [rad/s].
+    pub max_abs_u: [f64; 2],
+    /// Smallest `|sigma|` along the samples (domain margin).
+    pub min_abs_sigma: f64,
+    /// Smallest `|P|` along the samples (domain margin).
+    pub min_abs_p: f64,
+    /// Iterations (ECSA only).
+    pub iterations: Option<usize>,
+    /// The velocity-level certificate.
+    pub verification: Verification,
+    /// Wall time per stage.
+    pub seconds: Seconds,
+}
+
+impl Plan {
+    /// The plan if its velocity-level certificate holds, else [`Error::NotCertified`].
+    pub fn certified(&self) -> Result<&Plan, Error> {
+        let v = &self.verification;
+        if v.certified {
+            Ok(self)
+        } else {
+            Err(Error::NotCertified { final_error: v.final_error, tolerance: v.tolerance, level: "velocity" })
+        }
+    }
+}
+
+/// A motion planner (SPEC §2): NFA or ECSA.
+pub trait Planner {
+    /// Short name (`nfa`, `ecsa`).
+    fn name(&self) -> &'static str;
+    /// Plans and verifies. A plan is returned even when its certificate fails (see
+    /// [`Plan::certified`]); errors mean there is no plan at all.
+    fn plan(&self, problem: &PlanningProblem) -> Result<Plan, Error>;
+}
+
+/// Options of the [`NormalFormPlanner`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct NfaOptions {
+    /// The feedback transformation; `None` = SPEC's `auto` ([`Transform::auto`]). Default `None`.
+    pub transform: Option<Transform>,
+    /// Number of samples of the trajectory, including both ends; default 1001.
+    pub samples: usize,
+    /// Compute accelerations `q''` at the samples (exact, by dual numbers); default false.
+    pub accelerations: bool,
+    /// Newton options of the inverse map.
+    pub newton: NewtonOptions,
+    /// Integrator options of the verification (default rtol = atol = 1e-12).
+    pub ode: OdeOptions,
+    /// Tolerance of the verified final error [rad]; default 1e-9 (SPEC §2).
+    pub tolerance: f64,
+}
+
+impl Default for NfaOptions {
+    fn default() -> Self {
+        Self {
+            transform: None,
+            samples: 1001,
+            accelerations: false,
+            newton: NewtonOptions::default(),
+            ode: OdeOptions::default(),
+            tolerance: 1e-9,
+        }
+    }
+}
+
+impl NfaOptions {
+    /// Checks the options (at least two samples, a positive tolerance).
+    pub fn validate(&self) -> Result<(), Error> {
+        if self.samples < 2 {
+            return Err(Error::InvalidParameter { name: "samples".into(), value: self.samples as f64, expected: "at least 2" });
+        }
+        if !(self.tolerance > 0.0) {
+            return Err(Error::InvalidParameter { name: "tolerance".into(), value: self.tolerance, expected: "a positive number [rad]" });
+        }
+        Ok(())
+    }
+}
+
+/// The Normal Form Approach (Sec. 2, Fig. 1): map `q0, qd` to the chained form, steer it with the
+/// polynomial controls of Sec. 5, map the path back (Sec. 6, item 2), verify.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct NormalFormPlanner {
+    /// Options.
+    pub options: NfaOptions,
+}
+
+impl NormalFormPlanner {
+    /// A planner with these options.
+    pub fn new(options: NfaOptions) -> Self {
+        Self { options }
+    }
+
+    /// The velocity-level plan without verification: the exact [`NfaMotion`] and its samples.
+    pub fn motion(&self, problem: &PlanningProblem) -> Result<NfaMotion, Error> {
+        self.options.validate()?;
+        let transform = self.options.transform.unwrap_or_else(|| Transform::auto(&problem.robot));
+        let nf = NormalForm::new(&problem.robot, transform, &problem.start)?.with_newton(self.options.newton);
+        nf.check(&problem.goal, "goal", None)?;
+        let z0 = nf.h(problem.start.to_array());
+        let zd = nf.h(problem.goal.to_array());
+        let steering = PolynomialSteering::new(z0, zd, problem.horizon)?;
+        let mut motion = NfaMotion { nf, steering, t: Vec::new(), q: Vec::new(), u: Vec::new(), margins: (f64::INFINITY, f64::INFINITY) };
+        motion.sample(problem, self.options.samples)?;
+        Ok(motion)
+    }
+}
+
+impl Planner for NormalFormPlanner {
+    fn name(&self) -> &'static str {
+        "nfa"
+    }
+
+    fn plan(&self, problem: &PlanningProblem) -> Result<Plan, Error> {
+        let clock = Instant::now();
+        let motion = self.motion(problem)?;
+        let trajectory = motion.trajectory(problem, self.options.accelerations)?;
+        let plan_seconds = clock.elapsed().as_secs_f64();
+        let (min_abs_sigma, min_abs_p) = motion.margins();
+        let clock = Instant::now();
+        let verification = verify(&motion, problem, &self.options.ode, self.options.tolerance)?;
+        let verify_seconds = clock.elapsed().as_secs_f64();
+        let max_abs_u = max_abs_controls(&trajectory);
+        Ok(Plan {
+            method: Method::Nfa,
+            transform: Some(motion.nf.transform()),
+            problem: *problem,
+            z0: Some(motion.steering.z0),
+            zd: Some(motion.steering.zd),
+            trajectory,
+            max_abs_u,
+            min_abs_sigma,
+            min_abs_p,
+            iterations: None,
+            verification,
+            seconds: Seconds { plan: plan_seconds, torques: None, verify: verify_seconds },
+        })
+    }
+}
+
+/// `[max |u1|, max |u2|]` over a trajectory's samples.
+pub fn max_abs_controls(trajectory: &Trajectory) -> [f64; 2] {
+    trajectory.dq.iter().fold([0.0, 0.0], |m, dq| [m[0].max(dq[1].abs()), m[1].max(dq[2].abs())])
+}
+
+/// The NFA's planned motion: the chained-form path mapped back through the inverse feedback,
+/// exact at any time (the samples only warm-start Newton's method).
+#[derive(Debug, Clone)]
+pub struct NfaMotion {
+    /// The feedback transformation on the start's piece of its domain.
+    pub nf: NormalForm,
+    /// The chained-form path.
+    pub steering: PolynomialSteering,
+    t: Vec<f64>,
+    q: Vec<Configuration>,
+    u: Vec<[f64; 2]>,
+    /// `(min |sigma|, min |P|)` over the samples.
+    margins: (f64, f64),
+}
+
+impl NfaMotion {
+    /// Inverts the path at `samples` equally spaced times, each Newton run warm-started from the
+    /// previous sample (first-order prediction), and checks that the path stays in the domain.
+    fn sample(&mut self, problem: &PlanningProblem, samples: usize) -> Result<(), Error> {
+        let horizon = problem.horizon;
+        let dt = horizon / (samples - 1) as f64;
+        self.t = Vec::with_capacity(samples);
+        self.q = Vec::with_capacity(samples);
+        self.u = Vec::with_capacity(samples);
+        let mut guess = problem.start.theta2;
+        for i in 0..samples {
+            let t = if i + 1 == samples { horizon } else { i as f64 * dt };
+            let p = self.steering.at(t);
+            let q = self.nf.invert(p.z, guess, Some(t))?;
+            let m = self.nf.check(&q, "path", Some(t))?;
+            self.margins = (self.margins.0.min(m.sigma.abs()), self.margins.1.min(m.p.abs()));
+            let u = self.nf.control(q.to_array(), p.v);
+            guess = q.theta2 + u[1] * dt;
+            self.t.push(t);
+            self.q.push(q);
+            self.u.push(u);
+        }
+        Ok(())
+    }
+
+    /// The warm start for Newton at `t`: the nearest sample's theta2, advanced by its u2.
+    fn guess(&self, t: f64) -> f64 {
+        let n = self.t.len();
+        let dt = self.steering.horizon / (n - 1) as f64;
+        let i = ((t / dt).round().max(0.0) as usize).min(n - 1);
+        self.q[i].theta2 + self.u[i][1] * (t - self.t[i])
+    }
+
+    /// The sampled trajectory (with accelerations when asked).
+    pub fn trajectory(&self, problem: &PlanningProblem, accelerations: bool) -> Result<Trajectory, Error> {
+        let k = problem.robot.lumped();
+        let dq = self.q.iter().zip(&self.u).map(|(q, u)| velocity(&k, q.to_array(), *u)).collect();
+        let ddq = if accelerations {
+            let mut ddq = Vec::with_capacity(self.t.len());
+            for (q, &t) in self.q.iter().zip(&self.t) {
+                let m = self.point(*q, t)?;
+                ddq.push(velocity_acceleration(&k, &m.q, m.u, m.du).1);
+            }
+            Some(ddq)
+        } else {
+            None
+        };
+        Ok(Trajectory {
+            t: self.t.clone(),
+            q: self.q.iter().map(|q| q.to_array()).collect(),
+            dq,
+            ddq,
+            z: Some(self.t.iter().map(|&t| self.steering.at(t).z).collect()),
+            tau: None,
+        })
+    }
+
+    /// `(min |sigma|, min |P|)` along the samples: the domain margins.
+    pub fn margins(&self) -> (f64, f64) {
+        self.margins
+    }
+
+    /// The motion at `t` given the planned configuration there: `u` by the inverse feedback and
+    /// `du` exactly, by dual numbers through the polynomial path and the feedback.
+    fn point(&self, q: Configuration, t: f64) -> Result<MotionPoint, Error> {
+        let p = self.steering.at(Dual64::new(t, 1.0));
+        let v = [p.v[0].re, p.v[1].re];
+        let u = self.nf.control(q.to_array(), v);
+        let dq = velocity(self.nf.lumped(), q.to_array(), u);
+        let qa = q.to_array();
+        let qd: [Dual64; 3] = std::array::from_fn(|i| Dual64::new(qa[i], dq[i]));
+        let ud = self.nf.control(qd, p.v);
+        Ok(MotionPoint { q, u, du: [ud[0].eps, ud[1].eps] })
+    }
+}
+
+impl Motion for NfaMotion {
+    fn horizon(&self) -> f64 {
+        self.steering.horizon
+    }
+
+    fn at(&self, t: f64) -> Result<MotionPoint, Error> {
+        let z = self.steering.at(t).z;
+        let q = self.nf.invert(z, self.guess(t), Some(t))?;
+        self.point(q, t)
+    }
+
+    fn controls(&self, t: f64) -> Result<[f64; 2], Error> {
+        let p = self.steering.at(t);
+        let q = self.nf.invert(p.z, self.guess(t), Some(t))?;
+        Ok(self.nf.control(q.to_array(), p.v))
+    }
+}
+
+/// The velocity-level certificate: integrates system (7) from `q0` with `u(t)` of `motion`
+/// (evaluated exactly at every stage time) and measures the final error against the goal.
+pub fn verify(motion: &dyn Motion, problem: &PlanningProblem, ode: &OdeOptions, tolerance: f64) -> Result<Verification, Error> {
+    let k = problem.robot.lumped();
+    let y0 = nalgebra::Vector3::from(problem.start.to_array());
+    let mut deviation: f64 = 0.0;
+    let mut observe_error = None;
+    let (y, stats) = integrate(
+        |t, y: &nalgebra::Vector3<f64>| {
+            let u = motion.controls(t)?;
+            Ok(nalgebra::Vector3::from(velocity(&k, [y[0], y[1], y[2]], u)))
+        },
+        0.0,
+        y0,
+        problem.horizon,
+        ode,
+        |t, y| match motion.at(t) {
+            Ok(p) => {
+                let d = (y - nalgebra::Vector3::from(p.q.to_array())).abs().max();
+                deviation = deviation.max(d);
+            }
+            Err(e) => observe_error = Some(e),
+        },
+    )?;
+    if let Some(e) = observe_error {
+        return Err(e);
+    }
+    let reached = Configuration::new(y[0], y[1], y[2]);
+    let final_error = reached.distance(&problem.goal);
+    Ok(Verification {
+        final_error,
+        reached,
+        max_path_deviation: deviation,
+        tolerance,
+        certified: final_error.is_finite() && final_error <= tolerance,
+        stats,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::Mount;
+
+    fn paper_case(a: f64, transform: Transform) -> Plan {
+        let robot = RobotParams::src().with_mount(Mount::new(a, a).unwrap()).unwrap();
+        let options = NfaOptions { transform: Some(transform), accelerations: true, ..Default::default() };
+        NormalFormPlanner::new(options).plan(&PlanningProblem::paper(robot)).unwrap()
+    }
+
+    /// The paper's five NFA cases (Figs. 4-8) reach the goal with a verified final error
+    /// <= 1e-9 rad, start and end at rest, and the samples hit q0 and qd.
+    #[test]
+    fn paper_cases_are_certified() {
+        for (a, transform) in [(0.0, Transform::Eq11), (0.0, Transform::Eq12), (0.1, Transform::Eq14), (0.2, Transform::Eq14), (0.3, Transform::Eq14)] {
+            let plan = paper_case(a, transform);
+            let v = &plan.verification;
+            assert!(v.final_error <= 1e-9, "a = b = {a}, {transform:?}: final error {}", v.final_error);
+            assert!(v.max_path_deviation <= 1e-9, "deviation {}", v.max_path_deviation);
+            let tr = &plan.trajectory;
+            let (first, last) = (tr.q[0], tr.q[tr.q.len() - 1]);
+            assert!(Configuration::from_array(first).distance(&plan.problem.start) < 1e-12);
+            assert!(Configuration::from_array(last).distance(&plan.problem.goal) < 1e-11);
+            for dq in [tr.dq[0], tr.dq[tr.dq.len() - 1]] {
+                assert!(dq.iter().all(|x| x.abs() < 1e-12), "not at rest: {dq:?}");
+            }
+        }
+    }
+
+    /// The exact `du` of the motion matches a central difference of `u(t)`.
+    #[test]
+    fn control_derivative_matches_finite_difference() {
+        let robot = RobotParams::src().with_mount(Mount::new(0.2, 0.2).unwrap()).unwrap();
+        let motion = NormalFormPlanner::default().motion(&PlanningProblem::paper(robot)).unwrap();
+        for t in [0.7, 3.3, 5.0, 8.9] {
+            let h = 1e-5;
+            let (up, um) = (motion.controls(t + h).unwrap(), motion.controls(t - h).unwrap());
+            let du = motion.at(t).unwrap().du;
+            for i in 0..2 {
+                let fd = (up[i] - um[i]) / (2.0 * h);
+                assert!((fd - du[i]).abs() < 1e-7 * (1.0 + du[i].abs()), "t = {t}: {fd} vs {}", du[i]);
+            }
+        }
+    }
+
+    #[test]
+    fn path_leaving_the_domain_is_an_error() {
+        let robot = RobotParams::src().with_mount(Mount::new(1.0, -1.0).unwrap()).unwrap();
+        let r = NormalFormPlanner::default().plan(&PlanningProblem::paper(robot));
+        assert!(
+            matches!(r, Err(Error::Singular { .. } | Error::NewtonFailed { .. } | Error::DifferentComponents { .. })),
+            "{r:?}"
+        );
+    }
+
+    #[test]
+    fn goal_in_the_other_branch_is_an_error() {
+        let robot = RobotParams::src();
+        let mut problem = PlanningProblem::paper(robot);
+        problem.goal.theta2 = -problem.goal.theta2;
+        for transform in [Transform::Eq11, Transform::Eq12, Transform::Eq14] {
+            let options = NfaOptions { transform: Some(transform), ..Default::default() };
+            let r = NormalFormPlanner::new(options).plan(&problem);
+            assert!(matches!(r, Err(Error::DifferentComponents { .. })), "{transform:?}: {r:?}");
+        }
+    }
+}

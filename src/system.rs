@@ -71,6 +71,18 @@ pub fn velocity<D: Scalar>(k: &Lumped, q: [D; 3], u: [D; 2]) -> [D; 3] {
     [g1[0] * u[0] + g2[0] * u[1], u[0], u[1]]
 }
 
+/// Velocity and acceleration `(q', q'')` along system (7) at `q` with controls `u` and their
+/// time derivatives `du`: `q' = g(q) u`, `q'' = (dg/dq q') u + g(q) du`, exact (dual numbers).
+pub fn velocity_acceleration(k: &Lumped, q: &Configuration, u: [f64; 2], du: [f64; 2]) -> ([f64; 3], [f64; 3]) {
+    use num_dual::Dual64;
+    let qa = q.to_array();
+    let dq = velocity(k, qa, u);
+    let qd: [Dual64; 3] = std::array::from_fn(|i| Dual64::new(qa[i], dq[i]));
+    let ud = [Dual64::new(u[0], du[0]), Dual64::new(u[1], du[1])];
+    let v = velocity(k, qd, ud);
+    (dq, [v[0].eps, v[1].eps, v[2].eps])
+}
+
 /// Angular momentum `F phi' + G theta1' + H theta2'` of Eq. (5) [kg m^2/s] at `q` with velocity
 /// `dq`.
 pub fn momentum(k: &Lumped, q: &Configuration, dq: [f64; 3]) -> f64 {
