@@ -1,1 +1,36 @@
-fn main() {}
+//! Criterion benches of the velocity-level NFA plan (SPEC §5): eq14 with 1001 samples <= 1 ms,
+//! eq11/eq12 <= 0.3 ms. Verification is benched separately and does not count.
+
+use criterion::{Criterion, criterion_group, criterion_main};
+use freefloat::plan::{Motion, verify};
+use freefloat::{Mount, NfaOptions, NormalFormPlanner, PlanningProblem, RobotParams, Transform};
+use std::hint::black_box;
+
+fn problem(a: f64) -> PlanningProblem {
+    PlanningProblem::paper(RobotParams::src().with_mount(Mount::new(a, a).expect("finite")).expect("valid"))
+}
+
+fn bench_plan(c: &mut Criterion) {
+    for (name, a, transform) in [
+        ("eq11", 0.0, Transform::Eq11),
+        ("eq12", 0.0, Transform::Eq12),
+        ("eq14_a0.1", 0.1, Transform::Eq14),
+        ("eq14_a0.3", 0.3, Transform::Eq14),
+    ] {
+        let p = problem(a);
+        let planner = NormalFormPlanner::new(NfaOptions { transform: Some(transform), ..Default::default() });
+        c.bench_function(&format!("nfa_velocity_plan_1001/{name}"), |b| {
+            b.iter(|| {
+                let motion = planner.motion(black_box(&p)).expect("plan");
+                black_box(motion.trajectory(&p, false).expect("trajectory"))
+            })
+        });
+        let motion = planner.motion(&p).expect("plan");
+        c.bench_function(&format!("nfa_verify/{name}"), |b| {
+            b.iter(|| black_box(verify(&motion as &dyn Motion, &p, &Default::default(), 1e-9).expect("verify")))
+        });
+    }
+}
+
+criterion_group!(benches, bench_plan);
+criterion_main!(benches);

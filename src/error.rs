@@ -89,7 +89,8 @@ pub enum Error {
     /// at the goal, or on the planned path at time `t`.
     #[error(
         "{where_} {} is outside the domain of {transform}: {which}{} (value {value:.3e}); {hint}",
-        fmt_q(q), fmt_t(t)
+        fmt_q(q),
+        fmt_t(t)
     )]
     Singular {
         /// Which condition fails.

@@ -12,6 +12,7 @@
 //! 6. [`ode`]: the adaptive integrator that verifies every plan.
 
 pub mod error;
+pub mod io;
 pub mod model;
 pub mod normal_form;
 pub mod ode;
@@ -23,7 +24,6 @@ pub use error::{Error, Singularity};
 pub use model::{Configuration, Lumped, Mount, RobotParams, paper_problem};
 pub use normal_form::{NormalForm, Transform};
 pub use plan::{Motion, NfaOptions, NormalFormPlanner, Plan, Planner, PlanningProblem, Trajectory};
-
 
 /// The scalar type of every formula: `f64` or a (nested) dual number of `num-dual`, so that
 /// exact derivatives come from forward-mode automatic differentiation.

@@ -1,3 +1,17 @@
-fn main() {
-    println!("Hello, world!");
+//! `freefloat`: the command-line shell over the library (SPEC §3). Raw flags are parsed by clap
+//! in [`cli::args`], validated into library types, run, and errors printed with their cause
+//! chain; exit code 2 for bad input, 3 when the problem has no certified plan.
+
+mod cli;
+
+use std::process::ExitCode;
+
+fn main() -> ExitCode {
+    match cli::run() {
+        Ok(code) => code,
+        Err(err) => {
+            eprintln!("error: {err:#}");
+            ExitCode::from(cli::exit_code(&err))
+        }
+    }
 }

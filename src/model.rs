@@ -108,11 +108,7 @@ impl RobotParams {
         for (name, value) in positive {
             check_finite(name, value)?;
             if value <= 0.0 {
-                return Err(Error::InvalidParameter {
-                    name: name.to_string(),
-                    value,
-                    expected: "a positive value",
-                });
+                return Err(Error::InvalidParameter { name: name.to_string(), value, expected: "a positive value" });
             }
         }
         for (name, d, l) in [("robot.d1", self.d1, self.l1), ("robot.d2", self.d2, self.l2)] {
@@ -233,11 +229,7 @@ impl Configuration {
     /// `max_i |wrap(self_i - other_i)|`, angle differences wrapped to (-pi, pi] [rad]: the
     /// final-error measure of SPEC §2.
     pub fn distance(&self, other: &Configuration) -> f64 {
-        self.to_array()
-            .iter()
-            .zip(other.to_array())
-            .map(|(x, y)| wrap_angle(x - y).abs())
-            .fold(0.0, f64::max)
+        self.to_array().iter().zip(other.to_array()).map(|(x, y)| wrap_angle(x - y).abs()).fold(0.0, f64::max)
     }
 }
 

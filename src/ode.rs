@@ -53,15 +53,8 @@ const A: [[f64; 6]; 7] = [
     [35.0 / 384.0, 0.0, 500.0 / 1113.0, 125.0 / 192.0, -2187.0 / 6784.0, 11.0 / 84.0],
 ];
 /// Fifth-order weights minus the embedded fourth-order weights.
-const E: [f64; 7] = [
-    71.0 / 57600.0,
-    0.0,
-    -71.0 / 16695.0,
-    71.0 / 1920.0,
-    -17253.0 / 339200.0,
-    22.0 / 525.0,
-    -1.0 / 40.0,
-];
+const E: [f64; 7] =
+    [71.0 / 57600.0, 0.0, -71.0 / 16695.0, 71.0 / 1920.0, -17253.0 / 339200.0, 22.0 / 525.0, -1.0 / 40.0];
 
 /// Integrates `y' = f(t, y)` from `(t0, y0)` to `t1 > t0`, calling `observe(t, y)` after every
 /// accepted step (and at `t0`). Returns `y(t1)` and the work done.
@@ -209,10 +202,17 @@ mod tests {
     fn step_count_scales_as_fifth_order() {
         let run = |tol: f64| {
             let o = OdeOptions { rtol: tol, atol: tol, ..Default::default() };
-            integrate(|t, y: &Vector2<f64>| Ok(Vector2::new(y[1], -y[0] * (1.0 + 0.1 * t.sin()))), 0.0, Vector2::new(1.0, 0.0), 20.0, &o, |_, _| {})
-                .unwrap()
-                .1
-                .accepted as f64
+            integrate(
+                |t, y: &Vector2<f64>| Ok(Vector2::new(y[1], -y[0] * (1.0 + 0.1 * t.sin()))),
+                0.0,
+                Vector2::new(1.0, 0.0),
+                20.0,
+                &o,
+                |_, _| {},
+            )
+            .unwrap()
+            .1
+            .accepted as f64
         };
         let ratio = run(1e-12) / run(1e-9);
         assert!(ratio > 3.0 && ratio < 5.0, "ratio {ratio}");
@@ -238,7 +238,8 @@ mod tests {
     #[test]
     fn dual_numbers_carry_sensitivities() {
         let y0 = SVector::<Dual64, 1>::new(Dual64::new(2.0, 1.0));
-        let (y, _) = integrate(|_, y: &SVector<Dual64, 1>| Ok(-y), 0.0, y0, 3.0, &OdeOptions::default(), |_, _| {}).unwrap();
+        let (y, _) =
+            integrate(|_, y: &SVector<Dual64, 1>| Ok(-y), 0.0, y0, 3.0, &OdeOptions::default(), |_, _| {}).unwrap();
         assert_relative_eq!(y[0].re, 2.0 * (-3f64).exp(), max_relative = 1e-10);
         assert_relative_eq!(y[0].eps, (-3f64).exp(), max_relative = 1e-10);
     }

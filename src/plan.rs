@@ -37,12 +37,20 @@ impl PlanningProblem {
         for (name, q) in [("start", start), ("goal", goal)] {
             for (axis, x) in ["phi", "theta1", "theta2"].iter().zip(q.to_array()) {
                 if !x.is_finite() {
-                    return Err(Error::InvalidParameter { name: format!("{name}.{axis}"), value: x, expected: "a finite angle" });
+                    return Err(Error::InvalidParameter {
+                        name: format!("{name}.{axis}"),
+                        value: x,
+                        expected: "a finite angle",
+                    });
                 }
             }
         }
         if !(horizon.is_finite() && horizon > 0.0) {
-            return Err(Error::InvalidParameter { name: "time".into(), value: horizon, expected: "a positive, finite horizon [s]" });
+            return Err(Error::InvalidParameter {
+                name: "time".into(),
+                value: horizon,
+                expected: "a positive, finite horizon [s]",
+            });
         }
         Ok(Self { robot, start, goal, horizon })
     }
@@ -217,10 +225,18 @@ impl NfaOptions {
     /// Checks the options (at least two samples, a positive tolerance).
     pub fn validate(&self) -> Result<(), Error> {
         if self.samples < 2 {
-            return Err(Error::InvalidParameter { name: "samples".into(), value: self.samples as f64, expected: "at least 2" });
+            return Err(Error::InvalidParameter {
+                name: "samples".into(),
+                value: self.samples as f64,
+                expected: "at least 2",
+            });
         }
         if !(self.tolerance > 0.0) {
-            return Err(Error::InvalidParameter { name: "tolerance".into(), value: self.tolerance, expected: "a positive number [rad]" });
+            return Err(Error::InvalidParameter {
+                name: "tolerance".into(),
+                value: self.tolerance,
+                expected: "a positive number [rad]",
+            });
         }
         Ok(())
     }
@@ -249,7 +265,14 @@ impl NormalFormPlanner {
         let z0 = nf.h(problem.start.to_array());
         let zd = nf.h(problem.goal.to_array());
         let steering = PolynomialSteering::new(z0, zd, problem.horizon)?;
-        let mut motion = NfaMotion { nf, steering, t: Vec::new(), q: Vec::new(), u: Vec::new(), margins: (f64::INFINITY, f64::INFINITY) };
+        let mut motion = NfaMotion {
+            nf,
+            steering,
+            t: Vec::new(),
+            q: Vec::new(),
+            u: Vec::new(),
+            margins: (f64::INFINITY, f64::INFINITY),
+        };
         motion.sample(problem, self.options.samples)?;
         Ok(motion)
     }
@@ -403,7 +426,12 @@ impl Motion for NfaMotion {
 
 /// The velocity-level certificate: integrates system (7) from `q0` with `u(t)` of `motion`
 /// (evaluated exactly at every stage time) and measures the final error against the goal.
-pub fn verify(motion: &dyn Motion, problem: &PlanningProblem, ode: &OdeOptions, tolerance: f64) -> Result<Verification, Error> {
+pub fn verify(
+    motion: &dyn Motion,
+    problem: &PlanningProblem,
+    ode: &OdeOptions,
+    tolerance: f64,
+) -> Result<Verification, Error> {
     let k = problem.robot.lumped();
     let y0 = nalgebra::Vector3::from(problem.start.to_array());
     let mut deviation: f64 = 0.0;
@@ -455,7 +483,13 @@ mod tests {
     /// <= 1e-9 rad, start and end at rest, and the samples hit q0 and qd.
     #[test]
     fn paper_cases_are_certified() {
-        for (a, transform) in [(0.0, Transform::Eq11), (0.0, Transform::Eq12), (0.1, Transform::Eq14), (0.2, Transform::Eq14), (0.3, Transform::Eq14)] {
+        for (a, transform) in [
+            (0.0, Transform::Eq11),
+            (0.0, Transform::Eq12),
+            (0.1, Transform::Eq14),
+            (0.2, Transform::Eq14),
+            (0.3, Transform::Eq14),
+        ] {
             let plan = paper_case(a, transform);
             let v = &plan.verification;
             assert!(v.final_error <= 1e-9, "a = b = {a}, {transform:?}: final error {}", v.final_error);

@@ -179,6 +179,9 @@ mod tests {
 
     #[test]
     fn zero_w2_is_a_typed_error() {
-        assert!(matches!(PolynomialSteering::new([0.0, 1.0, 0.0], [1.0, 1.0, 0.5], 2.0), Err(Error::DegenerateSteering { .. })));
+        assert!(matches!(
+            PolynomialSteering::new([0.0, 1.0, 0.0], [1.0, 1.0, 0.5], 2.0),
+            Err(Error::DegenerateSteering { .. })
+        ));
     }
 }

@@ -29,7 +29,7 @@ pub fn eq11_control<D: Scalar>(k: &Lumped, q: [D; 3], v: [D; 2]) -> [D; 2] {
 /// Eq. (11), inverse map in closed form: `cos theta2 = -z2 / (2C)` with theta2 kept in its
 /// interval `(n pi, (n+1) pi)`, then `theta1 = (U z1 + B theta2 + C s2 - z3) / I` and
 /// `phi = z1 - theta1`. Returns `None` when `|z2| >= 2C` (the path reaches `sin theta2 = 0`).
-pub fn eq11_invert(k: &Lumped, z: [f64; 3], interval: f64) -> Option<[f64; 3]> {
+pub fn eq11_invert(k: &Lumped, z: [f64; 3], interval: i64) -> Option<[f64; 3]> {
     let t2 = theta2_in_interval(-z[1] / (2.0 * k.C), interval)?;
     let u = k.IP + k.A + k.B;
     let t1 = (u * z[0] + k.B * t2 + k.C * t2.sin() - z[2]) / k.IP;
@@ -70,7 +70,7 @@ pub fn eq12_control<D: Scalar>(k: &Lumped, branch: f64, q: [D; 3], v: [D; 2]) ->
 /// Eq. (12), inverse map in closed form: with `y = -sign(s2) z2 = G/F`,
 /// `cos theta2 = (A + B - y U) / (2 C (y - 1))`; then `phi` from `z3`. `None` when the cosine
 /// leaves (-1, 1).
-pub fn eq12_invert(k: &Lumped, branch: f64, z: [f64; 3], interval: f64) -> Option<[f64; 3]> {
+pub fn eq12_invert(k: &Lumped, branch: f64, z: [f64; 3], interval: i64) -> Option<[f64; 3]> {
     let y = -branch * z[1];
     let u = k.IP + k.A + k.B;
     let t2 = theta2_in_interval((k.A + k.B - y * u) / (2.0 * k.C * (y - 1.0)), interval)?;
@@ -85,11 +85,11 @@ fn centred_fh<D: Scalar>(k: &Lumped, t2: D) -> (D, D) {
 }
 
 /// The theta2 in `(n pi, (n+1) pi)` with the given cosine, `n = interval`.
-fn theta2_in_interval(cos: f64, interval: f64) -> Option<f64> {
+fn theta2_in_interval(cos: f64, interval: i64) -> Option<f64> {
     if !(cos.abs() < 1.0) {
         return None;
     }
-    let n = interval;
     let pi = std::f64::consts::PI;
-    Some(if n.rem_euclid(2.0) < 0.5 { n * pi + cos.acos() } else { (n + 1.0) * pi - cos.acos() })
+    let n = interval as f64;
+    Some(if interval.rem_euclid(2) == 0 { n * pi + cos.acos() } else { (n + 1.0) * pi - cos.acos() })
 }

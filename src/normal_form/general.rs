@@ -87,7 +87,8 @@ pub fn eq14_phi(k: &Lumped, branch: f64, z3: f64, theta1: f64, theta2: f64) -> f
 #[allow(non_snake_case)]
 pub fn r_function_printed(k: &Lumped, theta1: f64, theta2: f64) -> f64 {
     let s = shape(k, theta1, theta2);
-    -0.5 * ((s.F - s.U) / (2.0 * s.f)).asin() + s.Z / (2.0 * s.d.sqrt()) * ((s.F * s.U - s.d) / (2.0 * s.f * s.F)).asin()
+    -0.5 * ((s.F - s.U) / (2.0 * s.f)).asin()
+        + s.Z / (2.0 * s.d.sqrt()) * ((s.F * s.U - s.d) / (2.0 * s.f * s.F)).asin()
 }
 
 /// The literal arcsin arguments of Eq. (14), `((F - U)/(2f), (FU - d)/(2fF))`.

@@ -84,7 +84,7 @@ pub struct NormalForm {
     /// `sign(s2)` (Eqs. 11-12) or `sign(P)` (Eq. 14) on this piece of the domain.
     branch: f64,
     /// `n` with `theta2` in `(n pi, (n+1) pi)` (Eqs. 11-12).
-    interval: f64,
+    interval: i64,
     /// `sign(sigma)` on this piece of the domain.
     sigma_sign: f64,
     /// Scale below which `|sigma|` counts as zero.
@@ -92,6 +92,11 @@ pub struct NormalForm {
     /// Scale below which `|P|` counts as zero.
     p_eps: f64,
     newton: NewtonOptions,
+}
+
+/// `n` with `theta2` in `[n pi, (n+1) pi)`.
+fn theta2_interval(theta2: f64) -> i64 {
+    (theta2 / std::f64::consts::PI).floor() as i64
 }
 
 /// Relative size below which a domain function counts as zero.
@@ -123,7 +128,7 @@ impl NormalForm {
             lumped: k,
             transform,
             branch: 1.0,
-            interval: (start.theta2 / std::f64::consts::PI).floor(),
+            interval: theta2_interval(start.theta2),
             sigma_sign: s.sigma.signum(),
             sigma_eps: ZERO * sigma_scale,
             p_eps: ZERO * p_scale,
@@ -162,14 +167,22 @@ impl NormalForm {
     pub fn check(&self, q: &Configuration, where_: &'static str, t: Option<f64>) -> Result<Margins, Error> {
         let s = shape(&self.lumped, q.theta1, q.theta2);
         let margins = Margins { sigma: s.sigma, p: s.P };
-        let singular = |which, value, hint| Error::Singular { which, transform: self.transform.name(), where_, q: *q, t, value, hint };
+        let singular = |which, value, hint| Error::Singular {
+            which,
+            transform: self.transform.name(),
+            where_,
+            q: *q,
+            t,
+            value,
+            hint,
+        };
         match self.transform {
             Transform::Eq11 | Transform::Eq12 => {
                 let s2 = q.theta2.sin();
                 if s2.abs() <= ZERO {
                     return Err(singular(Singularity::SinTheta2, s2, "move theta2 away from 0 and 180 deg"));
                 }
-                if (q.theta2 / std::f64::consts::PI).floor() != self.interval {
+                if theta2_interval(q.theta2) != self.interval {
                     return Err(match where_ {
                         "goal" => Error::DifferentComponents {
                             transform: self.transform.name(),
@@ -183,20 +196,34 @@ impl NormalForm {
             }
             Transform::Eq14 => {
                 if s.sigma.abs() <= self.sigma_eps {
-                    return Err(singular(Singularity::Sigma, s.sigma, "a posture singularity: choose another configuration"));
+                    return Err(singular(
+                        Singularity::Sigma,
+                        s.sigma,
+                        "a posture singularity: choose another configuration",
+                    ));
                 }
                 if s.P.abs() <= self.p_eps {
-                    return Err(singular(Singularity::P, s.P, "P = 0 separates the branches of Eq. (14): choose another configuration or mounting point"));
+                    return Err(singular(
+                        Singularity::P,
+                        s.P,
+                        "P = 0 separates the branches of Eq. (14): choose another configuration or mounting point",
+                    ));
                 }
                 if !(s.d > 0.0) || !(s.f > 0.0) {
                     return Err(singular(Singularity::DNonPositive, s.d, "this mounting point admits no Eq. (14)"));
                 }
                 let (x1, x2) = general::arcsin_arguments(&self.lumped, q.theta1, q.theta2);
                 if !(x1.abs() <= 1.0 + 1e-12 && x2.abs() <= 1.0 + 1e-12) {
-                    return Err(singular(Singularity::ArcsinArgument, if x1.abs() > 1.0 { x1 } else { x2 }, "check the robot parameters"));
+                    return Err(singular(
+                        Singularity::ArcsinArgument,
+                        if x1.abs() > 1.0 { x1 } else { x2 },
+                        "check the robot parameters",
+                    ));
                 }
-                for (which, value, sign) in [(Singularity::P, s.P, self.branch), (Singularity::Sigma, s.sigma, self.sigma_sign)] {
-                    if value.signum() != sign {
+                for (which, value, sign) in
+                    [(Singularity::P, s.P, self.branch), (Singularity::Sigma, s.sigma, self.sigma_sign)]
+                {
+                    if value * sign <= 0.0 {
                         return Err(match where_ {
                             "goal" => Error::DifferentComponents {
                                 transform: self.transform.name(),
@@ -204,7 +231,11 @@ impl NormalForm {
                                 start_sign: sign,
                                 goal_sign: value.signum(),
                             },
-                            _ => singular(which, value, "the path crosses this curve: the goal is not reachable with this transformation"),
+                            _ => singular(
+                                which,
+                                value,
+                                "the path crosses this curve: the goal is not reachable with this transformation",
+                            ),
                         });
                     }
                 }
@@ -250,7 +281,12 @@ impl NormalForm {
     pub fn invert(&self, z: [f64; 3], theta2_guess: f64, t: Option<f64>) -> Result<Configuration, Error> {
         let k = &self.lumped;
         let closed = |q: Option<[f64; 3]>| {
-            q.map(Configuration::from_array).ok_or(Error::NewtonFailed { iterations: 0, residual: f64::INFINITY, target: z[1], t })
+            q.map(Configuration::from_array).ok_or(Error::NewtonFailed {
+                iterations: 0,
+                residual: f64::INFINITY,
+                target: z[1],
+                t,
+            })
         };
         let q = match self.transform {
             Transform::Eq11 => closed(centred::eq11_invert(k, z, self.interval))?,
@@ -275,7 +311,8 @@ impl NormalForm {
         let opts = &self.newton;
         let residual = |th2: f64| general::h3(k, self.branch, theta1, th2) - z2;
         let mut theta2 = guess;
-        let fail = |iterations, residual: f64| Error::NewtonFailed { iterations, residual: residual.abs(), target: z2, t };
+        let fail =
+            |iterations, residual: f64| Error::NewtonFailed { iterations, residual: residual.abs(), target: z2, t };
         if !self.on_branch(theta1, theta2) {
             return Err(fail(0, f64::INFINITY));
         }

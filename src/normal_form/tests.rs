@@ -62,7 +62,13 @@ fn chained_form_identity(transform: Transform, seed: u64) {
         let v = nf.feedback(qa, u);
         let expected = [v[0], v[1], z[1].re * v[0]];
         for i in 0..3 {
-            assert!(close(z[i].eps, expected[i], 1e-10), "{transform:?} at {q:?}, u {u:?}: dz{} = {} vs {}", i + 1, z[i].eps, expected[i]);
+            assert!(
+                close(z[i].eps, expected[i], 1e-10),
+                "{transform:?} at {q:?}, u {u:?}: dz{} = {} vs {}",
+                i + 1,
+                z[i].eps,
+                expected[i]
+            );
         }
         // The inverse feedback undoes the feedback.
         let back = nf.control(qa, v);
@@ -178,8 +184,14 @@ fn printed_eq12_fails_for_negative_s2() {
 fn singular_start_and_unavailable_transform() {
     let r = RobotParams::src();
     let q = Configuration::new(0.0, 1.0, 0.0);
-    assert!(matches!(NormalForm::new(&r, Transform::Eq12, &q), Err(Error::Singular { which: Singularity::SinTheta2, .. })));
+    assert!(matches!(
+        NormalForm::new(&r, Transform::Eq12, &q),
+        Err(Error::Singular { which: Singularity::SinTheta2, .. })
+    ));
     assert!(matches!(NormalForm::new(&r, Transform::Eq14, &q), Err(Error::Singular { .. })));
     let off = robot(0.1, 0.1);
-    assert!(matches!(NormalForm::new(&off, Transform::Eq11, &Configuration::new(0.0, 1.0, 1.0)), Err(Error::TransformUnavailable { .. })));
+    assert!(matches!(
+        NormalForm::new(&off, Transform::Eq11, &Configuration::new(0.0, 1.0, 1.0)),
+        Err(Error::TransformUnavailable { .. })
+    ));
 }

@@ -1,0 +1,255 @@
+//! Files: the TOML robot file (SPEC §1), the JSON plan report and the CSV trajectory (SPEC §3),
+//! all written atomically (temporary file, then rename).
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+use serde::{Deserialize, Serialize};
+
+use crate::error::Error;
+use crate::model::{Mount, RobotParams};
+use crate::plan::{Plan, Trajectory};
+
+/// The `[robot]` table: every key required.
+#[allow(non_snake_case)]
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RobotTable {
+    l1: f64,
+    l2: f64,
+    d1: f64,
+    d2: f64,
+    M: f64,
+    I: f64,
+    m1: f64,
+    m2: f64,
+}
+
+/// The `[mount]` table: optional, default `a = b = 0`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct MountTable {
+    a: f64,
+    b: f64,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RobotFile {
+    robot: RobotTable,
+    mount: Option<MountTable>,
+}
+
+impl RobotParams {
+    /// Parses and validates a robot file's text (SPEC §1). Unknown keys are errors.
+    ///
+    /// ```
+    /// let text = "[robot]\nl1 = 0.619\nl2 = 0.6\nd1 = 0.313\nd2 = 0.287\nM = 12.9\nI = 0.208\nm1 = 4.5\nm2 = 1.5\n[mount]\na = 0.1\nb = 0.1\n";
+    /// let robot = freefloat::RobotParams::from_toml(text, "robot.toml".as_ref()).unwrap();
+    /// assert_eq!(robot.mount.a, 0.1);
+    /// ```
+    pub fn from_toml(text: &str, path: &Path) -> Result<Self, Error> {
+        let file: RobotFile =
+            toml::from_str(text).map_err(|e| Error::RobotFile { path: path.to_path_buf(), reason: e.to_string() })?;
+        let r = file.robot;
+        let mount = file.mount.map(|m| Mount { a: m.a, b: m.b }).unwrap_or_default();
+        RobotParams::new(RobotParams {
+            l1: r.l1,
+            l2: r.l2,
+            d1: r.d1,
+            d2: r.d2,
+            base_mass: r.M,
+            base_inertia: r.I,
+            m1: r.m1,
+            m2: r.m2,
+            mount,
+        })
+    }
+
+    /// Reads and validates a robot file.
+    pub fn load(path: &Path) -> Result<Self, Error> {
+        let text = std::fs::read_to_string(path).map_err(|source| Error::Io { path: path.to_path_buf(), source })?;
+        Self::from_toml(&text, path)
+    }
+}
+
+/// Writes `bytes` to `path` atomically: a temporary file beside it, then a rename, so that a
+/// crash never leaves a half-written result.
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), Error> {
+    let io = |source| Error::Io { path: path.to_path_buf(), source };
+    let dir = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    let tmp = dir.join(format!(".{name}.{}.tmp", std::process::id()));
+    let result = (|| {
+        let mut f = std::fs::File::create(&tmp)?;
+        f.write_all(bytes)?;
+        f.sync_all()?;
+        std::fs::rename(&tmp, path)
+    })();
+    if result.is_err() {
+        let _cleanup = std::fs::remove_file(&tmp);
+    }
+    result.map_err(io)
+}
+
+/// The CSV header of SPEC §3.
+pub const CSV_HEADER: [&str; 15] = [
+    "t", "phi", "theta1", "theta2", "dphi", "dtheta1", "dtheta2", "ddphi", "ddtheta1", "ddtheta2", "z1", "z2", "z3",
+    "tau1", "tau2",
+];
+
+/// The trajectory as CSV (SPEC §3): one row per sample, SI units, radians, empty cells where a
+/// column does not apply.
+pub fn trajectory_csv(trajectory: &Trajectory) -> Result<Vec<u8>, Error> {
+    let mut w = csv::Writer::from_writer(Vec::new());
+    let csv_err =
+        |e: csv::Error| Error::Io { path: PathBuf::from("<csv>"), source: std::io::Error::other(e.to_string()) };
+    w.write_record(CSV_HEADER).map_err(csv_err)?;
+    let cell = |x: Option<f64>| x.map(|v| format!("{v:.17e}")).unwrap_or_default();
+    for i in 0..trajectory.t.len() {
+        let mut row = Vec::with_capacity(15);
+        row.push(cell(Some(trajectory.t[i])));
+        row.extend(trajectory.q[i].iter().map(|&x| cell(Some(x))));
+        row.extend(trajectory.dq[i].iter().map(|&x| cell(Some(x))));
+        for j in 0..3 {
+            row.push(cell(trajectory.ddq.as_ref().map(|a| a[i][j])));
+        }
+        for j in 0..3 {
+            row.push(cell(trajectory.z.as_ref().map(|a| a[i][j])));
+        }
+        for j in 0..2 {
+            row.push(cell(trajectory.tau.as_ref().map(|a| a[i][j])));
+        }
+        w.write_record(&row).map_err(csv_err)?;
+    }
+    w.into_inner().map_err(|e| Error::Io { path: PathBuf::from("<csv>"), source: std::io::Error::other(e.to_string()) })
+}
+
+/// The JSON report of a plan (SPEC §3: every required key, radians inside).
+#[derive(Debug, Clone, Serialize)]
+pub struct PlanReport {
+    /// `nfa` or `ecsa`.
+    pub method: crate::plan::Method,
+    /// Transformation (null for ECSA).
+    pub transform: Option<crate::normal_form::Transform>,
+    /// `[a, b]` [m].
+    pub mount: [f64; 2],
+    /// Horizon [s].
+    pub time: f64,
+    /// Number of samples.
+    pub samples: usize,
+    /// Start `[phi, theta1, theta2]` [rad].
+    pub start: [f64; 3],
+    /// Goal [rad].
+    pub goal: [f64; 3],
+    /// Chained-form start (NFA only).
+    pub z0: Option<[f64; 3]>,
+    /// Chained-form goal (NFA only).
+    pub zd: Option<[f64; 3]>,
+    /// Verified final error of the velocity plan [rad].
+    pub final_error: f64,
+    /// Tolerance of the final error [rad].
+    pub tolerance: f64,
+    /// Whether every certificate holds.
+    pub certified: bool,
+    /// `q(T)` reached by the verification [rad].
+    pub reached: [f64; 3],
+    /// Largest deviation of the verification from the planned path [rad].
+    pub max_path_deviation: f64,
+    /// `[max|u1|, max|u2|]` [rad/s].
+    pub max_abs_u: [f64; 2],
+    /// Smallest `|sigma|` along the path.
+    pub min_abs_sigma: f64,
+    /// Smallest `|P|` along the path.
+    pub min_abs_p: f64,
+    /// `[max|tau1|, max|tau2|]` [N m] (with torques).
+    pub max_abs_torque: Option<[f64; 2]>,
+    /// Verified final error of the torque plan [rad] (with torques).
+    pub torque_final_error: Option<f64>,
+    /// Wall time per stage [s].
+    pub seconds: crate::plan::Seconds,
+    /// ECSA iterations (null for NFA).
+    pub iterations: Option<usize>,
+    /// Accepted steps of the verification's integrator.
+    pub verify_steps: usize,
+    /// The trajectory (only in `--out FILE.json`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub trajectory: Option<Trajectory>,
+}
+
+impl PlanReport {
+    /// The report of `plan`, with the trajectory when `with_trajectory`.
+    pub fn new(plan: &Plan, with_trajectory: bool) -> Self {
+        let p = &plan.problem;
+        let v = &plan.verification;
+        Self {
+            method: plan.method,
+            transform: plan.transform,
+            mount: [p.robot.mount.a, p.robot.mount.b],
+            time: p.horizon,
+            samples: plan.trajectory.t.len(),
+            start: p.start.to_array(),
+            goal: p.goal.to_array(),
+            z0: plan.z0,
+            zd: plan.zd,
+            final_error: v.final_error,
+            tolerance: v.tolerance,
+            certified: v.certified,
+            reached: v.reached.to_array(),
+            max_path_deviation: v.max_path_deviation,
+            max_abs_u: plan.max_abs_u,
+            min_abs_sigma: plan.min_abs_sigma,
+            min_abs_p: plan.min_abs_p,
+            max_abs_torque: None,
+            torque_final_error: None,
+            seconds: plan.seconds,
+            iterations: plan.iterations,
+            verify_steps: v.stats.accepted,
+            trajectory: with_trajectory.then(|| plan.trajectory.clone()),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const GOOD: &str =
+        "[robot]\nl1 = 0.619\nl2 = 0.6\nd1 = 0.313\nd2 = 0.287\nM = 12.9\nI = 0.208\nm1 = 4.5\nm2 = 1.5\n";
+
+    #[test]
+    fn robot_file_round_trip_and_errors() {
+        let p = Path::new("r.toml");
+        assert_eq!(RobotParams::from_toml(GOOD, p).unwrap(), RobotParams::src());
+        let unknown = format!("{GOOD}m3 = 1.0\n");
+        let e = RobotParams::from_toml(&unknown, p).unwrap_err().to_string();
+        assert!(e.contains("m3"), "{e}");
+        let missing = GOOD.replace("m2 = 1.5\n", "");
+        assert!(RobotParams::from_toml(&missing, p).unwrap_err().to_string().contains("m2"));
+        for (key, bad) in [("M", "-12.9"), ("I", "nan"), ("l1", "inf"), ("d1", "0.0"), ("m1", "0")] {
+            let text = GOOD.replace(&format!("{key} = "), &format!("{key} = {bad} #"));
+            let e = RobotParams::from_toml(&text, p).unwrap_err();
+            assert!(
+                matches!(&e, Error::InvalidParameter { name, .. } if name == &format!("robot.{key}")),
+                "{key}: {e}"
+            );
+        }
+        let mount = format!("{GOOD}[mount]\na = 0.1\nc = 0.2\n");
+        assert!(RobotParams::from_toml(&mount, p).unwrap_err().to_string().contains('c'));
+    }
+
+    #[test]
+    fn atomic_write_replaces_whole_file() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("out.json");
+        write_atomic(&path, b"first").unwrap();
+        write_atomic(&path, b"second").unwrap();
+        assert_eq!(std::fs::read(&path).unwrap(), b"second");
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
+        let e = write_atomic(&dir.path().join("no/such/dir/x.json"), b"x");
+        assert!(matches!(e, Err(Error::Io { .. })));
+    }
+}
