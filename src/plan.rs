@@ -340,6 +340,7 @@ impl NfaMotion {
         self.q = Vec::with_capacity(samples);
         self.u = Vec::with_capacity(samples);
         let mut guess = problem.start.theta2;
+        let mut previous_u2 = 0.0;
         for i in 0..samples {
             let t = if i + 1 == samples { horizon } else { i as f64 * dt };
             let p = self.steering.at(t);
@@ -347,7 +348,9 @@ impl NfaMotion {
             let m = self.nf.check(&q, "path", Some(t))?;
             self.margins = (self.margins.0.min(m.sigma.abs()), self.margins.1.min(m.p.abs()));
             let u = self.nf.control(q.to_array(), p.v);
-            guess = q.theta2 + u[1] * dt;
+            // Two-step Adams–Bashforth prediction of the next theta2 (error O(dt^3)).
+            guess = q.theta2 + dt * (1.5 * u[1] - 0.5 * previous_u2);
+            previous_u2 = u[1];
             self.t.push(t);
             self.q.push(q);
             self.u.push(u);

@@ -212,7 +212,7 @@ impl NormalForm {
                 if !(s.d > 0.0) || !(s.f > 0.0) {
                     return Err(singular(Singularity::DNonPositive, s.d, "this mounting point admits no Eq. (14)"));
                 }
-                let (x1, x2) = general::arcsin_arguments(&self.lumped, q.theta1, q.theta2);
+                let (x1, x2) = general::arcsin_arguments(&s);
                 if !(x1.abs() <= 1.0 + 1e-12 && x2.abs() <= 1.0 + 1e-12) {
                     return Err(singular(
                         Singularity::ArcsinArgument,
@@ -303,23 +303,26 @@ impl NormalForm {
     /// True when `(theta1, theta2)` is on this branch of Eq. (14) with the start's sign of sigma.
     fn on_branch(&self, theta1: f64, theta2: f64) -> bool {
         let s = shape(&self.lumped, theta1, theta2);
-        s.P * self.branch > self.p_eps && s.sigma * self.sigma_sign > self.sigma_eps
+        self.on_branch_values(s.P, s.sigma)
+    }
+
+    fn on_branch_values(&self, p: f64, sigma: f64) -> bool {
+        p * self.branch > self.p_eps && sigma * self.sigma_sign > self.sigma_eps
     }
 
     fn newton_theta2(&self, theta1: f64, z2: f64, guess: f64, t: Option<f64>) -> Result<f64, Error> {
         let k = &self.lumped;
         let opts = &self.newton;
-        let residual = |th2: f64| general::h3(k, self.branch, theta1, th2) - z2;
-        let mut theta2 = guess;
         let fail =
             |iterations, residual: f64| Error::NewtonFailed { iterations, residual: residual.abs(), target: z2, t };
-        if !self.on_branch(theta1, theta2) {
+        let mut theta2 = guess;
+        let mut point = general::newton_point(k, self.branch, theta1, theta2);
+        if !self.on_branch_values(point.p, point.sigma) {
             return Err(fail(0, f64::INFINITY));
         }
-        let mut r = residual(theta2);
+        let mut r = point.h3 - z2;
         for iteration in 1..=opts.max_iterations {
-            let slope = general::dh3_dtheta2(k, self.branch, theta1, theta2);
-            let full = -r / slope;
+            let full = -r / point.slope;
             if full.abs() <= opts.step_tolerance * (1.0 + theta2.abs()) {
                 // Quadratic convergence: the next correction is below rounding.
                 return Ok(theta2 + full);
@@ -329,14 +332,13 @@ impl NormalForm {
             let mut accepted = false;
             for _ in 0..60 {
                 let trial = theta2 + step;
-                if self.on_branch(theta1, trial) {
-                    let rt = residual(trial);
-                    if rt.abs() < r.abs() {
-                        theta2 = trial;
-                        r = rt;
-                        accepted = true;
-                        break;
-                    }
+                let p = general::newton_point(k, self.branch, theta1, trial);
+                if self.on_branch_values(p.p, p.sigma) && (p.h3 - z2).abs() < r.abs() {
+                    theta2 = trial;
+                    point = p;
+                    r = p.h3 - z2;
+                    accepted = true;
+                    break;
                 }
                 step *= 0.5;
             }
