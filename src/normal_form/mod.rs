@@ -301,11 +301,13 @@ impl NormalForm {
     }
 
     /// True when `(theta1, theta2)` is on this branch of Eq. (14) with the start's sign of sigma.
+    #[cfg(test)]
     fn on_branch(&self, theta1: f64, theta2: f64) -> bool {
         let s = shape(&self.lumped, theta1, theta2);
         self.on_branch_values(s.P, s.sigma)
     }
 
+    /// [`Self::on_branch`] from the values of `P` and `sigma`.
     fn on_branch_values(&self, p: f64, sigma: f64) -> bool {
         p * self.branch > self.p_eps && sigma * self.sigma_sign > self.sigma_eps
     }
