@@ -33,13 +33,24 @@ impl std::fmt::Display for Singularity {
     }
 }
 
-fn fmt_q(q: &Configuration) -> String {
-    format!(
-        "(phi, theta1, theta2) = ({:.4}, {:.4}, {:.4}) deg",
-        q.phi.to_degrees(),
-        q.theta1.to_degrees(),
-        q.theta2.to_degrees()
-    )
+fn fmt_q(q: &Option<Configuration>) -> String {
+    q.map(|q| {
+        format!(
+            " (phi, theta1, theta2) = ({:.4}, {:.4}, {:.4}) deg",
+            q.phi.to_degrees(),
+            q.theta1.to_degrees(),
+            q.theta2.to_degrees()
+        )
+    })
+    .unwrap_or_default()
+}
+
+fn fmt_newton(iterations: usize, residual: f64, guess: f64) -> String {
+    if residual.is_finite() {
+        format!("{iterations} iterations from theta2 = {:.4} deg, residual {residual:.3e}", guess.to_degrees())
+    } else {
+        format!("the warm start theta2 = {:.4} deg is already off the branch", guess.to_degrees())
+    }
 }
 
 fn fmt_t(t: &Option<f64>) -> String {
@@ -88,7 +99,7 @@ pub enum Error {
     /// A configuration lies outside the domain of the feedback transformation: at the start,
     /// at the goal, or on the planned path at time `t`.
     #[error(
-        "{where_} {} is outside the domain of {transform}: {which}{} (value {value:.3e}); {hint}",
+        "{where_}{} is outside the domain of {transform}: {which}{} (value {value:.3e}); {hint}",
         fmt_q(q),
         fmt_t(t)
     )]
@@ -99,8 +110,8 @@ pub enum Error {
         transform: &'static str,
         /// `start`, `goal` or `path`.
         where_: &'static str,
-        /// The configuration.
-        q: Configuration,
+        /// The configuration, when known.
+        q: Option<Configuration>,
         /// Time on the path [s], when on the path.
         t: Option<f64>,
         /// The value of the failing function (or, for a crossing, its value on the far side).
@@ -126,17 +137,19 @@ pub enum Error {
     },
     /// The inverse map's Newton iteration (Sec. 6, item 2) did not converge.
     #[error(
-        "Newton's method for theta2 did not converge{}: {iterations} iterations, residual \
-         {residual:.3e} (target z2 = {target}); the path probably leaves the domain",
-        fmt_t(t)
+        "Newton's method for theta2 did not converge{}: {}; target z2 = {target:.6}: the path \
+         probably leaves the domain of the transformation (see `freefloat domain`)",
+        fmt_t(t), fmt_newton(*iterations, *residual, *guess)
     )]
     NewtonFailed {
         /// Iterations made.
         iterations: usize,
-        /// Last residual `|h3(theta1, theta2) - z2|`.
+        /// Last residual `|h3(theta1, theta2) - z2|` (infinite when the start was off the branch).
         residual: f64,
         /// The value of `z2` sought.
         target: f64,
+        /// The warm start [rad].
+        guess: f64,
         /// Time on the path [s].
         t: Option<f64>,
     },

@@ -171,7 +171,7 @@ impl NormalForm {
             which,
             transform: self.transform.name(),
             where_,
-            q: *q,
+            q: Some(*q),
             t,
             value,
             hint,
@@ -281,11 +281,14 @@ impl NormalForm {
     pub fn invert(&self, z: [f64; 3], theta2_guess: f64, t: Option<f64>) -> Result<Configuration, Error> {
         let k = &self.lumped;
         let closed = |q: Option<[f64; 3]>| {
-            q.map(Configuration::from_array).ok_or(Error::NewtonFailed {
-                iterations: 0,
-                residual: f64::INFINITY,
-                target: z[1],
+            q.map(Configuration::from_array).ok_or(Error::Singular {
+                which: Singularity::SinTheta2,
+                transform: self.transform.name(),
+                where_: "path",
+                q: None,
                 t,
+                value: z[1],
+                hint: "z2 leaves the range of Eq. (11)/(12): the path reaches sin(theta2) = 0",
             })
         };
         let q = match self.transform {
@@ -315,8 +318,13 @@ impl NormalForm {
     fn newton_theta2(&self, theta1: f64, z2: f64, guess: f64, t: Option<f64>) -> Result<f64, Error> {
         let k = &self.lumped;
         let opts = &self.newton;
-        let fail =
-            |iterations, residual: f64| Error::NewtonFailed { iterations, residual: residual.abs(), target: z2, t };
+        let fail = |iterations, residual: f64| Error::NewtonFailed {
+            iterations,
+            residual: residual.abs(),
+            target: z2,
+            guess,
+            t,
+        };
         let mut theta2 = guess;
         let mut point = general::newton_point(k, self.branch, theta1, theta2);
         if !self.on_branch_values(point.p, point.sigma) {

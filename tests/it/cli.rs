@@ -1,0 +1,162 @@
+//! `freefloat` as a user runs it: outputs, exit codes (0 ok, 2 bad input, 3 no certified plan),
+//! and error messages that name what is wrong.
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn freefloat(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_freefloat")).args(args).output().expect("the binary runs")
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+const ROBOT: &str = "[robot]\nl1 = 0.619\nl2 = 0.6\nd1 = 0.313\nd2 = 0.287\nM = 12.9\nI = 0.208\nm1 = 4.5\nm2 = 1.5\n";
+
+#[test]
+fn plan_json_has_the_required_keys_and_a_certificate() {
+    let o = freefloat(&["plan", "--mount", "0.2,0.2", "--format", "json"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("one JSON object");
+    for key in [
+        "method",
+        "transform",
+        "mount",
+        "time",
+        "samples",
+        "z0",
+        "zd",
+        "final_error",
+        "max_abs_u",
+        "min_abs_sigma",
+        "min_abs_p",
+        "max_abs_torque",
+        "torque_final_error",
+        "seconds",
+        "iterations",
+    ] {
+        assert!(v.get(key).is_some(), "missing key {key}");
+    }
+    assert_eq!(v["method"], "nfa");
+    assert_eq!(v["transform"], "eq14");
+    assert_eq!(v["samples"], 1001);
+    assert!(v["final_error"].as_f64().expect("a number") <= 1e-9);
+    for stage in ["plan", "verify"] {
+        assert!(v["seconds"][stage].as_f64().expect("seconds") > 0.0);
+    }
+}
+
+#[test]
+fn plan_writes_csv_and_json_files_whole() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let csv = dir.path().join("plan.csv");
+    let json = dir.path().join("plan.json");
+    for out in [&csv, &json] {
+        let o = freefloat(&["plan", "--transform", "eq11", "--samples", "101", "--out", out.to_str().expect("utf-8")]);
+        assert!(o.status.success(), "{}", stderr(&o));
+    }
+    let text = std::fs::read_to_string(&csv).expect("csv written");
+    let mut lines = text.lines();
+    assert_eq!(
+        lines.next(),
+        Some("t,phi,theta1,theta2,dphi,dtheta1,dtheta2,ddphi,ddtheta1,ddtheta2,z1,z2,z3,tau1,tau2")
+    );
+    assert_eq!(lines.clone().count(), 101);
+    assert!(!text.to_lowercase().contains("nan"));
+    // Joint velocities vanish at both ends.
+    for row in [lines.clone().next().expect("first row"), lines.last().expect("last row")] {
+        let cells: Vec<&str> = row.split(',').collect();
+        for c in &cells[5..7] {
+            assert!(c.parse::<f64>().expect("number").abs() < 1e-12, "{row}");
+        }
+    }
+    let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).expect("json")).expect("valid");
+    assert_eq!(v["trajectory"]["t"].as_array().expect("t column").len(), 101);
+}
+
+#[test]
+fn invalid_robot_file_values_are_named() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let cases = [
+        ("M = 12.9", "M = -12.9", "robot.M"),
+        ("I = 0.208", "I = nan", "robot.I"),
+        ("l1 = 0.619", "l1 = inf", "robot.l1"),
+        ("d2 = 0.287", "d2 = 0.9", "robot.d2"),
+        ("m1 = 4.5", "m1 = 0.0", "robot.m1"),
+        ("m2 = 1.5", "m2 = 1.5\nm3 = 2.0", "m3"),
+        ("m2 = 1.5\n", "", "m2"),
+    ];
+    for (from, to, name) in cases {
+        let path = dir.path().join("robot.toml");
+        std::fs::write(&path, ROBOT.replace(from, to)).expect("write");
+        let o = freefloat(&["plan", "--robot", path.to_str().expect("utf-8")]);
+        assert_eq!(o.status.code(), Some(2), "{name}: {}", stderr(&o));
+        assert!(stderr(&o).contains(name), "{name} not named in: {}", stderr(&o));
+    }
+    let o = freefloat(&["plan", "--robot", "/no/such/robot.toml"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("/no/such/robot.toml"));
+}
+
+#[test]
+fn a_valid_robot_file_with_a_mount_plans() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let path = dir.path().join("robot.toml");
+    std::fs::write(&path, format!("{ROBOT}[mount]\na = 0.1\nb = 0.1\n")).expect("write");
+    let o = freefloat(&["plan", "--robot", path.to_str().expect("utf-8"), "--format", "json"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("json");
+    assert_eq!(v["mount"], serde_json::json!([0.1, 0.1]));
+}
+
+#[test]
+fn bad_flags_exit_2() {
+    for args in [
+        &["plan", "--mount", "0.1"][..],
+        &["plan", "--from", "1,2,x"],
+        &["plan", "--time", "-1"],
+        &["plan", "--samples", "1"],
+        &["plan", "--mount", "0.1,0.1", "--transform", "eq11"],
+        &["plan", "--out", "plan.txt"],
+    ] {
+        let o = freefloat(args);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {}", stderr(&o));
+        assert!(stderr(&o).starts_with("error"), "{args:?}: {}", stderr(&o));
+    }
+}
+
+#[test]
+fn problems_without_a_plan_exit_3_with_the_reason() {
+    let cases: [(&[&str], &str); 4] = [
+        (&["plan", "--from", "45,120,0"], "sin(theta2) = 0"),
+        (&["plan", "--mount", "0.1,0.1", "--from", "45,120,0"], "leaves the domain"),
+        (&["plan", "--to", "0,180,-140"], "different components"),
+        (&["plan", "--mount", "1,-1"], "eq14"),
+    ];
+    for (args, reason) in cases {
+        let o = freefloat(args);
+        assert_eq!(o.status.code(), Some(3), "{args:?}: {}", stderr(&o));
+        assert!(stderr(&o).contains(reason), "{args:?}: {}", stderr(&o));
+        assert!(o.stdout.is_empty(), "no output on failure");
+    }
+}
+
+#[test]
+fn failed_certificate_exits_3_but_writes_the_report_when_asked() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let out = dir.path().join("report.json");
+    let o = freefloat(&["plan", "--tolerance", "1e-18", "--format", "json", "--out", out.to_str().expect("utf-8")]);
+    assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
+    assert!(stderr(&o).contains("not certified"));
+    let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&out).expect("written")).expect("json");
+    assert_eq!(v["certified"], false);
+}
+
+#[test]
+fn reproduce_runs() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let o = freefloat(&["reproduce", "--out", dir.path().to_str().expect("utf-8")]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(Path::new(dir.path()).exists());
+}

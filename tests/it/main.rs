@@ -1,0 +1,3 @@
+//! Integration tests: the command line as a user runs it.
+
+mod cli;
