@@ -112,7 +112,7 @@ pub enum Error {
         where_: &'static str,
         /// The configuration, when known.
         q: Option<Configuration>,
-        /// Time on the path [s], when on the path.
+        /// Time on the path \[s\], when on the path.
         t: Option<f64>,
         /// The value of the failing function (or, for a crossing, its value on the far side).
         value: f64,
@@ -148,9 +148,9 @@ pub enum Error {
         residual: f64,
         /// The value of `z2` sought.
         target: f64,
-        /// The warm start [rad].
+        /// The warm start \[rad\].
         guess: f64,
-        /// Time on the path [s].
+        /// Time on the path \[s\].
         t: Option<f64>,
     },
     /// The polynomial steering of Sec. 5 divides by `w2 = zd2 - z02`.
@@ -165,7 +165,7 @@ pub enum Error {
     /// The adaptive integrator could not continue.
     #[error("integration failed at t = {t}: {reason}")]
     Integration {
-        /// Time reached [s].
+        /// Time reached \[s\].
         t: f64,
         /// Why.
         reason: &'static str,
@@ -176,9 +176,9 @@ pub enum Error {
          tolerance {tolerance:.1e} rad ({level} level)"
     )]
     NotCertified {
-        /// The verified final error [rad].
+        /// The verified final error \[rad\].
         final_error: f64,
-        /// The tolerance [rad].
+        /// The tolerance \[rad\].
         tolerance: f64,
         /// `velocity` or `torque`.
         level: &'static str,

@@ -135,29 +135,29 @@ pub struct PlanReport {
     pub method: crate::plan::Method,
     /// Transformation (null for ECSA).
     pub transform: Option<crate::normal_form::Transform>,
-    /// `[a, b]` [m].
+    /// `[a, b]` \[m\].
     pub mount: [f64; 2],
-    /// Horizon [s].
+    /// Horizon \[s\].
     pub time: f64,
     /// Number of samples.
     pub samples: usize,
-    /// Start `[phi, theta1, theta2]` [rad].
+    /// Start `[phi, theta1, theta2]` \[rad\].
     pub start: [f64; 3],
-    /// Goal [rad].
+    /// Goal \[rad\].
     pub goal: [f64; 3],
     /// Chained-form start (NFA only).
     pub z0: Option<[f64; 3]>,
     /// Chained-form goal (NFA only).
     pub zd: Option<[f64; 3]>,
-    /// Verified final error of the velocity plan [rad].
+    /// Verified final error of the velocity plan \[rad\].
     pub final_error: f64,
-    /// Tolerance of the final error [rad].
+    /// Tolerance of the final error \[rad\].
     pub tolerance: f64,
     /// Whether every certificate holds.
     pub certified: bool,
-    /// `q(T)` reached by the verification [rad].
+    /// `q(T)` reached by the verification \[rad\].
     pub reached: [f64; 3],
-    /// Largest deviation of the verification from the planned path [rad].
+    /// Largest deviation of the verification from the planned path \[rad\].
     pub max_path_deviation: f64,
     /// `[max|u1|, max|u2|]` [rad/s].
     pub max_abs_u: [f64; 2],
@@ -165,11 +165,11 @@ pub struct PlanReport {
     pub min_abs_sigma: f64,
     /// Smallest `|P|` along the path.
     pub min_abs_p: f64,
-    /// `[max|tau1|, max|tau2|]` [N m] (with torques).
+    /// `[max|tau1|, max|tau2|]` \[N m\] (with torques).
     pub max_abs_torque: Option<[f64; 2]>,
-    /// Verified final error of the torque plan [rad] (with torques).
+    /// Verified final error of the torque plan \[rad\] (with torques).
     pub torque_final_error: Option<f64>,
-    /// Wall time per stage [s].
+    /// Wall time per stage \[s\].
     pub seconds: crate::plan::Seconds,
     /// ECSA iterations (null for NFA).
     pub iterations: Option<usize>,

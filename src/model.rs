@@ -13,34 +13,34 @@ use crate::error::Error;
 /// validates every value.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct RobotParams {
-    /// Length of link 1 [m].
+    /// Length of link 1 \[m\].
     pub l1: f64,
-    /// Length of link 2 [m].
+    /// Length of link 2 \[m\].
     pub l2: f64,
-    /// Distance from joint 1 to the centre of mass of link 1 [m].
+    /// Distance from joint 1 to the centre of mass of link 1 \[m\].
     pub d1: f64,
-    /// Distance from joint 2 to the centre of mass of link 2 [m].
+    /// Distance from joint 2 to the centre of mass of link 2 \[m\].
     pub d2: f64,
-    /// Mass of the base, `M` in the paper [kg].
+    /// Mass of the base, `M` in the paper \[kg\].
     pub base_mass: f64,
     /// Moment of inertia of the base about its centre of mass, `I` in the paper [kg m^2].
     pub base_inertia: f64,
-    /// Mass of link 1 [kg].
+    /// Mass of link 1 \[kg\].
     pub m1: f64,
-    /// Mass of link 2 [kg].
+    /// Mass of link 2 \[kg\].
     pub m2: f64,
-    /// Mounting point of the arm in the base frame, `(a, b)` [m].
+    /// Mounting point of the arm in the base frame, `(a, b)` \[m\].
     pub mount: Mount,
 }
 
-/// Mounting point `(a, b)` of the on-board manipulator in the base frame `(X_b, Y_b)` [m],
+/// Mounting point `(a, b)` of the on-board manipulator in the base frame `(X_b, Y_b)` \[m\],
 /// relative to the base's centre of mass (Fig. 3). `a = b = 0` is the centred case of
 /// Theorem 1, item 1.
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
 pub struct Mount {
-    /// Coordinate along `X_b` [m].
+    /// Coordinate along `X_b` \[m\].
     pub a: f64,
-    /// Coordinate along `Y_b` [m].
+    /// Coordinate along `Y_b` \[m\].
     pub b: f64,
 }
 
@@ -59,7 +59,7 @@ impl Mount {
 }
 
 impl RobotParams {
-    /// The SRC space manipulator of the paper (Sec. 5, from its reference [15]), mounted at the
+    /// The SRC space manipulator of the paper (Sec. 5, from its reference \[15\]), mounted at the
     /// base's centre of mass: l1 = 0.619, l2 = 0.6, d1 = 0.313, d2 = 0.287 m, M = 12.9 kg,
     /// I = 0.208 kg m^2, m1 = 4.5, m2 = 1.5 kg.
     ///
@@ -145,7 +145,7 @@ fn check_finite(name: &str, value: f64) -> Result<(), Error> {
 #[allow(non_snake_case)]
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Lumped {
-    /// Total mass `m_c = M + m1 + m2` [kg].
+    /// Total mass `m_c = M + m1 + m2` \[kg\].
     pub mc: f64,
     /// `A = (m1 m2 (l1 - d1)^2 + M (m1 d1^2 + m2 l1^2)) / m_c` [kg m^2].
     pub A: f64,
@@ -153,15 +153,15 @@ pub struct Lumped {
     pub B: f64,
     /// `C = (m1 m2 (l1 - d1) d2 + M m2 l1 d2) / m_c` [kg m^2].
     pub C: f64,
-    /// `D = M (m1 d1 + m2 l1) / m_c` [kg m].
+    /// `D = M (m1 d1 + m2 l1) / m_c` \[kg m\].
     pub D: f64,
-    /// `E = M m2 d2 / m_c` [kg m].
+    /// `E = M m2 d2 / m_c` \[kg m\].
     pub E: f64,
     /// `I_P = I + M (m1 + m2)(a^2 + b^2) / m_c` [kg m^2].
     pub IP: f64,
-    /// Mounting point, `a` [m].
+    /// Mounting point, `a` \[m\].
     pub a: f64,
-    /// Mounting point, `b` [m].
+    /// Mounting point, `b` \[m\].
     pub b: f64,
 }
 
@@ -186,22 +186,22 @@ impl Lumped {
     }
 }
 
-/// A configuration `q = (phi, theta1, theta2)` of the driftless system (7) [rad]:
+/// A configuration `q = (phi, theta1, theta2)` of the driftless system (7) \[rad\]:
 /// base orientation and the two joint angles, all counter-clockwise.
 ///
 /// Angles are taken literally, not reduced modulo 2 pi (SPEC §6, item 6).
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
 pub struct Configuration {
-    /// Base orientation in the inertial frame [rad].
+    /// Base orientation in the inertial frame \[rad\].
     pub phi: f64,
-    /// Joint 1 angle, link 1 relative to the base [rad].
+    /// Joint 1 angle, link 1 relative to the base \[rad\].
     pub theta1: f64,
-    /// Joint 2 angle, link 2 relative to link 1 [rad].
+    /// Joint 2 angle, link 2 relative to link 1 \[rad\].
     pub theta2: f64,
 }
 
 impl Configuration {
-    /// A configuration from its three angles [rad].
+    /// A configuration from its three angles \[rad\].
     pub fn new(phi: f64, theta1: f64, theta2: f64) -> Self {
         Self { phi, theta1, theta2 }
     }
@@ -226,14 +226,14 @@ impl Configuration {
         self.to_array().iter().all(|x| x.is_finite())
     }
 
-    /// `max_i |wrap(self_i - other_i)|`, angle differences wrapped to (-pi, pi] [rad]: the
+    /// `max_i |wrap(self_i - other_i)|`, angle differences wrapped to (-pi, pi] \[rad\]: the
     /// final-error measure of SPEC §2.
     pub fn distance(&self, other: &Configuration) -> f64 {
         self.to_array().iter().zip(other.to_array()).map(|(x, y)| wrap_angle(x - y).abs()).fold(0.0, f64::max)
     }
 }
 
-/// Wraps an angle to (-pi, pi] [rad].
+/// Wraps an angle to (-pi, pi] \[rad\].
 pub fn wrap_angle(x: f64) -> f64 {
     use std::f64::consts::{PI, TAU};
     let r = x.rem_euclid(TAU);

@@ -22,11 +22,11 @@ use crate::system::{velocity, velocity_acceleration};
 pub struct PlanningProblem {
     /// The robot, with its mounting point.
     pub robot: RobotParams,
-    /// `q0` [rad].
+    /// `q0` \[rad\].
     pub start: Configuration,
-    /// `qd` [rad], taken literally (not reduced modulo 2 pi).
+    /// `qd` \[rad\], taken literally (not reduced modulo 2 pi).
     pub goal: Configuration,
-    /// `T` [s].
+    /// `T` \[s\].
     pub horizon: f64,
 }
 
@@ -65,7 +65,7 @@ impl PlanningProblem {
 
 /// A planned motion, evaluated exactly at any time `t` in `[0, T]`.
 pub trait Motion {
-    /// The horizon `T` [s].
+    /// The horizon `T` \[s\].
     fn horizon(&self) -> f64;
     /// The planned configuration, joint velocities `u` and their derivatives `du` at `t`.
     fn at(&self, t: f64) -> Result<MotionPoint, Error>;
@@ -78,7 +78,7 @@ pub trait Motion {
 /// A point of a [`Motion`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct MotionPoint {
-    /// Planned configuration [rad].
+    /// Planned configuration \[rad\].
     pub q: Configuration,
     /// Joint velocities `(theta1', theta2')` [rad/s]: the controls of system (7).
     pub u: [f64; 2],
@@ -89,9 +89,9 @@ pub struct MotionPoint {
 /// A sampled trajectory, one entry per sample in every column (SI units, radians).
 #[derive(Debug, Clone, Default, PartialEq, Serialize)]
 pub struct Trajectory {
-    /// Times [s].
+    /// Times \[s\].
     pub t: Vec<f64>,
-    /// Configurations `(phi, theta1, theta2)` [rad].
+    /// Configurations `(phi, theta1, theta2)` \[rad\].
     pub q: Vec<[f64; 3]>,
     /// Velocities `q'` [rad/s]; `(dq[1], dq[2])` are the controls `u`.
     pub dq: Vec<[f64; 3]>,
@@ -99,20 +99,20 @@ pub struct Trajectory {
     pub ddq: Option<Vec<[f64; 3]>>,
     /// Chained-form state `z` (NFA only).
     pub z: Option<Vec<[f64; 3]>>,
-    /// Joint torques `(tau1, tau2)` [N m], when computed.
+    /// Joint torques `(tau1, tau2)` \[N m\], when computed.
     pub tau: Option<Vec<[f64; 2]>>,
 }
 
 /// The certificate of a plan: system (7) integrated from `q0` with the planned controls.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Verification {
-    /// `max_i |wrap(q_i(T) - qd_i)|` [rad] (SPEC §2).
+    /// `max_i |wrap(q_i(T) - qd_i)|` \[rad\] (SPEC §2).
     pub final_error: f64,
-    /// `q(T)` reached by the integration [rad].
+    /// `q(T)` reached by the integration \[rad\].
     pub reached: Configuration,
-    /// Largest `max_i |q_i(t) - q_plan_i(t)|` over the integrator's steps [rad].
+    /// Largest `max_i |q_i(t) - q_plan_i(t)|` over the integrator's steps \[rad\].
     pub max_path_deviation: f64,
-    /// Tolerance the final error is held to [rad].
+    /// Tolerance the final error is held to \[rad\].
     pub tolerance: f64,
     /// `final_error <= tolerance`.
     pub certified: bool,
@@ -120,7 +120,7 @@ pub struct Verification {
     pub stats: OdeStats,
 }
 
-/// Wall time of each stage [s].
+/// Wall time of each stage \[s\].
 #[derive(Debug, Clone, Copy, Default, PartialEq, Serialize)]
 pub struct Seconds {
     /// Planning (the velocity-level plan, sampled).
@@ -204,7 +204,7 @@ pub struct NfaOptions {
     pub newton: NewtonOptions,
     /// Integrator options of the verification (default rtol = atol = 1e-12).
     pub ode: OdeOptions,
-    /// Tolerance of the verified final error [rad]; default 1e-9 (SPEC §2).
+    /// Tolerance of the verified final error \[rad\]; default 1e-9 (SPEC §2).
     pub tolerance: f64,
 }
 

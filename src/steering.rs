@@ -76,7 +76,7 @@ pub struct ChainedPoint<D> {
 /// The closed-form path of the chained form (10) under the polynomial controls of Sec. 5.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PolynomialSteering {
-    /// Horizon `T` [s].
+    /// Horizon `T` \[s\].
     pub horizon: f64,
     /// Start `z0`.
     pub z0: [f64; 3],
@@ -115,7 +115,7 @@ impl PolynomialSteering {
         Ok(Self { horizon, z0, zd, v: [v1, v2], z: [z1, z2, z3] })
     }
 
-    /// The path at time `t` [s]; with a dual `t`, the dual parts are exact time derivatives.
+    /// The path at time `t` \[s\]; with a dual `t`, the dual parts are exact time derivatives.
     pub fn at<D: Scalar>(&self, t: D) -> ChainedPoint<D> {
         ChainedPoint {
             z: [self.z[0].eval(t), self.z[1].eval(t), self.z[2].eval(t)],

@@ -31,7 +31,7 @@ pub struct Shape<D> {
     pub d: D,
 }
 
-/// Evaluates Eqs. (8), (9), (13) and (15) at `(theta1, theta2)` [rad].
+/// Evaluates Eqs. (8), (9), (13) and (15) at `(theta1, theta2)` \[rad\].
 #[allow(non_snake_case)]
 pub fn shape<D: Scalar>(k: &Lumped, theta1: D, theta2: D) -> Shape<D> {
     let Lumped { A, B, C, D: Dk, E, IP, a, b, .. } = *k;

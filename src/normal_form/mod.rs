@@ -56,7 +56,7 @@ pub struct NewtonOptions {
     /// Residual `|h3 - z2|` still accepted when no step can reduce it further (rounding);
     /// default 1e-11.
     pub residual_tolerance: f64,
-    /// Largest Newton step in theta2 [rad]; default 0.5.
+    /// Largest Newton step in theta2 \[rad\]; default 0.5.
     pub max_step: f64,
 }
 
