@@ -170,6 +170,25 @@ pub enum Error {
         /// Why.
         reason: &'static str,
     },
+    /// The chained-form path leaves the band of the global normal form: `z2` is outside the
+    /// range of `h3` over the band `{sigma != 0}` at `theta1 = z1`.
+    #[error(
+        "the chained-form path leaves the band of the global normal form{}: z2 = {z2:.6} is outside \
+         ({lower:.6}, {upper:.6}), the range of h3 at theta1 = {:.4} deg",
+        fmt_t(t), theta1.to_degrees()
+    )]
+    LeavesBand {
+        /// Time on the path [s].
+        t: Option<f64>,
+        /// `theta1 = z1` [rad].
+        theta1: f64,
+        /// The `z2` sought.
+        z2: f64,
+        /// Lower end of the band's `h3` range.
+        lower: f64,
+        /// Upper end of the band's `h3` range.
+        upper: f64,
+    },
     /// A plan was computed, but its verification failed the tolerance.
     #[error(
         "the plan is not certified: verified final error {final_error:.3e} rad exceeds the \

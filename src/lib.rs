@@ -11,12 +11,14 @@
 //! 5. [`plan`]: the inverse map back to `q` (Sec. 6) and the plan with its certificate;
 //! 6. [`ode`]: the adaptive integrator that verifies every plan.
 
+pub mod chebyshev;
 pub mod error;
 pub mod io;
 pub mod model;
 pub mod normal_form;
 pub mod ode;
 pub mod plan;
+pub mod quadrature;
 pub mod steering;
 pub mod system;
 

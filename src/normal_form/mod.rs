@@ -7,6 +7,7 @@
 
 pub mod centred;
 pub mod general;
+pub mod global;
 
 use serde::Serialize;
 
@@ -27,6 +28,9 @@ pub enum Transform {
     Eq12,
     /// Eq. (14), any mounting point: domain `sigma != 0` and `P != 0`, one branch `sign(P)`.
     Eq14,
+    /// Beyond the paper: the global normal form of [`global`], any mounting point, domain
+    /// `sigma != 0` only.
+    Global,
 }
 
 impl Transform {
@@ -36,6 +40,7 @@ impl Transform {
             Transform::Eq11 => "eq11",
             Transform::Eq12 => "eq12",
             Transform::Eq14 => "eq14",
+            Transform::Global => "global",
         }
     }
 
@@ -137,6 +142,7 @@ impl NormalForm {
         nf.branch = match transform {
             Transform::Eq11 | Transform::Eq12 => start.theta2.sin().signum(),
             Transform::Eq14 => s.P.signum(),
+            Transform::Global => s.sigma.signum(),
         };
         nf.check(start, "start", None)?;
         Ok(nf)
@@ -191,6 +197,26 @@ impl NormalForm {
                             goal_sign: s2.signum(),
                         },
                         _ => singular(Singularity::SinTheta2, s2, "the path crosses sin(theta2) = 0"),
+                    });
+                }
+            }
+            Transform::Global => {
+                if s.sigma.abs() <= self.sigma_eps {
+                    return Err(singular(
+                        Singularity::Sigma,
+                        s.sigma,
+                        "a posture singularity: choose another configuration",
+                    ));
+                }
+                if s.sigma * self.sigma_sign <= 0.0 {
+                    return Err(match where_ {
+                        "goal" => Error::DifferentComponents {
+                            transform: self.transform.name(),
+                            which: Singularity::Sigma,
+                            start_sign: self.sigma_sign,
+                            goal_sign: s.sigma.signum(),
+                        },
+                        _ => singular(Singularity::Sigma, s.sigma, "the path crosses sigma = 0"),
                     });
                 }
             }
@@ -250,6 +276,7 @@ impl NormalForm {
             Transform::Eq11 => centred::eq11_h(&self.lumped, q),
             Transform::Eq12 => centred::eq12_h(&self.lumped, self.branch, q),
             Transform::Eq14 => general::eq14_h(&self.lumped, self.branch, q),
+            Transform::Global => global::global_h(&self.lumped, q),
         }
     }
 
@@ -259,6 +286,7 @@ impl NormalForm {
             Transform::Eq11 => centred::eq11_feedback(&self.lumped, q, u),
             Transform::Eq12 => centred::eq12_feedback(&self.lumped, self.branch, q, u),
             Transform::Eq14 => general::eq14_feedback(&self.lumped, self.branch, q, u),
+            Transform::Global => global::global_feedback(&self.lumped, q, u),
         }
     }
 
@@ -269,6 +297,7 @@ impl NormalForm {
             Transform::Eq11 => centred::eq11_control(&self.lumped, q, v),
             Transform::Eq12 => centred::eq12_control(&self.lumped, self.branch, q, v),
             Transform::Eq14 => general::eq14_control(&self.lumped, self.branch, q, v),
+            Transform::Global => global::global_control(&self.lumped, q, v),
         }
     }
 
@@ -299,8 +328,38 @@ impl NormalForm {
                 let theta2 = self.newton_theta2(theta1, z[1], theta2_guess, t)?;
                 Configuration::new(general::eq14_phi(k, self.branch, z[2], theta1, theta2), theta1, theta2)
             }
+            Transform::Global => {
+                let theta1 = z[0];
+                let theta2 = self.band_theta2(theta1, z[1], theta2_guess, t)?;
+                Configuration::new(z[2] - global::psi(k, theta1, theta2), theta1, theta2)
+            }
         };
         Ok(q)
+    }
+
+    /// The band `{sign(sigma) = start's}` at `theta1` that holds (or is nearest to) `theta2_ref`;
+    /// when sigma has no zero at this `theta1`, a bracket of the root around `theta2_ref`.
+    pub fn band(&self, theta1: f64, theta2_ref: f64) -> (f64, f64) {
+        global::band(&self.lumped, self.sigma_sign, theta1, theta2_ref)
+            .unwrap_or((theta2_ref - std::f64::consts::PI, theta2_ref + std::f64::consts::PI))
+    }
+
+    /// `theta2` with `h3(theta1, theta2) = z2` inside the band near `guess` (global form).
+    fn band_theta2(&self, theta1: f64, z2: f64, guess: f64, t: Option<f64>) -> Result<f64, Error> {
+        let k = &self.lumped;
+        let mut bracket = self.band(theta1, guess);
+        let bounded = global::band(k, self.sigma_sign, theta1, guess).is_some();
+        for _ in 0..8 {
+            match global::solve_in_band(k, theta1, z2, bracket, guess) {
+                Ok(theta2) => return Ok(theta2),
+                Err((lower, upper)) if bounded => {
+                    return Err(Error::LeavesBand { t, theta1, z2, lower: lower.min(upper), upper: lower.max(upper) });
+                }
+                // Unbounded band (sigma without zeros at this theta1): widen the bracket.
+                Err(_) => bracket = (bracket.0 - std::f64::consts::TAU, bracket.1 + std::f64::consts::TAU),
+            }
+        }
+        Err(Error::NewtonFailed { iterations: 0, residual: f64::INFINITY, target: z2, guess, t })
     }
 
     /// True when `(theta1, theta2)` is on this branch of Eq. (14) with the start's sign of sigma.

@@ -33,14 +33,18 @@ fn close(a: f64, b: f64, rel: f64) -> bool {
 fn random_point(rng: &mut Rng, transform: Transform, mount_range: f64) -> (NormalForm, Configuration) {
     loop {
         let (a, b) = match transform {
-            Transform::Eq14 => (rng.uniform(-mount_range, mount_range), rng.uniform(-mount_range, mount_range)),
+            Transform::Eq14 | Transform::Global => {
+                (rng.uniform(-mount_range, mount_range), rng.uniform(-mount_range, mount_range))
+            }
             _ => (0.0, 0.0),
         };
         let q = Configuration::new(rng.uniform(-7.0, 7.0), rng.uniform(-7.0, 7.0), rng.uniform(-7.0, 7.0));
         let r = robot(a, b);
         let Ok(nf) = NormalForm::new(&r, transform, &q) else { continue };
         let s = shape(&nf.lumped, q.theta1, q.theta2);
-        if s.P.abs() < 1e-3 || s.sigma.abs() < 1e-3 || q.theta2.sin().abs() < 1e-3 {
+        let near_p = s.P.abs() < 1e-3 && transform != Transform::Global;
+        let near_s2 = q.theta2.sin().abs() < 1e-3 && matches!(transform, Transform::Eq11 | Transform::Eq12);
+        if near_p || near_s2 || s.sigma.abs() < 1e-3 {
             continue;
         }
         return (nf, q);
@@ -91,12 +95,19 @@ fn chained_form_identity_eq14() {
     chained_form_identity(Transform::Eq14, 14);
 }
 
+/// The global normal form at random points of the whole torus (and beyond: theta2 over several
+/// turns), mounting points with |a|, |b| <= 1.
+#[test]
+fn chained_form_identity_global() {
+    chained_form_identity(Transform::Global, 15);
+}
+
 /// `h^-1(h(q)) = q` to 1e-12 at random points of each domain; Newton for Eq. (14) starts from
 /// a guess up to 0.05 rad away.
 #[test]
 fn inverse_map_round_trip() {
     let mut rng = Rng(7);
-    for transform in [Transform::Eq11, Transform::Eq12, Transform::Eq14] {
+    for transform in [Transform::Eq11, Transform::Eq12, Transform::Eq14, Transform::Global] {
         for _ in 0..1000 {
             let (nf, q) = random_point(&mut rng, transform, 1.0);
             let z = nf.h(q.to_array());
