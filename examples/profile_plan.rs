@@ -1,10 +1,18 @@
-//! Runs the eq14 velocity plan repeatedly (for profiling with callgrind or perf).
+//! Runs a velocity plan repeatedly (for profiling with callgrind or perf):
+//! `profile_plan N A B TRANSFORM`.
 use freefloat::{Mount, NfaOptions, NormalFormPlanner, PlanningProblem, RobotParams, Transform};
 
 fn main() -> Result<(), freefloat::Error> {
-    let n: usize = std::env::args().nth(1).and_then(|s| s.parse().ok()).unwrap_or(100);
-    let p = PlanningProblem::paper(RobotParams::src().with_mount(Mount::new(0.1, 0.1)?)?);
-    let planner = NormalFormPlanner::new(NfaOptions { transform: Some(Transform::Eq14), ..Default::default() });
+    let args: Vec<String> = std::env::args().collect();
+    let n: usize = args.get(1).and_then(|s| s.parse().ok()).unwrap_or(100);
+    let a: f64 = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(0.1);
+    let b: f64 = args.get(3).and_then(|s| s.parse().ok()).unwrap_or(0.1);
+    let transform = match args.get(4).map(String::as_str) {
+        Some("global") => Transform::Global,
+        _ => Transform::Eq14,
+    };
+    let p = PlanningProblem::paper(RobotParams::src().with_mount(Mount::new(a, b)?)?);
+    let planner = NormalFormPlanner::new(NfaOptions { transform: Some(transform), ..Default::default() });
     let start = std::time::Instant::now();
     for _ in 0..n {
         let m = planner.motion(&p)?;

@@ -32,7 +32,12 @@ impl Chebyshev {
                     .sum();
                 s * if k == 0 { 1.0 } else { 2.0 } / n as f64
             })
-            .collect();
+            .collect::<Vec<f64>>();
+        // Chop the tail below rounding: fewer terms, same values.
+        let scale = coeffs.iter().fold(0.0f64, |m, c| m.max(c.abs()));
+        let keep = coeffs.iter().rposition(|c| c.abs() > 1e-15 * scale).map_or(1, |i| i + 1);
+        let mut coeffs = coeffs;
+        coeffs.truncate(keep);
         Self { a, b, coeffs }
     }
 

@@ -189,6 +189,18 @@ pub enum Error {
         /// Upper end of the band's `h3` range.
         upper: f64,
     },
+    /// No band steering within the search limits keeps the path inside the band.
+    #[error(
+        "no band-steered path found with up to {loops} loops of amplitude up to {amplitude} rad: \
+         the goal needs more area in the (z1, z2) plane than these loops enclose inside the band \
+         (a mounting point with a wider band, see `freefloat domain`, needs fewer loops)"
+    )]
+    NoBandSteering {
+        /// Largest number of loops tried.
+        loops: usize,
+        /// Largest amplitude tried [rad].
+        amplitude: f64,
+    },
     /// A plan was computed, but its verification failed the tolerance.
     #[error(
         "the plan is not certified: verified final error {final_error:.3e} rad exceeds the \

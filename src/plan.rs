@@ -13,7 +13,7 @@ use crate::error::Error;
 use crate::model::{Configuration, RobotParams};
 use crate::normal_form::{NewtonOptions, NormalForm, Transform};
 use crate::ode::{OdeOptions, OdeStats, integrate};
-use crate::steering::PolynomialSteering;
+use crate::steering::{BandChoice, BandOptions, BandSteering, PolynomialSteering, Steering};
 use crate::system::{velocity, velocity_acceleration};
 
 /// Drive the robot from `start` to `goal` in time `horizon`, joint velocities zero at both
@@ -164,6 +164,10 @@ pub struct Plan {
     pub min_abs_p: f64,
     /// Iterations (ECSA only).
     pub iterations: Option<usize>,
+    /// The band steering's choice, when the global normal form needed it (NFA only).
+    pub band: Option<BandChoice>,
+    /// Total variation of `(phi, theta1, theta2)` along the samples \[rad\].
+    pub joint_travel: [f64; 3],
     /// The velocity-level certificate.
     pub verification: Verification,
     /// Wall time per stage.
@@ -192,7 +196,7 @@ pub trait Planner {
 }
 
 /// Options of the [`NormalFormPlanner`].
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct NfaOptions {
     /// The feedback transformation; `None` = SPEC's `auto` ([`Transform::auto`]). Default `None`.
     pub transform: Option<Transform>,
@@ -206,6 +210,8 @@ pub struct NfaOptions {
     pub ode: OdeOptions,
     /// Tolerance of the verified final error \[rad\]; default 1e-9 (SPEC §2).
     pub tolerance: f64,
+    /// Search limits of the band steering (global normal form).
+    pub band: BandOptions,
 }
 
 impl Default for NfaOptions {
@@ -217,6 +223,7 @@ impl Default for NfaOptions {
             newton: NewtonOptions::default(),
             ode: OdeOptions::default(),
             tolerance: 1e-9,
+            band: BandOptions::default(),
         }
     }
 }
@@ -244,7 +251,7 @@ impl NfaOptions {
 
 /// The Normal Form Approach (Sec. 2, Fig. 1): map `q0, qd` to the chained form, steer it with the
 /// polynomial controls of Sec. 5, map the path back (Sec. 6, item 2), verify.
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
+#[derive(Debug, Clone, Default, PartialEq)]
 pub struct NormalFormPlanner {
     /// Options.
     pub options: NfaOptions,
@@ -257,24 +264,40 @@ impl NormalFormPlanner {
     }
 
     /// The velocity-level plan without verification: the exact [`NfaMotion`] and its samples.
+    ///
+    /// With the transformation `None` (SPEC's `auto`), the paper's Eq. (12) or (14) is tried
+    /// first and the global normal form when their path does not exist.
     pub fn motion(&self, problem: &PlanningProblem) -> Result<NfaMotion, Error> {
         self.options.validate()?;
-        let transform = self.options.transform.unwrap_or_else(|| Transform::auto(&problem.robot));
+        match self.options.transform {
+            Some(transform) => self.motion_with(problem, transform),
+            None => match self.motion_with(problem, Transform::auto(&problem.robot)) {
+                Err(e) if !e.is_bad_input() => self.motion_with(problem, Transform::Global),
+                result => result,
+            },
+        }
+    }
+
+    fn motion_with(&self, problem: &PlanningProblem, transform: Transform) -> Result<NfaMotion, Error> {
         let nf = NormalForm::new(&problem.robot, transform, &problem.start)?.with_newton(self.options.newton);
         nf.check(&problem.goal, "goal", None)?;
         let z0 = nf.h(problem.start.to_array());
         let zd = nf.h(problem.goal.to_array());
-        let steering = PolynomialSteering::new(z0, zd, problem.horizon)?;
-        let mut motion = NfaMotion {
-            nf,
-            steering,
-            t: Vec::new(),
-            q: Vec::new(),
-            u: Vec::new(),
-            margins: (f64::INFINITY, f64::INFINITY),
-        };
-        motion.sample(problem, self.options.samples)?;
-        Ok(motion)
+        let polynomial = PolynomialSteering::new(z0, zd, problem.horizon).map(Steering::Polynomial);
+        let attempt = polynomial.and_then(|steering| {
+            let mut motion = NfaMotion::new(nf.clone(), steering);
+            motion.sample(problem, self.options.samples)?;
+            Ok(motion)
+        });
+        match attempt {
+            Err(Error::LeavesBand { .. } | Error::DegenerateSteering { .. }) if transform == Transform::Global => {
+                let band = BandSteering::new(&nf, &problem.start, z0, zd, problem.horizon, &self.options.band)?;
+                let mut motion = NfaMotion::new(nf, Steering::Band(band));
+                motion.sample(problem, self.options.samples)?;
+                Ok(motion)
+            }
+            result => result,
+        }
     }
 }
 
@@ -297,8 +320,10 @@ impl Planner for NormalFormPlanner {
             method: Method::Nfa,
             transform: Some(motion.nf.transform()),
             problem: *problem,
-            z0: Some(motion.steering.z0),
-            zd: Some(motion.steering.zd),
+            z0: Some(motion.steering.ends().0),
+            zd: Some(motion.steering.ends().1),
+            band: motion.steering.band_choice(),
+            joint_travel: travel(&trajectory),
             trajectory,
             max_abs_u,
             min_abs_sigma,
@@ -308,6 +333,17 @@ impl Planner for NormalFormPlanner {
             seconds: Seconds { plan: plan_seconds, torques: None, verify: verify_seconds },
         })
     }
+}
+
+/// Total variation of each coordinate of `q` over a trajectory's samples \[rad\].
+pub fn travel(trajectory: &Trajectory) -> [f64; 3] {
+    let mut out = [0.0; 3];
+    for w in trajectory.q.windows(2) {
+        for (o, (a, b)) in out.iter_mut().zip(w[0].iter().zip(&w[1])) {
+            *o += (b - a).abs();
+        }
+    }
+    out
 }
 
 /// `[max |u1|, max |u2|]` over a trajectory's samples.
@@ -322,8 +358,9 @@ pub struct NfaMotion {
     /// The feedback transformation on the start's piece of its domain.
     pub nf: NormalForm,
     /// The chained-form path.
-    pub steering: PolynomialSteering,
+    pub steering: Steering,
     t: Vec<f64>,
+    z: Vec<[f64; 3]>,
     q: Vec<Configuration>,
     u: Vec<[f64; 2]>,
     /// `(min |sigma|, min |P|)` over the samples.
@@ -331,12 +368,25 @@ pub struct NfaMotion {
 }
 
 impl NfaMotion {
+    fn new(nf: NormalForm, steering: Steering) -> Self {
+        Self {
+            nf,
+            steering,
+            t: Vec::new(),
+            z: Vec::new(),
+            q: Vec::new(),
+            u: Vec::new(),
+            margins: (f64::INFINITY, f64::INFINITY),
+        }
+    }
+
     /// Inverts the path at `samples` equally spaced times, each Newton run warm-started from the
     /// previous sample (first-order prediction), and checks that the path stays in the domain.
     fn sample(&mut self, problem: &PlanningProblem, samples: usize) -> Result<(), Error> {
         let horizon = problem.horizon;
         let dt = horizon / (samples - 1) as f64;
         self.t = Vec::with_capacity(samples);
+        self.z = Vec::with_capacity(samples);
         self.q = Vec::with_capacity(samples);
         self.u = Vec::with_capacity(samples);
         let mut guess = problem.start.theta2;
@@ -352,6 +402,7 @@ impl NfaMotion {
             guess = q.theta2 + dt * (1.5 * u[1] - 0.5 * previous_u2);
             previous_u2 = u[1];
             self.t.push(t);
+            self.z.push(p.z);
             self.q.push(q);
             self.u.push(u);
         }
@@ -361,7 +412,7 @@ impl NfaMotion {
     /// The warm start for Newton at `t`: the nearest sample's theta2, advanced by its u2.
     fn guess(&self, t: f64) -> f64 {
         let n = self.t.len();
-        let dt = self.steering.horizon / (n - 1) as f64;
+        let dt = self.steering.horizon() / (n - 1) as f64;
         let i = ((t / dt).round().max(0.0) as usize).min(n - 1);
         self.q[i].theta2 + self.u[i][1] * (t - self.t[i])
     }
@@ -385,7 +436,7 @@ impl NfaMotion {
             q: self.q.iter().map(|q| q.to_array()).collect(),
             dq,
             ddq,
-            z: Some(self.t.iter().map(|&t| self.steering.at(t).z).collect()),
+            z: Some(self.z.clone()),
             tau: None,
         })
     }
@@ -398,7 +449,7 @@ impl NfaMotion {
     /// The motion at `t` given the planned configuration there: `u` by the inverse feedback and
     /// `du` exactly, by dual numbers through the polynomial path and the feedback.
     fn point(&self, q: Configuration, t: f64) -> Result<MotionPoint, Error> {
-        let p = self.steering.at(Dual64::new(t, 1.0));
+        let p = self.steering.at_dual(t);
         let v = [p.v[0].re, p.v[1].re];
         let u = self.nf.control(q.to_array(), v);
         let dq = velocity(self.nf.lumped(), q.to_array(), u);
@@ -411,7 +462,7 @@ impl NfaMotion {
 
 impl Motion for NfaMotion {
     fn horizon(&self) -> f64 {
-        self.steering.horizon
+        self.steering.horizon()
     }
 
     fn at(&self, t: f64) -> Result<MotionPoint, Error> {
@@ -526,7 +577,8 @@ mod tests {
     #[test]
     fn path_leaving_the_domain_is_an_error() {
         let robot = RobotParams::src().with_mount(Mount::new(1.0, -1.0).unwrap()).unwrap();
-        let r = NormalFormPlanner::default().plan(&PlanningProblem::paper(robot));
+        let options = NfaOptions { transform: Some(Transform::Eq14), ..Default::default() };
+        let r = NormalFormPlanner::new(options).plan(&PlanningProblem::paper(robot));
         assert!(
             matches!(r, Err(Error::Singular { .. } | Error::NewtonFailed { .. } | Error::DifferentComponents { .. })),
             "{r:?}"

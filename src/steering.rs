@@ -3,7 +3,11 @@
 //! `z(T) = zd`, and `z(t)` in closed form.
 
 use crate::Scalar;
+use crate::chebyshev::Chebyshev;
 use crate::error::Error;
+use crate::model::Configuration;
+use crate::normal_form::NormalForm;
+use crate::quadrature::GaussLegendre;
 
 /// Highest polynomial degree kept (`z3` has degree 7).
 const LEN: usize = 9;
@@ -120,6 +124,346 @@ impl PolynomialSteering {
         ChainedPoint {
             z: [self.z[0].eval(t), self.z[1].eval(t), self.z[2].eval(t)],
             v: [self.v[0].eval(t), self.v[1].eval(t)],
+        }
+    }
+}
+
+/// Options of the [`BandSteering`] search.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BandOptions {
+    /// Margin `eps`: `lambda` is kept in `[eps, 1 - eps]`; default 0.05.
+    pub margin: f64,
+    /// Largest number of loops `N` tried; default 16.
+    pub max_loops: usize,
+    /// Loop amplitudes `A` tried [rad]; default 0.25 .. 3.0.
+    pub amplitudes: Vec<f64>,
+}
+
+impl Default for BandOptions {
+    fn default() -> Self {
+        Self { margin: 0.05, max_loops: 16, amplitudes: vec![0.25, 0.5, 0.75, 1.0, 1.5, 2.0, 2.5, 3.0] }
+    }
+}
+
+/// The choice made by [`BandSteering::new`].
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct BandChoice {
+    /// Number of loops `N` of `z1`.
+    pub loops: usize,
+    /// Loop amplitude `A` [rad].
+    pub amplitude: f64,
+    /// Margin `eps` of `lambda`.
+    pub margin: f64,
+    /// The solved scalar `kappa` (amplitude of the `lambda` modulation).
+    pub kappa: f64,
+    /// Range of `lambda(t)` along the path.
+    pub lambda_range: [f64; 2],
+}
+
+/// Beyond the paper: steering the chained form inside the band of the global normal form
+/// (Sec. 6, item 3's domain of existence, made explicit), for mounting points where the
+/// polynomial path of Sec. 5 leaves the band.
+///
+/// In band coordinates `z2 = L(z1) + lambda W(z1)`, where `(L, L + W)` is the range of `h3` over
+/// the band `{sigma != 0}` at `theta1 = z1` (smooth functions of `z1`, fitted by a Chebyshev
+/// series: any smooth `L, W` inside the band define an exact path), with `s(t)` the quintic
+/// smoothstep (`s' = s'' = 0` at both ends):
+/// `z1 = z01 + w1 s + A sin(2 pi N s)` (N loops of amplitude A),
+/// `lambda = (1 - e(s)) (lambda0 + (lambdad - lambda0) s) + e(s) (1/2 + kappa cos(2 pi N s))`
+/// with the flat-topped envelope `e(s) = 1 - (2s - 1)^8`,
+/// `z3 = z03 + integral z2 dz1`. `z3(T) = zd3` is linear in `kappa`, which is solved exactly;
+/// `(N, A)` is the cheapest pair (smallest `|w1| + 2 pi N A`, which bounds the peak `|v1|`) that
+/// keeps `lambda` in `[eps, 1 - eps]`. The controls vanish at both ends.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BandSteering {
+    /// Horizon `T` [s].
+    pub horizon: f64,
+    /// Start `z0`.
+    pub z0: [f64; 3],
+    /// Goal `zd`.
+    pub zd: [f64; 3],
+    /// The choice of `(N, A, eps, kappa)`.
+    pub choice: BandChoice,
+    lower: Chebyshev,
+    lower_integral: Chebyshev,
+    width: Chebyshev,
+    lambda: [f64; 2],
+    rule: GaussLegendre,
+    /// Cumulative `integral_0^t lambda W z1' dt` at `knots` equal steps.
+    knots: Vec<f64>,
+}
+
+/// Number of quadrature intervals of `z3` for the final path.
+const Z3_KNOTS: usize = 1000;
+
+impl BandSteering {
+    /// The band-steered path from `z0` to `zd` in time `horizon`; `nf` must be the global normal
+    /// form on the start's band and `start` the start configuration.
+    pub fn new(
+        nf: &NormalForm,
+        start: &Configuration,
+        z0: [f64; 3],
+        zd: [f64; 3],
+        horizon: f64,
+        options: &BandOptions,
+    ) -> Result<Self, Error> {
+        let w1 = zd[0] - z0[0];
+        let reach = options.amplitudes.iter().copied().fold(0.0, f64::max) + 0.1;
+        let (lo, hi) = (z0[0].min(zd[0]) - reach, z0[0].max(zd[0]) + reach);
+        let (lower, width) = fit_band(nf, start, lo, hi)?;
+        let lower_integral = lower.integral();
+        let lambda_of = |z: [f64; 3]| (z[1] - lower.eval(z[0])) / width.eval(z[0]);
+        let lambda = [lambda_of(z0), lambda_of(zd)];
+        let edge = |l: f64| l.min(1.0 - l);
+        let margin = options.margin.min(edge(lambda[0]) / 2.0).min(edge(lambda[1]) / 2.0);
+        let fixed = lower_integral.eval(zd[0]) - lower_integral.eval(z0[0]);
+        let mut candidates = vec![(0usize, 0.0f64)];
+        for n in 1..=options.max_loops {
+            candidates.extend(options.amplitudes.iter().map(|&a| (n, a)));
+        }
+        candidates.sort_by(|x, y| (x.0 as f64 * x.1).total_cmp(&(y.0 as f64 * y.1)));
+        let rule = GaussLegendre::new(8);
+        let template = Self {
+            horizon,
+            z0,
+            zd,
+            choice: BandChoice { loops: 0, amplitude: 0.0, margin, kappa: 0.0, lambda_range: [0.0; 2] },
+            lower: lower.clone(),
+            lower_integral: lower_integral.clone(),
+            width: width.clone(),
+            lambda,
+            rule,
+            knots: Vec::new(),
+        };
+        let w3 = zd[2] - z0[2] - fixed;
+        // Feasibility grows with the loops' area N A: binary search for the cheapest feasible
+        // candidate (each one checked, so the result is feasible even where that is not monotone).
+        let try_candidate = |(loops, amplitude): (usize, f64), pieces_per_loop: usize| -> Option<Self> {
+            let mut path = template.clone();
+            path.choice.loops = loops;
+            path.choice.amplitude = amplitude;
+            let [base, unit] = path.area_integrals(pieces_per_loop * (loops + 1));
+            if unit.abs() < 1e-12 || !w1.is_finite() {
+                return None;
+            }
+            path.choice.kappa = (w3 - base) / unit;
+            let range = (0..=400)
+                .map(|i| path.lambda_at(horizon * i as f64 / 400.0))
+                .fold([f64::INFINITY, f64::NEG_INFINITY], |r, l| [r[0].min(l), r[1].max(l)]);
+            path.choice.lambda_range = range;
+            (range[0] >= margin && range[1] <= 1.0 - margin).then_some(path)
+        };
+        let (mut lo_i, mut hi_i) = (0, candidates.len());
+        let mut best = None;
+        while lo_i < hi_i {
+            let mid = (lo_i + hi_i) / 2;
+            match try_candidate(candidates[mid], 16) {
+                Some(_) => {
+                    best = Some(mid);
+                    hi_i = mid;
+                }
+                None => lo_i = mid + 1,
+            }
+        }
+        let chosen = best.and_then(|i| try_candidate(candidates[i], 64));
+        let Some(mut path) = chosen else {
+            return Err(Error::NoBandSteering { loops: options.max_loops, amplitude: reach - 0.1 });
+        };
+        path.tabulate_z3();
+        Ok(path)
+    }
+
+    /// `(integral_0^T lambda W z1' dt at kappa = 0, its derivative in kappa)` on `pieces` panels.
+    fn area_integrals(&self, pieces: usize) -> [f64; 2] {
+        let h = self.horizon / pieces as f64;
+        let mut out = [0.0; 2];
+        for i in 0..pieces {
+            let (a, b) = (i as f64 * h, (i + 1) as f64 * h);
+            let (mid, half) = ((a + b) / 2.0, (b - a) / 2.0);
+            for (x, w) in self.rule.nodes.iter().zip(&self.rule.weights) {
+                let t = mid + half * x;
+                let s = smoothstep(num_dual::Dual64::new(t / self.horizon, 1.0 / self.horizon));
+                let z1 = self.z1_of(s);
+                let wz = self.width.eval(z1.re) * z1.eps * w * half;
+                let l0 = self.lambda_parts(s.re, 0.0);
+                out[0] += l0 * wz;
+                out[1] += (self.lambda_parts(s.re, 1.0) - l0) * wz;
+            }
+        }
+        out
+    }
+
+    /// `lambda(t)`.
+    fn lambda_at(&self, t: f64) -> f64 {
+        let s = smoothstep(t / self.horizon);
+        self.lambda_parts(s, self.choice.kappa)
+    }
+
+    /// `lambda(s) = (1 - e) (lambda0 + (lambdad - lambda0) s) + e/2 + kappa e cos(2 pi N s)` with
+    /// the flat-topped envelope `e(s) = 1 - (2s - 1)^8`: `lambda` leaves the ends' values for the
+    /// band's middle, where the loops have the whole width to swing in.
+    fn lambda_parts<D: Scalar>(&self, s: D, kappa: f64) -> D {
+        let n = self.choice.loops as f64;
+        let e = -(s * 2.0 - 1.0).powi(8) + 1.0;
+        let straight = s * (self.lambda[1] - self.lambda[0]) + self.lambda[0];
+        let swing = (s * (2.0 * std::f64::consts::PI * n)).cos() * kappa + 0.5;
+        straight * (-e + 1.0) + e * swing
+    }
+
+    fn z1_of<D: Scalar>(&self, s: D) -> D {
+        let n = self.choice.loops as f64;
+        s * (self.zd[0] - self.z0[0])
+            + self.z0[0]
+            + (s * (2.0 * std::f64::consts::PI * n)).sin() * self.choice.amplitude
+    }
+
+    /// `lambda W(z1) z1'` at `t`, with the given `kappa`.
+    fn area_rate(&self, t: f64, kappa: f64) -> f64 {
+        let s = smoothstep(num_dual::Dual64::new(t / self.horizon, 1.0 / self.horizon));
+        let z1 = self.z1_of(s);
+        self.lambda_parts(s.re, kappa) * self.width.eval(z1.re) * z1.eps
+    }
+
+    fn tabulate_z3(&mut self) {
+        let h = self.horizon / Z3_KNOTS as f64;
+        let kappa = self.choice.kappa;
+        let mut acc = 0.0;
+        self.knots = Vec::with_capacity(Z3_KNOTS + 1);
+        self.knots.push(0.0);
+        for i in 0..Z3_KNOTS {
+            acc += self.rule.integrate(i as f64 * h, (i + 1) as f64 * h, |t| self.area_rate(t, kappa));
+            self.knots.push(acc);
+        }
+    }
+
+    /// The path at `t` [s] with exact first and second time derivatives: `z` carries `z'` and `v`
+    /// carries `v'` in their dual parts.
+    pub fn at_dual(&self, t: f64) -> ChainedPoint<num_dual::Dual64> {
+        use num_dual::{Dual2, Dual64};
+        let tau = Dual2::new(t / self.horizon, 1.0 / self.horizon, 0.0);
+        let s = smoothstep(tau);
+        let z1 = self.z1_of(s);
+        let lambda = self.lambda_parts(s, self.choice.kappa);
+        let z2 = self.lower.eval(z1) + lambda * self.width.eval(z1);
+        let z3 = self.z3_at(t);
+        ChainedPoint {
+            z: [Dual64::new(z1.re, z1.v1), Dual64::new(z2.re, z2.v1), Dual64::new(z3, z2.re * z1.v1)],
+            v: [Dual64::new(z1.v1, z1.v2), Dual64::new(z2.v1, z2.v2)],
+        }
+    }
+
+    /// The path at `t` [s].
+    pub fn at(&self, t: f64) -> ChainedPoint<f64> {
+        let p = self.at_dual(t);
+        ChainedPoint { z: [p.z[0].re, p.z[1].re, p.z[2].re], v: [p.v[0].re, p.v[1].re] }
+    }
+
+    /// `z3(t) = z03 + (FL(z1(t)) - FL(z01)) + integral_0^t lambda W z1' dt`.
+    fn z3_at(&self, t: f64) -> f64 {
+        let h = self.horizon / Z3_KNOTS as f64;
+        let i = ((t / h).round().max(0.0) as usize).min(Z3_KNOTS);
+        let kappa = self.choice.kappa;
+        let knot = i as f64 * h;
+        let partial = if (t - knot).abs() <= 1e-13 * self.horizon {
+            self.knots[i]
+        } else {
+            self.knots[i] + self.rule.integrate(knot, t, |s| self.area_rate(s, kappa))
+        };
+        let z1 = self.z1_of(smoothstep(t / self.horizon));
+        self.z0[2] + self.lower_integral.eval(z1) - self.lower_integral.eval(self.z0[0]) + partial
+    }
+}
+
+/// The quintic smoothstep `10 x^3 - 15 x^4 + 6 x^5`: 0 and 1 at the ends with zero first and
+/// second derivatives.
+fn smoothstep<D: Scalar>(x: D) -> D {
+    x * x * x * (x * (x * 6.0 - 15.0) + 10.0)
+}
+
+/// Chebyshev fits of `L(theta1)` and `W(theta1)` over `[lo, hi]`, the band tracked continuously
+/// from the start.
+fn fit_band(nf: &NormalForm, start: &Configuration, lo: f64, hi: f64) -> Result<(Chebyshev, Chebyshev), Error> {
+    // Walk theta1 from the start to both ends in small steps, following the band's centre.
+    let step = 0.02;
+    let mut walk: Vec<(f64, f64)> = Vec::new();
+    for direction in [-1.0, 1.0] {
+        let mut theta1 = start.theta1;
+        let mut centre = start.theta2;
+        loop {
+            let (a, b) = nf.band(theta1, centre);
+            centre = 0.5 * (a + b);
+            walk.push((theta1, centre));
+            if (direction < 0.0 && theta1 <= lo) || (direction > 0.0 && theta1 >= hi) {
+                break;
+            }
+            theta1 += direction * step;
+        }
+    }
+    walk.sort_by(|x, y| x.0.total_cmp(&y.0));
+    let n = 64;
+    let points = Chebyshev::points(lo, hi, n);
+    let mut lower = Vec::with_capacity(n);
+    let mut width = Vec::with_capacity(n);
+    for &theta1 in &points {
+        let i = walk.partition_point(|w| w.0 < theta1).min(walk.len() - 1);
+        let (a, b) = nf.band(theta1, walk[i].1);
+        let (ha, hb) = (nf.h([0.0, theta1, a])[1], nf.h([0.0, theta1, b])[1]);
+        lower.push(ha.min(hb));
+        width.push((ha - hb).abs());
+    }
+    if width.iter().any(|w| !(w.is_finite() && *w > 0.0)) {
+        return Err(Error::NoBandSteering { loops: 0, amplitude: 0.0 });
+    }
+    Ok((Chebyshev::from_values(lo, hi, &lower), Chebyshev::from_values(lo, hi, &width)))
+}
+
+/// The chained-form path of a plan: the paper's polynomials, or the band steering.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Steering {
+    /// Sec. 5's polynomial controls.
+    Polynomial(PolynomialSteering),
+    /// [`BandSteering`] (global normal form only).
+    Band(BandSteering),
+}
+
+impl Steering {
+    /// Horizon `T` [s].
+    pub fn horizon(&self) -> f64 {
+        match self {
+            Steering::Polynomial(p) => p.horizon,
+            Steering::Band(b) => b.horizon,
+        }
+    }
+
+    /// `(z0, zd)`.
+    pub fn ends(&self) -> ([f64; 3], [f64; 3]) {
+        match self {
+            Steering::Polynomial(p) => (p.z0, p.zd),
+            Steering::Band(b) => (b.z0, b.zd),
+        }
+    }
+
+    /// The path at `t`.
+    pub fn at(&self, t: f64) -> ChainedPoint<f64> {
+        match self {
+            Steering::Polynomial(p) => p.at(t),
+            Steering::Band(b) => b.at(t),
+        }
+    }
+
+    /// The path at `t` with its time derivatives in the dual parts (`z'` and `v'`).
+    pub fn at_dual(&self, t: f64) -> ChainedPoint<num_dual::Dual64> {
+        match self {
+            Steering::Polynomial(p) => p.at(num_dual::Dual64::new(t, 1.0)),
+            Steering::Band(b) => b.at_dual(t),
+        }
+    }
+
+    /// The band choice, for band steering.
+    pub fn band_choice(&self) -> Option<BandChoice> {
+        match self {
+            Steering::Polynomial(_) => None,
+            Steering::Band(b) => Some(b.choice),
         }
     }
 }

@@ -80,6 +80,8 @@ pub enum TransformArg {
     Eq12,
     /// Eq. (14), any mounting point.
     Eq14,
+    /// The global normal form (beyond the paper): any mounting point, singular only at sigma = 0.
+    Global,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]

@@ -84,6 +84,7 @@ pub fn nfa_options(args: &ProblemArgs) -> freefloat::NfaOptions {
             TransformArg::Eq11 => Some(Transform::Eq11),
             TransformArg::Eq12 => Some(Transform::Eq12),
             TransformArg::Eq14 => Some(Transform::Eq14),
+            TransformArg::Global => Some(Transform::Global),
         },
         samples: args.samples,
         accelerations: true,

@@ -132,27 +132,42 @@ pub fn sigma_harmonics(k: &Lumped, theta1: f64) -> (f64, f64, f64) {
 /// `Err((h3(lo), h3(hi)))` when `z2` is outside the band's range.
 pub fn solve_in_band(k: &Lumped, theta1: f64, z2: f64, (lo, hi): (f64, f64), guess: f64) -> Result<f64, (f64, f64)> {
     let f = |th2: f64| h3(k, theta1, th2) - z2;
+    let slope = |th2: f64| {
+        let s = shape(k, theta1, th2);
+        -2.0 * s.sigma / (s.F * s.F)
+    };
+    let inside = |x: f64| x > lo && x < hi;
+    // Newton from the warm start while it stays inside the band and converges fast.
+    if inside(guess) {
+        let mut x = guess;
+        for _ in 0..8 {
+            let step = -f(x) / slope(x);
+            let next = x + step;
+            if !inside(next) || !step.is_finite() {
+                break;
+            }
+            if step.abs() <= 1e-10 * (1.0 + x.abs()) {
+                return Ok(next);
+            }
+            x = next;
+        }
+    }
+    // Safeguarded: keep a bracket f(a) < 0 < f(b) and bisect when Newton would leave it.
     let (flo, fhi) = (f(lo), f(hi));
     if flo * fhi >= 0.0 {
         return Err((flo + z2, fhi + z2));
     }
-    let (mut a, mut b) = if flo < 0.0 { (lo, hi) } else { (hi, lo) }; // f(a) < 0 < f(b)
-    let mut x = if guess > lo.min(hi) && guess < lo.max(hi) { guess } else { 0.5 * (lo + hi) };
+    let (mut a, mut b) = if flo < 0.0 { (lo, hi) } else { (hi, lo) };
+    let mut x = if inside(guess) { guess } else { 0.5 * (lo + hi) };
     for _ in 0..200 {
         let fx = f(x);
-        if fx == 0.0 {
-            return Ok(x);
-        }
         if fx < 0.0 {
             a = x;
         } else {
             b = x;
         }
-        let s = shape(k, theta1, x);
-        let slope = -2.0 * s.sigma / (s.F * s.F);
-        let newton = x - fx / slope;
-        let inside = newton > a.min(b) && newton < a.max(b);
-        let next = if inside && slope != 0.0 { newton } else { 0.5 * (a + b) };
+        let newton = x - fx / slope(x);
+        let next = if newton > a.min(b) && newton < a.max(b) { newton } else { 0.5 * (a + b) };
         if (next - x).abs() <= 1e-15 * (1.0 + x.abs()) || (a - b).abs() <= 1e-15 * (1.0 + x.abs()) {
             return Ok(next);
         }

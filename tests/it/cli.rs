@@ -128,11 +128,12 @@ fn bad_flags_exit_2() {
 
 #[test]
 fn problems_without_a_plan_exit_3_with_the_reason() {
-    let cases: [(&[&str], &str); 4] = [
-        (&["plan", "--from", "45,120,0"], "sin(theta2) = 0"),
-        (&["plan", "--mount", "0.1,0.1", "--from", "45,120,0"], "leaves the domain"),
+    let cases: [(&[&str], &str); 5] = [
+        (&["plan", "--from", "45,120,0", "--transform", "eq12"], "sin(theta2) = 0"),
+        (&["plan", "--from", "45,120,0"], "sigma = 0"),
+        (&["plan", "--mount", "0.1,0.1", "--from", "45,120,0", "--transform", "eq14"], "leaves the domain"),
         (&["plan", "--to", "0,180,-140"], "different components"),
-        (&["plan", "--mount", "1,-1"], "eq14"),
+        (&["plan", "--mount", "1,-1", "--transform", "eq14"], "eq14"),
     ];
     for (args, reason) in cases {
         let o = freefloat(args);
