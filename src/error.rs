@@ -170,6 +170,25 @@ pub enum Error {
         /// `velocity` or `torque`.
         level: &'static str,
     },
+    /// The ECSA iteration (Jacobian pseudo-inverse) stopped without reaching its residual
+    /// tolerance: the iteration limit was hit or the residual became non-finite.
+    #[error(
+        "ECSA did not converge ({}): {} iterations, residual {:.3e} rad > tolerance {:.1e} rad \
+         (residuals: {})",
+        stats.termination,
+        stats.iterations,
+        stats.residual,
+        stats.tolerance,
+        fmt_history(&stats.residual_history)
+    )]
+    EcsaFailed {
+        /// Iterations, residual history and why the iteration stopped.
+        stats: crate::ecsa::EcsaStats,
+    },
+}
+
+fn fmt_history(history: &[f64]) -> String {
+    history.iter().map(|r| format!("{r:.1e}")).collect::<Vec<_>>().join(", ")
 }
 
 impl Error {
