@@ -45,7 +45,7 @@ impl Window {
 pub struct Basis {
     /// Number of harmonics `H`, 1 to [`MAX_HARMONICS`].
     harmonics: usize,
-    /// The horizon `T` [s].
+    /// The horizon `T` \[s\].
     horizon: f64,
     /// The window.
     window: Window,
@@ -81,7 +81,7 @@ impl Basis {
         self.window
     }
 
-    /// The horizon `T` [s].
+    /// The horizon `T` \[s\].
     pub fn horizon(&self) -> f64 {
         self.horizon
     }
@@ -91,7 +91,7 @@ impl Basis {
         2 * self.harmonics + 1
     }
 
-    /// The basis functions at `t` [s]: `W(t) (1, sin(w t), cos(w t), ..., sin(H w t),
+    /// The basis functions at `t` \[s\]: `W(t) (1, sin(w t), cos(w t), ..., sin(H w t),
     /// cos(H w t))` in the first [`Self::terms`] entries (the rest zero). Generic, so that a
     /// dual `t` gives the time derivatives exactly.
     pub fn values<D: Scalar>(&self, t: D) -> [D; MAX_TERMS] {
@@ -113,7 +113,7 @@ impl Basis {
         out
     }
 
-    /// The controls `[u1, u2]` [rad/s] at `t` for the coefficients `c` (length `2 (2H + 1)`).
+    /// The controls `[u1, u2]` \[rad/s\] at `t` for the coefficients `c` (length `2 (2H + 1)`).
     pub fn controls<D: Scalar>(&self, c: &[f64], t: D) -> [D; 2] {
         let phi = self.values(t);
         let m = self.terms();
@@ -126,7 +126,7 @@ impl Basis {
         u
     }
 
-    /// `int_0^T` of each basis function [s]: what the coefficients contribute to the joint
+    /// `int_0^T` of each basis function \[s\]: what the coefficients contribute to the joint
     /// displacement `theta_i(T) - theta_i(0)`. Without window: `(T, 0, ..., 0)`; with
     /// `sin^2`: `T/2` for the constant, `-T/4` for `cos(w t)`, 0 for the rest.
     pub fn integrals(&self) -> [f64; MAX_TERMS] {

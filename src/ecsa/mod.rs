@@ -77,11 +77,11 @@ impl std::fmt::Display for EcsaTermination {
 pub struct EcsaStats {
     /// Pseudo-inverse updates of `c` made.
     pub iterations: usize,
-    /// Final residual `max_i |wrap(K_i(c) - q_di)|` [rad].
+    /// Final residual `max_i |wrap(K_i(c) - q_di)|` \[rad\].
     pub residual: f64,
-    /// The residual tolerance [rad].
+    /// The residual tolerance \[rad\].
     pub tolerance: f64,
-    /// The residual before each update and after the last one [rad]: `iterations + 1` entries.
+    /// The residual before each update and after the last one \[rad\]: `iterations + 1` entries.
     pub residual_history: Vec<f64>,
     /// Why the iteration stopped.
     pub termination: EcsaTermination,
@@ -97,7 +97,7 @@ pub struct EcsaOptions {
     pub harmonics: usize,
     /// Window of the series; default [`Window::None`] (the paper's).
     pub window: Window,
-    /// Residual tolerance of the iteration [rad]; default 1e-10 (SPEC §4).
+    /// Residual tolerance of the iteration \[rad\]; default 1e-10 (SPEC §4).
     pub residual_tolerance: f64,
     /// Largest number of updates of `c`; default 50.
     pub max_iterations: usize,
@@ -112,7 +112,7 @@ pub struct EcsaOptions {
     /// Integrator options of `K`, `J`, the samples and the verification (default
     /// rtol = atol = 1e-12).
     pub ode: OdeOptions,
-    /// Tolerance of the verified final error [rad]; default 1e-9 (SPEC §2).
+    /// Tolerance of the verified final error \[rad\]; default 1e-9 (SPEC §2).
     pub tolerance: f64,
 }
 
@@ -182,9 +182,9 @@ impl EcsaOptions {
 pub struct EcsaSolution {
     /// The control basis.
     pub basis: Basis,
-    /// `c = (c_10, ..., c_1,2H, c_20, ..., c_2,2H)` [rad/s].
+    /// `c = (c_10, ..., c_1,2H, c_20, ..., c_2,2H)` \[rad/s\].
     pub coefficients: Vec<f64>,
-    /// `K(c)`, the end point reached by the iteration's last integration [rad].
+    /// `K(c)`, the end point reached by the iteration's last integration \[rad\].
     pub reached: Configuration,
     /// Iterations, residuals, termination.
     pub stats: EcsaStats,
@@ -193,7 +193,7 @@ pub struct EcsaSolution {
 /// The end-point map and its Jacobian at one `c`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct EndPoint {
-    /// `K(c) = q(T)` [rad].
+    /// `K(c) = q(T)` \[rad\].
     pub q: Configuration,
     /// `J = dK/dc`, 3 rows (`phi, theta1, theta2`) by `2 (2H + 1)` columns.
     pub jacobian: nalgebra::DMatrix<f64>,
@@ -493,7 +493,7 @@ pub struct EcsaMotion {
 }
 
 impl EcsaMotion {
-    /// The coefficients of the controls [rad/s].
+    /// The coefficients of the controls \[rad/s\].
     pub fn coefficients(&self) -> &[f64] {
         &self.coefficients
     }
