@@ -178,9 +178,9 @@ pub enum Error {
         fmt_t(t), theta1.to_degrees()
     )]
     LeavesBand {
-        /// Time on the path [s].
+        /// Time on the path \[s\].
         t: Option<f64>,
-        /// `theta1 = z1` [rad].
+        /// `theta1 = z1` \[rad\].
         theta1: f64,
         /// The `z2` sought.
         z2: f64,
@@ -198,7 +198,7 @@ pub enum Error {
     NoBandSteering {
         /// Largest number of loops tried.
         loops: usize,
-        /// Largest amplitude tried [rad].
+        /// Largest amplitude tried \[rad\].
         amplitude: f64,
     },
     /// A plan was computed, but its verification failed the tolerance.
@@ -214,6 +214,25 @@ pub enum Error {
         /// `velocity` or `torque`.
         level: &'static str,
     },
+    /// The ECSA iteration (Jacobian pseudo-inverse) stopped without reaching its residual
+    /// tolerance: the iteration limit was hit or the residual became non-finite.
+    #[error(
+        "ECSA did not converge ({}): {} iterations, residual {:.3e} rad > tolerance {:.1e} rad \
+         (residuals: {})",
+        stats.termination,
+        stats.iterations,
+        stats.residual,
+        stats.tolerance,
+        fmt_history(&stats.residual_history)
+    )]
+    EcsaFailed {
+        /// Iterations, residual history and why the iteration stopped.
+        stats: crate::ecsa::EcsaStats,
+    },
+}
+
+fn fmt_history(history: &[f64]) -> String {
+    history.iter().map(|r| format!("{r:.1e}")).collect::<Vec<_>>().join(", ")
 }
 
 impl Error {

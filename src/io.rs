@@ -159,7 +159,7 @@ pub struct PlanReport {
     pub reached: [f64; 3],
     /// Largest deviation of the verification from the planned path \[rad\].
     pub max_path_deviation: f64,
-    /// `[max|u1|, max|u2|]` [rad/s].
+    /// `[max|u1|, max|u2|]` \[rad/s\].
     pub max_abs_u: [f64; 2],
     /// Smallest `|sigma|` along the path.
     pub min_abs_sigma: f64,
@@ -175,6 +175,12 @@ pub struct PlanReport {
     pub iterations: Option<usize>,
     /// Accepted steps of the verification's integrator.
     pub verify_steps: usize,
+    /// Joint velocities `[[u1(0), u2(0)], [u1(T), u2(T)]]` \[rad/s\]: zero for the NFA, not for
+    /// the ECSA's plain trigonometric controls (SPEC §6, item 8).
+    pub controls_at_ends: [[f64; 2]; 2],
+    /// ECSA details (ECSA only): basis, coefficients, residual history.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ecsa: Option<EcsaReport>,
     /// The trajectory (only in `--out FILE.json`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub trajectory: Option<Trajectory>,
@@ -208,8 +214,59 @@ impl PlanReport {
             seconds: plan.seconds,
             iterations: plan.iterations,
             verify_steps: v.stats.accepted,
+            controls_at_ends: controls_at_ends(&plan.trajectory),
+            ecsa: None,
             trajectory: with_trajectory.then(|| plan.trajectory.clone()),
         }
+    }
+}
+
+/// `[[u1(0), u2(0)], [u1(T), u2(T)]]` of a trajectory (zeros when it is empty).
+fn controls_at_ends(trajectory: &Trajectory) -> [[f64; 2]; 2] {
+    let u = |dq: Option<&[f64; 3]>| dq.map(|dq| [dq[1], dq[2]]).unwrap_or_default();
+    [u(trajectory.dq.first()), u(trajectory.dq.last())]
+}
+
+/// The ECSA's part of the report (`"ecsa"` key of `plan --method ecsa --format json`).
+#[derive(Debug, Clone, Serialize)]
+pub struct EcsaReport {
+    /// Harmonics `H` of the controls.
+    pub harmonics: usize,
+    /// `none` (the paper's plain series) or `sin2`.
+    pub window: crate::ecsa::Window,
+    /// `c = (c_10, ..., c_1,2H, c_20, ..., c_2,2H)` \[rad/s\].
+    pub coefficients: Vec<f64>,
+    /// Final residual of the iteration \[rad\].
+    pub residual: f64,
+    /// Its tolerance \[rad\].
+    pub residual_tolerance: f64,
+    /// Residual before each update and after the last \[rad\].
+    pub residual_history: Vec<f64>,
+    /// Why the iteration stopped.
+    pub termination: crate::ecsa::EcsaTermination,
+}
+
+impl EcsaReport {
+    /// The termination reason in words.
+    pub fn termination_name(&self) -> String {
+        self.termination.to_string()
+    }
+}
+
+impl PlanReport {
+    /// This report with the ECSA details of `solution`.
+    pub fn with_ecsa(mut self, solution: &crate::ecsa::EcsaSolution) -> Self {
+        let s = &solution.stats;
+        self.ecsa = Some(EcsaReport {
+            harmonics: solution.basis.harmonics(),
+            window: solution.basis.window(),
+            coefficients: solution.coefficients.clone(),
+            residual: s.residual,
+            residual_tolerance: s.tolerance,
+            residual_history: s.residual_history.clone(),
+            termination: s.termination,
+        });
+        self
     }
 }
 

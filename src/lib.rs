@@ -9,9 +9,11 @@
 //! 3. [`normal_form`]: the feedback transformations (11), (12), (14) to the chained form (10);
 //! 4. [`steering`]: polynomial controls of the chained form (Sec. 5);
 //! 5. [`plan`]: the inverse map back to `q` (Sec. 6) and the plan with its certificate;
-//! 6. [`ode`]: the adaptive integrator that verifies every plan.
+//! 6. [`ode`]: the adaptive integrator that verifies every plan;
+//! 7. [`ecsa`]: the paper's reference method, the Endogenous Configuration Space Approach.
 
 pub mod chebyshev;
+pub mod ecsa;
 pub mod error;
 pub mod io;
 pub mod model;
@@ -22,6 +24,7 @@ pub mod quadrature;
 pub mod steering;
 pub mod system;
 
+pub use ecsa::{EcsaOptions, EcsaPlanner, Window};
 pub use error::{Error, Singularity};
 pub use model::{Configuration, Lumped, Mount, RobotParams, paper_problem};
 pub use normal_form::{NormalForm, Transform};

@@ -69,7 +69,7 @@ pub trait Motion {
     fn horizon(&self) -> f64;
     /// The planned configuration, joint velocities `u` and their derivatives `du` at `t`.
     fn at(&self, t: f64) -> Result<MotionPoint, Error>;
-    /// The joint velocities `u(t)` [rad/s] alone (the velocity-level control signal).
+    /// The joint velocities `u(t)` \[rad/s\] alone (the velocity-level control signal).
     fn controls(&self, t: f64) -> Result<[f64; 2], Error> {
         Ok(self.at(t)?.u)
     }
@@ -80,9 +80,9 @@ pub trait Motion {
 pub struct MotionPoint {
     /// Planned configuration \[rad\].
     pub q: Configuration,
-    /// Joint velocities `(theta1', theta2')` [rad/s]: the controls of system (7).
+    /// Joint velocities `(theta1', theta2')` \[rad/s\]: the controls of system (7).
     pub u: [f64; 2],
-    /// Their time derivatives [rad/s^2].
+    /// Their time derivatives \[rad/s^2\].
     pub du: [f64; 2],
 }
 
@@ -93,9 +93,9 @@ pub struct Trajectory {
     pub t: Vec<f64>,
     /// Configurations `(phi, theta1, theta2)` \[rad\].
     pub q: Vec<[f64; 3]>,
-    /// Velocities `q'` [rad/s]; `(dq[1], dq[2])` are the controls `u`.
+    /// Velocities `q'` \[rad/s\]; `(dq[1], dq[2])` are the controls `u`.
     pub dq: Vec<[f64; 3]>,
-    /// Accelerations `q''` [rad/s^2], when computed.
+    /// Accelerations `q''` \[rad/s^2\], when computed.
     pub ddq: Option<Vec<[f64; 3]>>,
     /// Chained-form state `z` (NFA only).
     pub z: Option<Vec<[f64; 3]>>,
@@ -156,7 +156,7 @@ pub struct Plan {
     pub zd: Option<[f64; 3]>,
     /// The sampled trajectory.
     pub trajectory: Trajectory,
-    /// `[max |u1|, max |u2|]` over the samples [rad/s].
+    /// `[max |u1|, max |u2|]` over the samples \[rad/s\].
     pub max_abs_u: [f64; 2],
     /// Smallest `|sigma|` along the samples (domain margin).
     pub min_abs_sigma: f64,

@@ -135,7 +135,7 @@ pub struct BandOptions {
     pub margin: f64,
     /// Largest number of loops `N` tried; default 16.
     pub max_loops: usize,
-    /// Loop amplitudes `A` tried [rad]; default 0.25 .. 3.0.
+    /// Loop amplitudes `A` tried \[rad\]; default 0.25 .. 3.0.
     pub amplitudes: Vec<f64>,
 }
 
@@ -150,7 +150,7 @@ impl Default for BandOptions {
 pub struct BandChoice {
     /// Number of loops `N` of `z1`.
     pub loops: usize,
-    /// Loop amplitude `A` [rad].
+    /// Loop amplitude `A` \[rad\].
     pub amplitude: f64,
     /// Margin `eps` of `lambda`.
     pub margin: f64,
@@ -176,7 +176,7 @@ pub struct BandChoice {
 /// keeps `lambda` in `[eps, 1 - eps]`. The controls vanish at both ends.
 #[derive(Debug, Clone, PartialEq)]
 pub struct BandSteering {
-    /// Horizon `T` [s].
+    /// Horizon `T` \[s\].
     pub horizon: f64,
     /// Start `z0`.
     pub z0: [f64; 3],
@@ -336,7 +336,7 @@ impl BandSteering {
         }
     }
 
-    /// The path at `t` [s] with exact first and second time derivatives: `z` carries `z'` and `v`
+    /// The path at `t` \[s\] with exact first and second time derivatives: `z` carries `z'` and `v`
     /// carries `v'` in their dual parts.
     pub fn at_dual(&self, t: f64) -> ChainedPoint<num_dual::Dual64> {
         use num_dual::{Dual2, Dual64};
@@ -352,7 +352,7 @@ impl BandSteering {
         }
     }
 
-    /// The path at `t` [s].
+    /// The path at `t` \[s\].
     pub fn at(&self, t: f64) -> ChainedPoint<f64> {
         let p = self.at_dual(t);
         ChainedPoint { z: [p.z[0].re, p.z[1].re, p.z[2].re], v: [p.v[0].re, p.v[1].re] }
@@ -427,7 +427,7 @@ pub enum Steering {
 }
 
 impl Steering {
-    /// Horizon `T` [s].
+    /// Horizon `T` \[s\].
     pub fn horizon(&self) -> f64 {
         match self {
             Steering::Polynomial(p) => p.horizon,

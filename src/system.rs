@@ -65,7 +65,7 @@ pub fn vector_fields<D: Scalar>(k: &Lumped, theta1: D, theta2: D) -> ([D; 3], [D
     ([-s.G / s.F, one, zero], [-s.H / s.F, zero, one])
 }
 
-/// The velocity `q' = g1(q) u1 + g2(q) u2` of the driftless system (7) [rad/s], with the joint
+/// The velocity `q' = g1(q) u1 + g2(q) u2` of the driftless system (7) \[rad/s\], with the joint
 /// velocities `u = (theta1', theta2')` as controls.
 pub fn velocity<D: Scalar>(k: &Lumped, q: [D; 3], u: [D; 2]) -> [D; 3] {
     let (g1, g2) = vector_fields(k, q[1], q[2]);

@@ -68,6 +68,20 @@ pub struct ProblemArgs {
     /// Largest verified final error of a certified velocity plan \[rad\].
     #[arg(long, value_name = "RAD", default_value_t = 1e-9)]
     pub tolerance: f64,
+    /// ECSA: number of harmonics of the trigonometric controls, 1 to 4 (the paper: 1).
+    #[arg(long, value_name = "H", default_value_t = 1)]
+    pub harmonics: usize,
+    /// ECSA: window of the controls.
+    #[arg(long, value_enum, default_value_t = WindowArg::None)]
+    pub window: WindowArg,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum WindowArg {
+    /// The plain series, as in the paper: joint velocities jump at t = 0 and t = T.
+    None,
+    /// The series times sin^2(pi t / T): the plan starts and ends at rest.
+    Sin2,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]

@@ -10,7 +10,7 @@ use anyhow::{Context, bail};
 use clap::Parser;
 use freefloat::{Configuration, Mount, RobotParams};
 
-use args::{Cli, Command, ProblemArgs, RobotArgs, TransformArg};
+use args::{Cli, Command, ProblemArgs, RobotArgs, TransformArg, WindowArg};
 
 /// Parses the command line and runs the command.
 pub fn run() -> anyhow::Result<ExitCode> {
@@ -91,4 +91,17 @@ pub fn nfa_options(args: &ProblemArgs) -> freefloat::NfaOptions {
         tolerance: args.tolerance,
         ..Default::default()
     }
+}
+
+/// The ECSA options of the flags (harmonics checked: exit 2 when out of range).
+pub fn ecsa_options(args: &ProblemArgs) -> anyhow::Result<freefloat::EcsaOptions> {
+    use freefloat::{EcsaOptions, Window};
+    let window = match args.window {
+        WindowArg::None => Window::None,
+        WindowArg::Sin2 => Window::SinSquared,
+    };
+    let options = EcsaOptions { samples: args.samples, tolerance: args.tolerance, ..Default::default() }
+        .with_window(window)
+        .with_harmonics(args.harmonics)?;
+    Ok(options)
 }

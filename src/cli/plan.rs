@@ -3,33 +3,53 @@
 use std::process::ExitCode;
 
 use anyhow::bail;
+use freefloat::ecsa::EcsaSolution;
 use freefloat::io::{PlanReport, trajectory_csv, write_atomic};
 use freefloat::plan::Method;
-use freefloat::{NormalFormPlanner, Plan, Planner};
+use freefloat::{EcsaPlanner, NormalFormPlanner, Plan, Planner, PlanningProblem};
 
-use super::args::{CompareArgs, Format, MethodArg, PlanArgs};
+use super::args::{CompareArgs, Format, MethodArg, PlanArgs, ProblemArgs};
+
+/// Plans with the NFA, or with the ECSA (then with its solution's details).
+fn plan_with(
+    method: MethodArg,
+    args: &ProblemArgs,
+    problem: &PlanningProblem,
+) -> anyhow::Result<Result<(Plan, Option<EcsaSolution>), freefloat::Error>> {
+    Ok(match method {
+        MethodArg::Nfa => NormalFormPlanner::new(super::nfa_options(args)).plan(problem).map(|p| (p, None)),
+        MethodArg::Ecsa => {
+            EcsaPlanner::new(super::ecsa_options(args)?).plan_with_solution(problem).map(|(p, s)| (p, Some(s)))
+        }
+    })
+}
+
+/// The JSON report of a plan, with the ECSA details when there are any.
+fn report(plan: &Plan, solution: Option<&EcsaSolution>, with_trajectory: bool) -> PlanReport {
+    let report = PlanReport::new(plan, with_trajectory);
+    match solution {
+        Some(s) => report.with_ecsa(s),
+        None => report,
+    }
+}
 
 /// Runs `plan`: exit 0 with a certified plan, 3 (numbers on stderr) otherwise.
 pub fn run(args: &PlanArgs) -> anyhow::Result<ExitCode> {
     let problem = super::problem(&args.problem)?;
-    let options = super::nfa_options(&args.problem);
-    let plan = match args.method {
-        MethodArg::Nfa => NormalFormPlanner::new(options).plan(&problem)?,
-        MethodArg::Ecsa => bail!("--method ecsa is not available yet"),
-    };
+    let (plan, solution) = plan_with(args.method, &args.problem, &problem)??;
     if args.problem.torques {
         bail!("--torques is not available yet");
     }
-    let report = PlanReport::new(&plan, false);
+    let r = report(&plan, solution.as_ref(), false);
     match args.format {
-        Format::Table => print!("{}", table(&plan, &report)),
-        Format::Json => println!("{}", serde_json::to_string_pretty(&report)?),
+        Format::Table => print!("{}", table(&plan, &r)),
+        Format::Json => println!("{}", serde_json::to_string_pretty(&r)?),
         Format::Csv => print!("{}", String::from_utf8(trajectory_csv(&plan.trajectory)?)?),
     }
     if let Some(path) = &args.out {
         let bytes = match path.extension().and_then(|e| e.to_str()) {
             Some("csv") => trajectory_csv(&plan.trajectory)?,
-            Some("json") => serde_json::to_vec_pretty(&PlanReport::new(&plan, true))?,
+            Some("json") => serde_json::to_vec_pretty(&report(&plan, solution.as_ref(), true))?,
             _ => bail!("--out {}: the file name must end in .json or .csv", path.display()),
         };
         write_atomic(path, &bytes)?;
@@ -38,9 +58,131 @@ pub fn run(args: &PlanArgs) -> anyhow::Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
-/// Runs `compare`.
-pub fn compare(_args: &CompareArgs) -> anyhow::Result<ExitCode> {
-    bail!("`compare` needs the ECSA planner, which is not available yet")
+/// Runs `compare`: NFA and ECSA on the same problem, side by side. Exit 0 when both plans are
+/// certified; 3 when either has no certified plan (the other is still shown); 2 for bad input.
+pub fn compare(args: &CompareArgs) -> anyhow::Result<ExitCode> {
+    if args.format == Format::Csv {
+        bail!("compare prints a table or JSON, not CSV (use `plan --format csv` for a trajectory)");
+    }
+    let problem = super::problem(&args.problem)?;
+    if args.problem.torques {
+        // Torques (inverse dynamics, Eq. 6) come with the torque issue: the table and the JSON
+        // already show `max_abs_torque` / `seconds.torques` of the reports when they are set.
+        bail!("--torques is not available yet");
+    }
+    let mut results = Vec::new();
+    for method in [MethodArg::Nfa, MethodArg::Ecsa] {
+        let result = plan_with(method, &args.problem, &problem)?;
+        if let Err(e) = result {
+            if e.is_bad_input() {
+                return Err(e.into());
+            }
+            results.push(Err(e));
+        } else {
+            results.push(result);
+        }
+    }
+    let reports: Vec<Result<PlanReport, String>> = results
+        .iter()
+        .map(|r| match r {
+            Ok((plan, solution)) => Ok(report(plan, solution.as_ref(), false)),
+            Err(e) => Err(e.to_string()),
+        })
+        .collect();
+    if args.format == Format::Json {
+        println!("{}", serde_json::to_string_pretty(&compare_json(&reports)?)?);
+    } else {
+        print!("{}", compare_table(&problem, &reports));
+    }
+    for result in results {
+        let (plan, _) = result?;
+        plan.certified()?;
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// The JSON object of `compare`: `{"nfa": report, "ecsa": report}`, a method without a plan
+/// as `null` with its message under `"errors"`.
+fn compare_json(reports: &[Result<PlanReport, String>]) -> anyhow::Result<serde_json::Value> {
+    let mut object = serde_json::Map::new();
+    let mut errors = serde_json::Map::new();
+    for (name, r) in ["nfa", "ecsa"].iter().zip(reports) {
+        let value = match r {
+            Ok(report) => serde_json::to_value(report)?,
+            Err(message) => {
+                errors.insert(name.to_string(), message.clone().into());
+                serde_json::Value::Null
+            }
+        };
+        object.insert(name.to_string(), value);
+    }
+    if !errors.is_empty() {
+        object.insert("errors".into(), errors.into());
+    }
+    Ok(object.into())
+}
+
+/// The side-by-side table of `compare`.
+fn compare_table(problem: &PlanningProblem, reports: &[Result<PlanReport, String>]) -> String {
+    type Row = (&'static str, fn(&PlanReport) -> String);
+    let rows: [Row; 14] = [
+        ("verified final error [rad]", |r| format!("{:.3e}", r.final_error)),
+        ("certified", |r| if r.certified { "yes".into() } else { "NO".into() }),
+        ("iterations", |r| r.iterations.map(|i| i.to_string()).unwrap_or_else(|| "- (closed form)".into())),
+        ("iteration residual [rad]", |r| r.ecsa.as_ref().map(|x| format!("{:.3e}", x.residual)).unwrap_or("-".into())),
+        ("max |u1| [rad/s]", |r| format!("{:.6}", r.max_abs_u[0])),
+        ("max |u2| [rad/s]", |r| format!("{:.6}", r.max_abs_u[1])),
+        ("u(0) [rad/s]", |r| format!("{:.4}, {:.4}", r.controls_at_ends[0][0], r.controls_at_ends[0][1])),
+        ("u(T) [rad/s]", |r| format!("{:.4}, {:.4}", r.controls_at_ends[1][0], r.controls_at_ends[1][1])),
+        // Filled by `--torques` (inverse dynamics, torque issue): peak |tau1|, |tau2|.
+        ("max |tau1|, |tau2| [N m]", |r| {
+            r.max_abs_torque.map(|t| format!("{:.4}, {:.4}", t[0], t[1])).unwrap_or("- (--torques)".into())
+        }),
+        ("min |sigma|, min |P|", |r| format!("{:.4}, {:.4}", r.min_abs_sigma, r.min_abs_p)),
+        ("max deviation from plan [rad]", |r| format!("{:.3e}", r.max_path_deviation)),
+        ("time: plan [ms]", |r| format!("{:.3}", r.seconds.plan * 1e3)),
+        ("time: torques [ms]", |r| r.seconds.torques.map(|t| format!("{:.3}", t * 1e3)).unwrap_or("-".into())),
+        ("time: verify [ms]", |r| format!("{:.3}", r.seconds.verify * 1e3)),
+    ];
+    let header = |r: &Result<PlanReport, String>, name: &str| match r {
+        Ok(r) => match (&r.transform, &r.ecsa) {
+            (Some(t), _) => format!("NFA ({})", t.name()),
+            (None, Some(x)) => format!("ECSA (H = {}, window {})", x.harmonics, x.window.name()),
+            _ => name.to_uppercase(),
+        },
+        Err(_) => name.to_uppercase(),
+    };
+    let mut s = String::new();
+    let mount = problem.robot.mount;
+    s += &format!(
+        "freefloat compare: mount (a, b) = ({}, {}) m, {} -> {} deg, T = {} s\n",
+        mount.a,
+        mount.b,
+        deg(problem.start.to_array()),
+        deg(problem.goal.to_array()),
+        problem.horizon
+    );
+    let head = format!("  {:<31}{:<26}{}", "", header(&reports[0], "nfa"), header(&reports[1], "ecsa"));
+    s += head.trim_end();
+    s += "\n";
+    for (label, cell) in rows {
+        s += &format!("  {label:<31}");
+        for r in reports {
+            let text = match r {
+                Ok(r) => cell(r),
+                Err(_) => "(no plan)".into(),
+            };
+            s += &format!("{text:<26}");
+        }
+        s = s.trim_end().to_string();
+        s += "\n";
+    }
+    for (name, r) in ["nfa", "ecsa"].iter().zip(reports) {
+        if let Err(message) = r {
+            s += &format!("  {name}: {message}\n");
+        }
+    }
+    s
 }
 
 fn deg(q: [f64; 3]) -> String {
@@ -70,6 +212,23 @@ pub fn table(plan: &Plan, r: &PlanReport) -> String {
         &format!("  max deviation from plan  {:.3e} rad ({} integrator steps)\n", r.max_path_deviation, r.verify_steps);
     s += &format!("  max |u1|, |u2|           {:.6}, {:.6} rad/s\n", r.max_abs_u[0], r.max_abs_u[1]);
     s += &format!("  min |sigma|, |P|         {:.6}, {:.6}\n", r.min_abs_sigma, r.min_abs_p);
+    if let Some(x) = &r.ecsa {
+        let [u0, u1] = r.controls_at_ends;
+        s += &format!("  controls                 {} harmonic(s), window {}\n", x.harmonics, x.window.name());
+        s += &format!(
+            "  iteration residuals      {} rad ({})\n",
+            x.residual_history.iter().map(|r| format!("{r:.1e}")).collect::<Vec<_>>().join(", "),
+            x.termination_name()
+        );
+        s += &format!(
+            "  u(0), u(T)               ({:.6}, {:.6}), ({:.6}, {:.6}) rad/s{}\n",
+            u0[0],
+            u0[1],
+            u1[0],
+            u1[1],
+            if x.window == freefloat::Window::None { "  (plain series: not at rest)" } else { "" }
+        );
+    }
     if let (Some(tau), Some(e)) = (r.max_abs_torque, r.torque_final_error) {
         s += &format!("  max |tau1|, |tau2|       {:.6}, {:.6} N m\n", tau[0], tau[1]);
         s += &format!("  torque final error       {e:.3e} rad\n");
@@ -81,4 +240,49 @@ pub fn table(plan: &Plan, r: &PlanReport) -> String {
         r.seconds.verify * 1e3
     );
     s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use freefloat::{Mount, RobotParams, Transform};
+
+    fn reports(a: f64, transform: Option<Transform>) -> (PlanningProblem, Vec<Result<PlanReport, String>>) {
+        let robot = RobotParams::src().with_mount(Mount::new(a, -a).expect("finite")).expect("valid");
+        let problem = PlanningProblem::paper(robot);
+        let options = freefloat::NfaOptions { transform, ..Default::default() };
+        let nfa = NormalFormPlanner::new(options).plan(&problem).map(|p| PlanReport::new(&p, false));
+        let ecsa =
+            EcsaPlanner::default().plan_with_solution(&problem).map(|(p, s)| PlanReport::new(&p, false).with_ecsa(&s));
+        (problem, vec![nfa.map_err(|e| e.to_string()), ecsa.map_err(|e| e.to_string())])
+    }
+
+    /// The paper's problem: both columns filled, JSON has both reports with SPEC §3's keys.
+    #[test]
+    fn compare_default_problem() {
+        let (problem, reports) = reports(0.0, None);
+        let table = compare_table(&problem, &reports);
+        assert!(table.contains("NFA (eq12)") && table.contains("ECSA (H = 1, window none)"), "{table}");
+        assert!(!table.contains("(no plan)"), "{table}");
+        let json = compare_json(&reports).unwrap();
+        for method in ["nfa", "ecsa"] {
+            for key in ["final_error", "max_abs_u", "iterations", "seconds", "max_abs_torque", "transform"] {
+                assert!(json[method].get(key).is_some(), "{method}.{key}");
+            }
+        }
+        assert!(json["ecsa"]["iterations"].as_u64().is_some() && json["nfa"]["iterations"].is_null());
+        assert!(json.get("errors").is_none());
+    }
+
+    /// Where the NFA has no plan (a = 1, b = -1: the path leaves the domain of Eq. 14) the
+    /// ECSA still plans; the NFA column says so and the JSON carries the NFA's error.
+    #[test]
+    fn compare_when_the_nfa_fails() {
+        let (problem, reports) = reports(1.0, Some(Transform::Eq14));
+        assert!(reports[0].is_err() && reports[1].is_ok());
+        let table = compare_table(&problem, &reports);
+        assert!(table.contains("(no plan)") && table.contains("  nfa: "), "{table}");
+        let json = compare_json(&reports).unwrap();
+        assert!(json["nfa"].is_null() && json["errors"]["nfa"].is_string() && json["ecsa"].is_object());
+    }
 }

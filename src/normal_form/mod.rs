@@ -290,7 +290,7 @@ impl NormalForm {
         }
     }
 
-    /// The inverse feedback `u = beta(q)^-1 (v - alpha(q))`: joint velocities [rad/s] from
+    /// The inverse feedback `u = beta(q)^-1 (v - alpha(q))`: joint velocities \[rad/s\] from
     /// chained-form controls. With dual `q, v` (carrying `q'` and `v'`) it also gives `u'`.
     pub fn control<D: Scalar>(&self, q: [D; 3], v: [D; 2]) -> [D; 2] {
         match self.transform {
