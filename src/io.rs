@@ -173,6 +173,12 @@ pub struct PlanReport {
     pub seconds: crate::plan::Seconds,
     /// ECSA iterations (null for NFA).
     pub iterations: Option<usize>,
+    /// Chained-form steering of the NFA: `polynomial` (Sec. 5) or `band` (global normal form).
+    pub steering: Option<&'static str>,
+    /// The band steering's choice `(N, A, eps, kappa)`, when used.
+    pub band: Option<crate::steering::BandChoice>,
+    /// Total variation of `(phi, theta1, theta2)` along the path \[rad\].
+    pub joint_travel: [f64; 3],
     /// Accepted steps of the verification's integrator.
     pub verify_steps: usize,
     /// Joint velocities `[[u1(0), u2(0)], [u1(T), u2(T)]]` \[rad/s\]: zero for the NFA, not for
@@ -213,6 +219,13 @@ impl PlanReport {
             torque_final_error: None,
             seconds: plan.seconds,
             iterations: plan.iterations,
+            steering: match (plan.method, plan.band) {
+                (crate::plan::Method::Nfa, Some(_)) => Some("band"),
+                (crate::plan::Method::Nfa, None) => Some("polynomial"),
+                _ => None,
+            },
+            band: plan.band,
+            joint_travel: plan.joint_travel,
             verify_steps: v.stats.accepted,
             controls_at_ends: controls_at_ends(&plan.trajectory),
             ecsa: None,

@@ -257,7 +257,7 @@ impl BandSteering {
         let mut best = None;
         while lo_i < hi_i {
             let mid = (lo_i + hi_i) / 2;
-            match try_candidate(candidates[mid], 16) {
+            match try_candidate(candidates[mid], 8) {
                 Some(_) => {
                     best = Some(mid);
                     hi_i = mid;
@@ -265,30 +265,34 @@ impl BandSteering {
                 None => lo_i = mid + 1,
             }
         }
-        let chosen = best.and_then(|i| try_candidate(candidates[i], 64));
-        let Some(mut path) = chosen else {
+        let Some(mut path) = best.and_then(|i| try_candidate(candidates[i], 8)) else {
             return Err(Error::NoBandSteering { loops: options.max_loops, amplitude: reach - 0.1 });
         };
-        path.tabulate_z3();
+        // The exact kappa from the fine quadrature of z3, which is tabulated on the way.
+        path.tabulate_z3(w3);
         Ok(path)
     }
 
     /// `(integral_0^T lambda W z1' dt at kappa = 0, its derivative in kappa)` on `pieces` panels.
     fn area_integrals(&self, pieces: usize) -> [f64; 2] {
         let h = self.horizon / pieces as f64;
+        (0..pieces)
+            .map(|i| self.area_panel(i as f64 * h, (i + 1) as f64 * h))
+            .fold([0.0; 2], |s, p| [s[0] + p[0], s[1] + p[1]])
+    }
+
+    /// [`Self::area_integrals`] over one panel `[a, b]`, with the Gauss–Legendre rule.
+    fn area_panel(&self, a: f64, b: f64) -> [f64; 2] {
+        let (mid, half) = ((a + b) / 2.0, (b - a) / 2.0);
         let mut out = [0.0; 2];
-        for i in 0..pieces {
-            let (a, b) = (i as f64 * h, (i + 1) as f64 * h);
-            let (mid, half) = ((a + b) / 2.0, (b - a) / 2.0);
-            for (x, w) in self.rule.nodes.iter().zip(&self.rule.weights) {
-                let t = mid + half * x;
-                let s = smoothstep(num_dual::Dual64::new(t / self.horizon, 1.0 / self.horizon));
-                let z1 = self.z1_of(s);
-                let wz = self.width.eval(z1.re) * z1.eps * w * half;
-                let l0 = self.lambda_parts(s.re, 0.0);
-                out[0] += l0 * wz;
-                out[1] += (self.lambda_parts(s.re, 1.0) - l0) * wz;
-            }
+        for (x, w) in self.rule.nodes.iter().zip(&self.rule.weights) {
+            let t = mid + half * x;
+            let s = smoothstep(num_dual::Dual64::new(t / self.horizon, 1.0 / self.horizon));
+            let z1 = self.z1_of(s);
+            let wz = self.width.eval(z1.re) * z1.eps * w * half;
+            let l0 = self.lambda_parts(s.re, 0.0);
+            out[0] += l0 * wz;
+            out[1] += (self.lambda_parts(s.re, 1.0) - l0) * wz;
         }
         out
     }
@@ -324,16 +328,21 @@ impl BandSteering {
         self.lambda_parts(s.re, kappa) * self.width.eval(z1.re) * z1.eps
     }
 
-    fn tabulate_z3(&mut self) {
+    /// Tabulates `integral_0^t lambda W z1' dt` at the knots, solving on the way for the `kappa`
+    /// that makes `z3(T) - z03 - (FL(zd1) - FL(z01)) = w3`.
+    fn tabulate_z3(&mut self, w3: f64) {
         let h = self.horizon / Z3_KNOTS as f64;
-        let kappa = self.choice.kappa;
-        let mut acc = 0.0;
-        self.knots = Vec::with_capacity(Z3_KNOTS + 1);
-        self.knots.push(0.0);
+        let mut parts = Vec::with_capacity(Z3_KNOTS + 1);
+        let mut acc = [0.0; 2];
+        parts.push(acc);
         for i in 0..Z3_KNOTS {
-            acc += self.rule.integrate(i as f64 * h, (i + 1) as f64 * h, |t| self.area_rate(t, kappa));
-            self.knots.push(acc);
+            let p = self.area_panel(i as f64 * h, (i + 1) as f64 * h);
+            acc = [acc[0] + p[0], acc[1] + p[1]];
+            parts.push(acc);
         }
+        let kappa = (w3 - acc[0]) / acc[1];
+        self.choice.kappa = kappa;
+        self.knots = parts.iter().map(|p| p[0] + kappa * p[1]).collect();
     }
 
     /// The path at `t` \[s\] with exact first and second time derivatives: `z` carries `z'` and `v`

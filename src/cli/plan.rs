@@ -229,6 +229,18 @@ pub fn table(plan: &Plan, r: &PlanReport) -> String {
             if x.window == freefloat::Window::None { "  (plain series: not at rest)" } else { "" }
         );
     }
+    if let Some(b) = r.band {
+        s += &format!(
+            "  band steering            N = {} loops of amplitude A = {:.2} rad, eps = {:.3}, lambda in [{:.3}, {:.3}]\n",
+            b.loops, b.amplitude, b.margin, b.lambda_range[0], b.lambda_range[1]
+        );
+    }
+    s += &format!(
+        "  joint travel [deg]       phi {:.1}, theta1 {:.1}, theta2 {:.1}\n",
+        r.joint_travel[0].to_degrees(),
+        r.joint_travel[1].to_degrees(),
+        r.joint_travel[2].to_degrees()
+    );
     if let (Some(tau), Some(e)) = (r.max_abs_torque, r.torque_final_error) {
         s += &format!("  max |tau1|, |tau2|       {:.6}, {:.6} N m\n", tau[0], tau[1]);
         s += &format!("  torque final error       {e:.3e} rad\n");
