@@ -596,4 +596,63 @@ mod tests {
             assert!(matches!(r, Err(Error::DifferentComponents { .. })), "{transform:?}: {r:?}");
         }
     }
+
+    /// Beyond the paper: the global normal form plans the paper's problem for the paper's mounts
+    /// and for the "impossible" a = 1, b = -1 and other mounts with |a|, |b| <= 1, certified to
+    /// 1e-9, never through sigma = 0 (its sign is checked at every sample, and the verified path
+    /// stays within 1e-9 of the planned one).
+    #[test]
+    fn global_normal_form_plans_where_the_paper_cannot() {
+        let mounts = [
+            (0.0, 0.0),
+            (0.1, 0.1),
+            (0.2, 0.2),
+            (0.3, 0.3),
+            (1.0, -1.0),
+            (0.5, 0.5),
+            (0.7, 0.0),
+            (-1.0, 1.0),
+            (0.0, -1.0),
+            (-0.5, -0.5),
+        ];
+        for (a, b) in mounts {
+            let robot = RobotParams::src().with_mount(Mount::new(a, b).unwrap()).unwrap();
+            let problem = PlanningProblem::paper(robot);
+            let options = NfaOptions { transform: Some(Transform::Global), ..Default::default() };
+            let plan = NormalFormPlanner::new(options).plan(&problem).unwrap_or_else(|e| panic!("({a}, {b}): {e}"));
+            let v = &plan.verification;
+            assert!(v.final_error <= 1e-9 && v.max_path_deviation <= 1e-9, "({a}, {b}): {v:?}");
+            assert!(plan.min_abs_sigma > 1e-3, "({a}, {b}): min |sigma| {}", plan.min_abs_sigma);
+            let k = robot.lumped();
+            let sign = crate::system::shape(&k, problem.start.theta1, problem.start.theta2).sigma.signum();
+            for q in &plan.trajectory.q {
+                assert!(crate::system::shape(&k, q[1], q[2]).sigma * sign > 0.0);
+            }
+        }
+    }
+
+    /// The band steering's controls vanish at both ends and its chained-form path meets zd.
+    #[test]
+    fn band_steering_starts_and_ends_at_rest() {
+        let robot = RobotParams::src().with_mount(Mount::new(1.0, -1.0).unwrap()).unwrap();
+        let problem = PlanningProblem::paper(robot);
+        let options = NfaOptions { transform: Some(Transform::Global), ..Default::default() };
+        let motion = NormalFormPlanner::new(options).motion(&problem).unwrap();
+        assert!(motion.steering.band_choice().is_some());
+        let (z0, zd) = motion.steering.ends();
+        for (t, z) in [(0.0, z0), (problem.horizon, zd)] {
+            let p = motion.steering.at(t);
+            for i in 0..3 {
+                assert!((p.z[i] - z[i]).abs() < 1e-12, "z{} at t = {t}: {} vs {}", i + 1, p.z[i], z[i]);
+            }
+            assert!(p.v.iter().all(|v| v.abs() < 1e-12), "{:?}", p.v);
+        }
+        // z3' = z2 v1 along the path, by a central difference of the quadrature.
+        for t in [1.3, 4.4, 7.9] {
+            let h = 1e-4;
+            let dz3 = (motion.steering.at(t + h).z[2] - motion.steering.at(t - h).z[2]) / (2.0 * h);
+            let p = motion.steering.at(t);
+            assert!((dz3 - p.z[1] * p.v[0]).abs() < 1e-6 * (1.0 + dz3.abs()), "t = {t}: {dz3} vs {}", p.z[1] * p.v[0]);
+        }
+    }
 }
