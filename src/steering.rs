@@ -217,11 +217,6 @@ impl BandSteering {
         let edge = |l: f64| l.min(1.0 - l);
         let margin = options.margin.min(edge(lambda[0]) / 2.0).min(edge(lambda[1]) / 2.0);
         let fixed = lower_integral.eval(zd[0]) - lower_integral.eval(z0[0]);
-        let mut candidates = vec![(0usize, 0.0f64)];
-        for n in 1..=options.max_loops {
-            candidates.extend(options.amplitudes.iter().map(|&a| (n, a)));
-        }
-        candidates.sort_by(|x, y| (x.0 as f64 * x.1).total_cmp(&(y.0 as f64 * y.1)));
         let rule = GaussLegendre::new(8);
         let template = Self {
             horizon,
@@ -236,41 +231,74 @@ impl BandSteering {
             knots: Vec::new(),
         };
         let w3 = zd[2] - z0[2] - fixed;
-        // Feasibility grows with the loops' area N A: binary search for the cheapest feasible
-        // candidate (each one checked, so the result is feasible even where that is not monotone).
-        let try_candidate = |(loops, amplitude): (usize, f64), pieces_per_loop: usize| -> Option<Self> {
+        let try_candidate = |(loops, amplitude): (usize, f64)| -> Option<Self> {
             let mut path = template.clone();
             path.choice.loops = loops;
             path.choice.amplitude = amplitude;
-            let [base, unit] = path.area_integrals(pieces_per_loop * (loops + 1));
+            let [base, unit] = path.area_integrals(4 * (loops + 1));
             if unit.abs() < 1e-12 || !w1.is_finite() {
                 return None;
             }
             path.choice.kappa = (w3 - base) / unit;
-            let range = (0..=400)
-                .map(|i| path.lambda_at(horizon * i as f64 / 400.0))
+            let range = (0..=200)
+                .map(|i| path.lambda_at(horizon * i as f64 / 200.0))
                 .fold([f64::INFINITY, f64::NEG_INFINITY], |r, l| [r[0].min(l), r[1].max(l)]);
             path.choice.lambda_range = range;
             (range[0] >= margin && range[1] <= 1.0 - margin).then_some(path)
         };
-        let (mut lo_i, mut hi_i) = (0, candidates.len());
-        let mut best = None;
-        while lo_i < hi_i {
-            let mid = (lo_i + hi_i) / 2;
-            match try_candidate(candidates[mid], 8) {
-                Some(_) => {
-                    best = Some(mid);
-                    hi_i = mid;
+        // No loops if a single pass suffices; else, for each amplitude, the fewest loops that keep
+        // lambda inside (binary search: the loops' area grows with N), and of those the pair with
+        // the smallest estimated peak joint velocity.
+        let mut feasible: Vec<Self> = try_candidate((0, 0.0)).into_iter().collect();
+        if feasible.is_empty() {
+            for &amplitude in &options.amplitudes {
+                let (mut lo_n, mut hi_n) = (1, options.max_loops + 1);
+                let mut found = None;
+                while lo_n < hi_n {
+                    let mid = (lo_n + hi_n) / 2;
+                    match try_candidate((mid, amplitude)) {
+                        Some(path) => {
+                            found = Some(path);
+                            hi_n = mid;
+                        }
+                        None => lo_n = mid + 1,
+                    }
                 }
-                None => lo_i = mid + 1,
+                feasible.extend(found);
             }
         }
-        let Some(mut path) = best.and_then(|i| try_candidate(candidates[i], 8)) else {
+        let best = feasible
+            .into_iter()
+            .map(|p| (p.peak_velocity_estimate(nf, start), p))
+            .filter(|(peak, _)| peak.is_finite())
+            .min_by(|x, y| x.0.total_cmp(&y.0));
+        let Some((_, mut path)) = best else {
             return Err(Error::NoBandSteering { loops: options.max_loops, amplitude: reach - 0.1 });
         };
         // The exact kappa from the fine quadrature of z3, which is tabulated on the way.
         path.tabulate_z3(w3);
         Ok(path)
+    }
+
+    /// The peak joint velocity `max(|u1|, |u2|)` over 41 times (the inverse map needs only
+    /// `z1, z2`, not the quadrature of `z3`); infinite when the path cannot be inverted.
+    fn peak_velocity_estimate(&self, nf: &NormalForm, start: &Configuration) -> f64 {
+        let mut peak = 0.0f64;
+        let mut theta2 = start.theta2;
+        for i in 0..=40 {
+            let t = self.horizon * i as f64 / 40.0;
+            let s = smoothstep(num_dual::Dual64::new(t / self.horizon, 1.0 / self.horizon));
+            let z1 = self.z1_of(s);
+            let z2 = self.lower.eval(z1) + self.lambda_parts(s, self.choice.kappa) * self.width.eval(z1);
+            let band = nf.band(z1.re, theta2);
+            match crate::normal_form::global::solve_in_band(nf.lumped(), z1.re, z2.re, band, theta2) {
+                Ok(x) => theta2 = x,
+                Err(_) => return f64::INFINITY,
+            }
+            let u = nf.control([0.0, z1.re, theta2], [z1.eps, z2.eps]);
+            peak = peak.max(u[0].abs()).max(u[1].abs());
+        }
+        peak
     }
 
     /// `(integral_0^T lambda W z1' dt at kappa = 0, its derivative in kappa)` on `pieces` panels.
