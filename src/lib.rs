@@ -9,15 +9,19 @@
 //! 3. [`normal_form`]: the feedback transformations (11), (12), (14) to the chained form (10);
 //! 4. [`steering`]: polynomial controls of the chained form (Sec. 5);
 //! 5. [`plan`]: the inverse map back to `q` (Sec. 6) and the plan with its certificate;
-//! 6. [`ode`]: the adaptive integrator that verifies every plan.
+//! 6. [`ode`]: the adaptive integrator that verifies every plan;
+//! 7. [`domain`]: where each transformation exists on the joint torus (Sec. 6, item 3; Figs. 13-14).
 
+pub mod domain;
 pub mod error;
 pub mod io;
 pub mod model;
 pub mod normal_form;
 pub mod ode;
 pub mod plan;
+pub mod plot;
 pub mod steering;
+pub mod sweep;
 pub mod system;
 
 pub use error::{Error, Singularity};
