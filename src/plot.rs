@@ -419,7 +419,7 @@ fn viridis(x: f64) -> RGBColor {
 }
 
 /// The heat maps of a mount sweep: start-component fraction and best NFA success rate over
-/// `(a, b)`, the best point marked.
+/// `(a, b)`, each coloured from its smallest to its largest value, the best point marked.
 pub fn sweep_picture(rows: &[SweepRow], format: PictureFormat, path: &Path) -> Result<Vec<u8>, Error> {
     if rows.is_empty() {
         return Err(picture_error(path, "no sweep rows to draw"));
@@ -472,17 +472,19 @@ fn draw_sweep<DB: DrawingBackend>(
             .y_desc("b [m]")
             .label_style((FONT, 14))
             .axis_desc_style((FONT, 16))
-            .x_label_formatter(&|x| format!("{x:.2}"))
-            .y_label_formatter(&|y| format!("{y:.2}"))
+            .x_label_formatter(&|x| format!("{:.2}", x + 0.0))
+            .y_label_formatter(&|y| format!("{:.2}", y + 0.0))
             .draw()
             .map_err(e)?;
         let value = |r: &SweepRow| if k == 0 { r.start_component_fraction } else { r.best_rate() };
-        let max = rows.iter().map(value).fold(0.0, f64::max).max(1e-12);
+        let max = rows.iter().map(value).fold(f64::NEG_INFINITY, f64::max);
+        let min = rows.iter().map(value).fold(f64::INFINITY, f64::min);
+        let span = (max - min).max(1e-12);
         chart
             .draw_series(rows.iter().map(|r| {
                 Rectangle::new(
                     [(r.a - da / 2.0, r.b - db / 2.0), (r.a + da / 2.0, r.b + db / 2.0)],
-                    viridis(value(r) / max).filled(),
+                    viridis((value(r) - min) / span).filled(),
                 )
             }))
             .map_err(e)?;
@@ -502,7 +504,7 @@ fn draw_sweep<DB: DrawingBackend>(
             let x = (bottom - y) as f64 / (bottom - top) as f64;
             bar.draw(&Rectangle::new([(10, y), (34, y + 1)], viridis(x).filled())).map_err(e)?;
         }
-        for (frac, label) in [(0.0, 0.0), (0.5, max / 2.0), (1.0, max)] {
+        for (frac, label) in [(0.0, min), (0.5, min + span / 2.0), (1.0, min + span)] {
             let y = bottom - ((bottom - top) as f64 * frac) as i32;
             bar.draw(&Text::new(format!("{label:.3}"), (40, y - 7), (FONT, 14).into_font().color(&BLACK)))
                 .map_err(e)?;
