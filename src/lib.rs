@@ -10,9 +10,12 @@
 //! 4. [`steering`]: polynomial controls of the chained form (Sec. 5);
 //! 5. [`plan`]: the inverse map back to `q` (Sec. 6) and the plan with its certificate;
 //! 6. [`ode`]: the adaptive integrator that verifies every plan;
-//! 7. [`ecsa`]: the paper's reference method, the Endogenous Configuration Space Approach.
+//! 7. [`ecsa`]: the paper's reference method, the Endogenous Configuration Space Approach;
+//! 8. [`domain`]: where each transformation exists on the joint torus (Sec. 6, item 3; Figs. 13-14),
+//!    and [`sweep`]: the mounting-point design tool.
 
 pub mod chebyshev;
+pub mod domain;
 pub mod ecsa;
 pub mod error;
 pub mod io;
@@ -20,8 +23,10 @@ pub mod model;
 pub mod normal_form;
 pub mod ode;
 pub mod plan;
+pub mod plot;
 pub mod quadrature;
 pub mod steering;
+pub mod sweep;
 pub mod system;
 
 pub use ecsa::{EcsaOptions, EcsaPlanner, Window};

@@ -642,8 +642,8 @@ mod tests {
         let (z0, zd) = motion.steering.ends();
         for (t, z) in [(0.0, z0), (problem.horizon, zd)] {
             let p = motion.steering.at(t);
-            for i in 0..3 {
-                assert!((p.z[i] - z[i]).abs() < 1e-12, "z{} at t = {t}: {} vs {}", i + 1, p.z[i], z[i]);
+            for (i, (got, want)) in p.z.iter().zip(z).enumerate() {
+                assert!((got - want).abs() < 1e-12, "z{} at t = {t}: {got} vs {want}", i + 1);
             }
             assert!(p.v.iter().all(|v| v.abs() < 1e-12), "{:?}", p.v);
         }

@@ -32,13 +32,19 @@ pub struct Shape<D> {
 }
 
 /// Evaluates Eqs. (8), (9), (13) and (15) at `(theta1, theta2)` \[rad\].
-#[allow(non_snake_case)]
 pub fn shape<D: Scalar>(k: &Lumped, theta1: D, theta2: D) -> Shape<D> {
-    let Lumped { A, B, C, D: Dk, E, IP, a, b, .. } = *k;
     let (s1, c1) = theta1.sin_cos();
     let (s2, c2) = theta2.sin_cos();
     // theta12 = theta1 + theta2 by the addition formulas: one sin_cos fewer.
-    let (s12, c12) = (s1 * c2 + c1 * s2, c1 * c2 - s1 * s2);
+    let s12 = (s1 * c2 + c1 * s2, c1 * c2 - s1 * s2);
+    shape_from_trig(k, (s1, c1), (s2, c2), s12)
+}
+
+/// [`shape`] from the sines and cosines `(sin, cos)` of `theta1`, `theta2` and
+/// `theta1 + theta2`, for callers that tabulate them (the domain maps of [`crate::domain`]).
+#[allow(non_snake_case)]
+pub fn shape_from_trig<D: Scalar>(k: &Lumped, (s1, c1): (D, D), (s2, c2): (D, D), (s12, c12): (D, D)) -> Shape<D> {
+    let Lumped { A, B, C, D: Dk, E, IP, a, b, .. } = *k;
     // a c1 + b s1, a c12 + b s12 and their theta-derivatives -a s + b c.
     let k1 = c1 * a + s1 * b;
     let k12 = c12 * a + s12 * b;

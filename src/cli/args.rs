@@ -20,6 +20,10 @@ pub enum Command {
     Compare(CompareArgs),
     /// Regenerate the paper's results (Sec. 5) on the built-in defaults.
     Reproduce(ReproduceArgs),
+    /// Map the domain of existence of a feedback transformation on the joint torus (Figs. 13-14).
+    Domain(super::domain::DomainArgs),
+    /// Sweep mounting points (a, b): domain of Eq. (14) and NFA success rate; shardable.
+    MountSweep(super::sweep::SweepArgs),
 }
 
 /// The robot: a preset or a TOML file, and the mounting point.

@@ -1,8 +1,10 @@
 //! The command-line interface: flags ([`args`]) validated into library types, then run.
 
 pub mod args;
+mod domain;
 mod plan;
 mod reproduce;
+mod sweep;
 
 use std::process::ExitCode;
 
@@ -19,6 +21,8 @@ pub fn run() -> anyhow::Result<ExitCode> {
         Command::Plan(args) => plan::run(&args),
         Command::Compare(args) => plan::compare(&args),
         Command::Reproduce(args) => reproduce::run(&args),
+        Command::Domain(args) => domain::run(&args),
+        Command::MountSweep(args) => sweep::run(&args),
     }
 }
 

@@ -1,0 +1,160 @@
+//! `freefloat domain`: the domain of existence of a feedback transformation on the joint torus
+//! (SPEC §3; Figs. 13-14), its components, and whether `q0` and `qd` are connected.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::{Args, ValueEnum};
+use freefloat::domain::{DomainMap, DomainSummary};
+use freefloat::io::write_atomic;
+use freefloat::plot::{DomainOverlay, PictureFormat, domain_picture};
+use freefloat::{Configuration, NfaOptions, NormalFormPlanner, Planner, PlanningProblem, Transform};
+use serde::Serialize;
+
+use super::args::{RobotArgs, TransformArg};
+
+/// Flags of `freefloat domain`.
+#[derive(Debug, Args)]
+pub struct DomainArgs {
+    #[command(flatten)]
+    pub robot: RobotArgs,
+    /// Feedback transformation whose domain is mapped.
+    #[arg(long, value_enum, default_value_t = TransformArg::Auto)]
+    pub transform: TransformArg,
+    /// The map has GRID x GRID cells on the (theta1, theta2) torus.
+    #[arg(long, value_name = "N", default_value_t = 720)]
+    pub grid: usize,
+    /// Output format on stdout.
+    #[arg(long, value_enum, default_value_t = DomainFormat::Table)]
+    pub format: DomainFormat,
+    /// Also draw the map to FILE (.svg or .png).
+    #[arg(long, value_name = "FILE")]
+    pub plot: Option<PathBuf>,
+    /// Start configuration PHI,TH1,TH2 [deg].
+    #[arg(long, value_name = "PHI,TH1,TH2", default_value = "45,120,80", allow_hyphen_values = true)]
+    pub from: String,
+    /// Goal configuration PHI,TH1,TH2 [deg].
+    #[arg(long, value_name = "PHI,TH1,TH2", default_value = "0,180,140", allow_hyphen_values = true)]
+    pub to: String,
+    /// Horizon T \[s\] of the NFA plan from --from to --to drawn on the map.
+    #[arg(long, value_name = "T", default_value_t = 10.0)]
+    pub time: f64,
+    /// Samples of that plan.
+    #[arg(long, value_name = "N", default_value_t = 1001)]
+    pub samples: usize,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum DomainFormat {
+    /// A human-readable table.
+    Table,
+    /// One JSON object.
+    Json,
+}
+
+/// The NFA plan from q0 to qd with the mapped transformation.
+#[derive(Debug, Serialize)]
+struct PlanCheck {
+    /// A plan exists and is certified.
+    certified: bool,
+    /// Its verified final error \[rad\], when a plan exists.
+    final_error: Option<f64>,
+    /// Why there is no plan.
+    error: Option<String>,
+}
+
+#[derive(Debug, Serialize)]
+struct Report {
+    #[serde(flatten)]
+    summary: DomainSummary,
+    plan: PlanCheck,
+    seconds: f64,
+}
+
+/// Runs `domain`.
+pub fn run(args: &DomainArgs) -> anyhow::Result<ExitCode> {
+    let robot = super::robot(&args.robot)?;
+    let transform = match args.transform {
+        TransformArg::Auto => Transform::auto(&robot),
+        TransformArg::Eq11 => Transform::Eq11,
+        TransformArg::Eq12 => Transform::Eq12,
+        TransformArg::Eq14 => Transform::Eq14,
+        TransformArg::Global => Transform::Global,
+    };
+    let [p0, a0, b0] = super::parse_list::<3>("--from", &args.from)?;
+    let [p1, a1, b1] = super::parse_list::<3>("--to", &args.to)?;
+    let (start, goal) = (Configuration::from_degrees(p0, a0, b0), Configuration::from_degrees(p1, a1, b1));
+    let format = args.plot.as_deref().map(PictureFormat::from_path).transpose()?;
+    let clock = std::time::Instant::now();
+    let map = DomainMap::new(&robot, transform, args.grid)?;
+    let seconds = clock.elapsed().as_secs_f64();
+    let summary = map.summary(&start, &goal);
+    let problem = PlanningProblem::new(robot, start, goal, args.time)?;
+    let planner =
+        NormalFormPlanner::new(NfaOptions { transform: Some(transform), samples: args.samples, ..Default::default() });
+    let (plan, path) = match planner.plan(&problem) {
+        Ok(plan) => {
+            let v = &plan.verification;
+            let path = plan.trajectory.q.iter().map(|q| (q[1], q[2])).collect::<Vec<_>>();
+            (PlanCheck { certified: v.certified, final_error: Some(v.final_error), error: None }, Some(path))
+        }
+        Err(e) => (PlanCheck { certified: false, final_error: None, error: Some(e.to_string()) }, None),
+    };
+    if let (Some(path_file), Some(format)) = (&args.plot, format) {
+        let note = match (&plan.final_error, &plan.error) {
+            (Some(err), _) => format!(
+                "NFA plan q0 -> qd: {}, verified final error {err:.1e} rad",
+                if plan.certified { "certified" } else { "NOT certified" }
+            ),
+            (None, Some(e)) => format!("no NFA plan q0 -> qd: {e}"),
+            _ => String::new(),
+        };
+        let overlay = DomainOverlay { start: Some(start), goal: Some(goal), path, plan_note: Some(note) };
+        write_atomic(path_file, &domain_picture(&map, &overlay, format, path_file)?)?;
+    }
+    let report = Report { summary, plan, seconds };
+    match args.format {
+        DomainFormat::Json => println!("{}", serde_json::to_string_pretty(&report)?),
+        DomainFormat::Table => print!("{}", table(&report)),
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+fn table(r: &Report) -> String {
+    let s = &r.summary;
+    let pct = |x: f64| format!("{:.2} %", 100.0 * x);
+    let deg = |q: [f64; 3]| format!("({:.1}, {:.1}) deg", q[1].to_degrees(), q[2].to_degrees());
+    let comp = |c: Option<usize>| c.map_or("outside the domain".to_string(), |c| format!("component {c}"));
+    let mut t = String::new();
+    t += &format!(
+        "freefloat domain: {}, mount (a, b) = ({}, {}) m, grid {} x {} ({:.1} ms)\n",
+        s.transform.name(),
+        s.mount[0],
+        s.mount[1],
+        s.grid,
+        s.grid,
+        r.seconds * 1e3
+    );
+    t += &format!("  components               {}", s.components);
+    if s.slivers > 0 {
+        t += &format!(" (+{} unresolved slivers, {:.1e} of the torus)", s.slivers, s.sliver_fraction);
+    }
+    t += "\n";
+    let areas: Vec<String> = s.component_fractions.iter().map(|&f| pct(f)).collect();
+    t += &format!("  component areas          {}\n", areas.join(", "));
+    t += &format!("  defined                  {}\n", pct(s.defined_fraction));
+    t += &format!("  q0 (theta1, theta2)      {}: {}\n", deg(s.start), comp(s.start_component));
+    t += &format!("  qd (theta1, theta2)      {}: {}\n", deg(s.goal), comp(s.goal_component));
+    t += &format!("  start-component fraction {}\n", pct(s.start_component_fraction));
+    t += &format!("  q0, qd connected         {}\n", if s.start_goal_connected { "yes" } else { "no" });
+    let plan = match (&r.plan.final_error, &r.plan.error) {
+        (Some(e), _) => format!(
+            "{}, verified final error {e:.3e} rad",
+            if r.plan.certified { "certified" } else { "NOT certified" }
+        ),
+        (None, Some(e)) => format!("none: {e}"),
+        _ => "-".into(),
+    };
+    t += &format!("  NFA plan q0 -> qd        {plan}\n");
+    t
+}

@@ -1,0 +1,440 @@
+//! Mounting-point design (Sec. 6, item 3: "mount the on-board manipulator appropriately"): a grid
+//! of mounting points `(a, b)`, and at each the domain of Eq. (14) seen from `q0` and the success
+//! rate of the Normal Form Approach on random start/goal pairs.
+//!
+//! A sweep is split into points numbered row-major (`index = ib * steps_a + ia`); every point is
+//! computed independently and deterministically from the options and its index, so a sweep can be
+//! cut into shards ([`Shard`]) run anywhere and [`merge`]d into exactly the unsharded result.
+//!
+//! The random pairs are **common random numbers**: trial `k` uses the same start/goal pair at
+//! every mounting point (drawn from a counter-based generator keyed by `(seed, k)`), so that
+//! differences between mounting points are not sampling noise between different pairs.
+
+use serde::{Deserialize, Serialize};
+
+use crate::domain::DomainMap;
+use crate::error::Error;
+use crate::model::{Configuration, Mount, RobotParams, paper_problem};
+use crate::normal_form::Transform;
+use crate::plan::{NfaOptions, NormalFormPlanner, Planner, PlanningProblem};
+
+/// `steps` equally spaced values from `min` to `max`, both included (`min` alone when
+/// `steps = 1`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Span {
+    /// First value \[m\].
+    pub min: f64,
+    /// Last value \[m\].
+    pub max: f64,
+    /// Number of values, at least 1.
+    pub steps: usize,
+}
+
+impl Span {
+    /// A validated span: finite ends, `min <= max`, `steps >= 1`.
+    pub fn new(name: &str, min: f64, max: f64, steps: usize) -> Result<Self, Error> {
+        if !(min.is_finite() && max.is_finite() && min <= max) {
+            return Err(Error::InvalidParameter {
+                name: name.to_string(),
+                value: if min.is_finite() { max } else { min },
+                expected: "finite MIN,MAX with MIN <= MAX",
+            });
+        }
+        if steps == 0 || (steps == 1 && min < max) {
+            return Err(Error::InvalidParameter {
+                name: format!("{name} steps"),
+                value: steps as f64,
+                expected: "at least 2 steps for a range, 1 for a single value",
+            });
+        }
+        Ok(Self { min, max, steps })
+    }
+
+    /// The `i`-th value, `min (1 - t) + max t` with `t = i / (steps - 1)`: symmetric ranges hit
+    /// 0 exactly in the middle (where Eqs. 11-12 apply).
+    pub fn value(&self, i: usize) -> f64 {
+        if self.steps == 1 {
+            return self.min;
+        }
+        let t = i as f64 / (self.steps - 1) as f64;
+        self.min * (1.0 - t) + self.max * t
+    }
+}
+
+/// What a sweep computes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SweepOptions {
+    /// Values of `a` \[m\].
+    pub a: Span,
+    /// Values of `b` \[m\].
+    pub b: Span,
+    /// Grid size of each domain map; default 256.
+    pub grid: usize,
+    /// Random start/goal pairs per point; default 100.
+    pub trials: usize,
+    /// Seed of the pairs; default 0.
+    pub seed: u64,
+    /// NFA samples per plan; default 201 (the verification evaluates the plan exactly at every
+    /// integrator stage, so the sample count only warm-starts Newton's method).
+    pub samples: usize,
+    /// Horizon of every plan \[s\]; default 10.
+    pub horizon: f64,
+    /// Largest verified final error of a success \[rad\]; default 1e-9.
+    pub tolerance: f64,
+    /// The configuration whose component is measured; default the paper's `q0`.
+    pub start: Configuration,
+    /// The goal checked for connection with `start`; default the paper's `qd`.
+    pub goal: Configuration,
+}
+
+impl Default for SweepOptions {
+    fn default() -> Self {
+        let (start, goal, horizon) = paper_problem();
+        let span = Span { min: -0.3, max: 0.3, steps: 41 };
+        Self { a: span, b: span, grid: 256, trials: 100, seed: 0, samples: 201, horizon, tolerance: 1e-9, start, goal }
+    }
+}
+
+impl SweepOptions {
+    /// Number of mounting points.
+    pub fn points(&self) -> usize {
+        self.a.steps * self.b.steps
+    }
+
+    /// The mounting point of `index` (row-major: `a` varies fastest).
+    pub fn mount(&self, index: usize) -> (f64, f64) {
+        (self.a.value(index % self.a.steps), self.b.value(index / self.a.steps))
+    }
+}
+
+/// One mounting point's results: one CSV row. Columns are the field names; `eq11_*`, `eq12_*`
+/// are empty where those transformations do not apply (`a, b != 0`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SweepRow {
+    /// Point index (row-major, `a` fastest).
+    pub index: usize,
+    /// Number of points of the whole sweep.
+    pub points: usize,
+    /// `a` \[m\].
+    pub a: f64,
+    /// `b` \[m\].
+    pub b: f64,
+    /// Grid size of the domain map.
+    pub grid: usize,
+    /// Seed of the random pairs.
+    pub seed: u64,
+    /// Random pairs tried.
+    pub trials: usize,
+    /// Resolved components of the domain of Eq. (14).
+    pub components: usize,
+    /// Area share of the component of `start` (the paper's `q0` by default).
+    pub start_component_fraction: f64,
+    /// `start` and `goal` in one component.
+    pub start_goal_connected: bool,
+    /// Certified NFA plans with Eq. (14).
+    pub eq14_successes: usize,
+    /// `eq14_successes / trials`.
+    pub eq14_rate: f64,
+    /// Certified NFA plans with Eq. (12) (`a = b = 0` only).
+    pub eq12_successes: Option<usize>,
+    /// `eq12_successes / trials`.
+    pub eq12_rate: Option<f64>,
+    /// Certified NFA plans with Eq. (11) (`a = b = 0` only).
+    pub eq11_successes: Option<usize>,
+    /// `eq11_successes / trials`.
+    pub eq11_rate: Option<f64>,
+}
+
+impl SweepRow {
+    /// The best success rate over the transformations available at this point.
+    pub fn best_rate(&self) -> f64 {
+        [Some(self.eq14_rate), self.eq12_rate, self.eq11_rate].into_iter().flatten().fold(0.0, f64::max)
+    }
+
+    /// The transformation with [`SweepRow::best_rate`] (Eq. 14 on ties).
+    pub fn best_transform(&self) -> Transform {
+        let mut best = (self.eq14_rate, Transform::Eq14);
+        for (rate, t) in [(self.eq12_rate, Transform::Eq12), (self.eq11_rate, Transform::Eq11)] {
+            if let Some(r) = rate.filter(|&r| r > best.0) {
+                best = (r, t);
+            }
+        }
+        best.1
+    }
+}
+
+/// Part `k` of `n` of a sweep (`k` from 1): the points whose index is `k - 1` modulo `n`
+/// (interleaved, so that every shard gets a similar mix of cheap and costly points).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Shard {
+    /// This part, `1..=n`.
+    pub k: usize,
+    /// Number of parts.
+    pub n: usize,
+}
+
+impl Shard {
+    /// The whole sweep.
+    pub const ALL: Shard = Shard { k: 1, n: 1 };
+
+    /// Parses `k/n` with `1 <= k <= n`.
+    pub fn parse(text: &str) -> Result<Self, Error> {
+        let bad = || Error::InvalidParameter {
+            name: format!("--shard {text}"),
+            value: f64::NAN,
+            expected: "K/N with 1 <= K <= N",
+        };
+        let (k, n) = text.split_once('/').ok_or_else(bad)?;
+        let (k, n): (usize, usize) = (k.trim().parse().map_err(|_| bad())?, n.trim().parse().map_err(|_| bad())?);
+        if k == 0 || k > n {
+            return Err(bad());
+        }
+        Ok(Self { k, n })
+    }
+
+    /// The point indices of this shard among `points`.
+    pub fn indices(&self, points: usize) -> impl Iterator<Item = usize> + use<> {
+        (self.k - 1..points).step_by(self.n)
+    }
+}
+
+/// SplitMix64's output function: a bijective 64-bit mix.
+///
+/// ## Reference
+/// G. L. Steele, D. Lea, C. H. Flood, *Fast splittable pseudorandom number generators*, OOPSLA
+/// 2014, doi:10.1145/2660193.2660195.
+fn mix64(mut z: u64) -> u64 {
+    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+    z ^ (z >> 31)
+}
+
+/// The `draw`-th uniform number in `[0, 1)` of trial `trial` under `seed`: counter-based, so any
+/// trial can be drawn alone, in any order, on any machine.
+fn uniform(seed: u64, trial: u64, draw: u64) -> f64 {
+    const GAMMA: u64 = 0x9e37_79b9_7f4a_7c15;
+    let key = mix64(mix64(seed.wrapping_add(GAMMA)) ^ trial.wrapping_mul(GAMMA));
+    let x = mix64(key.wrapping_add(draw.wrapping_add(1).wrapping_mul(GAMMA)));
+    (x >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
+}
+
+/// Trial `trial`'s start and goal: the start uniform on `[-pi, pi)^3`, the goal uniform on the
+/// torus too, written as the representative nearest the start (each angle moves by less than
+/// pi, the short way round).
+pub fn trial_pair(seed: u64, trial: u64) -> (Configuration, Configuration) {
+    use std::f64::consts::{PI, TAU};
+    let angle = |draw| TAU * uniform(seed, trial, draw) - PI;
+    let start = Configuration::new(angle(0), angle(1), angle(2));
+    let goal = Configuration::new(start.phi + angle(3), start.theta1 + angle(4), start.theta2 + angle(5));
+    (start, goal)
+}
+
+/// Successes of the NFA with `transform` over the trials: a plan that exists and is certified
+/// (verified final error <= tolerance).
+fn successes(robot: &RobotParams, transform: Transform, options: &SweepOptions) -> usize {
+    let planner = NormalFormPlanner::new(NfaOptions {
+        transform: Some(transform),
+        samples: options.samples,
+        tolerance: options.tolerance,
+        ..Default::default()
+    });
+    (0..options.trials as u64)
+        .filter(|&trial| {
+            let (start, goal) = trial_pair(options.seed, trial);
+            let problem = PlanningProblem { robot: *robot, start, goal, horizon: options.horizon };
+            planner.plan(&problem).is_ok_and(|plan| plan.verification.certified)
+        })
+        .count()
+}
+
+/// Computes one point of the sweep.
+pub fn run_point(robot: &RobotParams, options: &SweepOptions, index: usize) -> Result<SweepRow, Error> {
+    let (a, b) = options.mount(index);
+    let robot = robot.with_mount(Mount::new(a, b)?)?;
+    let map = DomainMap::new(&robot, Transform::Eq14, options.grid)?;
+    let summary = map.summary(&options.start, &options.goal);
+    let trials = options.trials;
+    let rate = |s: usize| if trials == 0 { 0.0 } else { s as f64 / trials as f64 };
+    let eq14 = successes(&robot, Transform::Eq14, options);
+    let (eq12, eq11) = if robot.mount.is_centred() {
+        (Some(successes(&robot, Transform::Eq12, options)), Some(successes(&robot, Transform::Eq11, options)))
+    } else {
+        (None, None)
+    };
+    Ok(SweepRow {
+        index,
+        points: options.points(),
+        a,
+        b,
+        grid: options.grid,
+        seed: options.seed,
+        trials,
+        components: summary.components,
+        start_component_fraction: summary.start_component_fraction,
+        start_goal_connected: summary.start_goal_connected,
+        eq14_successes: eq14,
+        eq14_rate: rate(eq14),
+        eq12_successes: eq12,
+        eq12_rate: eq12.map(rate),
+        eq11_successes: eq11,
+        eq11_rate: eq11.map(rate),
+    })
+}
+
+/// Runs the points of `shard` on all of rayon's threads, calling `progress` after each point.
+/// Rows come back in index order.
+pub fn run(
+    robot: &RobotParams,
+    options: &SweepOptions,
+    shard: Shard,
+    progress: &(dyn Fn() + Sync),
+) -> Result<Vec<SweepRow>, Error> {
+    use rayon::prelude::*;
+    robot.validate()?;
+    let indices: Vec<usize> = shard.indices(options.points()).collect();
+    indices
+        .par_iter()
+        .map(|&i| {
+            let row = run_point(robot, options, i);
+            progress();
+            row
+        })
+        .collect()
+}
+
+fn csv_error(path: &std::path::Path, e: csv::Error) -> Error {
+    Error::Io { path: path.to_path_buf(), source: std::io::Error::other(e.to_string()) }
+}
+
+/// The rows as CSV (header = [`SweepRow`]'s field names; floats in shortest round-trip form, so
+/// that reading and writing again reproduces the bytes).
+pub fn to_csv(rows: &[SweepRow]) -> Result<Vec<u8>, Error> {
+    let path = std::path::Path::new("<csv>");
+    let mut w = csv::Writer::from_writer(Vec::new());
+    for row in rows {
+        w.serialize(row).map_err(|e| csv_error(path, e))?;
+    }
+    w.into_inner().map_err(|e| Error::Io { path: path.to_path_buf(), source: std::io::Error::other(e.to_string()) })
+}
+
+/// Reads rows written by [`to_csv`]; `path` only labels errors.
+pub fn from_csv(bytes: &[u8], path: &std::path::Path) -> Result<Vec<SweepRow>, Error> {
+    let mut r = csv::Reader::from_reader(bytes);
+    r.deserialize().map(|row| row.map_err(|e| csv_error(path, e))).collect()
+}
+
+/// Merges shards into the whole sweep, in index order. Errors unless the shards come from one
+/// sweep (same number of points, grid, seed and trials), agree where they overlap, and together
+/// hold every point.
+pub fn merge(parts: impl IntoIterator<Item = SweepRow>) -> Result<Vec<SweepRow>, Error> {
+    let mut rows: Vec<SweepRow> = parts.into_iter().collect();
+    rows.sort_by_key(|r| r.index);
+    rows.dedup_by(|x, y| x == y);
+    let Some(first) = rows.first().cloned() else {
+        return Err(Error::InvalidParameter { name: "merge".into(), value: 0.0, expected: "at least one row" });
+    };
+    let mismatch = |name: &str, value: f64| Error::InvalidParameter {
+        name: format!("merge: {name}"),
+        value,
+        expected: "shards of one sweep (same points, grid, seed, trials), each point once",
+    };
+    for (i, r) in rows.iter().enumerate() {
+        if r.points != first.points || r.grid != first.grid || r.seed != first.seed || r.trials != first.trials {
+            return Err(mismatch("settings differ at index", r.index as f64));
+        }
+        if r.index != i {
+            let what = if r.index < i { "two different rows for index" } else { "missing index" };
+            return Err(mismatch(what, (if r.index < i { r.index } else { i }) as f64));
+        }
+    }
+    if rows.len() != first.points {
+        return Err(mismatch("missing index", rows.len() as f64));
+    }
+    Ok(rows)
+}
+
+/// The best mounting point: the highest [`SweepRow::best_rate`], then the largest
+/// start-component fraction, then the lowest index.
+pub fn best(rows: &[SweepRow]) -> Option<&SweepRow> {
+    rows.iter().reduce(|best, r| {
+        let key = |r: &SweepRow| (r.best_rate(), r.start_component_fraction);
+        if key(r) > key(best) { r } else { best }
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn small() -> SweepOptions {
+        SweepOptions {
+            a: Span::new("a", -0.3, 0.3, 3).unwrap(),
+            b: Span::new("b", -0.2, 0.2, 3).unwrap(),
+            grid: 64,
+            trials: 6,
+            seed: 7,
+            ..Default::default()
+        }
+    }
+
+    /// `--shard 1/2` + `--shard 2/2` + merge equals the unsharded result exactly, through CSV.
+    #[test]
+    fn shards_merge_to_the_whole() {
+        let robot = RobotParams::src();
+        let options = small();
+        let whole = run(&robot, &options, Shard::ALL, &|| {}).unwrap();
+        assert_eq!(whole.len(), 9);
+        let p = std::path::Path::new("x.csv");
+        let mut parts = Vec::new();
+        for k in [2, 1] {
+            let rows = run(&robot, &options, Shard { k, n: 2 }, &|| {}).unwrap();
+            parts.extend(from_csv(&to_csv(&rows).unwrap(), p).unwrap());
+        }
+        let merged = merge(parts).unwrap();
+        assert_eq!(merged, whole);
+        assert_eq!(to_csv(&merged).unwrap(), to_csv(&whole).unwrap());
+        // The centre point (a = b = 0) has every transformation, the others Eq. (14) only.
+        assert!(whole[4].eq12_rate.is_some() && whole[4].eq11_rate.is_some());
+        assert_eq!((whole[4].a, whole[4].b), (0.0, 0.0));
+        assert!(whole[0].eq12_rate.is_none());
+        // Missing or conflicting shards are errors.
+        assert!(merge(whole[1..].to_vec()).is_err());
+        let mut other = whole.clone();
+        other[3].eq14_successes += 1;
+        assert!(merge(whole.iter().cloned().chain(std::iter::once(other[3].clone()))).is_err());
+    }
+
+    #[test]
+    fn pairs_are_deterministic_uniform_and_independent_of_order() {
+        let (s, g) = trial_pair(3, 41);
+        assert_eq!(trial_pair(3, 41), (s, g));
+        assert_ne!(trial_pair(4, 41).0, s);
+        for q in [s, g] {
+            assert!(q.is_finite());
+        }
+        for i in 0..3 {
+            let d = (g.to_array()[i] - s.to_array()[i]).abs();
+            assert!(d < std::f64::consts::PI);
+        }
+        // Mean of many draws ~ 1/2, all in [0, 1).
+        let xs: Vec<f64> = (0..20_000).map(|k| uniform(1, k, 0)).collect();
+        assert!(xs.iter().all(|&x| (0.0..1.0).contains(&x)));
+        let mean = xs.iter().sum::<f64>() / xs.len() as f64;
+        assert!((mean - 0.5).abs() < 0.01, "{mean}");
+    }
+
+    #[test]
+    #[allow(clippy::float_cmp)] // exactness is the property tested: a = 0 exactly in the middle
+    fn shards_and_spans() {
+        assert_eq!(Shard::parse("2/3").unwrap(), Shard { k: 2, n: 3 });
+        for bad in ["0/2", "3/2", "x", "1/0", "1/"] {
+            assert!(Shard::parse(bad).is_err(), "{bad}");
+        }
+        assert_eq!(Shard { k: 2, n: 3 }.indices(8).collect::<Vec<_>>(), vec![1, 4, 7]);
+        let s = Span::new("a", -0.3, 0.3, 41).unwrap();
+        assert_eq!(s.value(20), 0.0);
+        assert_eq!((s.value(0), s.value(40)), (-0.3, 0.3));
+        assert!(Span::new("a", 0.3, -0.3, 3).is_err());
+        assert!(Span::new("a", -0.3, 0.3, 1).is_err());
+    }
+}
