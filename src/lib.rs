@@ -9,8 +9,11 @@
 //! 3. [`normal_form`]: the feedback transformations (11), (12), (14) to the chained form (10);
 //! 4. [`steering`]: polynomial controls of the chained form (Sec. 5);
 //! 5. [`plan`]: the inverse map back to `q` (Sec. 6) and the plan with its certificate;
-//! 6. [`ode`]: the adaptive integrator that verifies every plan.
+//! 6. [`ode`]: the adaptive integrator that verifies every plan;
+//! 7. [`dynamics`]: the Lagrangian (3), exact inverse dynamics (6) along any [`Motion`] and the
+//!    forward-dynamics certificate of the torques.
 
+pub mod dynamics;
 pub mod error;
 pub mod io;
 pub mod model;
@@ -20,6 +23,7 @@ pub mod plan;
 pub mod steering;
 pub mod system;
 
+pub use dynamics::{TorqueOptions, TorquePlan, TorqueReport, torque_plan};
 pub use error::{Error, Singularity};
 pub use model::{Configuration, Lumped, Mount, RobotParams, paper_problem};
 pub use normal_form::{NormalForm, Transform};

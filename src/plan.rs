@@ -73,6 +73,11 @@ pub trait Motion {
     fn controls(&self, t: f64) -> Result<[f64; 2], Error> {
         Ok(self.at(t)?.u)
     }
+    /// The motion at each of `times` [s]; by default [`Motion::at`] at each. Planners that keep
+    /// samples override it to reuse what they computed there (same values, less work).
+    fn points(&self, times: &[f64]) -> Result<Vec<MotionPoint>, Error> {
+        times.iter().map(|&t| self.at(t)).collect()
+    }
 }
 
 /// A point of a [`Motion`].
@@ -284,6 +289,14 @@ impl Planner for NormalFormPlanner {
     }
 
     fn plan(&self, problem: &PlanningProblem) -> Result<Plan, Error> {
+        Ok(self.plan_with_motion(problem)?.0)
+    }
+}
+
+impl NormalFormPlanner {
+    /// [`Planner::plan`], also returning the exact motion (e.g. for the torque level,
+    /// [`crate::dynamics::torque_plan`]).
+    pub fn plan_with_motion(&self, problem: &PlanningProblem) -> Result<(Plan, NfaMotion), Error> {
         let clock = Instant::now();
         let motion = self.motion(problem)?;
         let trajectory = motion.trajectory(problem, self.options.accelerations)?;
@@ -293,7 +306,7 @@ impl Planner for NormalFormPlanner {
         let verification = verify(&motion, problem, &self.options.ode, self.options.tolerance)?;
         let verify_seconds = clock.elapsed().as_secs_f64();
         let max_abs_u = max_abs_controls(&trajectory);
-        Ok(Plan {
+        let plan = Plan {
             method: Method::Nfa,
             transform: Some(motion.nf.transform()),
             problem: *problem,
@@ -306,7 +319,8 @@ impl Planner for NormalFormPlanner {
             iterations: None,
             verification,
             seconds: Seconds { plan: plan_seconds, torques: None, verify: verify_seconds },
-        })
+        };
+        Ok((plan, motion))
     }
 }
 
@@ -395,14 +409,27 @@ impl NfaMotion {
     /// The motion at `t` given the planned configuration there: `u` by the inverse feedback and
     /// `du` exactly, by dual numbers through the polynomial path and the feedback.
     fn point(&self, q: Configuration, t: f64) -> Result<MotionPoint, Error> {
+        let p = self.steering.at(t);
+        let u = self.nf.control(q.to_array(), p.v);
+        Ok(self.point_with_controls(q, u, t))
+    }
+
+    /// [`NfaMotion::point`] when `u` at `(q, t)` is already known.
+    fn point_with_controls(&self, q: Configuration, u: [f64; 2], t: f64) -> MotionPoint {
         let p = self.steering.at(Dual64::new(t, 1.0));
-        let v = [p.v[0].re, p.v[1].re];
-        let u = self.nf.control(q.to_array(), v);
         let dq = velocity(self.nf.lumped(), q.to_array(), u);
         let qa = q.to_array();
         let qd: [Dual64; 3] = std::array::from_fn(|i| Dual64::new(qa[i], dq[i]));
         let ud = self.nf.control(qd, p.v);
-        Ok(MotionPoint { q, u, du: [ud[0].eps, ud[1].eps] })
+        MotionPoint { q, u, du: [ud[0].eps, ud[1].eps] }
+    }
+
+    /// The index of the sample taken at exactly `t`, if any.
+    fn sample_index(&self, t: f64) -> Option<usize> {
+        let n = self.t.len();
+        let dt = self.steering.horizon / (n - 1) as f64;
+        let i = ((t / dt).round().max(0.0) as usize).min(n - 1);
+        (self.t[i].to_bits() == t.to_bits()).then_some(i)
     }
 }
 
@@ -415,6 +442,18 @@ impl Motion for NfaMotion {
         let z = self.steering.at(t).z;
         let q = self.nf.invert(z, self.guess(t), Some(t))?;
         self.point(q, t)
+    }
+
+    /// At the sample times the stored Newton solutions and controls are reused (no Newton run);
+    /// elsewhere as [`Motion::at`].
+    fn points(&self, times: &[f64]) -> Result<Vec<MotionPoint>, Error> {
+        times
+            .iter()
+            .map(|&t| match self.sample_index(t) {
+                Some(i) => Ok(self.point_with_controls(self.q[i], self.u[i], t)),
+                None => self.at(t),
+            })
+            .collect()
     }
 
     fn controls(&self, t: f64) -> Result<[f64; 2], Error> {
