@@ -160,10 +160,56 @@ pub fn inverse_dynamics(k: &Lumped, point: &MotionPoint) -> InverseDynamics {
     InverseDynamics { tau: [f[1], f[2]], base_residual: f[0] }
 }
 
-/// Joint torques along `motion` at the given times [s] (e.g. a trajectory's samples), exact:
-/// the motion's own `u` and `u'` at each time ([`Motion::points`]), no finite differences.
-pub fn torques_at(k: &Lumped, motion: &dyn Motion, times: &[f64]) -> Result<Vec<InverseDynamics>, Error> {
-    Ok(motion.points(times)?.iter().map(|p| inverse_dynamics(k, p)).collect())
+/// Joint torques `(tau1, tau2)` [N m] of Eq. (6) at one point of a motion of system (7): the
+/// same numbers as [`inverse_dynamics`], in one pass.
+///
+/// From one evaluation of the trigonometric functions: `F, G, H` (Eq. 8) and their partial
+/// derivatives (the first rows of [`inertia_matrix_derivatives`]), `phi' = -(G u1 + H u2)/F`
+/// (Eq. 7), `phi''` its exact time derivative, then the rows 2-3 of
+/// `M q'' + M' q' - (1/2)(q'^T dM/dq_i q')_i` with `M` of [`inertia_matrix`]:
+/// `q'^T (dM/dtheta1) q' = F_1 phi'^2 + 2 G_1 phi' u1 + 2 H_1 phi' u2` and
+/// `q'^T (dM/dtheta2) q' = F_2 phi'^2 + 2 G_2 phi' u1 + 2 H_2 phi' u2 - 2 C s2 u1^2 - 2 C s2 u1 u2`.
+#[allow(non_snake_case)]
+pub fn joint_torques(k: &Lumped, point: &MotionPoint) -> [f64; 2] {
+    let Lumped { A, B, C, D: Dk, E, IP, a, b, .. } = *k;
+    let q = &point.q;
+    let [u1, u2] = point.u;
+    let [du1, du2] = point.du;
+    let (s1, c1) = q.theta1.sin_cos();
+    let (s2, c2) = q.theta2.sin_cos();
+    let (s12, c12) = (s1 * c2 + c1 * s2, c1 * c2 - s1 * s2);
+    let (k1, k12) = (a * c1 + b * s1, a * c12 + b * s12);
+    let (m1, m12) = (b * c1 - a * s1, b * c12 - a * s12);
+    let m11 = A + B + 2.0 * C * c2;
+    let m12c = B + C * c2;
+    let F = m11 + IP + 2.0 * Dk * k1 + 2.0 * E * k12;
+    let G = m11 + Dk * k1 + E * k12;
+    let H = m12c + E * k12;
+    // Partial derivatives (inertia_matrix_derivatives): alpha = D m1 + E m12, P = -C s2 + E m12.
+    let alpha = Dk * m1 + E * m12;
+    let P = -C * s2 + E * m12;
+    let (F1, G1, H1) = (2.0 * alpha, alpha, E * m12);
+    let (F2, G2, H2) = (2.0 * P, P - C * s2, P);
+    // Time derivatives along the motion: X' = X_1 u1 + X_2 u2.
+    let dF = F1 * u1 + F2 * u2;
+    let dG = G1 * u1 + G2 * u2;
+    let dH = H1 * u1 + H2 * u2;
+    let w = -(G * u1 + H * u2) / F;
+    let dw = -(dG * u1 + G * du1 + dH * u2 + H * du2 + dF * w) / F;
+    let dm11 = -2.0 * C * s2 * u2;
+    let dm12 = -C * s2 * u2;
+    let tau1 = G * dw + m11 * du1 + m12c * du2 + dG * w + dm11 * u1 + dm12 * u2
+        - 0.5 * (F1 * w * w + 2.0 * w * (G1 * u1 + H1 * u2));
+    let tau2 = H * dw + m12c * du1 + B * du2 + dH * w + dm12 * u1
+        - 0.5 * (F2 * w * w + 2.0 * w * (G2 * u1 + H2 * u2) - 2.0 * C * s2 * u1 * (u1 + u2));
+    [tau1, tau2]
+}
+
+/// Joint torques `(tau1, tau2)` [N m] along `motion` at the given times [s] (e.g. a
+/// trajectory's samples), exact: the motion's own `u` and `u'` at each time
+/// ([`Motion::points`]) through [`joint_torques`], no finite differences.
+pub fn torques_at(k: &Lumped, motion: &dyn Motion, times: &[f64]) -> Result<Vec<[f64; 2]>, Error> {
+    Ok(motion.points(times)?.iter().map(|p| joint_torques(k, p)).collect())
 }
 
 /// Options of the torque-level certificate.
@@ -217,7 +263,7 @@ pub struct TorqueCertificate {
 
 /// The forward-dynamics certificate: integrates `M q'' + c = (0, tau1(t), tau2(t))` (base
 /// unactuated) from `q0` at rest, with the torques of `motion` evaluated exactly at every stage
-/// time ([`inverse_dynamics`] of [`Motion::at`]), and measures the final error against the goal,
+/// time ([`joint_torques`] of [`Motion::at`]), and measures the final error against the goal,
 /// the deviation from the planned path and the angular momentum along the way.
 pub fn certify_torques(
     motion: &dyn Motion,
@@ -234,7 +280,7 @@ pub fn certify_torques(
     let mut observe_error = None;
     let (y, stats) = integrate(
         |t, y: &Vector6<f64>| {
-            let tau = inverse_dynamics(&k, &motion.at(t)?).tau;
+            let tau = joint_torques(&k, &motion.at(t)?);
             let (q, dq) = split(y);
             let ddq = forward_dynamics(&k, &q, dq, [0.0, tau[0], tau[1]]);
             Ok(Vector6::new(dq[0], dq[1], dq[2], ddq[0], ddq[1], ddq[2]))
@@ -276,7 +322,7 @@ pub fn certify_torques(
 pub struct TorqueSeconds {
     /// Inverse dynamics at the samples.
     pub torques: f64,
-    /// The forward-dynamics certificate.
+    /// The forward-dynamics certificate and the base-row check.
     pub verify: f64,
 }
 
@@ -285,8 +331,9 @@ pub struct TorqueSeconds {
 pub struct TorqueReport {
     /// `[max |tau1|, max |tau2|]` over the samples [N m].
     pub max_abs_torque: [f64; 2],
-    /// Largest `|Q_phi|` of the inverse dynamics over the samples [N m] (zero up to rounding:
-    /// the motion conserves the angular momentum).
+    /// Largest `|Q_phi|` over the samples [N m]: the base row of the Euler–Lagrange equations
+    /// by the reference [`inverse_dynamics`], zero up to rounding since the motion conserves the
+    /// angular momentum.
     pub max_abs_base_residual: f64,
     /// The forward-dynamics certificate.
     pub certificate: TorqueCertificate,
@@ -326,19 +373,19 @@ pub fn torque_plan(
     options.validate()?;
     let clock = Instant::now();
     let k = problem.robot.lumped();
-    let points = torques_at(&k, motion, times)?;
+    let tau = torques_at(&k, motion, times)?;
     let torques_seconds = clock.elapsed().as_secs_f64();
     let clock = Instant::now();
     let certificate = certify_torques(motion, problem, options)?;
-    let verify_seconds = clock.elapsed().as_secs_f64();
-    let mut max_abs_torque = [0.0_f64; 2];
+    // The base row of the Euler–Lagrange equations at the samples, by the reference path.
     let mut max_abs_base_residual = 0.0_f64;
-    for p in &points {
-        max_abs_torque = [max_abs_torque[0].max(p.tau[0].abs()), max_abs_torque[1].max(p.tau[1].abs())];
-        max_abs_base_residual = max_abs_base_residual.max(p.base_residual.abs());
+    for p in motion.points(times)? {
+        max_abs_base_residual = max_abs_base_residual.max(inverse_dynamics(&k, &p).base_residual.abs());
     }
+    let verify_seconds = clock.elapsed().as_secs_f64();
+    let max_abs_torque = tau.iter().fold([0.0_f64; 2], |m, t| [m[0].max(t[0].abs()), m[1].max(t[1].abs())]);
     Ok(TorquePlan {
-        tau: points.iter().map(|p| p.tau).collect(),
+        tau,
         report: TorqueReport {
             max_abs_torque,
             max_abs_base_residual,

@@ -414,8 +414,21 @@ impl NfaMotion {
         Ok(self.point_with_controls(q, u, t))
     }
 
-    /// [`NfaMotion::point`] when `u` at `(q, t)` is already known.
+    /// [`NfaMotion::point`] when `u` at `(q, t)` is already known. Eq. (14) takes the fast path
+    /// [`eq14_control_rate`]; Eqs. (11), (12) differentiate the inverse feedback with dual
+    /// numbers.
     fn point_with_controls(&self, q: Configuration, u: [f64; 2], t: f64) -> MotionPoint {
+        if self.nf.transform() == Transform::Eq14 {
+            let v = self.steering.at(Dual64::new(t, 1.0)).v;
+            let dv = [v[0].eps, v[1].eps];
+            let du = eq14_control_rate(self.nf.lumped(), self.nf.branch(), &q, u, dv);
+            return MotionPoint { q, u, du };
+        }
+        self.point_by_dual_numbers(q, u, t)
+    }
+
+    /// `du` by dual numbers through the inverse feedback: `u' = d/dt control(q(t), v(t))`.
+    fn point_by_dual_numbers(&self, q: Configuration, u: [f64; 2], t: f64) -> MotionPoint {
         let p = self.steering.at(Dual64::new(t, 1.0));
         let dq = velocity(self.nf.lumped(), q.to_array(), u);
         let qa = q.to_array();
@@ -461,6 +474,38 @@ impl Motion for NfaMotion {
         let q = self.nf.invert(p.z, self.guess(t), Some(t))?;
         Ok(self.nf.control(q.to_array(), p.v))
     }
+}
+
+/// The time derivative `u' = (u1', u2')` [rad/s^2] of the inverse feedback of Eq. (14) along a
+/// motion at `q` with joint velocities `u` and chained-form control rates `dv = v'`.
+///
+/// `u1 = v1` gives `u1' = v1'`. Differentiating `v2 = a u1 + b u2` (`a = dh3/dtheta1`,
+/// `b = dh3/dtheta2 = sign(P) 2 sigma / F^2`, Eq. 25) once more along the motion gives
+/// `v2' = a u1' + b u2' + h3_11 u1^2 + 2 h3_12 u1 u2 + h3_22 u2^2`, solved for `u2'`. With
+/// `h3 = sign(P) G/F + dR/dtheta1` the pure `theta1` derivatives come from one third-order dual
+/// number in `theta1` through `R` and `G/F`, the others from one hyper-dual number through `b`:
+/// exact, and without the three nested levels of dual numbers the generic path needs.
+#[allow(non_snake_case)]
+fn eq14_control_rate(k: &crate::model::Lumped, branch: f64, q: &Configuration, u: [f64; 2], dv: [f64; 2]) -> [f64; 2] {
+    use crate::system::shape;
+    use num_dual::{Dual3_64, DualNum, HyperDual64};
+    let t1 = Dual3_64::new(q.theta1, 1.0, 0.0, 0.0);
+    let t2 = Dual3_64::from_re(q.theta2);
+    let s = shape(k, t1, t2);
+    // R of Eq. (14) from the same shape, exactly as `general::r_function` (atan2 form); the test
+    // `eq14_control_rate_matches_nested_dual_numbers` holds the two together.
+    let (abs_p, root_d) = (s.P * branch, s.d.sqrt());
+    let first = (s.F - s.U).atan2(abs_p * 2.0);
+    let second = (s.F * s.U - s.d).atan2(root_d * abs_p * 2.0);
+    let R = -first * 0.5 + s.Z / (root_d * 2.0) * second;
+    let G_F = s.G / s.F;
+    let a = G_F.v1 * branch + R.v2;
+    let a1 = G_F.v2 * branch + R.v3;
+    let h = shape(k, HyperDual64::new(q.theta1, 1.0, 0.0, 0.0), HyperDual64::new(q.theta2, 0.0, 1.0, 0.0));
+    let b = h.sigma * (2.0 * branch) / (h.F * h.F);
+    let [u1, u2] = u;
+    let du2 = (dv[1] - a * dv[0] - a1 * u1 * u1 - 2.0 * b.eps1 * u1 * u2 - b.eps2 * u2 * u2) / b.re;
+    [dv[0], du2]
 }
 
 /// The velocity-level certificate: integrates system (7) from `q0` with `u(t)` of `motion`
@@ -555,6 +600,25 @@ mod tests {
             for i in 0..2 {
                 let fd = (up[i] - um[i]) / (2.0 * h);
                 assert!((fd - du[i]).abs() < 1e-7 * (1.0 + du[i].abs()), "t = {t}: {fd} vs {}", du[i]);
+            }
+        }
+    }
+
+    /// The fast `du` of Eq. (14) equals the generic one (nested dual numbers through the inverse
+    /// feedback) to 1e-12 relative, on the paper's mounts and along the whole path.
+    #[test]
+    fn eq14_control_rate_matches_nested_dual_numbers() {
+        for a in [0.1, 0.2, 0.3] {
+            let robot = RobotParams::src().with_mount(Mount::new(a, a).unwrap()).unwrap();
+            let motion = NormalFormPlanner::default().motion(&PlanningProblem::paper(robot)).unwrap();
+            for i in (0..motion.t.len()).step_by(50) {
+                let (q, u, t) = (motion.q[i], motion.u[i], motion.t[i]);
+                let fast = motion.point_with_controls(q, u, t).du;
+                let reference = motion.point_by_dual_numbers(q, u, t).du;
+                for j in 0..2 {
+                    let tol = 1e-12 * (1.0 + reference[j].abs());
+                    assert!((fast[j] - reference[j]).abs() <= tol, "t = {t}: {fast:?} vs {reference:?}");
+                }
             }
         }
     }

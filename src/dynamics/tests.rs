@@ -65,7 +65,8 @@ proptest! {
     }
 
     /// `M q'' + c` equals `d/dt dL/dq' - dL/dq` of the Lagrangian (3) by AD (relative 1e-12),
-    /// and the forward dynamics inverts it (1e-10 relative).
+    /// the forward dynamics inverts it (1e-10 relative), and along system (7) the base row
+    /// vanishes and [`joint_torques`] equals [`inverse_dynamics`] (1e-12 relative).
     #[test]
     fn euler_lagrange_matches_ad_and_forward_inverts_it(
         a in -1.0..1.0f64, b in -1.0..1.0f64,
@@ -80,6 +81,15 @@ proptest! {
         let scale = 1.0 + f.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
         for i in 0..3 {
             prop_assert!((f[i] - ad[i]).abs() < 1e-12 * scale, "row {i}: {} vs AD {}", f[i], ad[i]);
+        }
+        // The one-pass torques agree with the reference inverse dynamics along system (7).
+        let point = MotionPoint { q: qc, u: [dq[1], dq[2]], du: [ddq[1], ddq[2]] };
+        let reference = inverse_dynamics(&k, &point);
+        let fast = joint_torques(&k, &point);
+        prop_assert!(reference.base_residual.abs() < 1e-12 * scale, "base row {}", reference.base_residual);
+        for i in 0..2 {
+            let tol = 1e-12 * (1.0 + reference.tau[i].abs());
+            prop_assert!((fast[i] - reference.tau[i]).abs() < tol, "{fast:?} vs {:?}", reference.tau);
         }
         let back = forward_dynamics(&k, &qc, dq, f);
         for i in 0..3 {
@@ -137,8 +147,8 @@ fn sampled_torques_agree_with_motion_at() {
     let sampled = torques_at(&k, &motion, &times).unwrap();
     for (t, s) in times.iter().zip(&sampled) {
         let fresh = inverse_dynamics(&k, &motion.at(*t).unwrap());
-        for i in 0..2 {
-            assert!((s.tau[i] - fresh.tau[i]).abs() <= 1e-10 * (1.0 + fresh.tau[i].abs()), "t = {t}");
+        for (x, y) in s.iter().zip(fresh.tau) {
+            assert!((x - y).abs() <= 1e-10 * (1.0 + y.abs()), "t = {t}: {s:?} vs {:?}", fresh.tau);
         }
     }
 }
