@@ -6,7 +6,7 @@ use super::*;
 use crate::model::{Mount, RobotParams};
 use crate::normal_form::Transform;
 use crate::plan::{NfaOptions, NormalFormPlanner};
-use num_dual::{Dual, Dual64};
+use num_dual::{Dual, Dual64, DualNum};
 use proptest::prelude::*;
 
 fn lumped(a: f64, b: f64) -> Lumped {
@@ -95,6 +95,42 @@ proptest! {
         for i in 0..3 {
             prop_assert!((back[i] - ddq[i]).abs() < 1e-10 * (1.0 + ddq[i].abs()), "{back:?} vs {ddq:?}");
         }
+    }
+}
+
+/// Kinetic energy of the robot from first principles [J]: the base (mass `M`, inertia `I`) and
+/// two point-mass links (the model of Sec. 3.1 has no link inertias), positions relative to the
+/// system's centre of mass held at the origin, velocities by a dual number along `dq`.
+fn kinetic_energy_from_bodies(robot: &RobotParams, q: [f64; 3], dq: [f64; 3]) -> f64 {
+    let RobotParams { l1, d1, d2, base_mass, base_inertia, m1, m2, mount, .. } = *robot;
+    let [phi, t1, t2] = std::array::from_fn::<Dual64, 3, _>(|i| Dual64::new(q[i], dq[i]));
+    let (sp, cp) = phi.sin_cos();
+    let joint1 = [cp * mount.a - sp * mount.b, sp * mount.a + cp * mount.b];
+    let (s1, c1) = (phi + t1).sin_cos();
+    let (s12, c12) = (phi + t1 + t2).sin_cos();
+    let link1 = [joint1[0] + c1 * d1, joint1[1] + s1 * d1];
+    let link2 = [joint1[0] + c1 * l1 + c12 * d2, joint1[1] + s1 * l1 + s12 * d2];
+    let mc = base_mass + m1 + m2;
+    let centre: [Dual64; 2] = std::array::from_fn(|i| (link1[i] * m1 + link2[i] * m2) / mc);
+    let speed2 = |p: [Dual64; 2]| (p[0] - centre[0]).eps.powi(2) + (p[1] - centre[1]).eps.powi(2);
+    let zero = Dual64::from_re(0.0);
+    0.5 * (base_mass * speed2([zero, zero]) + m1 * speed2(link1) + m2 * speed2(link2))
+        + 0.5 * base_inertia * dq[0] * dq[0]
+}
+
+proptest! {
+    /// The Lagrangian (3) with the constants after it equals the kinetic energy computed from the
+    /// bodies' positions (centre of mass at rest), to 1e-12 relative: Eq. (3) is right.
+    #[test]
+    fn lagrangian_is_the_kinetic_energy_of_the_bodies(
+        a in -1.0..1.0f64, b in -1.0..1.0f64,
+        q in prop::array::uniform3(-7.0..7.0f64),
+        dq in prop::array::uniform3(-3.0..3.0f64),
+    ) {
+        let robot = RobotParams::src().with_mount(Mount::new(a, b).unwrap()).unwrap();
+        let from_bodies = kinetic_energy_from_bodies(&robot, q, dq);
+        let eq3 = lagrangian(&robot.lumped(), q, dq);
+        prop_assert!((eq3 - from_bodies).abs() <= 1e-12 * from_bodies.abs().max(1e-3), "{eq3} vs {from_bodies}");
     }
 }
 
