@@ -24,7 +24,7 @@ use crate::plan::{Motion, MotionPoint, PlanningProblem};
 use crate::system::{momentum, shape, velocity_acceleration};
 
 /// The Lagrangian (3) without the decoupled term `(1/2) m_c (x'^2 + y'^2)` of the centre of mass
-/// (Eq. 4): kinetic energy of the base and the arm [J] at `q = (phi, theta1, theta2)` [rad] with
+/// (Eq. 4): kinetic energy of the base and the arm \[J\] at `q = (phi, theta1, theta2)` \[rad\] with
 /// velocity `dq` [rad/s].
 ///
 /// Implements Eq. (3) term by term, generic over [`Scalar`] so that its derivatives can be taken
@@ -205,7 +205,7 @@ pub fn joint_torques(k: &Lumped, point: &MotionPoint) -> [f64; 2] {
     [tau1, tau2]
 }
 
-/// Joint torques `(tau1, tau2)` [N m] along `motion` at the given times [s] (e.g. a
+/// Joint torques `(tau1, tau2)` [N m] along `motion` at the given times \[s\] (e.g. a
 /// trajectory's samples), exact: the motion's own `u` and `u'` at each time
 /// ([`Motion::points`]) through [`joint_torques`], no finite differences.
 pub fn torques_at(k: &Lumped, motion: &dyn Motion, times: &[f64]) -> Result<Vec<[f64; 2]>, Error> {
@@ -217,7 +217,7 @@ pub fn torques_at(k: &Lumped, motion: &dyn Motion, times: &[f64]) -> Result<Vec<
 pub struct TorqueOptions {
     /// Integrator options of the forward dynamics (default rtol = atol = 1e-12, SPEC §2).
     pub ode: OdeOptions,
-    /// Largest certified final error of the torque plan [rad]; default 1e-6 (SPEC §2).
+    /// Largest certified final error of the torque plan \[rad\]; default 1e-6 (SPEC §2).
     pub tolerance: f64,
 }
 
@@ -244,16 +244,16 @@ impl TorqueOptions {
 /// The forward-dynamics certificate of a torque plan.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct TorqueCertificate {
-    /// `max_i |wrap(q_i(T) - qd_i)|` [rad] of the forward dynamics (SPEC §2).
+    /// `max_i |wrap(q_i(T) - qd_i)|` \[rad\] of the forward dynamics (SPEC §2).
     pub final_error: f64,
-    /// `q(T)` reached by the forward dynamics [rad].
+    /// `q(T)` reached by the forward dynamics \[rad\].
     pub reached: Configuration,
-    /// Largest `max_i |q_i(t) - q_plan_i(t)|` over the integrator's steps [rad].
+    /// Largest `max_i |q_i(t) - q_plan_i(t)|` over the integrator's steps \[rad\].
     pub max_path_deviation: f64,
     /// Largest `|F phi' + G theta1' + H theta2'|` (Eq. 5) over the integrator's steps
     /// [kg m^2/s]: the angular momentum, zero for the plan.
     pub max_abs_momentum: f64,
-    /// Tolerance the final error is held to [rad].
+    /// Tolerance the final error is held to \[rad\].
     pub tolerance: f64,
     /// `final_error <= tolerance`.
     pub certified: bool,
@@ -265,6 +265,10 @@ pub struct TorqueCertificate {
 /// unactuated) from `q0` at rest, with the torques of `motion` evaluated exactly at every stage
 /// time ([`joint_torques`] of [`Motion::at`]), and measures the final error against the goal,
 /// the deviation from the planned path and the angular momentum along the way.
+///
+/// The start is at rest, as the problem demands (SPEC §2), whatever the motion's `u(0)`: a motion
+/// whose joint velocities do not vanish at `t = 0` (ECSA's trigonometric controls, SPEC §6,
+/// item 8) cannot be followed from rest, and the certificate shows it.
 pub fn certify_torques(
     motion: &dyn Motion,
     problem: &PlanningProblem,
@@ -317,7 +321,7 @@ pub fn certify_torques(
     })
 }
 
-/// Wall time of the torque stages [s].
+/// Wall time of the torque stages \[s\].
 #[derive(Debug, Clone, Copy, Default, PartialEq, Serialize)]
 pub struct TorqueSeconds {
     /// Inverse dynamics at the samples.

@@ -73,7 +73,7 @@ pub trait Motion {
     fn controls(&self, t: f64) -> Result<[f64; 2], Error> {
         Ok(self.at(t)?.u)
     }
-    /// The motion at each of `times` [s]; by default [`Motion::at`] at each. Planners that keep
+    /// The motion at each of `times` \[s\]; by default [`Motion::at`] at each. Planners that keep
     /// samples override it to reuse what they computed there (same values, less work).
     fn points(&self, times: &[f64]) -> Result<Vec<MotionPoint>, Error> {
         times.iter().map(|&t| self.at(t)).collect()
