@@ -153,7 +153,7 @@ pub struct PlanReport {
     pub final_error: f64,
     /// Tolerance of the final error \[rad\].
     pub tolerance: f64,
-    /// Whether every certificate holds.
+    /// Whether every certificate holds (velocity level, and torque level with torques).
     pub certified: bool,
     /// `q(T)` reached by the verification \[rad\].
     pub reached: [f64; 3],
@@ -169,6 +169,9 @@ pub struct PlanReport {
     pub max_abs_torque: Option<[f64; 2]>,
     /// Verified final error of the torque plan \[rad\] (with torques).
     pub torque_final_error: Option<f64>,
+    /// The torque level (with torques): peaks, base-row check and the forward-dynamics
+    /// certificate with its path deviation, angular momentum, integrator work and wall time.
+    pub torque_certificate: Option<crate::dynamics::TorqueReport>,
     /// Wall time per stage \[s\].
     pub seconds: crate::plan::Seconds,
     /// ECSA iterations (null for NFA).
@@ -217,6 +220,7 @@ impl PlanReport {
             min_abs_p: plan.min_abs_p,
             max_abs_torque: None,
             torque_final_error: None,
+            torque_certificate: None,
             seconds: plan.seconds,
             iterations: plan.iterations,
             steering: match (plan.method, plan.band) {
@@ -279,6 +283,19 @@ impl PlanReport {
             residual_history: s.residual_history.clone(),
             termination: s.termination,
         });
+        self
+    }
+}
+
+impl PlanReport {
+    /// The report with the torque level filled in: `max_abs_torque`, `torque_final_error`,
+    /// `seconds.torques`, the certificate; `certified` then requires both levels.
+    pub fn with_torques(mut self, torques: &crate::dynamics::TorqueReport) -> Self {
+        self.max_abs_torque = Some(torques.max_abs_torque);
+        self.torque_final_error = Some(torques.certificate.final_error);
+        self.certified &= torques.certificate.certified;
+        self.seconds.torques = Some(torques.seconds.torques);
+        self.torque_certificate = Some(*torques);
         self
     }
 }

@@ -12,10 +12,13 @@
 //! 6. [`ode`]: the adaptive integrator that verifies every plan;
 //! 7. [`ecsa`]: the paper's reference method, the Endogenous Configuration Space Approach;
 //! 8. [`domain`]: where each transformation exists on the joint torus (Sec. 6, item 3; Figs. 13-14),
-//!    and [`sweep`]: the mounting-point design tool.
+//!    and [`sweep`]: the mounting-point design tool;
+//! 9. [`dynamics`]: the Lagrangian (3), exact inverse dynamics (6) along any [`Motion`] and the
+//!    forward-dynamics certificate of the torques.
 
 pub mod chebyshev;
 pub mod domain;
+pub mod dynamics;
 pub mod ecsa;
 pub mod error;
 pub mod io;
@@ -29,6 +32,7 @@ pub mod steering;
 pub mod sweep;
 pub mod system;
 
+pub use dynamics::{TorqueOptions, TorquePlan, TorqueReport, torque_plan};
 pub use ecsa::{EcsaOptions, EcsaPlanner, Window};
 pub use error::{Error, Singularity};
 pub use model::{Configuration, Lumped, Mount, RobotParams, paper_problem};

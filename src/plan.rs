@@ -73,6 +73,11 @@ pub trait Motion {
     fn controls(&self, t: f64) -> Result<[f64; 2], Error> {
         Ok(self.at(t)?.u)
     }
+    /// The motion at each of `times` \[s\]; by default [`Motion::at`] at each. Planners that keep
+    /// samples override it to reuse what they computed there (same values, less work).
+    fn points(&self, times: &[f64]) -> Result<Vec<MotionPoint>, Error> {
+        times.iter().map(|&t| self.at(t)).collect()
+    }
 }
 
 /// A point of a [`Motion`].
@@ -307,6 +312,14 @@ impl Planner for NormalFormPlanner {
     }
 
     fn plan(&self, problem: &PlanningProblem) -> Result<Plan, Error> {
+        Ok(self.plan_with_motion(problem)?.0)
+    }
+}
+
+impl NormalFormPlanner {
+    /// [`Planner::plan`], also returning the exact motion (e.g. for the torque level,
+    /// [`crate::dynamics::torque_plan`]).
+    pub fn plan_with_motion(&self, problem: &PlanningProblem) -> Result<(Plan, NfaMotion), Error> {
         let clock = Instant::now();
         let motion = self.motion(problem)?;
         let trajectory = motion.trajectory(problem, self.options.accelerations)?;
@@ -316,7 +329,7 @@ impl Planner for NormalFormPlanner {
         let verification = verify(&motion, problem, &self.options.ode, self.options.tolerance)?;
         let verify_seconds = clock.elapsed().as_secs_f64();
         let max_abs_u = max_abs_controls(&trajectory);
-        Ok(Plan {
+        let plan = Plan {
             method: Method::Nfa,
             transform: Some(motion.nf.transform()),
             problem: *problem,
@@ -331,7 +344,8 @@ impl Planner for NormalFormPlanner {
             iterations: None,
             verification,
             seconds: Seconds { plan: plan_seconds, torques: None, verify: verify_seconds },
-        })
+        };
+        Ok((plan, motion))
     }
 }
 
@@ -449,14 +463,38 @@ impl NfaMotion {
     /// The motion at `t` given the planned configuration there: `u` by the inverse feedback and
     /// `du` exactly, by dual numbers through the polynomial path and the feedback.
     fn point(&self, q: Configuration, t: f64) -> Result<MotionPoint, Error> {
+        let p = self.steering.at(t);
+        let u = self.nf.control(q.to_array(), p.v);
+        Ok(self.point_with_controls(q, u, t))
+    }
+
+    /// [`NfaMotion::point`] when `u` at `(q, t)` is already known. Eq. (14) takes the fast path
+    /// [`eq14_control_rate`]; the others differentiate the inverse feedback with dual numbers.
+    fn point_with_controls(&self, q: Configuration, u: [f64; 2], t: f64) -> MotionPoint {
+        if self.nf.transform() == Transform::Eq14 {
+            let dv = self.steering.at_dual(t).v;
+            let du = eq14_control_rate(self.nf.lumped(), self.nf.branch(), &q, u, [dv[0].eps, dv[1].eps]);
+            return MotionPoint { q, u, du };
+        }
+        self.point_by_dual_numbers(q, u, t)
+    }
+
+    /// `du` by dual numbers through the inverse feedback: `u' = d/dt control(q(t), v(t))`.
+    fn point_by_dual_numbers(&self, q: Configuration, u: [f64; 2], t: f64) -> MotionPoint {
         let p = self.steering.at_dual(t);
-        let v = [p.v[0].re, p.v[1].re];
-        let u = self.nf.control(q.to_array(), v);
         let dq = velocity(self.nf.lumped(), q.to_array(), u);
         let qa = q.to_array();
         let qd: [Dual64; 3] = std::array::from_fn(|i| Dual64::new(qa[i], dq[i]));
         let ud = self.nf.control(qd, p.v);
-        Ok(MotionPoint { q, u, du: [ud[0].eps, ud[1].eps] })
+        MotionPoint { q, u, du: [ud[0].eps, ud[1].eps] }
+    }
+
+    /// The index of the sample taken at exactly `t`, if any.
+    fn sample_index(&self, t: f64) -> Option<usize> {
+        let n = self.t.len();
+        let dt = self.steering.horizon() / (n - 1) as f64;
+        let i = ((t / dt).round().max(0.0) as usize).min(n - 1);
+        (self.t[i].to_bits() == t.to_bits()).then_some(i)
     }
 }
 
@@ -471,11 +509,63 @@ impl Motion for NfaMotion {
         self.point(q, t)
     }
 
+    /// At the sample times the stored Newton solutions and controls are reused (no Newton run);
+    /// elsewhere as [`Motion::at`].
+    fn points(&self, times: &[f64]) -> Result<Vec<MotionPoint>, Error> {
+        times
+            .iter()
+            .map(|&t| match self.sample_index(t) {
+                Some(i) => Ok(self.point_with_controls(self.q[i], self.u[i], t)),
+                None => self.at(t),
+            })
+            .collect()
+    }
+
     fn controls(&self, t: f64) -> Result<[f64; 2], Error> {
         let p = self.steering.at(t);
         let q = self.nf.invert(p.z, self.guess(t), Some(t))?;
         Ok(self.nf.control(q.to_array(), p.v))
     }
+}
+
+/// The time derivative `u' = (u1', u2')` [rad/s^2] of the inverse feedback of Eq. (14) along a
+/// motion at `q` with joint velocities `u` and chained-form control rates `dv = v'`.
+///
+/// `u1 = v1` gives `u1' = v1'`. Differentiating `v2 = a u1 + b u2` (`a = dh3/dtheta1`,
+/// `b = dh3/dtheta2 = sign(P) 2 sigma / F^2`, Eq. 25) once more along the motion gives
+/// `v2' = a u1' + b u2' + h3_11 u1^2 + 2 h3_12 u1 u2 + h3_22 u2^2`, solved for `u2'`. With
+/// `h3 = sign(P) G/F + dR/dtheta1` the pure `theta1` derivatives come from one third-order dual
+/// number in `theta1` through `R`, `G/F` and `b`; the last one, `h3_22 = db/dtheta2 =
+/// 2 sign(P) (sigma_2 - 4 sigma P / F) / F^2` (`dF/dtheta2 = 2 P`, Eq. 13), by hand with
+/// `sigma_2 = dsigma/dtheta2 = -(C D - A E)(a c12 + b s12) + (D E (a^2 + b^2) - C I_P) c2`
+/// from Eq. (9). Exact, and without the three nested levels of dual numbers of the generic path.
+#[allow(non_snake_case)]
+fn eq14_control_rate(k: &crate::model::Lumped, branch: f64, q: &Configuration, u: [f64; 2], dv: [f64; 2]) -> [f64; 2] {
+    use crate::system::shape;
+    use num_dual::{Dual3_64, DualNum};
+    let t1 = Dual3_64::new(q.theta1, 1.0, 0.0, 0.0);
+    let t2 = Dual3_64::from_re(q.theta2);
+    let s = shape(k, t1, t2);
+    // R of Eq. (14) from the same shape, exactly as `general::r_function` (atan2 form); the test
+    // `eq14_control_rate_matches_nested_dual_numbers` holds the two together.
+    let (abs_p, root_d) = (s.P * branch, s.d.sqrt());
+    let first = (s.F - s.U).atan2(abs_p * 2.0);
+    let second = (s.F * s.U - s.d).atan2(root_d * abs_p * 2.0);
+    let R = -first * 0.5 + s.Z / (root_d * 2.0) * second;
+    let G_F = s.G / s.F;
+    let a = G_F.v1 * branch + R.v2;
+    let a1 = G_F.v2 * branch + R.v3;
+    let b = s.sigma * (2.0 * branch) / (s.F * s.F);
+    let crate::model::Lumped { A, C, D, E, IP, a: ma, b: mb, .. } = *k;
+    let (s2, c2) = q.theta2.sin_cos();
+    let (s1, c1) = q.theta1.sin_cos();
+    let k12 = ma * (c1 * c2 - s1 * s2) + mb * (s1 * c2 + c1 * s2);
+    let (F, P, sigma) = (s.F.re, s.P.re, s.sigma.re);
+    let sigma2 = -(C * D - A * E) * k12 + (D * E * (ma * ma + mb * mb) - C * IP) * c2;
+    let b2 = 2.0 * branch * (sigma2 - 4.0 * sigma * P / F) / (F * F);
+    let [u1, u2] = u;
+    let du2 = (dv[1] - a * dv[0] - a1 * u1 * u1 - 2.0 * b.v1 * u1 * u2 - b2 * u2 * u2) / b.re;
+    [dv[0], du2]
 }
 
 /// The velocity-level certificate: integrates system (7) from `q0` with `u(t)` of `motion`
@@ -570,6 +660,25 @@ mod tests {
             for i in 0..2 {
                 let fd = (up[i] - um[i]) / (2.0 * h);
                 assert!((fd - du[i]).abs() < 1e-7 * (1.0 + du[i].abs()), "t = {t}: {fd} vs {}", du[i]);
+            }
+        }
+    }
+
+    /// The fast `du` of Eq. (14) equals the generic one (nested dual numbers through the inverse
+    /// feedback) to 1e-12 relative, on the paper's mounts and two others, along the whole path.
+    #[test]
+    fn eq14_control_rate_matches_nested_dual_numbers() {
+        for (a, b) in [(0.1, 0.1), (0.2, 0.2), (0.3, 0.3), (0.2, 0.05), (-0.1, 0.1)] {
+            let robot = RobotParams::src().with_mount(Mount::new(a, b).unwrap()).unwrap();
+            let motion = NormalFormPlanner::default().motion(&PlanningProblem::paper(robot)).unwrap();
+            for i in (0..motion.t.len()).step_by(50) {
+                let (q, u, t) = (motion.q[i], motion.u[i], motion.t[i]);
+                let fast = motion.point_with_controls(q, u, t).du;
+                let reference = motion.point_by_dual_numbers(q, u, t).du;
+                for j in 0..2 {
+                    let tol = 1e-12 * (1.0 + reference[j].abs());
+                    assert!((fast[j] - reference[j]).abs() <= tol, "t = {t}: {fast:?} vs {reference:?}");
+                }
             }
         }
     }

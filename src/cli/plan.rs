@@ -3,58 +3,99 @@
 use std::process::ExitCode;
 
 use anyhow::bail;
+use freefloat::dynamics::{TorqueOptions, TorqueReport, torque_plan};
 use freefloat::ecsa::EcsaSolution;
 use freefloat::io::{PlanReport, trajectory_csv, write_atomic};
-use freefloat::plan::Method;
-use freefloat::{EcsaPlanner, NormalFormPlanner, Plan, Planner, PlanningProblem};
+use freefloat::plan::{Method, Motion};
+use freefloat::{EcsaPlanner, NormalFormPlanner, Plan, PlanningProblem};
 
 use super::args::{CompareArgs, Format, MethodArg, PlanArgs, ProblemArgs};
 
-/// Plans with the NFA, or with the ECSA (then with its solution's details).
+/// A plan with what the reports need: the ECSA's solution and the torque level.
+struct Planned {
+    plan: Plan,
+    solution: Option<EcsaSolution>,
+    torques: Option<TorqueReport>,
+}
+
+impl Planned {
+    /// The JSON report, with the ECSA details and the torque level when there are any.
+    fn report(&self, with_trajectory: bool) -> PlanReport {
+        let mut report = PlanReport::new(&self.plan, with_trajectory);
+        if let Some(s) = &self.solution {
+            report = report.with_ecsa(s);
+        }
+        if let Some(t) = &self.torques {
+            report = report.with_torques(t);
+        }
+        report
+    }
+
+    /// Both certificates: the velocity level, and the torque level when computed.
+    fn certified(&self) -> Result<(), freefloat::Error> {
+        self.plan.certified()?;
+        self.torques.as_ref().map_or(Ok(()), TorqueReport::check)
+    }
+}
+
+/// Plans with `method`; with `--torques`, adds the torque level (SPEC §2): inverse dynamics at
+/// the samples, and the forward-dynamics certificate. Bad flags are the outer error, a problem
+/// without a plan the inner one.
 fn plan_with(
     method: MethodArg,
     args: &ProblemArgs,
     problem: &PlanningProblem,
-) -> anyhow::Result<Result<(Plan, Option<EcsaSolution>), freefloat::Error>> {
-    Ok(match method {
-        MethodArg::Nfa => NormalFormPlanner::new(super::nfa_options(args)).plan(problem).map(|p| (p, None)),
-        MethodArg::Ecsa => {
-            EcsaPlanner::new(super::ecsa_options(args)?).plan_with_solution(problem).map(|(p, s)| (p, Some(s)))
-        }
-    })
+) -> anyhow::Result<Result<Planned, freefloat::Error>> {
+    let nfa = NormalFormPlanner::new(super::nfa_options(args));
+    let ecsa = EcsaPlanner::new(super::ecsa_options(args)?);
+    let planned = || -> Result<Planned, freefloat::Error> {
+        let (mut plan, solution, motion): (Plan, Option<EcsaSolution>, Box<dyn Motion>) = match method {
+            MethodArg::Nfa => {
+                let (plan, motion) = nfa.plan_with_motion(problem)?;
+                (plan, None, Box::new(motion))
+            }
+            MethodArg::Ecsa => {
+                let (plan, solution) = ecsa.plan_with_solution(problem)?;
+                let motion = ecsa.motion(problem, &solution)?;
+                (plan, Some(solution), Box::new(motion))
+            }
+        };
+        let torques = if args.torques { Some(add_torques(&mut plan, motion.as_ref())?) } else { None };
+        Ok(Planned { plan, solution, torques })
+    };
+    Ok(planned())
 }
 
-/// The JSON report of a plan, with the ECSA details when there are any.
-fn report(plan: &Plan, solution: Option<&EcsaSolution>, with_trajectory: bool) -> PlanReport {
-    let report = PlanReport::new(plan, with_trajectory);
-    match solution {
-        Some(s) => report.with_ecsa(s),
-        None => report,
-    }
+/// The torque level of `plan` (SPEC §2): torques at its samples into the trajectory's `tau`,
+/// their wall time into `seconds.torques`, and the forward-dynamics certificate (tolerance
+/// 1e-6 rad).
+fn add_torques(plan: &mut Plan, motion: &dyn Motion) -> Result<TorqueReport, freefloat::Error> {
+    let tp = torque_plan(motion, &plan.problem, &plan.trajectory.t, &TorqueOptions::default())?;
+    plan.trajectory.tau = Some(tp.tau);
+    plan.seconds.torques = Some(tp.report.seconds.torques);
+    Ok(tp.report)
 }
 
 /// Runs `plan`: exit 0 with a certified plan, 3 (numbers on stderr) otherwise.
 pub fn run(args: &PlanArgs) -> anyhow::Result<ExitCode> {
     let problem = super::problem(&args.problem)?;
-    let (plan, solution) = plan_with(args.method, &args.problem, &problem)??;
-    if args.problem.torques {
-        bail!("--torques is not available yet");
-    }
-    let r = report(&plan, solution.as_ref(), false);
+    let planned = plan_with(args.method, &args.problem, &problem)??;
+    let plan = &planned.plan;
+    let r = planned.report(false);
     match args.format {
-        Format::Table => print!("{}", table(&plan, &r)),
+        Format::Table => print!("{}", table(plan, &r)),
         Format::Json => println!("{}", serde_json::to_string_pretty(&r)?),
         Format::Csv => print!("{}", String::from_utf8(trajectory_csv(&plan.trajectory)?)?),
     }
     if let Some(path) = &args.out {
         let bytes = match path.extension().and_then(|e| e.to_str()) {
             Some("csv") => trajectory_csv(&plan.trajectory)?,
-            Some("json") => serde_json::to_vec_pretty(&report(&plan, solution.as_ref(), true))?,
+            Some("json") => serde_json::to_vec_pretty(&planned.report(true))?,
             _ => bail!("--out {}: the file name must end in .json or .csv", path.display()),
         };
         write_atomic(path, &bytes)?;
     }
-    plan.certified()?;
+    planned.certified()?;
     Ok(ExitCode::SUCCESS)
 }
 
@@ -65,11 +106,6 @@ pub fn compare(args: &CompareArgs) -> anyhow::Result<ExitCode> {
         bail!("compare prints a table or JSON, not CSV (use `plan --format csv` for a trajectory)");
     }
     let problem = super::problem(&args.problem)?;
-    if args.problem.torques {
-        // Torques (inverse dynamics, Eq. 6) come with the torque issue: the table and the JSON
-        // already show `max_abs_torque` / `seconds.torques` of the reports when they are set.
-        bail!("--torques is not available yet");
-    }
     let mut results = Vec::new();
     for method in [MethodArg::Nfa, MethodArg::Ecsa] {
         let result = plan_with(method, &args.problem, &problem)?;
@@ -85,7 +121,7 @@ pub fn compare(args: &CompareArgs) -> anyhow::Result<ExitCode> {
     let reports: Vec<Result<PlanReport, String>> = results
         .iter()
         .map(|r| match r {
-            Ok((plan, solution)) => Ok(report(plan, solution.as_ref(), false)),
+            Ok(planned) => Ok(planned.report(false)),
             Err(e) => Err(e.to_string()),
         })
         .collect();
@@ -95,8 +131,7 @@ pub fn compare(args: &CompareArgs) -> anyhow::Result<ExitCode> {
         print!("{}", compare_table(&problem, &reports));
     }
     for result in results {
-        let (plan, _) = result?;
-        plan.certified()?;
+        result?.certified()?;
     }
     Ok(ExitCode::SUCCESS)
 }
@@ -241,13 +276,28 @@ pub fn table(plan: &Plan, r: &PlanReport) -> String {
         r.joint_travel[1].to_degrees(),
         r.joint_travel[2].to_degrees()
     );
-    if let (Some(tau), Some(e)) = (r.max_abs_torque, r.torque_final_error) {
-        s += &format!("  max |tau1|, |tau2|       {:.6}, {:.6} N m\n", tau[0], tau[1]);
-        s += &format!("  torque final error       {e:.3e} rad\n");
+    if let Some(t) = &r.torque_certificate {
+        let c = &t.certificate;
+        let status = if c.certified { "CERTIFIED" } else { "NOT CERTIFIED" };
+        s += &format!("  max |tau1|, |tau2|       {:.6}, {:.6} N m\n", t.max_abs_torque[0], t.max_abs_torque[1]);
+        s += &format!(
+            "  torque final error       {:.3e} rad (tolerance {:.1e})  {status}\n",
+            c.final_error, c.tolerance
+        );
+        s += &format!(
+            "  torque path deviation    {:.3e} rad ({} integrator steps)\n",
+            c.max_path_deviation, c.stats.accepted
+        );
+        s += &format!("  max |angular momentum|   {:.3e} kg m^2/s\n", c.max_abs_momentum);
+        s += &format!("  max |base row of (6)|    {:.3e} N m\n", t.max_abs_base_residual);
     }
     let torques = r.seconds.torques.map(|t| format!(", torques {:.3} ms", t * 1e3)).unwrap_or_default();
+    let torque_verify = r
+        .torque_certificate
+        .map(|t| format!(", torque certificate {:.3} ms", t.seconds.verify * 1e3))
+        .unwrap_or_default();
     s += &format!(
-        "  time                     plan {:.3} ms{torques}, verify {:.3} ms\n",
+        "  time                     plan {:.3} ms{torques}, verify {:.3} ms{torque_verify}\n",
         r.seconds.plan * 1e3,
         r.seconds.verify * 1e3
     );
@@ -257,7 +307,7 @@ pub fn table(plan: &Plan, r: &PlanReport) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use freefloat::{Mount, RobotParams, Transform};
+    use freefloat::{Mount, Planner, RobotParams, Transform};
 
     fn reports(a: f64, transform: Option<Transform>) -> (PlanningProblem, Vec<Result<PlanReport, String>>) {
         let robot = RobotParams::src().with_mount(Mount::new(a, -a).expect("finite")).expect("valid");
@@ -296,5 +346,31 @@ mod tests {
         assert!(table.contains("(no plan)") && table.contains("  nfa: "), "{table}");
         let json = compare_json(&reports).unwrap();
         assert!(json["nfa"].is_null() && json["errors"]["nfa"].is_string() && json["ecsa"].is_object());
+    }
+
+    /// `--torques` fills `max_abs_torque`, `torque_final_error`, `seconds.torques`, the CSV's
+    /// tau columns and the table; a failed torque certificate exits with code 3 and its numbers.
+    #[test]
+    fn torques_fill_report_csv_and_table() {
+        let problem = PlanningProblem::paper(RobotParams::src());
+        let options = freefloat::NfaOptions { samples: 101, accelerations: true, ..Default::default() };
+        let (mut plan, motion) = NormalFormPlanner::new(options).plan_with_motion(&problem).unwrap();
+        let torques = add_torques(&mut plan, &motion).unwrap();
+        let report = PlanReport::new(&plan, false).with_torques(&torques);
+        let json: serde_json::Value = serde_json::to_value(&report).unwrap();
+        assert!(json["max_abs_torque"].as_array().is_some_and(|a| a.len() == 2));
+        assert!(json["torque_final_error"].as_f64().is_some_and(|e| e <= 1e-6));
+        assert!(json["seconds"]["torques"].as_f64().is_some());
+        assert_eq!(json["certified"], serde_json::Value::Bool(true));
+        let csv = String::from_utf8(trajectory_csv(&plan.trajectory).unwrap()).unwrap();
+        let row = csv.lines().nth(50).unwrap();
+        assert!(row.split(',').skip(13).all(|cell| cell.parse::<f64>().is_ok()), "{row}");
+        let text = table(&plan, &report);
+        assert!(text.contains("max |tau1|, |tau2|") && text.contains("torque final error"), "{text}");
+
+        let failed = freefloat::Error::NotCertified { final_error: 2e-6, tolerance: 1e-6, level: "torque" };
+        let message = failed.to_string();
+        assert!(message.contains("2.000e-6") && message.contains("torque"), "{message}");
+        assert_eq!(crate::cli::exit_code(&anyhow::Error::from(failed)), 3);
     }
 }
