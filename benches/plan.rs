@@ -1,5 +1,6 @@
 //! Criterion benches of the velocity-level NFA plan (SPEC §5): eq14 with 1001 samples <= 1 ms,
-//! eq11/eq12 <= 0.3 ms. Verification is benched separately and does not count.
+//! eq11/eq12 <= 0.3 ms; the band-steered global plan <= 5 ms. Verification is benched
+//! separately and does not count.
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use freefloat::plan::{Motion, verify};
@@ -32,5 +33,21 @@ fn bench_plan(c: &mut Criterion) {
     }
 }
 
-criterion_group!(benches, bench_plan);
+/// Beyond the paper: the global normal form's band-steered plan (issue: <= 5 ms), for the paper's
+/// "impossible" mount a = 1, b = -1 and for a = b = 0.5.
+fn bench_band(c: &mut Criterion) {
+    for (name, a, b) in [("a1_b-1", 1.0, -1.0), ("a0.5_b0.5", 0.5, 0.5)] {
+        let robot = RobotParams::src().with_mount(Mount::new(a, b).expect("finite")).expect("valid");
+        let p = PlanningProblem::paper(robot);
+        let planner = NormalFormPlanner::new(NfaOptions { transform: Some(Transform::Global), ..Default::default() });
+        c.bench_function(&format!("nfa_band_plan_1001/{name}"), |bench| {
+            bench.iter(|| {
+                let motion = planner.motion(black_box(&p)).expect("plan");
+                black_box(motion.trajectory(&p, false).expect("trajectory"))
+            })
+        });
+    }
+}
+
+criterion_group!(benches, bench_plan, bench_band);
 criterion_main!(benches);

@@ -135,13 +135,13 @@ pub struct BandOptions {
     pub margin: f64,
     /// Largest number of loops `N` tried; default 16.
     pub max_loops: usize,
-    /// Loop amplitudes `A` tried \[rad\]; default 0.25 .. 3.0.
+    /// Loop amplitudes `A` tried \[rad\]; default 0.5, 1.0, .., 3.0.
     pub amplitudes: Vec<f64>,
 }
 
 impl Default for BandOptions {
     fn default() -> Self {
-        Self { margin: 0.05, max_loops: 16, amplitudes: vec![0.25, 0.5, 0.75, 1.0, 1.5, 2.0, 2.5, 3.0] }
+        Self { margin: 0.05, max_loops: 16, amplitudes: vec![0.5, 1.0, 1.5, 2.0, 2.5, 3.0] }
     }
 }
 
@@ -217,7 +217,7 @@ impl BandSteering {
         let edge = |l: f64| l.min(1.0 - l);
         let margin = options.margin.min(edge(lambda[0]) / 2.0).min(edge(lambda[1]) / 2.0);
         let fixed = lower_integral.eval(zd[0]) - lower_integral.eval(z0[0]);
-        let rule = GaussLegendre::new(8);
+        let rule = GaussLegendre::new(6);
         let template = Self {
             horizon,
             z0,
@@ -288,8 +288,8 @@ impl BandSteering {
         for i in 0..=40 {
             let t = self.horizon * i as f64 / 40.0;
             let s = smoothstep(num_dual::Dual64::new(t / self.horizon, 1.0 / self.horizon));
-            let z1 = self.z1_of(s);
-            let z2 = self.lower.eval(z1) + self.lambda_parts(s, self.choice.kappa) * self.width.eval(z1);
+            let (z1, l0, l1) = self.path_terms(s);
+            let z2 = self.lower.eval(z1) + (l0 + l1 * self.choice.kappa) * self.width.eval(z1);
             let band = nf.band(z1.re, theta2);
             match crate::normal_form::global::solve_in_band(nf.lumped(), z1.re, z2.re, band, theta2) {
                 Ok(x) => theta2 = x,
@@ -316,11 +316,10 @@ impl BandSteering {
         for (x, w) in self.rule.nodes.iter().zip(&self.rule.weights) {
             let t = mid + half * x;
             let s = smoothstep(num_dual::Dual64::new(t / self.horizon, 1.0 / self.horizon));
-            let z1 = self.z1_of(s);
+            let (z1, l0, l1) = self.path_terms(s);
             let wz = self.width.eval(z1.re) * z1.eps * w * half;
-            let l0 = self.lambda_parts(s.re, 0.0);
-            out[0] += l0 * wz;
-            out[1] += (self.lambda_parts(s.re, 1.0) - l0) * wz;
+            out[0] += l0.re * wz;
+            out[1] += l1.re * wz;
         }
         out
     }
@@ -335,25 +334,30 @@ impl BandSteering {
     /// the flat-topped envelope `e(s) = 1 - (2s - 1)^8`: `lambda` leaves the ends' values for the
     /// band's middle, where the loops have the whole width to swing in.
     fn lambda_parts<D: Scalar>(&self, s: D, kappa: f64) -> D {
-        let n = self.choice.loops as f64;
-        let e = -(s * 2.0 - 1.0).powi(8) + 1.0;
-        let straight = s * (self.lambda[1] - self.lambda[0]) + self.lambda[0];
-        let swing = (s * (2.0 * std::f64::consts::PI * n)).cos() * kappa + 0.5;
-        straight * (-e + 1.0) + e * swing
+        let (_, l0, l1) = self.path_terms(s);
+        l0 + l1 * kappa
     }
 
+    /// `z1(s) = z01 + w1 s + A sin(2 pi N s)`.
     fn z1_of<D: Scalar>(&self, s: D) -> D {
+        self.path_terms(s).0
+    }
+
+    /// `(z1(s), lambda(s) at kappa = 0, d lambda / d kappa)`, from one `sin_cos`.
+    fn path_terms<D: Scalar>(&self, s: D) -> (D, D, D) {
         let n = self.choice.loops as f64;
-        s * (self.zd[0] - self.z0[0])
-            + self.z0[0]
-            + (s * (2.0 * std::f64::consts::PI * n)).sin() * self.choice.amplitude
+        let (sin, cos) = (s * (2.0 * std::f64::consts::PI * n)).sin_cos();
+        let z1 = s * (self.zd[0] - self.z0[0]) + self.z0[0] + sin * self.choice.amplitude;
+        let e = -(s * 2.0 - 1.0).powi(8) + 1.0;
+        let straight = s * (self.lambda[1] - self.lambda[0]) + self.lambda[0];
+        (z1, straight * (-e + 1.0) + e * 0.5, e * cos)
     }
 
     /// `lambda W(z1) z1'` at `t`, with the given `kappa`.
     fn area_rate(&self, t: f64, kappa: f64) -> f64 {
         let s = smoothstep(num_dual::Dual64::new(t / self.horizon, 1.0 / self.horizon));
-        let z1 = self.z1_of(s);
-        self.lambda_parts(s.re, kappa) * self.width.eval(z1.re) * z1.eps
+        let (z1, l0, l1) = self.path_terms(s);
+        (l0.re + l1.re * kappa) * self.width.eval(z1.re) * z1.eps
     }
 
     /// Tabulates `integral_0^t lambda W z1' dt` at the knots, solving on the way for the `kappa`
@@ -379,8 +383,8 @@ impl BandSteering {
         use num_dual::{Dual2, Dual64};
         let tau = Dual2::new(t / self.horizon, 1.0 / self.horizon, 0.0);
         let s = smoothstep(tau);
-        let z1 = self.z1_of(s);
-        let lambda = self.lambda_parts(s, self.choice.kappa);
+        let (z1, l0, l1) = self.path_terms(s);
+        let lambda = l0 + l1 * self.choice.kappa;
         let z2 = self.lower.eval(z1) + lambda * self.width.eval(z1);
         let z3 = self.z3_at(t);
         ChainedPoint {

@@ -69,6 +69,16 @@ pub fn h3<D: Scalar>(k: &Lumped, theta1: D, theta2: D) -> D {
     -s.G / s.F + dpsi
 }
 
+/// `(h3, dh3/dtheta2)` at one point from a single evaluation of Eqs. (8)-(15) over dual numbers
+/// (`dh3/dtheta2 = -2 sigma / F^2`): what Newton's method on `z2 = h3` needs.
+pub fn newton_point(k: &Lumped, theta1: f64, theta2: f64) -> (f64, f64) {
+    let t1 = num_dual::Dual64::new(theta1, 1.0);
+    let t2 = num_dual::Dual64::from_re(theta2);
+    let s = shape(k, theta1, theta2);
+    let dpsi = psi(k, t1, t2).eps;
+    (-s.G / s.F + dpsi, -2.0 * s.sigma / (s.F * s.F))
+}
+
 /// The map `z = h(q) = (theta1, h3, phi + Psi)`.
 pub fn global_h<D: Scalar>(k: &Lumped, q: [D; 3]) -> [D; 3] {
     let [phi, t1, t2] = q;
@@ -131,17 +141,17 @@ pub fn sigma_harmonics(k: &Lumped, theta1: f64) -> (f64, f64, f64) {
 /// is strictly monotone: Newton's method safeguarded by bisection (it cannot leave the band).
 /// `Err((h3(lo), h3(hi)))` when `z2` is outside the band's range.
 pub fn solve_in_band(k: &Lumped, theta1: f64, z2: f64, (lo, hi): (f64, f64), guess: f64) -> Result<f64, (f64, f64)> {
-    let f = |th2: f64| h3(k, theta1, th2) - z2;
-    let slope = |th2: f64| {
-        let s = shape(k, theta1, th2);
-        -2.0 * s.sigma / (s.F * s.F)
+    let point = |th2: f64| {
+        let (h, slope) = newton_point(k, theta1, th2);
+        (h - z2, slope)
     };
     let inside = |x: f64| x > lo && x < hi;
     // Newton from the warm start while it stays inside the band and converges fast.
     if inside(guess) {
         let mut x = guess;
         for _ in 0..8 {
-            let step = -f(x) / slope(x);
+            let (f, slope) = point(x);
+            let step = -f / slope;
             let next = x + step;
             if !inside(next) || !step.is_finite() {
                 break;
@@ -153,20 +163,20 @@ pub fn solve_in_band(k: &Lumped, theta1: f64, z2: f64, (lo, hi): (f64, f64), gue
         }
     }
     // Safeguarded: keep a bracket f(a) < 0 < f(b) and bisect when Newton would leave it.
-    let (flo, fhi) = (f(lo), f(hi));
+    let (flo, fhi) = (point(lo).0, point(hi).0);
     if flo * fhi >= 0.0 {
         return Err((flo + z2, fhi + z2));
     }
     let (mut a, mut b) = if flo < 0.0 { (lo, hi) } else { (hi, lo) };
     let mut x = if inside(guess) { guess } else { 0.5 * (lo + hi) };
     for _ in 0..200 {
-        let fx = f(x);
+        let (fx, slope) = point(x);
         if fx < 0.0 {
             a = x;
         } else {
             b = x;
         }
-        let newton = x - fx / slope(x);
+        let newton = x - fx / slope;
         let next = if newton > a.min(b) && newton < a.max(b) { newton } else { 0.5 * (a + b) };
         if (next - x).abs() <= 1e-15 * (1.0 + x.abs()) || (a - b).abs() <= 1e-15 * (1.0 + x.abs()) {
             return Ok(next);
