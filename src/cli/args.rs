@@ -35,7 +35,7 @@ pub struct RobotArgs {
     /// Robot file (TOML, SPEC §1); its [mount] is overridden by --mount.
     #[arg(long, value_name = "FILE")]
     pub robot: Option<PathBuf>,
-    /// Mounting point of the arm in the base frame, A,B \[m\] (default: the file's, else 0,0).
+    /// Mounting point of the arm in the base frame, A,B in m (default: the file's, else 0,0).
     #[arg(long, value_name = "A,B", allow_hyphen_values = true)]
     pub mount: Option<String>,
 }
@@ -51,13 +51,13 @@ pub enum Preset {
 pub struct ProblemArgs {
     #[command(flatten)]
     pub robot: RobotArgs,
-    /// Start configuration PHI,TH1,TH2 \[deg\].
+    /// Start configuration PHI,TH1,TH2 in deg.
     #[arg(long, value_name = "PHI,TH1,TH2", default_value = "45,120,80", allow_hyphen_values = true)]
     pub from: String,
-    /// Goal configuration PHI,TH1,TH2 \[deg\], taken literally (not modulo 360).
+    /// Goal configuration PHI,TH1,TH2 in deg, taken literally (not modulo 360).
     #[arg(long, value_name = "PHI,TH1,TH2", default_value = "0,180,140", allow_hyphen_values = true)]
     pub to: String,
-    /// Horizon T \[s\].
+    /// Horizon T in s.
     #[arg(long, value_name = "T", default_value_t = 10.0)]
     pub time: f64,
     /// Feedback transformation of the NFA.
@@ -69,7 +69,7 @@ pub struct ProblemArgs {
     /// Also compute joint torques by inverse dynamics (Eq. 6) and certify them.
     #[arg(long)]
     pub torques: bool,
-    /// Largest verified final error of a certified velocity plan \[rad\].
+    /// Largest verified final error of a certified velocity plan in rad.
     #[arg(long, value_name = "RAD", default_value_t = 1e-9)]
     pub tolerance: f64,
     /// ECSA: number of harmonics of the trigonometric controls, 1 to 4 (the paper: 1).

@@ -36,7 +36,7 @@ pub struct DomainArgs {
     /// Goal configuration PHI,TH1,TH2 [deg].
     #[arg(long, value_name = "PHI,TH1,TH2", default_value = "0,180,140", allow_hyphen_values = true)]
     pub to: String,
-    /// Horizon T \[s\] of the NFA plan from --from to --to drawn on the map.
+    /// Horizon T in s of the NFA plan from --from to --to drawn on the map.
     #[arg(long, value_name = "T", default_value_t = 10.0)]
     pub time: f64,
     /// Samples of that plan.
@@ -57,7 +57,7 @@ pub enum DomainFormat {
 struct PlanCheck {
     /// A plan exists and is certified.
     certified: bool,
-    /// Its verified final error \[rad\], when a plan exists.
+    /// Its verified final error in rad, when a plan exists.
     final_error: Option<f64>,
     /// Why there is no plan.
     error: Option<String>,

@@ -47,10 +47,10 @@ pub struct MergeArgs {
 pub struct SweepRunArgs {
     #[command(flatten)]
     pub robot: RobotArgs,
-    /// Range of a, MIN,MAX \[m\].
+    /// Range of a, MIN,MAX in m.
     #[arg(long = "a", value_name = "MIN,MAX", default_value = "-0.3,0.3", allow_hyphen_values = true)]
     pub a_range: String,
-    /// Range of b, MIN,MAX \[m\].
+    /// Range of b, MIN,MAX in m.
     #[arg(long = "b", value_name = "MIN,MAX", default_value = "-0.3,0.3", allow_hyphen_values = true)]
     pub b_range: String,
     /// Number of values of a and of b (both ends included): NA or NA,NB.
@@ -68,7 +68,7 @@ pub struct SweepRunArgs {
     /// NFA samples per plan (the verification is exact at any sample count).
     #[arg(long, value_name = "N", default_value_t = 201)]
     pub samples: usize,
-    /// Horizon T \[s\] of every plan.
+    /// Horizon T in s of every plan.
     #[arg(long, value_name = "T", default_value_t = 10.0)]
     pub time: f64,
     /// Start configuration whose component is measured, PHI,TH1,TH2 [deg].
