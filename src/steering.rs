@@ -240,8 +240,8 @@ impl BandSteering {
                 return None;
             }
             path.choice.kappa = (w3 - base) / unit;
-            let range = (0..=200)
-                .map(|i| path.lambda_at(horizon * i as f64 / 200.0))
+            let range = (0..=128)
+                .map(|i| path.lambda_at(horizon * i as f64 / 128.0))
                 .fold([f64::INFINITY, f64::NEG_INFINITY], |r, l| [r[0].min(l), r[1].max(l)]);
             path.choice.lambda_range = range;
             (range[0] >= margin && range[1] <= 1.0 - margin).then_some(path)
@@ -280,13 +280,13 @@ impl BandSteering {
         Ok(path)
     }
 
-    /// The peak joint velocity `max(|u1|, |u2|)` over 41 times (the inverse map needs only
+    /// The peak joint velocity `max(|u1|, |u2|)` over 33 times (the inverse map needs only
     /// `z1, z2`, not the quadrature of `z3`); infinite when the path cannot be inverted.
     fn peak_velocity_estimate(&self, nf: &NormalForm, start: &Configuration) -> f64 {
         let mut peak = 0.0f64;
         let mut theta2 = start.theta2;
-        for i in 0..=40 {
-            let t = self.horizon * i as f64 / 40.0;
+        for i in 0..=32 {
+            let t = self.horizon * i as f64 / 32.0;
             let s = smoothstep(num_dual::Dual64::new(t / self.horizon, 1.0 / self.horizon));
             let (z1, l0, l1) = self.path_terms(s);
             let z2 = self.lower.eval(z1) + (l0 + l1 * self.choice.kappa) * self.width.eval(z1);
