@@ -72,6 +72,11 @@ pub struct ProblemArgs {
     /// Largest verified final error of a certified velocity plan in rad.
     #[arg(long, value_name = "RAD", default_value_t = 1e-9)]
     pub tolerance: f64,
+    /// Cap on the peak joint velocity |u| in rad/s: a plan that exceeds it is planned again with
+    /// the horizon stretched (velocities scale as 1/T along the same path); the report's `time`
+    /// says which horizon was used.
+    #[arg(long, value_name = "RAD_PER_S")]
+    pub max_velocity: Option<f64>,
     /// ECSA: number of harmonics of the trigonometric controls, 1 to 4 (the paper: 1).
     #[arg(long, value_name = "H", default_value_t = 1)]
     pub harmonics: usize,

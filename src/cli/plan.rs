@@ -48,7 +48,7 @@ fn plan_with(
 ) -> anyhow::Result<Result<Planned, freefloat::Error>> {
     let nfa = NormalFormPlanner::new(super::nfa_options(args));
     let ecsa = EcsaPlanner::new(super::ecsa_options(args)?);
-    let planned = || -> Result<Planned, freefloat::Error> {
+    let planned = |problem: &PlanningProblem| -> Result<Planned, freefloat::Error> {
         let (mut plan, solution, motion): (Plan, Option<EcsaSolution>, Box<dyn Motion>) = match method {
             MethodArg::Nfa => {
                 let (plan, motion) = nfa.plan_with_motion(problem)?;
@@ -63,7 +63,23 @@ fn plan_with(
         let torques = if args.torques { Some(add_torques(&mut plan, motion.as_ref())?) } else { None };
         Ok(Planned { plan, solution, torques })
     };
-    Ok(planned())
+    let cap = match args.max_velocity {
+        Some(v) if !(v.is_finite() && v > 0.0) => bail!("--max-velocity {v}: expected a positive number of rad/s"),
+        cap => cap,
+    };
+    Ok(match (cap, planned(problem)) {
+        (Some(cap), Ok(first)) if first.plan.max_abs_u[0].max(first.plan.max_abs_u[1]) > cap => {
+            // Each method's path is fixed in the time scaled by T, so velocities scale as 1/T.
+            let peak = first.plan.max_abs_u[0].max(first.plan.max_abs_u[1]);
+            let stretched = PlanningProblem { horizon: problem.horizon * peak / cap, ..*problem };
+            eprintln!(
+                "note: peak |u| = {peak:.4} rad/s exceeds --max-velocity {cap}: horizon stretched from {} s to {:.4} s",
+                problem.horizon, stretched.horizon
+            );
+            planned(&stretched)
+        }
+        (_, result) => result,
+    })
 }
 
 /// The torque level of `plan` (SPEC §2): torques at its samples into the trajectory's `tau`,

@@ -161,3 +161,20 @@ fn reproduce_runs() {
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(Path::new(dir.path()).exists());
 }
+
+/// `--max-velocity` stretches the horizon so that the peak joint velocity stays under the cap,
+/// and the plan stays certified (here the global normal form's band steering at a = 1, b = -1).
+#[test]
+fn max_velocity_stretches_the_horizon() {
+    let o = freefloat(&["plan", "--mount", "1,-1", "--max-velocity", "2", "--samples", "201", "--format", "json"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stderr(&o).contains("horizon stretched"), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("json");
+    let peak =
+        v["max_abs_u"].as_array().expect("array").iter().map(|x| x.as_f64().expect("number")).fold(0.0, f64::max);
+    assert!(peak <= 2.0 * (1.0 + 1e-9), "peak |u| {peak}");
+    assert!(v["time"].as_f64().expect("time") > 10.0);
+    assert!(v["final_error"].as_f64().expect("number") <= 1e-9);
+    let bad = freefloat(&["plan", "--max-velocity", "0"]);
+    assert_eq!(bad.status.code(), Some(2));
+}
