@@ -304,7 +304,11 @@ pub fn certify_torques(
                 Err(e) => observe_error = Some(e),
             }
         },
-    )?;
+    )
+    .map_err(|e| match e {
+        Error::Integration { t, reason } => Error::TorqueDiverges { t, reason },
+        e => e,
+    })?;
     if let Some(e) = observe_error {
         return Err(e);
     }

@@ -229,6 +229,19 @@ pub enum Error {
         /// Iterations, residual history and why the iteration stopped.
         stats: crate::ecsa::EcsaStats,
     },
+    /// The forward dynamics under the planned torques could not be integrated to the end: the
+    /// open-loop motion leaves the plan so fast that the integrator gives up.
+    #[error(
+        "the torque certificate's forward-dynamics integration failed at t = {t:.4} s: {reason}; the \
+         open-loop motion under the planned torques diverges from the plan (it is unstable there and \
+         would need feedback to be tracked)"
+    )]
+    TorqueDiverges {
+        /// Time reached \[s\].
+        t: f64,
+        /// The integrator's reason.
+        reason: &'static str,
+    },
 }
 
 fn fmt_history(history: &[f64]) -> String {
