@@ -522,6 +522,12 @@ impl Motion for NfaMotion {
     }
 
     fn controls(&self, t: f64) -> Result<[f64; 2], Error> {
+        if let Steering::Band(band) = &self.steering {
+            // The joint velocities need neither z3 (a quadrature) nor phi.
+            let ([z1, z2], v) = band.joints(t);
+            let theta2 = self.nf.band_theta2(z1, z2, self.guess(t), Some(t))?;
+            return Ok(self.nf.control([0.0, z1, theta2], v));
+        }
         let p = self.steering.at(t);
         let q = self.nf.invert(p.z, self.guess(t), Some(t))?;
         Ok(self.nf.control(q.to_array(), p.v))

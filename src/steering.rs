@@ -393,6 +393,15 @@ impl BandSteering {
         }
     }
 
+    /// `((z1, z2), (v1, v2))` at `t` \[s\]: what the joint velocities need, without the
+    /// quadrature of `z3`.
+    pub fn joints(&self, t: f64) -> ([f64; 2], [f64; 2]) {
+        let s = smoothstep(num_dual::Dual64::new(t / self.horizon, 1.0 / self.horizon));
+        let (z1, l0, l1) = self.path_terms(s);
+        let z2 = self.lower.eval(z1) + (l0 + l1 * self.choice.kappa) * self.width.eval(z1);
+        ([z1.re, z2.re], [z1.eps, z2.eps])
+    }
+
     /// The path at `t` \[s\].
     pub fn at(&self, t: f64) -> ChainedPoint<f64> {
         let p = self.at_dual(t);

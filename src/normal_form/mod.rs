@@ -344,8 +344,9 @@ impl NormalForm {
             .unwrap_or((theta2_ref - std::f64::consts::PI, theta2_ref + std::f64::consts::PI))
     }
 
-    /// `theta2` with `h3(theta1, theta2) = z2` inside the band near `guess` (global form).
-    fn band_theta2(&self, theta1: f64, z2: f64, guess: f64, t: Option<f64>) -> Result<f64, Error> {
+    /// `theta2` with `h3(theta1, theta2) = z2` inside the band near `guess` (global form): the
+    /// joint part of [`NormalForm::invert`], without `phi`.
+    pub fn band_theta2(&self, theta1: f64, z2: f64, guess: f64, t: Option<f64>) -> Result<f64, Error> {
         let k = &self.lumped;
         let mut bracket = self.band(theta1, guess);
         let bounded = global::band(k, self.sigma_sign, theta1, guess).is_some();
