@@ -1,3 +1,4 @@
 //! Integration tests: the command line as a user runs it.
 
 mod cli;
+mod reproduce;
