@@ -8,11 +8,12 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 
 use anyhow::Context;
+use freefloat::Transform;
 use freefloat::io::write_atomic;
 use freefloat::plot::{PictureFormat, domain_pair_picture, plan_picture, sweep_picture};
 use freefloat::report::html::{FigureEmbed, Page, page};
 use freefloat::report::{
-    Case, CaseOutcome, DOMAIN_FIGURES, DomainPanel, DomainRow, SummaryRow, SweepSummary, animation, cases,
+    Case, CaseMethod, CaseOutcome, DOMAIN_FIGURES, DomainPanel, DomainRow, SummaryRow, SweepSummary, animation, cases,
     domain_panel, plan_figure, summary_markdown, sweep_options,
 };
 use freefloat::sweep::Shard;
@@ -32,7 +33,7 @@ impl Progress {
     fn line(&self, what: &str, seconds: f64, status: &str) {
         let k = self.done.fetch_add(1, Ordering::Relaxed) + 1;
         if self.on {
-            eprintln!("[{k:>2}/{}] {what:<58} {status:<28} {:>8.1} ms", self.total, seconds * 1e3);
+            eprintln!("[{k:>2}/{}] {what:<46} {status:<58} {:>7.1} ms", self.total, seconds * 1e3);
         }
     }
 }
@@ -58,23 +59,23 @@ struct Problem {
 
 /// What a figure shows, in words.
 fn description(case: &Case) -> String {
-    let what = "Base orientation and joint positions; normal-form variables z; velocity controls u; torques τ \
-                from the inverse dynamics (6).";
-    match case.id {
-        "fig04" | "fig05" => format!("As the paper's {}: {what}", case.title().split(':').next().unwrap_or_default()),
-        "fig06" | "fig07" | "fig08" => {
-            format!("As the paper's {}: {what}", case.title().split(':').next().unwrap_or_default())
-        }
-        "fig15" => "Beyond the paper: a = 1 m, b = -1 m, where the paper calls the NFA impossible (q0 and qd lie in \
-                    different components of the domain of Eq. (14), Fig. 14 right). The global normal form plans it \
-                    with band steering; certified at the velocity level, while its open-loop torque plan is \
-                    ill-conditioned and not certified (see the caption)."
+    let title = case.title();
+    let paper = title.split(':').next().unwrap_or_default();
+    match case.method {
+        CaseMethod::Nfa(Transform::Global) => "Beyond the paper: a = 1 m, b = -1 m, where the paper calls the NFA \
+            impossible (q0 and qd lie in different components of the domain of Eq. (14), Fig. 14 right). The global \
+            normal form plans it with band steering: certified at the velocity level, while its open-loop torque \
+            plan is ill-conditioned and not certified at the torque level (see the caption)."
             .into(),
-        _ => format!(
-            "As the paper's {}: base orientation and joint positions; velocity controls u (constant + first \
-             harmonic, not zero at the ends); torques τ. The torque plan starts from rest, the plain series does \
-             not: its torque certificate fails.",
-            case.title().split(':').next().unwrap_or_default()
+        CaseMethod::Nfa(_) => format!(
+            "As the paper's {paper}: base orientation and joint positions; normal-form variables z; velocity \
+             controls u; torques τ from the inverse dynamics (6). Both levels certified."
+        ),
+        CaseMethod::Ecsa(_) => format!(
+            "As the paper's {paper}: base orientation and joint positions; velocity controls u (constant + first \
+             harmonic: not zero at the ends); torques τ. The forward dynamics of the torque certificate starts \
+             from rest, the plain series does not: its torque level is not certified (the sin² window, in the \
+             summary, is)."
         ),
     }
 }
@@ -97,10 +98,22 @@ pub fn run(args: &ReproduceArgs) -> anyhow::Result<ExitCode> {
         let clock = Instant::now();
         let outcome = case.run();
         let status = match &outcome {
-            Ok(o) => format!("{:.1e} / {:.1e} rad", o.plan.verification.final_error, o.torques.certificate.final_error),
+            Ok(o) => {
+                let mark = |ok: bool| if ok { "" } else { " (NOT certified)" };
+                let (v, c) = (&o.plan.verification, &o.torques.certificate);
+                format!(
+                    "{:.1e} rad{}, torques {:.1e} rad{}",
+                    v.final_error,
+                    mark(v.certified),
+                    c.final_error,
+                    mark(c.certified)
+                )
+            }
             Err(_) => "no plan".into(),
         };
-        progress.line(&case.title(), clock.elapsed().as_secs_f64(), &status);
+        let what =
+            format!("{:<14} {:<4} {:<6} a, b = {}, {} m", case.id, case.method_name(), case.variant(), case.a, case.b);
+        progress.line(&what, clock.elapsed().as_secs_f64(), &status);
         outcome
     };
     let run_domain = |(figure, a, b): (&str, f64, f64)| {
@@ -110,11 +123,7 @@ pub fn run(args: &ReproduceArgs) -> anyhow::Result<ExitCode> {
             Ok(p) => format!("{} components", p.row.summary.components),
             Err(_) => "failed".into(),
         };
-        progress.line(
-            &format!("{figure}: domain of Eq. (14), a = {a} m, b = {b} m"),
-            clock.elapsed().as_secs_f64(),
-            &status,
-        );
+        progress.line(&format!("{figure:<14} domain eq14 a, b = {a}, {b} m"), clock.elapsed().as_secs_f64(), &status);
         panel
     };
     let domain_jobs: Vec<(&str, f64, f64)> =
@@ -132,7 +141,7 @@ pub fn run(args: &ReproduceArgs) -> anyhow::Result<ExitCode> {
             let rows = freefloat::sweep::run(&robot, &sweep_opts, Shard::ALL, &|| {});
             let seconds = clock.elapsed().as_secs_f64();
             progress.line(
-                &format!("fig16: mount sweep, {} points", sweep_opts.points()),
+                &format!("{:<14} mount sweep, {} points", "fig16", sweep_opts.points()),
                 seconds,
                 if rows.is_ok() { "done" } else { "failed" },
             );
@@ -217,8 +226,21 @@ pub fn run(args: &ReproduceArgs) -> anyhow::Result<ExitCode> {
                     None,
                 ),
             };
-            FigureEmbed { name: name.clone(), title, description, png: png.clone(), animation: anim }
+            FigureEmbed { name: name.clone(), title, description, png: Some(png.clone()), animation: anim }
         })
+        .chain(all.iter().zip(&outcomes).filter(|(c, _)| c.figure.is_none()).filter_map(|(c, o)| {
+            let o = o.as_ref().ok()?;
+            Some(FigureEmbed {
+                name: c.id.to_string(),
+                title: c.title(),
+                description: "Beyond the paper, no figure: the ECSA's controls times sin²(πt/T), so that the plan \
+                              starts and ends at rest like the NFA's; its torques are then certified from rest \
+                              (see the summary). The animation shows the plan."
+                    .into(),
+                png: None,
+                animation: Some(animation(o)),
+            })
+        }))
         .collect();
     let domain_rows: Vec<DomainRow> = panels.iter().map(|p| p.row.clone()).collect();
     let html =

@@ -13,8 +13,8 @@ pub struct FigureEmbed {
     pub title: String,
     /// What the figure shows.
     pub description: String,
-    /// The PNG bytes.
-    pub png: Vec<u8>,
+    /// The PNG bytes (`None` for a plan shown by its animation only).
+    pub png: Option<Vec<u8>>,
     /// The robot's animation, for a plan.
     pub animation: Option<Animation>,
 }
@@ -106,10 +106,8 @@ fn summary_table(rows: &[SummaryRow]) -> String {
         let ms = |f: fn(&super::StageSeconds) -> f64| {
             r.seconds.as_ref().map_or("-".to_string(), |t| format!("{:.2}", f(t) * 1e3))
         };
-        let case = match &r.figure {
-            Some(f) => format!("<td class=\"left\"><a href=\"#{0}\">{0}</a></td>", escape(f)),
-            None => format!("<td class=\"left\">{}</td>", escape(&r.id)),
-        };
+        let case =
+            format!("<td class=\"left\"><a href=\"#{0}\">{0}</a></td>", escape(r.figure.as_ref().unwrap_or(&r.id)));
         s += "<tr>";
         s += &case;
         s += &format!("<td class=\"left\">{} {}</td>", escape(&r.method.to_uppercase()), escape(&r.variant));
@@ -222,11 +220,13 @@ pub fn page(p: &Page) -> Result<String, serde_json::Error> {
     for f in p.figures {
         s += &format!("<section class=\"figure\" id=\"{}\">\n", escape(&f.name));
         s += &format!("<h3>{}</h3>\n<p>{}</p>\n", escape(&f.title), escape(&f.description));
-        s += &format!(
-            "<img src=\"data:image/png;base64,{}\" alt=\"{}\">\n",
-            base64(&f.png),
-            escape(&format!("{}: {}", f.name, f.title))
-        );
+        if let Some(png) = &f.png {
+            s += &format!(
+                "<img src=\"data:image/png;base64,{}\" alt=\"{}\">\n",
+                base64(png),
+                escape(&format!("{}: {}", f.name, f.title))
+            );
+        }
         if let Some(a) = &f.animation {
             s += &format!("<div class=\"anim\" data-case=\"{}\"></div>\n", escape(&a.id));
         }

@@ -253,7 +253,7 @@ fn report_page_runs_in_a_headless_browser() {
     };
     assert_eq!(attribute("data-status"), "ok", "the page's script failed: {body}\n{log}");
     assert!(!log.contains("Uncaught"), "console errors: {log}");
-    assert_eq!(attribute("data-canvases"), "10", "one animation per plan figure");
+    assert_eq!(attribute("data-canvases"), "14", "one animation per plan");
     let painted: usize = attribute("data-painted").parse().expect("a pixel count");
     assert!(painted > 2000, "an animation canvas is (nearly) blank: {painted} pixels drawn");
 
