@@ -711,6 +711,41 @@ mod tests {
         assert_eq!(PictureFormat::from_path(Path::new("x.PNG")).unwrap(), PictureFormat::Png);
     }
 
+    /// A plan picture labels its axes and legends, skips non-finite points (no NaN in the
+    /// output), draws a flat curve, and shows a text panel in place of a chart.
+    #[test]
+    fn plan_pictures_label_axes_and_skip_non_finite_points() {
+        let curve = |label: &str, f: fn(f64) -> f64| Series {
+            label: label.into(),
+            points: (0..=100).map(|i| f64::from(i) / 10.0).map(|t| (t, f(t))).collect(),
+        };
+        let mut bad = curve("u1", f64::sin);
+        bad.points[50].1 = f64::NAN;
+        bad.points[60].1 = f64::INFINITY;
+        let panel = |title: &str, series| Panel {
+            title: title.into(),
+            x_label: "t [s]".into(),
+            y_label: "u [rad/s]".into(),
+            series,
+            text: vec![],
+        };
+        let figure = PlanFigure {
+            title: "test figure".into(),
+            panels: vec![
+                panel("controls", vec![bad, curve("zero", |_| 0.0)]),
+                Panel { title: "words".into(), text: vec!["a line of text".into()], ..Default::default() },
+            ],
+            caption: vec!["caption line".into()],
+        };
+        let svg = String::from_utf8(plan_picture(&figure, PictureFormat::Svg, Path::new("x.svg")).unwrap()).unwrap();
+        for text in ["test figure", "t [s]", "u [rad/s]", "u1", "zero", "a line of text", "caption line"] {
+            assert!(svg.contains(text), "{text} missing");
+        }
+        assert!(!svg.contains("NaN") && !svg.contains("inf"));
+        let png = plan_picture(&figure, PictureFormat::Png, Path::new("x.png")).unwrap();
+        assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n");
+    }
+
     #[test]
     fn viridis_ends_and_text_wrap() {
         assert_eq!(viridis(0.0), RGBColor(68, 1, 84));

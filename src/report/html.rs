@@ -226,6 +226,11 @@ pub fn page(p: &Page) -> Result<String, serde_json::Error> {
                 base64(png),
                 escape(&format!("{}: {}", f.name, f.title))
             );
+            s += &format!(
+                "<p class=\"note\">Files beside this page: <a href=\"{0}.svg\">{0}.svg</a>, \
+                 <a href=\"{0}.png\">{0}.png</a></p>\n",
+                escape(&f.name)
+            );
         }
         if let Some(a) = &f.animation {
             s += &format!("<div class=\"anim\" data-case=\"{}\"></div>\n", escape(&a.id));

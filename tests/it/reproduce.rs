@@ -90,6 +90,11 @@ fn reproduce_writes_every_file_whole_and_the_planners_numbers() {
         assert_eq!(root.tag_name().name(), "svg", "{name}.svg");
         assert_eq!(root.attribute("width"), Some(size.0.to_string().as_str()), "{name}.svg");
         assert!(root.descendants().filter(|n| n.has_tag_name("text")).count() > 10, "{name}.svg has labels");
+        if size == PLAN_FIGURE_SIZE {
+            for label in ["t [s]", "angle [deg]", "u [rad/s]", "τ [N m]", "θ1", "velocity level", "torque level"] {
+                assert!(text.contains(label), "{name}.svg has no `{label}`");
+            }
+        }
     }
     let mut found: Vec<String> = std::fs::read_dir(dir.path())
         .expect("dir")
