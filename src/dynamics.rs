@@ -403,5 +403,19 @@ pub fn torque_plan(
     })
 }
 
+/// The torque level of `plan` (SPEC §2) along its `motion`: [`torque_plan`] at the plan's
+/// samples, the torques into `plan.trajectory.tau`, their wall time into
+/// `plan.seconds.torques`; returns the report with the forward-dynamics certificate.
+pub fn add_torques(
+    plan: &mut crate::plan::Plan,
+    motion: &dyn Motion,
+    options: &TorqueOptions,
+) -> Result<TorqueReport, Error> {
+    let tp = torque_plan(motion, &plan.problem, &plan.trajectory.t, options)?;
+    plan.trajectory.tau = Some(tp.tau);
+    plan.seconds.torques = Some(tp.report.seconds.torques);
+    Ok(tp.report)
+}
+
 #[cfg(test)]
 mod tests;

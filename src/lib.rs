@@ -28,6 +28,7 @@ pub mod ode;
 pub mod plan;
 pub mod plot;
 pub mod quadrature;
+pub mod report;
 pub mod steering;
 pub mod sweep;
 pub mod system;

@@ -1,4 +1,5 @@
-//! Pictures (SVG or PNG) of domain maps (Figs. 13-14) and of mount sweeps, drawn with plotters.
+//! Pictures (SVG or PNG) of plans (Figs. 4-12), domain maps (Figs. 13-14) and of mount sweeps,
+//! drawn with plotters.
 //!
 //! Text is laid out with DejaVu Sans, embedded in the binary (the `dejavu` crate; Bitstream Vera
 //! license), and registered with plotters' `ab_glyph` renderer: pictures render the same on a
@@ -83,6 +84,8 @@ fn render(path: &Path, format: PictureFormat, size: (u32, u32), painter: &impl P
                 let mut encoder = png::Encoder::new(&mut png_bytes, size.0, size.1);
                 encoder.set_color(png::ColorType::Rgb);
                 encoder.set_depth(png::BitDepth::Eight);
+                encoder.set_compression(png::Compression::Best);
+                encoder.set_adaptive_filter(png::AdaptiveFilterType::Adaptive);
                 let mut writer = encoder.write_header().map_err(|e| fail(e.to_string()))?;
                 writer.write_image_data(&rgb).map_err(|e| fail(e.to_string()))?;
             }
@@ -396,6 +399,168 @@ fn wrap_text(s: &str, width: usize) -> Vec<String> {
     lines
 }
 
+/// The size \[px\] of a picture of two domain maps side by side ([`domain_pair_picture`]).
+pub const DOMAIN_PAIR_SIZE: (u32, u32) = (2200, 800);
+
+/// Two domain maps side by side, as in the paper's Figs. 13 and 14: each as
+/// [`domain_picture`] draws it, on a [`DOMAIN_PAIR_SIZE`] canvas.
+pub fn domain_pair_picture(
+    maps: [(&DomainMap, &DomainOverlay); 2],
+    format: PictureFormat,
+    path: &Path,
+) -> Result<Vec<u8>, Error> {
+    struct Pair<'a>([(&'a DomainMap, &'a DomainOverlay, Option<usize>); 2]);
+    impl Painter for Pair<'_> {
+        fn paint<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), String> {
+            for (area, (map, overlay, start)) in root.split_evenly((1, 2)).iter().zip(self.0) {
+                draw_domain(area, map, overlay, start)?;
+            }
+            Ok(())
+        }
+    }
+    let start = |(map, overlay): (&DomainMap, &DomainOverlay)| overlay.start.and_then(|q| map.component_at(&q));
+    let pair = Pair([(maps[0].0, maps[0].1, start(maps[0])), (maps[1].0, maps[1].1, start(maps[1]))]);
+    render(path, format, DOMAIN_PAIR_SIZE, &pair)
+}
+
+/// The size \[px\] of a plan picture ([`plan_picture`]).
+pub const PLAN_FIGURE_SIZE: (u32, u32) = (1400, 1050);
+
+/// One curve of a [`Panel`]: `(x, y)` points and the legend's label.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Series {
+    /// Legend label.
+    pub label: String,
+    /// Points, in the panel's units (non-finite points are skipped).
+    pub points: Vec<(f64, f64)>,
+}
+
+/// One panel of a plan picture: curves against time, or (without curves) lines of text.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Panel {
+    /// Caption above the panel.
+    pub title: String,
+    /// Label of the horizontal axis, e.g. `t [s]`.
+    pub x_label: String,
+    /// Label of the vertical axis, with its unit.
+    pub y_label: String,
+    /// The curves.
+    pub series: Vec<Series>,
+    /// Lines of text, drawn in place of the chart when there are no curves.
+    pub text: Vec<String>,
+}
+
+/// A plan picture: a title, up to four panels in a 2 x 2 grid, and a caption of a few lines
+/// below (e.g. the plan's certificates).
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct PlanFigure {
+    /// Title above the panels.
+    pub title: String,
+    /// Panels, row by row (at most four are drawn).
+    pub panels: Vec<Panel>,
+    /// Lines under the panels.
+    pub caption: Vec<String>,
+}
+
+/// Colours of a panel's curves, in order (colour-blind safe, after Okabe and Ito).
+const SERIES_COLOURS: [RGBColor; 4] =
+    [RGBColor(0, 114, 178), RGBColor(213, 94, 0), RGBColor(0, 158, 115), RGBColor(204, 121, 167)];
+
+/// The picture of a plan ([`PlanFigure`]) on a [`PLAN_FIGURE_SIZE`] canvas.
+pub fn plan_picture(figure: &PlanFigure, format: PictureFormat, path: &Path) -> Result<Vec<u8>, Error> {
+    struct Figure<'a>(&'a PlanFigure);
+    impl Painter for Figure<'_> {
+        fn paint<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), String> {
+            draw_plan(root, self.0)
+        }
+    }
+    render(path, format, PLAN_FIGURE_SIZE, &Figure(figure))
+}
+
+fn draw_plan<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, figure: &PlanFigure) -> Result<(), String> {
+    let e = |x: DrawingAreaErrorKind<DB::ErrorType>| x.to_string();
+    root.fill(&WHITE).map_err(e)?;
+    let (_, height) = root.dim_in_pixel();
+    let caption_height = 24 * figure.caption.len() as u32 + 16;
+    let titled = root.titled(&figure.title, (FONT, 24)).map_err(e)?;
+    let (body, foot) = titled.split_vertically(height.saturating_sub(caption_height + 40));
+    for (area, panel) in body.split_evenly((2, 2)).iter().zip(&figure.panels) {
+        draw_panel(area, panel)?;
+    }
+    for (k, line) in figure.caption.iter().enumerate() {
+        foot.draw(&Text::new(line.clone(), (24, 8 + 24 * k as i32), (FONT, 17).into_font().color(&BLACK)))
+            .map_err(e)?;
+    }
+    Ok(())
+}
+
+fn draw_panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, panel: &Panel) -> Result<(), String> {
+    let e = |x: DrawingAreaErrorKind<DB::ErrorType>| x.to_string();
+    let finite = |p: &&(f64, f64)| p.0.is_finite() && p.1.is_finite();
+    let points = || panel.series.iter().flat_map(|s| s.points.iter().filter(finite));
+    if points().next().is_none() {
+        let area = area.margin(14, 14, 14, 14).titled(&panel.title, (FONT, 19)).map_err(e)?;
+        for (k, line) in panel.text.iter().enumerate() {
+            area.draw(&Text::new(line.clone(), (40, 30 + 26 * k as i32), (FONT, 17).into_font().color(&BLACK)))
+                .map_err(e)?;
+        }
+        return Ok(());
+    }
+    let (mut x0, mut x1, mut y0, mut y1) = (f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY, f64::NEG_INFINITY);
+    for &(x, y) in points() {
+        (x0, x1, y0, y1) = (x0.min(x), x1.max(x), y0.min(y), y1.max(y));
+    }
+    if !(x1 > x0) {
+        x1 = x0 + 1.0;
+    }
+    // A flat curve (e.g. a control that is zero) still gets a visible range.
+    let pad = ((y1 - y0) * 0.06).max(1e-9 * y0.abs().max(y1.abs())).max(1e-12);
+    let (y0, y1) = (y0 - pad, y1 + pad);
+    let mut chart = ChartBuilder::on(area)
+        .caption(&panel.title, (FONT, 19))
+        .margin(14)
+        .x_label_area_size(48)
+        .y_label_area_size(78)
+        .build_cartesian_2d(x0..x1, y0..y1)
+        .map_err(e)?;
+    chart
+        .configure_mesh()
+        .light_line_style(TRANSPARENT)
+        .bold_line_style(RGBColor(225, 225, 225))
+        .x_desc(panel.x_label.as_str())
+        .y_desc(panel.y_label.as_str())
+        .label_style((FONT, 14))
+        .axis_desc_style((FONT, 16))
+        .x_label_formatter(&|x| format!("{}", round_label(*x)))
+        .y_label_formatter(&|y| format!("{}", round_label(*y)))
+        .draw()
+        .map_err(e)?;
+    for (k, series) in panel.series.iter().enumerate() {
+        let colour = SERIES_COLOURS[k % SERIES_COLOURS.len()];
+        let style = ShapeStyle::from(&colour).stroke_width(2);
+        chart
+            .draw_series(LineSeries::new(series.points.iter().copied().filter(|p| finite(&p)), style))
+            .map_err(e)?
+            .label(series.label.as_str())
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 22, y)], colour.stroke_width(3)));
+    }
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::UpperRight)
+        .background_style(WHITE.mix(0.85))
+        .border_style(RGBColor(160, 160, 160))
+        .label_font((FONT, 15))
+        .draw()
+        .map_err(e)?;
+    Ok(())
+}
+
+/// A tick label without float noise (`0.30000000000000004` is shown as `0.3`).
+fn round_label(x: f64) -> f64 {
+    // `+ 0.0` turns -0 into 0.
+    (x * 1e6).round() / 1e6 + 0.0
+}
+
 /// Viridis, by linear interpolation between 9 of its colours; `x` in `[0, 1]`.
 fn viridis(x: f64) -> RGBColor {
     const STOPS: [(u8, u8, u8); 9] = [
@@ -418,6 +583,9 @@ fn viridis(x: f64) -> RGBColor {
     RGBColor(mix(a.0, b.0), mix(a.1, b.1), mix(a.2, b.2))
 }
 
+/// The size \[px\] of a sweep picture ([`sweep_picture`]).
+pub const SWEEP_SIZE: (u32, u32) = (1300, 620);
+
 /// The heat maps of a mount sweep: start-component fraction and best NFA success rate over
 /// `(a, b)`, each coloured from its smallest to its largest value, the best point marked.
 pub fn sweep_picture(rows: &[SweepRow], format: PictureFormat, path: &Path) -> Result<Vec<u8>, Error> {
@@ -430,7 +598,7 @@ pub fn sweep_picture(rows: &[SweepRow], format: PictureFormat, path: &Path) -> R
             draw_sweep(root, self.0, self.1)
         }
     }
-    render(path, format, (1300, 620), &Sweep(rows, crate::sweep::best(rows)))
+    render(path, format, SWEEP_SIZE, &Sweep(rows, crate::sweep::best(rows)))
 }
 
 fn draw_sweep<DB: DrawingBackend>(
@@ -472,8 +640,8 @@ fn draw_sweep<DB: DrawingBackend>(
             .y_desc("b [m]")
             .label_style((FONT, 14))
             .axis_desc_style((FONT, 16))
-            .x_label_formatter(&|x| format!("{:.2}", x + 0.0))
-            .y_label_formatter(&|y| format!("{:.2}", y + 0.0))
+            .x_label_formatter(&|x| format!("{:.2}", round_label(*x)))
+            .y_label_formatter(&|y| format!("{:.2}", round_label(*y)))
             .draw()
             .map_err(e)?;
         let value = |r: &SweepRow| if k == 0 { r.start_component_fraction } else { r.best_rate() };
@@ -541,6 +709,41 @@ mod tests {
         assert!(png.len() > 10_000);
         assert!(PictureFormat::from_path(Path::new("x.pdf")).is_err());
         assert_eq!(PictureFormat::from_path(Path::new("x.PNG")).unwrap(), PictureFormat::Png);
+    }
+
+    /// A plan picture labels its axes and legends, skips non-finite points (no NaN in the
+    /// output), draws a flat curve, and shows a text panel in place of a chart.
+    #[test]
+    fn plan_pictures_label_axes_and_skip_non_finite_points() {
+        let curve = |label: &str, f: fn(f64) -> f64| Series {
+            label: label.into(),
+            points: (0..=100).map(|i| f64::from(i) / 10.0).map(|t| (t, f(t))).collect(),
+        };
+        let mut bad = curve("u1", f64::sin);
+        bad.points[50].1 = f64::NAN;
+        bad.points[60].1 = f64::INFINITY;
+        let panel = |title: &str, series| Panel {
+            title: title.into(),
+            x_label: "t [s]".into(),
+            y_label: "u [rad/s]".into(),
+            series,
+            text: vec![],
+        };
+        let figure = PlanFigure {
+            title: "test figure".into(),
+            panels: vec![
+                panel("controls", vec![bad, curve("zero", |_| 0.0)]),
+                Panel { title: "words".into(), text: vec!["a line of text".into()], ..Default::default() },
+            ],
+            caption: vec!["caption line".into()],
+        };
+        let svg = String::from_utf8(plan_picture(&figure, PictureFormat::Svg, Path::new("x.svg")).unwrap()).unwrap();
+        for text in ["test figure", "t [s]", "u [rad/s]", "u1", "zero", "a line of text", "caption line"] {
+            assert!(svg.contains(text), "{text} missing");
+        }
+        assert!(!svg.contains("NaN") && !svg.contains("inf"));
+        let png = plan_picture(&figure, PictureFormat::Png, Path::new("x.png")).unwrap();
+        assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n");
     }
 
     #[test]

@@ -3,7 +3,7 @@
 use std::process::ExitCode;
 
 use anyhow::bail;
-use freefloat::dynamics::{TorqueOptions, TorqueReport, torque_plan};
+use freefloat::dynamics::{TorqueOptions, TorqueReport};
 use freefloat::ecsa::EcsaSolution;
 use freefloat::io::{PlanReport, trajectory_csv, write_atomic};
 use freefloat::plan::{Method, Motion};
@@ -82,14 +82,9 @@ fn plan_with(
     })
 }
 
-/// The torque level of `plan` (SPEC §2): torques at its samples into the trajectory's `tau`,
-/// their wall time into `seconds.torques`, and the forward-dynamics certificate (tolerance
-/// 1e-6 rad).
+/// The torque level of `plan` (SPEC §2), certificate tolerance 1e-6 rad.
 fn add_torques(plan: &mut Plan, motion: &dyn Motion) -> Result<TorqueReport, freefloat::Error> {
-    let tp = torque_plan(motion, &plan.problem, &plan.trajectory.t, &TorqueOptions::default())?;
-    plan.trajectory.tau = Some(tp.tau);
-    plan.seconds.torques = Some(tp.report.seconds.torques);
-    Ok(tp.report)
+    freefloat::dynamics::add_torques(plan, motion, &TorqueOptions::default())
 }
 
 /// Runs `plan`: exit 0 with a certified plan, 3 (numbers on stderr) otherwise.

@@ -1,7 +1,6 @@
 //! `freefloat` as a user runs it: outputs, exit codes (0 ok, 2 bad input, 3 no certified plan),
 //! and error messages that name what is wrong.
 
-use std::path::Path;
 use std::process::{Command, Output};
 
 fn freefloat(args: &[&str]) -> Output {
@@ -152,14 +151,6 @@ fn failed_certificate_exits_3_but_writes_the_report_when_asked() {
     assert!(stderr(&o).contains("not certified"));
     let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&out).expect("written")).expect("json");
     assert_eq!(v["certified"], false);
-}
-
-#[test]
-fn reproduce_runs() {
-    let dir = tempfile::tempdir().expect("temp dir");
-    let o = freefloat(&["reproduce", "--out", dir.path().to_str().expect("utf-8")]);
-    assert!(o.status.success(), "{}", stderr(&o));
-    assert!(Path::new(dir.path()).exists());
 }
 
 /// `--max-velocity` stretches the horizon so that the peak joint velocity stays under the cap,

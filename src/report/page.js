@@ -1,0 +1,220 @@
+// freefloat report page: one animation per plan (canvas), play/pause and a time slider.
+// No network, no external scripts. When every canvas has drawn its first frame, the body gets
+// data-status="ok" and data-painted = the smallest count of non-background pixels of a canvas;
+// a script error sets data-status="error: ..." instead (checked by the browser test).
+"use strict";
+(function () {
+  var body = document.body;
+  var failed = false;
+  function fail(message) {
+    failed = true;
+    body.setAttribute("data-status", "error: " + message);
+    var box = document.getElementById("script-error");
+    if (box) {
+      box.textContent = "Script error: " + message;
+      box.hidden = false;
+    }
+  }
+  window.onerror = function (message, source, line) {
+    fail(message + " (line " + line + ")");
+    return false;
+  };
+
+  var BACKGROUND = [255, 255, 255];
+
+  function bounds(anim) {
+    var half = Math.hypot(anim.base_size[0], anim.base_size[1]) / 2;
+    var b = { x0: -half, x1: half, y0: -half, y1: half };
+    anim.points.forEach(function (p) {
+      for (var k = 0; k < 8; k += 2) {
+        var r = k === 0 ? half : 0.05;
+        b.x0 = Math.min(b.x0, p[k] - r);
+        b.x1 = Math.max(b.x1, p[k] + r);
+        b.y0 = Math.min(b.y0, p[k + 1] - r);
+        b.y1 = Math.max(b.y1, p[k + 1] + r);
+      }
+    });
+    return b;
+  }
+
+  function Animation(root, anim) {
+    var canvas = document.createElement("canvas");
+    canvas.width = 640;
+    canvas.height = 480;
+    canvas.setAttribute("aria-label", "animation of " + anim.title);
+    var controls = document.createElement("div");
+    controls.className = "controls";
+    var button = document.createElement("button");
+    button.type = "button";
+    button.textContent = "Play";
+    var slider = document.createElement("input");
+    slider.type = "range";
+    slider.min = "0";
+    slider.max = String(anim.t.length - 1);
+    slider.value = "0";
+    slider.step = "1";
+    slider.setAttribute("aria-label", "time");
+    var label = document.createElement("span");
+    label.className = "time";
+    controls.appendChild(button);
+    controls.appendChild(slider);
+    controls.appendChild(label);
+    root.appendChild(canvas);
+    root.appendChild(controls);
+
+    var ctx = canvas.getContext("2d");
+    var b = bounds(anim);
+    var margin = 20;
+    var scale = Math.min(
+      (canvas.width - 2 * margin) / (b.x1 - b.x0),
+      (canvas.height - 2 * margin - 24) / (b.y1 - b.y0)
+    );
+    var cx = (b.x0 + b.x1) / 2;
+    var cy = (b.y0 + b.y1) / 2;
+    function sx(x) { return canvas.width / 2 + (x - cx) * scale; }
+    function sy(y) { return canvas.height / 2 + 12 - (y - cy) * scale; }
+
+    function line(points, colour, width) {
+      ctx.strokeStyle = colour;
+      ctx.lineWidth = width;
+      ctx.beginPath();
+      points.forEach(function (p, i) {
+        if (i === 0) ctx.moveTo(sx(p[0]), sy(p[1]));
+        else ctx.lineTo(sx(p[0]), sy(p[1]));
+      });
+      ctx.stroke();
+    }
+    function dot(p, r, colour) {
+      ctx.fillStyle = colour;
+      ctx.beginPath();
+      ctx.arc(sx(p[0]), sy(p[1]), r, 0, 2 * Math.PI);
+      ctx.fill();
+    }
+
+    var frame = 0;
+    function draw(i) {
+      frame = i;
+      var p = anim.points[i];
+      var phi = anim.phi[i];
+      ctx.fillStyle = "rgb(" + BACKGROUND.join(",") + ")";
+      ctx.fillRect(0, 0, canvas.width, canvas.height);
+      // The system's centre of mass, fixed at the origin (zero linear momentum).
+      line([[-0.05, 0], [0.05, 0]], "#999", 1);
+      line([[0, -0.05], [0, 0.05]], "#999", 1);
+      // The end-effector path: whole (faint) and travelled so far.
+      var path = anim.points.map(function (q) { return [q[6], q[7]]; });
+      line(path, "#d9d9d9", 1.5);
+      line(path.slice(0, i + 1), "#d55e00", 2);
+      // The base: a rectangle at its orientation, centred at its centre of mass.
+      var c = Math.cos(phi), s = Math.sin(phi);
+      var w = anim.base_size[0] / 2, h = anim.base_size[1] / 2;
+      var corners = [[-w, -h], [w, -h], [w, h], [-w, h], [-w, -h]].map(function (k) {
+        return [p[0] + c * k[0] - s * k[1], p[1] + s * k[0] + c * k[1]];
+      });
+      ctx.fillStyle = "rgba(120, 120, 120, 0.35)";
+      ctx.beginPath();
+      corners.forEach(function (q, k) {
+        if (k === 0) ctx.moveTo(sx(q[0]), sy(q[1]));
+        else ctx.lineTo(sx(q[0]), sy(q[1]));
+      });
+      ctx.fill();
+      line(corners, "#444", 2);
+      // The base's own x axis, to show its orientation.
+      line([[p[0], p[1]], [p[0] + c * w, p[1] + s * w]], "#444", 1);
+      // From the base's centre of mass to the mounting point (a, b).
+      line([[p[0], p[1]], [p[2], p[3]]], "#444", 3);
+      // The two links.
+      line([[p[2], p[3]], [p[4], p[5]]], "#0072b2", 6);
+      line([[p[4], p[5]], [p[6], p[7]]], "#009e73", 6);
+      dot([p[0], p[1]], 4, "#444");
+      dot([p[2], p[3]], 5, "#000");
+      dot([p[4], p[5]], 5, "#000");
+      dot([p[6], p[7]], 5, "#d55e00");
+      ctx.fillStyle = "#000";
+      ctx.font = "15px sans-serif";
+      var text = "t = " + anim.t[i].toFixed(2) + " s   \u03c6 = " + (phi * 180 / Math.PI).toFixed(1) + " deg";
+      ctx.fillText(text, 10, 20);
+      label.textContent = text;
+      slider.value = String(i);
+    }
+
+    var playing = false;
+    var start = 0;
+    var startTime = 0;
+    function tick(now) {
+      if (!playing) return;
+      var t = anim.t[0] + (now - start) / 1000 + startTime;
+      var last = anim.t.length - 1;
+      if (t > anim.t[last]) {
+        playing = false;
+        button.textContent = "Play";
+        draw(last);
+        return;
+      }
+      var i = frame;
+      while (i < last && anim.t[i + 1] <= t) i++;
+      if (i !== frame) draw(i);
+      window.requestAnimationFrame(tick);
+    }
+    button.addEventListener("click", function () {
+      playing = !playing;
+      button.textContent = playing ? "Pause" : "Play";
+      if (playing) {
+        if (frame >= anim.t.length - 1) draw(0);
+        start = performance.now();
+        startTime = anim.t[frame] - anim.t[0];
+        window.requestAnimationFrame(tick);
+      }
+    });
+    slider.addEventListener("input", function () {
+      playing = false;
+      button.textContent = "Play";
+      draw(Number(slider.value));
+    });
+    draw(0);
+
+    this.seek = function (t) {
+      var i = 0;
+      while (i < anim.t.length - 1 && anim.t[i + 1] <= t) i++;
+      draw(i);
+    };
+    this.painted = function () {
+      var data = ctx.getImageData(0, 0, canvas.width, canvas.height).data;
+      var n = 0;
+      for (var k = 0; k < data.length; k += 4) {
+        if (data[k] !== BACKGROUND[0] || data[k + 1] !== BACKGROUND[1] || data[k + 2] !== BACKGROUND[2]) n++;
+      }
+      return n;
+    };
+  }
+
+  try {
+    var data = JSON.parse(document.getElementById("animations").textContent);
+    var byId = {};
+    data.forEach(function (a) { byId[a.id] = a; });
+    var made = [];
+    Array.prototype.forEach.call(document.querySelectorAll(".anim"), function (root) {
+      var anim = byId[root.getAttribute("data-case")];
+      if (!anim) throw new Error("no animation data for " + root.getAttribute("data-case"));
+      made.push(new Animation(root, anim));
+    });
+    // `#only=fig15&t=5`: show only that figure, its animation at t = 5 s (for screenshots).
+    var hash = {};
+    window.location.hash.replace(/^#/, "").split("&").forEach(function (kv) {
+      var p = kv.split("=");
+      if (p.length === 2) hash[p[0]] = decodeURIComponent(p[1]);
+    });
+    if (hash.only) {
+      Array.prototype.forEach.call(document.body.children, function (el) {
+        if (el.tagName !== "SCRIPT" && el.id !== hash.only && el.id !== "script-error") el.hidden = true;
+      });
+    }
+    if (hash.t) made.forEach(function (a) { a.seek(Number(hash.t)); });
+    var counts = made.map(function (a) { return a.painted(); });
+    body.setAttribute("data-canvases", String(made.length));
+    body.setAttribute("data-painted", String(counts.length ? Math.min.apply(null, counts) : 0));
+    if (!failed) body.setAttribute("data-status", "ok");
+  } catch (e) {
+    fail(String(e && e.message ? e.message : e));
+  }
+})();

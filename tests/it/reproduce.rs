@@ -1,0 +1,283 @@
+//! `freefloat reproduce`: every file written whole, pictures that decode and parse, a summary
+//! holding the numbers the planners compute, and a report page that runs in a headless browser.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output, Stdio};
+use std::time::{Duration, Instant};
+
+use approx::assert_relative_eq;
+use freefloat::dynamics::{TorqueOptions, torque_plan};
+use freefloat::plot::{DOMAIN_PAIR_SIZE, PLAN_FIGURE_SIZE, SWEEP_SIZE};
+use freefloat::{
+    EcsaOptions, EcsaPlanner, Mount, NfaOptions, NormalFormPlanner, PlanningProblem, RobotParams, Transform,
+};
+use serde_json::Value;
+
+fn reproduce(dir: &Path) -> Output {
+    let o = Command::new(env!("CARGO_BIN_EXE_freefloat"))
+        .args(["reproduce", "--out"])
+        .arg(dir)
+        .output()
+        .expect("the binary runs");
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    o
+}
+
+/// The figures and the size of their PNGs.
+fn figures() -> Vec<(String, (u32, u32))> {
+    let mut figures: Vec<(String, (u32, u32))> = (4..=15).map(|k| (format!("fig{k:02}"), PLAN_FIGURE_SIZE)).collect();
+    for (name, size) in &mut figures {
+        if name == "fig13" || name == "fig14" {
+            *size = DOMAIN_PAIR_SIZE;
+        }
+    }
+    figures.push(("fig16".into(), SWEEP_SIZE));
+    figures
+}
+
+/// Decodes a PNG: its size and the number of distinct first-channel values (a blank picture
+/// has one).
+fn decode_png(path: &Path) -> ((u32, u32), usize) {
+    let file = std::fs::File::open(path).expect("png exists");
+    let mut reader = png::Decoder::new(std::io::BufReader::new(file)).read_info().expect("png header");
+    let mut buf = vec![0; reader.output_buffer_size()];
+    let info = reader.next_frame(&mut buf).expect("png decodes");
+    let channels = info.color_type.samples();
+    let mut seen = [false; 256];
+    for px in buf[..info.buffer_size()].chunks(channels) {
+        seen[px[0] as usize] = true;
+    }
+    ((info.width, info.height), seen.iter().filter(|&&s| s).count())
+}
+
+fn row<'a>(summary: &'a Value, id: &str) -> &'a Value {
+    summary["cases"].as_array().expect("cases").iter().find(|r| r["id"] == id).expect("the case's row")
+}
+
+fn f64_at(v: &Value, key: &str) -> f64 {
+    v[key].as_f64().unwrap_or_else(|| panic!("{key} is a number: {v}"))
+}
+
+fn pair_at(v: &Value, key: &str) -> [f64; 2] {
+    [v[key][0].as_f64().expect("a number"), v[key][1].as_f64().expect("a number")]
+}
+
+fn close(a: f64, b: f64) {
+    assert_relative_eq!(a, b, max_relative = 1e-9, epsilon = 1e-300);
+}
+
+#[test]
+fn reproduce_writes_every_file_whole_and_the_planners_numbers() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let clock = Instant::now();
+    let o = reproduce(dir.path());
+    let seconds = clock.elapsed().as_secs_f64();
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(stdout.contains("wrote 29 files"), "{stdout}");
+    assert!(seconds < 60.0, "reproduce took {seconds} s");
+
+    // Every file exists and is not empty; nothing else (no temporary files) is left.
+    let mut expected: Vec<String> = ["report.html", "summary.json", "summary.md"].map(String::from).to_vec();
+    for (name, size) in figures() {
+        expected.push(format!("{name}.png"));
+        expected.push(format!("{name}.svg"));
+        let (decoded, levels) = decode_png(&dir.path().join(format!("{name}.png")));
+        assert_eq!(decoded, size, "{name}.png");
+        assert!(levels > 10, "{name}.png looks blank");
+        let text = std::fs::read_to_string(dir.path().join(format!("{name}.svg"))).expect("svg is UTF-8");
+        let doc = roxmltree::Document::parse(&text).unwrap_or_else(|e| panic!("{name}.svg parses: {e}"));
+        let root = doc.root_element();
+        assert_eq!(root.tag_name().name(), "svg", "{name}.svg");
+        assert_eq!(root.attribute("width"), Some(size.0.to_string().as_str()), "{name}.svg");
+        assert!(root.descendants().filter(|n| n.has_tag_name("text")).count() > 10, "{name}.svg has labels");
+        if size == PLAN_FIGURE_SIZE {
+            for label in ["t [s]", "angle [deg]", "u [rad/s]", "τ [N m]", "θ1", "velocity level", "torque level"] {
+                assert!(text.contains(label), "{name}.svg has no `{label}`");
+            }
+        }
+    }
+    let mut found: Vec<String> = std::fs::read_dir(dir.path())
+        .expect("dir")
+        .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
+        .collect();
+    found.sort();
+    expected.sort();
+    assert_eq!(found, expected);
+    for name in &expected {
+        let len = std::fs::metadata(dir.path().join(name)).expect("exists").len();
+        assert!(len > 1000, "{name} has {len} bytes");
+    }
+
+    // The summary: no NaN anywhere, one row per case, the paper's times for the paper's cases.
+    let md = std::fs::read_to_string(dir.path().join("summary.md")).expect("summary.md");
+    let html = std::fs::read_to_string(dir.path().join("report.html")).expect("report.html");
+    let json = std::fs::read_to_string(dir.path().join("summary.json")).expect("summary.json");
+    // Text without the pictures' base64 payloads (which may spell anything).
+    let words: String = html.split("base64,").map(|part| part.split_once('"').map_or(part, |(_, rest)| rest)).collect();
+    for text in [&md, &words, &json] {
+        assert!(!text.contains("NaN") && !text.contains("inf ") && !text.contains("Infinity"), "a NaN in the output");
+    }
+    // Self-contained: no external resources.
+    assert!(!html.contains("http://") && !html.contains("https://") && !html.contains("src=\"/"));
+    assert_eq!(html.matches("data:image/png;base64,").count(), 13);
+    let summary: Value = serde_json::from_str(&json).expect("summary.json parses");
+    let rows = summary["cases"].as_array().expect("cases");
+    assert_eq!(rows.len(), 14);
+    for r in rows {
+        let id = r["id"].as_str().expect("id");
+        assert!(md.contains(id) && html.contains(id), "{id} missing from summary.md or report.html");
+        assert!(r["error"].is_null(), "{id}: {}", r["error"]);
+        for key in ["final_error", "torque_final_error"] {
+            assert!(f64_at(r, key).is_finite(), "{id}: {key}");
+        }
+        for stage in ["plan", "torques", "verify", "torque_verify"] {
+            assert!(f64_at(&r["seconds"], stage) > 0.0, "{id}: seconds.{stage}");
+        }
+        let paper = r["figure"].as_str().is_some_and(|f| f != "fig15");
+        assert_eq!(!r["paper_seconds"].is_null(), paper, "{id}: paper's times");
+        assert_eq!(r["certified"], true, "{id}: every case is certified at the velocity level");
+    }
+    assert_eq!(summary["domains"].as_array().expect("domains").len(), 4);
+    assert_eq!(summary["sweep"]["points"], 121);
+
+    // The values are the planners': recompute an NFA case, an ECSA case and Fig. 15 here.
+    let robot = |a: f64, b: f64| RobotParams::src().with_mount(Mount::new(a, b).expect("mount")).expect("robot");
+    let nfa = |a: f64, b: f64, transform| {
+        let problem = PlanningProblem::paper(robot(a, b));
+        let options = NfaOptions { transform: Some(transform), accelerations: true, ..Default::default() };
+        let (plan, motion) = NormalFormPlanner::new(options).plan_with_motion(&problem).expect("plan");
+        let tp = torque_plan(&motion, &problem, &plan.trajectory.t, &TorqueOptions::default()).expect("torques");
+        (plan, tp.report)
+    };
+    for (id, a, b, transform) in [("fig06", 0.1, 0.1, Transform::Eq14), ("fig15", 1.0, -1.0, Transform::Global)] {
+        let (plan, torques) = nfa(a, b, transform);
+        let r = row(&summary, id);
+        close(f64_at(r, "final_error"), plan.verification.final_error);
+        close(f64_at(r, "torque_final_error"), torques.certificate.final_error);
+        assert_eq!(r["torque_certified"], torques.certificate.certified, "{id}");
+        for k in 0..2 {
+            close(pair_at(r, "max_abs_u")[k], plan.max_abs_u[k]);
+            close(pair_at(r, "max_abs_torque")[k], torques.max_abs_torque[k]);
+        }
+        assert!(r["iterations"].is_null());
+    }
+    // Fig. 15 is honest: certified at the velocity level, not at the torque level.
+    assert_eq!(row(&summary, "fig15")["torque_certified"], false);
+    assert!(f64_at(row(&summary, "fig15"), "torque_final_error") > 1e-6);
+
+    let problem = PlanningProblem::paper(robot(0.2, 0.2));
+    let ecsa = EcsaPlanner::new(EcsaOptions::default());
+    let (plan, solution) = ecsa.plan_with_solution(&problem).expect("ecsa plan");
+    let motion = ecsa.motion(&problem, &solution).expect("ecsa motion");
+    let torques =
+        torque_plan(&motion, &problem, &plan.trajectory.t, &TorqueOptions::default()).expect("torques").report;
+    let r = row(&summary, "fig11");
+    assert_eq!(r["iterations"].as_u64(), plan.iterations.map(|i| i as u64));
+    close(f64_at(r, "final_error"), plan.verification.final_error);
+    close(f64_at(r, "torque_final_error"), torques.certificate.final_error);
+    // The plain series does not start at rest: its torque plan from rest is not certified.
+    assert_eq!(r["torque_certified"], false);
+    assert!(pair_at(r, "u_start")[0].abs() > 1e-3);
+}
+
+/// The chromium binary, if installed.
+fn chromium() -> Option<PathBuf> {
+    ["chromium", "chromium-browser", "google-chrome"].into_iter().find_map(|name| {
+        let ok = Command::new(name).arg("--version").stdout(Stdio::null()).stderr(Stdio::null()).status();
+        ok.is_ok_and(|s| s.success()).then(|| PathBuf::from(name))
+    })
+}
+
+/// Runs headless chromium with `args`, killed after 120 s; returns its stdout and stderr (through
+/// files: the DOM of the page is larger than a pipe's buffer).
+fn headless(browser: &Path, dir: &Path, name: &str, args: &[String]) -> (String, String) {
+    let (out, err) = (dir.join(format!("{name}.out")), dir.join(format!("{name}.err")));
+    let mut child = Command::new(browser)
+        .args([
+            "--headless",
+            "--no-sandbox",
+            "--disable-gpu",
+            "--disable-quic",
+            "--no-first-run",
+            "--disable-background-networking",
+            "--disable-component-update",
+            "--disable-sync",
+            "--hide-scrollbars",
+        ])
+        .arg(format!("--user-data-dir={}", dir.join(format!("{name}.profile")).display()))
+        .args(args)
+        .stdin(Stdio::null())
+        .stdout(std::fs::File::create(&out).expect("stdout file"))
+        .stderr(std::fs::File::create(&err).expect("stderr file"))
+        .spawn()
+        .expect("chromium starts");
+    let clock = Instant::now();
+    while child.try_wait().expect("chromium runs").is_none() {
+        if clock.elapsed() > Duration::from_secs(120) {
+            let _killed = child.kill();
+            panic!("chromium did not finish in 120 s");
+        }
+        std::thread::sleep(Duration::from_millis(100));
+    }
+    let read = |p: &Path| String::from_utf8_lossy(&std::fs::read(p).unwrap_or_default()).into_owned();
+    (read(&out), read(&err))
+}
+
+/// The page in a headless browser: its script runs without error, every animation canvas is
+/// drawn (not blank), and a screenshot shows the page. Fails when chromium is missing in CI
+/// (`CI` or `FREEFLOAT_REQUIRE_BROWSER` set; `.ci/run` installs it), else skips with a message.
+#[test]
+fn report_page_runs_in_a_headless_browser() {
+    let Some(browser) = chromium() else {
+        let required = std::env::var_os("CI").is_some() || std::env::var_os("FREEFLOAT_REQUIRE_BROWSER").is_some();
+        assert!(!required, "chromium is required in CI (apt-get install -y chromium) but not installed");
+        eprintln!("SKIPPED report_page_runs_in_a_headless_browser: chromium is not installed");
+        return;
+    };
+    let dir = tempfile::tempdir().expect("temp dir");
+    let out = dir.path().join("out");
+    reproduce(&out);
+    let url = format!("file://{}", out.join("report.html").display());
+
+    // The DOM after the script ran: status and painted pixels, written by the page's script.
+    let (text, log) = headless(
+        &browser,
+        dir.path(),
+        "dom",
+        &[
+            "--enable-logging=stderr".into(),
+            "--v=0".into(),
+            "--virtual-time-budget=3000".into(),
+            "--dump-dom".into(),
+            url.clone(),
+        ],
+    );
+    let body = text.split("<body").nth(1).and_then(|b| b.split('>').next()).unwrap_or_else(|| panic!("no body: {log}"));
+    let attribute = |name: &str| {
+        body.split(&format!("{name}=\"")).nth(1).and_then(|v| v.split('"').next()).unwrap_or_default().to_string()
+    };
+    assert_eq!(attribute("data-status"), "ok", "the page's script failed: {body}\n{log}");
+    assert!(!log.contains("Uncaught"), "console errors: {log}");
+    assert_eq!(attribute("data-canvases"), "14", "one animation per plan");
+    let painted: usize = attribute("data-painted").parse().expect("a pixel count");
+    assert!(painted > 2000, "an animation canvas is (nearly) blank: {painted} pixels drawn");
+
+    // A screenshot of Fig. 15 with its animation at t = 4.3 s, kept for a human to look at.
+    let shot = Path::new(env!("CARGO_TARGET_TMPDIR")).join("report-fig15.png");
+    let _stale = std::fs::remove_file(&shot);
+    let (_, log) = headless(
+        &browser,
+        dir.path(),
+        "shot",
+        &[
+            "--window-size=1400,1700".into(),
+            format!("--screenshot={}", shot.display()),
+            format!("{url}#only=fig15&t=4.3"),
+        ],
+    );
+    assert!(shot.exists(), "no screenshot: {log}");
+    let (size, levels) = decode_png(&shot);
+    assert_eq!(size, (1400, 1700));
+    assert!(levels > 20, "the screenshot looks blank");
+    eprintln!("screenshot: {}", shot.display());
+}
