@@ -133,7 +133,7 @@ impl PolynomialSteering {
 pub struct BandOptions {
     /// Margin `eps`: `lambda` is kept in `[eps, 1 - eps]`; default 0.05.
     pub margin: f64,
-    /// Largest number of loops `N` tried; default 16.
+    /// Largest number of loops `N` tried; default 12.
     pub max_loops: usize,
     /// Loop amplitudes `A` tried \[rad\]; default 0.5, 1.0, .., 3.0.
     pub amplitudes: Vec<f64>,
@@ -141,7 +141,7 @@ pub struct BandOptions {
 
 impl Default for BandOptions {
     fn default() -> Self {
-        Self { margin: 0.05, max_loops: 16, amplitudes: vec![0.5, 1.0, 1.5, 2.0, 2.5, 3.0] }
+        Self { margin: 0.05, max_loops: 12, amplitudes: vec![0.5, 1.0, 1.5, 2.0, 2.5, 3.0] }
     }
 }
 
@@ -217,7 +217,7 @@ impl BandSteering {
         let edge = |l: f64| l.min(1.0 - l);
         let margin = options.margin.min(edge(lambda[0]) / 2.0).min(edge(lambda[1]) / 2.0);
         let fixed = lower_integral.eval(zd[0]) - lower_integral.eval(z0[0]);
-        let rule = GaussLegendre::new(6);
+        let rule = GaussLegendre::new(5);
         let template = Self {
             horizon,
             z0,
