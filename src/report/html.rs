@@ -144,11 +144,6 @@ fn domain_table(domains: &[DomainRow]) -> String {
          <th>q0, qd connected</th><th class=\"left\">Eq. (14) plan q0 → qd</th></tr>\n",
     );
     for d in domains {
-        let plan = match (d.eq14_final_error, &d.eq14_error) {
-            (Some(x), _) => format!("final error {x:.2e} rad"),
-            (None, Some(err)) => format!("none: {err}"),
-            _ => "-".into(),
-        };
         s += &format!(
             "<tr><td class=\"left\"><a href=\"#{0}\">{0}</a></td>{1}{2}{3}{4}<td class=\"left\">{5}</td></tr>\n",
             escape(&d.figure),
@@ -156,7 +151,7 @@ fn domain_table(domains: &[DomainRow]) -> String {
             cell(d.summary.components.to_string()),
             cell(format!("{:.2} %", 100.0 * d.summary.start_component_fraction)),
             verdict(d.summary.start_goal_connected),
-            escape(&plan)
+            escape(&d.plan_text())
         );
     }
     s += "</table>\n";

@@ -320,6 +320,17 @@ pub struct DomainRow {
     pub seconds: f64,
 }
 
+impl DomainRow {
+    /// The Eq. (14) plan in words: its final error, or why there is none.
+    pub fn plan_text(&self) -> String {
+        match (self.eq14_final_error, &self.eq14_error) {
+            (Some(x), _) => format!("final error {x:.2e} rad"),
+            (None, Some(err)) => format!("none: {err}"),
+            _ => "-".into(),
+        }
+    }
+}
+
 /// The domain map of Eq. (14) at `(a, b)` on the paper's problem, with the Eq. (14) plan's path.
 pub fn domain_panel(figure: &str, a: f64, b: f64) -> Result<DomainPanel, Error> {
     let robot = RobotParams::src().with_mount(Mount::new(a, b)?)?;
@@ -459,11 +470,6 @@ pub fn summary_markdown(rows: &[SummaryRow], domains: &[DomainRow], sweep: Optio
     s += "| figure | a, b [m] | components | start-component fraction | q0, qd connected | Eq. (14) plan |\n";
     s += "|---|---|---|---|---|---|\n";
     for d in domains {
-        let plan = match (d.eq14_final_error, &d.eq14_error) {
-            (Some(x), _) => format!("final error {x:.2e} rad"),
-            (None, Some(err)) => format!("none: {err}"),
-            _ => "-".into(),
-        };
         s += &format!(
             "| {} | {} | {} | {:.2} % | {} | {} |\n",
             d.figure,
@@ -471,7 +477,7 @@ pub fn summary_markdown(rows: &[SummaryRow], domains: &[DomainRow], sweep: Optio
             d.summary.components,
             100.0 * d.summary.start_component_fraction,
             if d.summary.start_goal_connected { "yes" } else { "no" },
-            plan
+            d.plan_text()
         );
     }
     if let Some(w) = sweep {
