@@ -203,7 +203,8 @@ pub trait Planner {
 /// Options of the [`NormalFormPlanner`].
 #[derive(Debug, Clone, PartialEq)]
 pub struct NfaOptions {
-    /// The feedback transformation; `None` = SPEC's `auto` ([`Transform::auto`]). Default `None`.
+    /// The feedback transformation; `None` = `auto`: [`Transform::auto`] (the paper's Eq. (12)
+    /// or (14)) when its path exists, else [`Transform::Global`]. Default `None`.
     pub transform: Option<Transform>,
     /// Number of samples of the trajectory, including both ends; default 1001.
     pub samples: usize,
