@@ -98,10 +98,17 @@ impl PolynomialSteering {
     /// `c1 = -4(19 w1 w2 - 35 w3 + 35 w1 z02) / (w2 T^3)`,
     /// `d1 = 140(w1 w2 - 2 w3 + 2 w1 z02) / (3 w2 T^4)`, `b2 = 6 w2 / T^2`, `c2 = -6 w2 / T^3`.
     ///
-    /// These need `w2 != 0` (SPEC §6, item 5): otherwise [`Error::DegenerateSteering`].
+    /// These need `w2 != 0` (SPEC §6, item 5): otherwise [`Error::DegenerateSteering`], except
+    /// for `zd = z0`, where the path rests at `z0`.
     pub fn new(z0: [f64; 3], zd: [f64; 3], horizon: f64) -> Result<Self, Error> {
         let t = horizon;
         let [w1, w2, w3] = [zd[0] - z0[0], zd[1] - z0[1], zd[2] - z0[2]];
+        if w1 == 0.0 && w2 == 0.0 && w3 == 0.0 {
+            // Already there: rest, zero controls.
+            let zero = Polynomial::new(&[]);
+            let z = [Polynomial::new(&[z0[0]]), Polynomial::new(&[z0[1]]), Polynomial::new(&[z0[2]])];
+            return Ok(Self { horizon, z0, zd, v: [zero, zero], z });
+        }
         if w2.abs() <= 1e-9 * (1.0 + z0[1].abs().max(zd[1].abs())) {
             return Err(Error::DegenerateSteering { w2 });
         }
@@ -569,6 +576,18 @@ mod tests {
         assert_relative_eq!(e.z[2], 0.5, epsilon = 1e-13);
         assert_relative_eq!(e.v[0], 0.0, epsilon = 1e-13);
         assert_relative_eq!(e.v[1], 0.0, epsilon = 1e-13);
+    }
+
+    #[test]
+    fn goal_equal_to_start_rests() {
+        let s = PolynomialSteering::new([0.3, 1.0, -0.2], [0.3, 1.0, -0.2], 2.0).unwrap();
+        for t in [0.0, 0.7, 2.0] {
+            let p = s.at(t);
+            for (z, want) in p.z.iter().zip([0.3, 1.0, -0.2]) {
+                assert_relative_eq!(*z, want, epsilon = 1e-15);
+            }
+            assert!(p.v.iter().all(|v| v.abs() < 1e-15));
+        }
     }
 
     #[test]
