@@ -582,7 +582,7 @@ mod tests {
     fn goal_equal_to_start_rests() {
         let s = PolynomialSteering::new([0.3, 1.0, -0.2], [0.3, 1.0, -0.2], 2.0).unwrap();
         for t in [0.0, 0.7, 2.0] {
-            let p = s.at(t);
+            let p = s.at::<f64>(t);
             for (z, want) in p.z.iter().zip([0.3, 1.0, -0.2]) {
                 assert_relative_eq!(*z, want, epsilon = 1e-15);
             }
