@@ -242,6 +242,24 @@ pub enum Error {
         /// The integrator's reason.
         reason: &'static str,
     },
+    /// The chained-form path, mapped back on the start's piece of the domain, ends at another
+    /// configuration with the goal's `z`: the goal lies on another piece.
+    #[error(
+        "the path of {transform} ends at{} instead of the goal{} ({distance:.3e} rad away): the goal lies \
+         on another piece of the domain with the same normal-form coordinates (e.g. theta2 whole turns away, \
+         across a singular curve); give the goal's representative on the start's side",
+        fmt_q(&Some(*reached)), fmt_q(&Some(*goal))
+    )]
+    GoalNotReached {
+        /// The transformation.
+        transform: &'static str,
+        /// Where the path ends.
+        reached: Configuration,
+        /// The goal.
+        goal: Configuration,
+        /// `max_i |wrap(reached_i - goal_i)|` \[rad\].
+        distance: f64,
+    },
 }
 
 fn fmt_history(history: &[f64]) -> String {

@@ -295,15 +295,24 @@ impl NormalFormPlanner {
             motion.sample(problem, self.options.samples)?;
             Ok(motion)
         });
-        match attempt {
+        let motion = match attempt {
             Err(Error::LeavesBand { .. } | Error::DegenerateSteering { .. }) if transform == Transform::Global => {
                 let band = BandSteering::new(&nf, &problem.start, z0, zd, problem.horizon, &self.options.band)?;
                 let mut motion = NfaMotion::new(nf, Steering::Band(band));
                 motion.sample(problem, self.options.samples)?;
-                Ok(motion)
+                motion
             }
-            result => result,
+            result => result?,
+        };
+        // The path's last sample inverts zd on the start's piece of the domain: if that is not
+        // the goal, the goal lies on another piece with the same z (e.g. theta2 whole turns away
+        // across a singular curve), and no continuous path of this transformation reaches it.
+        let reached = motion.q.last().copied().unwrap_or(problem.start);
+        let distance = reached.distance(&problem.goal);
+        if !(distance <= 1e-6) {
+            return Err(Error::GoalNotReached { transform: transform.name(), reached, goal: problem.goal, distance });
         }
+        Ok(motion)
     }
 }
 

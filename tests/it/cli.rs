@@ -169,3 +169,12 @@ fn max_velocity_stretches_the_horizon() {
     let bad = freefloat(&["plan", "--max-velocity", "0"]);
     assert_eq!(bad.status.code(), Some(2));
 }
+
+/// A goal on another piece of the domain with the same normal-form coordinates (theta2 whole
+/// turns away across sin(theta2) = 0) is a clear error, not a plan that ends elsewhere.
+#[test]
+fn goal_on_another_sheet_is_named() {
+    let o = freefloat(&["plan", "--from", "45,120,80000"]);
+    assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
+    assert!(stderr(&o).contains("instead of the goal"), "{}", stderr(&o));
+}
