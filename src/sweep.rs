@@ -85,13 +85,28 @@ pub struct SweepOptions {
     pub start: Configuration,
     /// The goal checked for connection with `start`; default the paper's `qd`.
     pub goal: Configuration,
+    /// Also rate the global normal form (beyond the paper; band steering where needed, so each
+    /// trial costs milliseconds more); default false.
+    pub global: bool,
 }
 
 impl Default for SweepOptions {
     fn default() -> Self {
         let (start, goal, horizon) = paper_problem();
         let span = Span { min: -0.3, max: 0.3, steps: 41 };
-        Self { a: span, b: span, grid: 256, trials: 100, seed: 0, samples: 201, horizon, tolerance: 1e-9, start, goal }
+        Self {
+            a: span,
+            b: span,
+            grid: 256,
+            trials: 100,
+            seed: 0,
+            samples: 201,
+            horizon,
+            tolerance: 1e-9,
+            start,
+            goal,
+            global: false,
+        }
     }
 }
 
@@ -143,18 +158,30 @@ pub struct SweepRow {
     pub eq11_successes: Option<usize>,
     /// `eq11_successes / trials`.
     pub eq11_rate: Option<f64>,
+    /// Certified NFA plans with the global normal form (with `global` only).
+    pub global_successes: Option<usize>,
+    /// `global_successes / trials`.
+    pub global_rate: Option<f64>,
 }
 
 impl SweepRow {
     /// The best success rate over the transformations available at this point.
     pub fn best_rate(&self) -> f64 {
-        [Some(self.eq14_rate), self.eq12_rate, self.eq11_rate].into_iter().flatten().fold(0.0, f64::max)
+        [Some(self.eq14_rate), self.eq12_rate, self.eq11_rate, self.global_rate]
+            .into_iter()
+            .flatten()
+            .fold(0.0, f64::max)
     }
 
     /// The transformation with [`SweepRow::best_rate`] (Eq. 14 on ties).
     pub fn best_transform(&self) -> Transform {
         let mut best = (self.eq14_rate, Transform::Eq14);
-        for (rate, t) in [(self.eq12_rate, Transform::Eq12), (self.eq11_rate, Transform::Eq11)] {
+        let rates = [
+            (self.eq12_rate, Transform::Eq12),
+            (self.eq11_rate, Transform::Eq11),
+            (self.global_rate, Transform::Global),
+        ];
+        for (rate, t) in rates {
             if let Some(r) = rate.filter(|&r| r > best.0) {
                 best = (r, t);
             }
@@ -261,6 +288,7 @@ pub fn run_point(robot: &RobotParams, options: &SweepOptions, index: usize) -> R
     } else {
         (None, None)
     };
+    let global = options.global.then(|| successes(&robot, Transform::Global, options));
     Ok(SweepRow {
         index,
         points: options.points(),
@@ -278,6 +306,8 @@ pub fn run_point(robot: &RobotParams, options: &SweepOptions, index: usize) -> R
         eq12_rate: eq12.map(rate),
         eq11_successes: eq11,
         eq11_rate: eq11.map(rate),
+        global_successes: global,
+        global_rate: global.map(rate),
     })
 }
 
@@ -402,6 +432,27 @@ mod tests {
         let mut other = whole.clone();
         other[3].eq14_successes += 1;
         assert!(merge(whole.iter().cloned().chain(std::iter::once(other[3].clone()))).is_err());
+    }
+
+    /// With `global`, the global normal form is rated too (a column of its own, through CSV and
+    /// merge), and beyond the paper it plans far more pairs than Eq. (14) at a large offset.
+    #[test]
+    fn global_rate_is_a_column_of_its_own() {
+        let robot = RobotParams::src();
+        let options = SweepOptions {
+            a: Span::new("a", 1.0, 1.0, 1).unwrap(),
+            b: Span::new("b", -1.0, -1.0, 1).unwrap(),
+            grid: 32,
+            trials: 12,
+            global: true,
+            ..Default::default()
+        };
+        let rows = run(&robot, &options, Shard::ALL, &|| {}).unwrap();
+        let back = from_csv(&to_csv(&rows).unwrap(), std::path::Path::new("g.csv")).unwrap();
+        assert_eq!(merge(back).unwrap(), rows);
+        let (global, eq14) = (rows[0].global_successes.unwrap(), rows[0].eq14_successes);
+        assert!(global > eq14, "global {global} vs eq14 {eq14}");
+        assert!(!small().global);
     }
 
     #[test]

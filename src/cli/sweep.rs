@@ -86,6 +86,10 @@ pub struct SweepRunArgs {
     /// Also draw the heat maps to FILE (.svg or .png).
     #[arg(long, value_name = "FILE")]
     pub plot: Option<PathBuf>,
+    /// Also rate the global normal form (beyond the paper; its band-steered plans cost
+    /// milliseconds more each: use fewer points or trials).
+    #[arg(long)]
+    pub global: bool,
 }
 
 /// Runs `mount-sweep` or `mount-sweep merge`.
@@ -126,6 +130,7 @@ fn options(args: &SweepRunArgs) -> anyhow::Result<SweepOptions> {
         tolerance: 1e-9,
         start: Configuration::from_degrees(p0, s1, s2),
         goal: Configuration::from_degrees(p1, g1, g2),
+        global: args.global,
     })
 }
 
