@@ -180,6 +180,42 @@ pub struct Plan {
 }
 
 impl Plan {
+    /// Verifies `motion` (see [`verify`]) and assembles its plan from the sampled `trajectory`,
+    /// the domain `margins` `(min |sigma|, min |P|)` and the planning time \[s\]: the fields every
+    /// planner fills alike. The method's own fields (`transform`, `z0`, `zd`, `band`,
+    /// `iterations`) start empty.
+    #[allow(clippy::too_many_arguments)]
+    pub fn verified(
+        method: Method,
+        problem: &PlanningProblem,
+        motion: &dyn Motion,
+        trajectory: Trajectory,
+        margins: (f64, f64),
+        plan_seconds: f64,
+        ode: &OdeOptions,
+        tolerance: f64,
+    ) -> Result<Plan, Error> {
+        let clock = Instant::now();
+        let verification = verify(motion, problem, ode, tolerance)?;
+        let verify_seconds = clock.elapsed().as_secs_f64();
+        Ok(Plan {
+            method,
+            transform: None,
+            problem: *problem,
+            z0: None,
+            zd: None,
+            band: None,
+            joint_travel: travel(&trajectory),
+            max_abs_u: max_abs_controls(&trajectory),
+            trajectory,
+            min_abs_sigma: margins.0,
+            min_abs_p: margins.1,
+            iterations: None,
+            verification,
+            seconds: Seconds { plan: plan_seconds, torques: None, verify: verify_seconds },
+        })
+    }
+
     /// The plan if its velocity-level certificate holds, else [`Error::NotCertified`].
     pub fn certified(&self) -> Result<&Plan, Error> {
         let v = &self.verification;
@@ -334,27 +370,12 @@ impl NormalFormPlanner {
         let motion = self.motion(problem)?;
         let trajectory = motion.trajectory(problem, self.options.accelerations)?;
         let plan_seconds = clock.elapsed().as_secs_f64();
-        let (min_abs_sigma, min_abs_p) = motion.margins();
-        let clock = Instant::now();
-        let verification = verify(&motion, problem, &self.options.ode, self.options.tolerance)?;
-        let verify_seconds = clock.elapsed().as_secs_f64();
-        let max_abs_u = max_abs_controls(&trajectory);
-        let plan = Plan {
-            method: Method::Nfa,
-            transform: Some(motion.nf.transform()),
-            problem: *problem,
-            z0: Some(motion.steering.ends().0),
-            zd: Some(motion.steering.ends().1),
-            band: motion.steering.band_choice(),
-            joint_travel: travel(&trajectory),
-            trajectory,
-            max_abs_u,
-            min_abs_sigma,
-            min_abs_p,
-            iterations: None,
-            verification,
-            seconds: Seconds { plan: plan_seconds, torques: None, verify: verify_seconds },
-        };
+        let (ode, tolerance) = (&self.options.ode, self.options.tolerance);
+        let mut plan =
+            Plan::verified(Method::Nfa, problem, &motion, trajectory, motion.margins(), plan_seconds, ode, tolerance)?;
+        plan.transform = Some(motion.nf.transform());
+        (plan.z0, plan.zd) = (Some(motion.steering.ends().0), Some(motion.steering.ends().1));
+        plan.band = motion.steering.band_choice();
         Ok((plan, motion))
     }
 }

@@ -42,9 +42,7 @@ pub use basis::{Basis, MAX_HARMONICS, Window};
 use crate::error::Error;
 use crate::model::{Configuration, Lumped, wrap_angle};
 use crate::ode::{OdeOptions, OdeStats, integrate};
-use crate::plan::{
-    Method, Motion, MotionPoint, Plan, Planner, PlanningProblem, Seconds, Trajectory, max_abs_controls, verify,
-};
+use crate::plan::{Method, Motion, MotionPoint, Plan, Planner, PlanningProblem, Trajectory};
 use crate::system::{shape, velocity, velocity_acceleration};
 
 /// Why the ECSA iteration stopped.
@@ -376,27 +374,10 @@ impl EcsaPlanner {
         let motion = self.motion(problem, &solution)?;
         let trajectory = motion.trajectory()?;
         let plan_seconds = clock.elapsed().as_secs_f64();
-        let (min_abs_sigma, min_abs_p) = motion.margins();
-        let clock = Instant::now();
-        let verification = verify(&motion, problem, &self.options.ode, self.options.tolerance)?;
-        let verify_seconds = clock.elapsed().as_secs_f64();
-        let max_abs_u = max_abs_controls(&trajectory);
-        let plan = Plan {
-            method: Method::Ecsa,
-            transform: None,
-            problem: *problem,
-            z0: None,
-            zd: None,
-            band: None,
-            joint_travel: crate::plan::travel(&trajectory),
-            trajectory,
-            max_abs_u,
-            min_abs_sigma,
-            min_abs_p,
-            iterations: Some(solution.stats.iterations),
-            verification,
-            seconds: Seconds { plan: plan_seconds, torques: None, verify: verify_seconds },
-        };
+        let (ode, tolerance) = (&self.options.ode, self.options.tolerance);
+        let mut plan =
+            Plan::verified(Method::Ecsa, problem, &motion, trajectory, motion.margins(), plan_seconds, ode, tolerance)?;
+        plan.iterations = Some(solution.stats.iterations);
         Ok((plan, solution))
     }
 }
