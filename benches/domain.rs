@@ -2,7 +2,7 @@
 //! <= 100 ms.
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use freefloat::domain::DomainMap;
+use freefloat::analysis::domain::DomainMap;
 use freefloat::{Mount, RobotParams, Transform};
 use std::hint::black_box;
 

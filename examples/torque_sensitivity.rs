@@ -1,7 +1,7 @@
 //! How much the open-loop forward dynamics of a torque plan amplify a small error: integrates
 //! the dynamics with the planned torques from rest and from rest plus a 1e-9 rad/s joint velocity.
 use freefloat::dynamics::{forward_dynamics, joint_torques};
-use freefloat::ode::{OdeOptions, integrate};
+use freefloat::numerics::ode::{OdeOptions, integrate};
 use freefloat::plan::Motion;
 use freefloat::{Configuration, Mount, NfaOptions, NormalFormPlanner, PlanningProblem, RobotParams};
 use nalgebra::Vector6;

@@ -5,9 +5,9 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::{Args, ValueEnum};
-use freefloat::domain::{DomainMap, DomainSummary};
-use freefloat::io::write_atomic;
-use freefloat::plot::{DomainOverlay, PictureFormat, domain_picture};
+use freefloat::analysis::domain::{DomainMap, DomainSummary};
+use freefloat::report::io::write_atomic;
+use freefloat::report::plot::{DomainOverlay, PictureFormat, domain_picture};
 use freefloat::{Configuration, NfaOptions, NormalFormPlanner, Planner, PlanningProblem, Transform};
 use serde::Serialize;
 

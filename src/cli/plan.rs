@@ -5,8 +5,8 @@ use std::process::ExitCode;
 use anyhow::bail;
 use freefloat::dynamics::{TorqueOptions, TorqueReport};
 use freefloat::ecsa::EcsaSolution;
-use freefloat::io::{PlanReport, trajectory_csv, write_atomic};
 use freefloat::plan::{Method, Motion};
+use freefloat::report::io::{PlanReport, trajectory_csv, write_atomic};
 use freefloat::{EcsaPlanner, NormalFormPlanner, Plan, PlanningProblem};
 
 use super::args::{CompareArgs, Format, MethodArg, PlanArgs, ProblemArgs};

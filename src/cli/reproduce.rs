@@ -9,14 +9,14 @@ use std::time::Instant;
 
 use anyhow::Context;
 use freefloat::Transform;
-use freefloat::io::write_atomic;
-use freefloat::plot::{PictureFormat, domain_pair_picture, plan_picture, sweep_picture};
+use freefloat::analysis::sweep::Shard;
 use freefloat::report::html::{FigureEmbed, Page, page};
+use freefloat::report::io::write_atomic;
+use freefloat::report::plot::{PictureFormat, domain_pair_picture, plan_picture, sweep_picture};
 use freefloat::report::{
     Case, CaseMethod, CaseOutcome, DOMAIN_FIGURES, DomainPanel, DomainRow, SummaryRow, SweepSummary, animation, cases,
     domain_panel, plan_figure, summary_markdown, sweep_options,
 };
-use freefloat::sweep::Shard;
 use rayon::prelude::*;
 use serde::Serialize;
 
@@ -143,7 +143,7 @@ pub fn run(args: &ReproduceArgs) -> anyhow::Result<ExitCode> {
         },
         || {
             let clock = Instant::now();
-            let rows = freefloat::sweep::run(&robot, &sweep_opts, Shard::ALL, &|| {});
+            let rows = freefloat::analysis::sweep::run(&robot, &sweep_opts, Shard::ALL, &|| {});
             let seconds = clock.elapsed().as_secs_f64();
             progress.line(
                 &format!("{:<14} mount sweep, {} points", "fig16", sweep_opts.points()),

@@ -8,9 +8,9 @@ use std::process::ExitCode;
 use anyhow::Context;
 use clap::{Args, Subcommand};
 use freefloat::Configuration;
-use freefloat::io::write_atomic;
-use freefloat::plot::{PictureFormat, sweep_picture};
-use freefloat::sweep::{self, Shard, Span, SweepOptions, SweepRow};
+use freefloat::analysis::sweep::{self, Shard, Span, SweepOptions, SweepRow};
+use freefloat::report::io::write_atomic;
+use freefloat::report::plot::{PictureFormat, sweep_picture};
 
 use super::args::RobotArgs;
 

@@ -4,7 +4,7 @@
 
 use super::*;
 use crate::model::{Mount, RobotParams};
-use crate::normal_form::Transform;
+use crate::nfa::normal_form::Transform;
 use crate::plan::{NfaOptions, NormalFormPlanner};
 use num_dual::{Dual, Dual64, DualNum};
 use proptest::prelude::*;

@@ -40,10 +40,10 @@ use serde::Serialize;
 pub use basis::{Basis, MAX_HARMONICS, Window};
 
 use crate::error::Error;
+use crate::model::system::{shape, velocity, velocity_acceleration};
 use crate::model::{Configuration, Lumped, wrap_angle};
-use crate::ode::{OdeOptions, OdeStats, integrate};
+use crate::numerics::ode::{OdeOptions, OdeStats, integrate};
 use crate::plan::{Method, Motion, MotionPoint, Plan, Planner, PlanningProblem, Trajectory};
-use crate::system::{shape, velocity, velocity_acceleration};
 
 /// Why the ECSA iteration stopped.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]

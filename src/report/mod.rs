@@ -15,18 +15,20 @@
 //! ```
 
 pub mod html;
+pub mod io;
+pub mod plot;
 
 use serde::Serialize;
 
-use crate::domain::{DomainMap, DomainSummary};
+use crate::analysis::domain::{DomainMap, DomainSummary};
+use crate::analysis::sweep::{Span, SweepOptions, SweepRow};
 use crate::dynamics::{TorqueOptions, TorqueReport, add_torques};
 use crate::ecsa::{EcsaOptions, EcsaPlanner, EcsaSolution, Window};
 use crate::error::Error;
 use crate::model::{Configuration, Mount, RobotParams};
-use crate::normal_form::Transform;
+use crate::nfa::normal_form::Transform;
 use crate::plan::{NfaOptions, NormalFormPlanner, Plan, Planner, PlanningProblem};
-use crate::plot::{DomainOverlay, Panel, PlanFigure, Series};
-use crate::sweep::{Span, SweepOptions, SweepRow};
+use crate::report::plot::{DomainOverlay, Panel, PlanFigure, Series};
 
 /// How a case is planned.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -405,7 +407,7 @@ impl SweepSummary {
             steps: options.a.steps,
             grid: options.grid,
             trials: options.trials,
-            best: crate::sweep::best(rows).map(|r| (r.a, r.b, r.best_rate())),
+            best: crate::analysis::sweep::best(rows).map(|r| (r.a, r.b, r.best_rate())),
             mean_rate: rows.iter().map(SweepRow::best_rate).sum::<f64>() / n,
             connected_share: rows.iter().filter(|r| r.start_goal_connected).count() as f64 / n,
             seconds,

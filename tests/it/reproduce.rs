@@ -7,7 +7,7 @@ use std::time::{Duration, Instant};
 
 use approx::assert_relative_eq;
 use freefloat::dynamics::{TorqueOptions, torque_plan};
-use freefloat::plot::{DOMAIN_PAIR_SIZE, PLAN_FIGURE_SIZE, SWEEP_SIZE};
+use freefloat::report::plot::{DOMAIN_PAIR_SIZE, PLAN_FIGURE_SIZE, SWEEP_SIZE};
 use freefloat::{
     EcsaOptions, EcsaPlanner, Mount, NfaOptions, NormalFormPlanner, PlanningProblem, RobotParams, Transform,
 };

@@ -3,7 +3,7 @@
 
 use super::*;
 use crate::model::Mount;
-use crate::system::vector_fields;
+use crate::model::system::vector_fields;
 use num_dual::{Dual64, first_derivative};
 use proptest::prelude::*;
 

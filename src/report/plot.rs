@@ -4,7 +4,7 @@
 //! Text is laid out with DejaVu Sans, embedded in the binary (the `dejavu` crate; Bitstream Vera
 //! license), and registered with plotters' `ab_glyph` renderer: pictures render the same on a
 //! machine without any system font. Pictures are rendered in memory; the caller writes the bytes
-//! (atomically, with [`crate::io::write_atomic`]).
+//! (atomically, with [`crate::report::io::write_atomic`]).
 
 use std::path::Path;
 use std::sync::OnceLock;
@@ -12,10 +12,10 @@ use std::sync::OnceLock;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use crate::domain::DomainMap;
+use crate::analysis::domain::DomainMap;
+use crate::analysis::sweep::SweepRow;
 use crate::error::{Error, Singularity};
 use crate::model::Configuration;
-use crate::sweep::SweepRow;
 
 /// The file format of a picture.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -598,7 +598,7 @@ pub fn sweep_picture(rows: &[SweepRow], format: PictureFormat, path: &Path) -> R
             draw_sweep(root, self.0, self.1)
         }
     }
-    render(path, format, SWEEP_SIZE, &Sweep(rows, crate::sweep::best(rows)))
+    render(path, format, SWEEP_SIZE, &Sweep(rows, crate::analysis::sweep::best(rows)))
 }
 
 fn draw_sweep<DB: DrawingBackend>(
@@ -684,9 +684,9 @@ fn draw_sweep<DB: DrawingBackend>(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::domain::DomainMap;
+    use crate::analysis::domain::DomainMap;
     use crate::model::{Mount, RobotParams, paper_problem};
-    use crate::normal_form::Transform;
+    use crate::nfa::normal_form::Transform;
 
     /// Both formats render with the embedded font only: an SVG with the title's text, and a PNG
     /// with the PNG signature and some non-white pixels.

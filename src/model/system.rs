@@ -41,7 +41,7 @@ pub fn shape<D: Scalar>(k: &Lumped, theta1: D, theta2: D) -> Shape<D> {
 }
 
 /// [`shape`] from the sines and cosines `(sin, cos)` of `theta1`, `theta2` and
-/// `theta1 + theta2`, for callers that tabulate them (the domain maps of [`crate::domain`]).
+/// `theta1 + theta2`, for callers that tabulate them (the domain maps of [`crate::analysis::domain`]).
 #[allow(non_snake_case)]
 pub fn shape_from_trig<D: Scalar>(k: &Lumped, (s1, c1): (D, D), (s2, c2): (D, D), (s12, c12): (D, D)) -> Shape<D> {
     let Lumped { A, B, C, D: Dk, E, IP, a, b, .. } = *k;

@@ -18,10 +18,10 @@ use serde::Serialize;
 
 use crate::Scalar;
 use crate::error::Error;
+use crate::model::system::{momentum, shape, velocity_acceleration};
 use crate::model::{Configuration, Lumped};
-use crate::ode::{OdeOptions, OdeStats, integrate};
+use crate::numerics::ode::{OdeOptions, OdeStats, integrate};
 use crate::plan::{Motion, MotionPoint, PlanningProblem};
-use crate::system::{momentum, shape, velocity_acceleration};
 
 /// The Lagrangian (3) without the decoupled term `(1/2) m_c (x'^2 + y'^2)` of the centre of mass
 /// (Eq. 4): kinetic energy of the base and the arm \[J\] at `q = (phi, theta1, theta2)` \[rad\] with

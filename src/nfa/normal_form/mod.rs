@@ -13,8 +13,8 @@ use serde::Serialize;
 
 use crate::Scalar;
 use crate::error::{Error, Singularity};
+use crate::model::system::shape;
 use crate::model::{Configuration, Lumped, RobotParams};
-use crate::system::shape;
 
 /// The feedback transformations of Theorem 1.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]

@@ -12,10 +12,10 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::domain::DomainMap;
+use crate::analysis::domain::DomainMap;
 use crate::error::Error;
 use crate::model::{Configuration, Mount, RobotParams, paper_problem};
-use crate::normal_form::Transform;
+use crate::nfa::normal_form::Transform;
 use crate::plan::{NfaOptions, NormalFormPlanner, Planner, PlanningProblem};
 
 /// `steps` equally spaced values from `min` to `max`, both included (`min` alone when

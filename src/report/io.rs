@@ -134,7 +134,7 @@ pub struct PlanReport {
     /// `nfa` or `ecsa`.
     pub method: crate::plan::Method,
     /// Transformation (null for ECSA).
-    pub transform: Option<crate::normal_form::Transform>,
+    pub transform: Option<crate::nfa::normal_form::Transform>,
     /// `[a, b]` \[m\].
     pub mount: [f64; 2],
     /// Horizon \[s\].
@@ -179,7 +179,7 @@ pub struct PlanReport {
     /// Chained-form steering of the NFA: `polynomial` (Sec. 5) or `band` (global normal form).
     pub steering: Option<&'static str>,
     /// The band steering's choice `(N, A, eps, kappa)`, when used.
-    pub band: Option<crate::steering::BandChoice>,
+    pub band: Option<crate::nfa::steering::BandChoice>,
     /// Total variation of `(phi, theta1, theta2)` along the path \[rad\].
     pub joint_travel: [f64; 3],
     /// Accepted steps of the verification's integrator.

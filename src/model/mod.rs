@@ -1,6 +1,8 @@
 //! The robot: the SRC space manipulator's parameters and the lumped constants of the
 //! Lagrangian (Sec. 3.1, after Eq. (3)).
 
+pub mod system;
+
 use serde::{Deserialize, Serialize};
 
 use crate::error::Error;
@@ -141,7 +143,7 @@ fn check_finite(name: &str, value: f64) -> Result<(), Error> {
 /// The constants of the Lagrangian (3), defined after Eq. (3) in Sec. 3.1 (SI units).
 ///
 /// Field names copy the paper's symbols. `a, b` are the mounting point, repeated here so that the
-/// functions of [`crate::system`] need nothing else.
+/// functions of [`crate::model::system`] need nothing else.
 #[allow(non_snake_case)]
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Lumped {

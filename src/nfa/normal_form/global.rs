@@ -27,7 +27,7 @@ use num_dual::{Dual, Dual2};
 
 use crate::Scalar;
 use crate::model::Lumped;
-use crate::system::shape;
+use crate::model::system::shape;
 
 /// The functions of `theta1` alone that [`psi`] needs: `U, Z, f, d` (Eq. 15) and `delta`.
 #[allow(non_snake_case)]
@@ -190,7 +190,7 @@ pub fn solve_in_band(k: &Lumped, theta1: f64, z2: f64, (lo, hi): (f64, f64), gue
 mod tests {
     use super::*;
     use crate::model::{Mount, RobotParams};
-    use crate::quadrature::GaussLegendre;
+    use crate::numerics::quadrature::GaussLegendre;
     use num_dual::{Dual64, first_derivative};
     use proptest::prelude::*;
 

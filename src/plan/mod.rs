@@ -10,11 +10,11 @@ use num_dual::Dual64;
 use serde::Serialize;
 
 use crate::error::Error;
+use crate::model::system::{velocity, velocity_acceleration};
 use crate::model::{Configuration, RobotParams};
-use crate::normal_form::{NewtonOptions, NormalForm, Transform};
-use crate::ode::{OdeOptions, OdeStats, integrate};
-use crate::steering::{BandChoice, BandOptions, BandSteering, PolynomialSteering, Steering};
-use crate::system::{velocity, velocity_acceleration};
+use crate::nfa::normal_form::{NewtonOptions, NormalForm, Transform};
+use crate::nfa::steering::{BandChoice, BandOptions, BandSteering, PolynomialSteering, Steering};
+use crate::numerics::ode::{OdeOptions, OdeStats, integrate};
 
 /// Drive the robot from `start` to `goal` in time `horizon`, joint velocities zero at both
 /// ends, zero angular momentum (SPEC §2).
@@ -578,7 +578,7 @@ impl Motion for NfaMotion {
 /// from Eq. (9). Exact, and without the three nested levels of dual numbers of the generic path.
 #[allow(non_snake_case)]
 fn eq14_control_rate(k: &crate::model::Lumped, branch: f64, q: &Configuration, u: [f64; 2], dv: [f64; 2]) -> [f64; 2] {
-    use crate::system::shape;
+    use crate::model::system::shape;
     use num_dual::{Dual3_64, DualNum};
     let t1 = Dual3_64::new(q.theta1, 1.0, 0.0, 0.0);
     let t2 = Dual3_64::from_re(q.theta2);
@@ -770,9 +770,9 @@ mod tests {
             assert!(v.final_error <= 1e-9 && v.max_path_deviation <= 1e-9, "({a}, {b}): {v:?}");
             assert!(plan.min_abs_sigma > 1e-3, "({a}, {b}): min |sigma| {}", plan.min_abs_sigma);
             let k = robot.lumped();
-            let sign = crate::system::shape(&k, problem.start.theta1, problem.start.theta2).sigma.signum();
+            let sign = crate::model::system::shape(&k, problem.start.theta1, problem.start.theta2).sigma.signum();
             for q in &plan.trajectory.q {
-                assert!(crate::system::shape(&k, q[1], q[2]).sigma * sign > 0.0);
+                assert!(crate::model::system::shape(&k, q[1], q[2]).sigma * sign > 0.0);
             }
         }
     }

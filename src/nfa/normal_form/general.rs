@@ -12,7 +12,7 @@ use num_dual::{Dual, Dual2, Dual64};
 
 use crate::Scalar;
 use crate::model::Lumped;
-use crate::system::{Shape, shape};
+use crate::model::system::{Shape, shape};
 
 /// `R(theta1, theta2)` of Eq. (14), on the branch `sign(P) = branch`.
 ///
