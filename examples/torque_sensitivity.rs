@@ -19,7 +19,7 @@ fn main() -> Result<(), freefloat::Error> {
             let tau = joint_torques(&k, &motion.at(t)?);
             let ddq =
                 forward_dynamics(&k, &Configuration::new(y[0], y[1], y[2]), [y[3], y[4], y[5]], [0.0, tau[0], tau[1]]);
-            Ok(Vector6::new(y[3], y[4], y[5], ddq[0], ddq[1], ddq[2]))
+            Ok::<_, freefloat::Error>(Vector6::new(y[3], y[4], y[5], ddq[0], ddq[1], ddq[2]))
         };
         Ok(integrate(f, 0.0, y0, p.horizon, &OdeOptions::default(), |_, _| {})?.0)
     };

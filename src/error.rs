@@ -1,8 +1,10 @@
-//! The one error type of freefloat: every variant carries the numbers that explain it.
+//! The error type of the planners: every variant carries the numbers that explain it. The
+//! lower layers have their own errors ([`InputError`] of the model, [`OdeError`] of the
+//! integrator), which this one wraps, so that neither imports anything above it.
 
-use std::path::PathBuf;
-
-use crate::model::Configuration;
+use crate::model::{Configuration, InputError};
+use crate::numerics::iteration::IterationStats;
+use crate::numerics::ode::OdeError;
 
 /// A condition of a feedback transformation's domain of existence (Theorem 1; Figs. 13-14).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
@@ -61,33 +63,9 @@ fn fmt_t(t: &Option<f64>) -> String {
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
 pub enum Error {
-    /// A parameter is out of range; `name` is the key as the user wrote it.
-    #[error("invalid value {value} for `{name}`: expected {expected}")]
-    InvalidParameter {
-        /// The parameter's name, e.g. `robot.m1` or `--time`.
-        name: String,
-        /// The rejected value.
-        value: f64,
-        /// What is accepted.
-        expected: &'static str,
-    },
-    /// A robot file could not be read or parsed.
-    #[error("cannot read robot file {}: {reason}", path.display())]
-    RobotFile {
-        /// The file.
-        path: PathBuf,
-        /// What is wrong, e.g. the TOML parser's message naming an unknown key.
-        reason: String,
-    },
-    /// A file could not be read or written.
-    #[error("cannot access {}: {source}", path.display())]
-    Io {
-        /// The file.
-        path: PathBuf,
-        /// The operating system's error.
-        #[source]
-        source: std::io::Error,
-    },
+    /// Bad input: a parameter out of range, an unreadable robot file or output path.
+    #[error(transparent)]
+    Input(#[from] InputError),
     /// A transformation was asked for where it does not apply (e.g. Eq. (11) with a != 0).
     #[error("transformation {transform} is not available here: {reason}")]
     TransformUnavailable {
@@ -163,13 +141,8 @@ pub enum Error {
         w2: f64,
     },
     /// The adaptive integrator could not continue.
-    #[error("integration failed at t = {t}: {reason}")]
-    Integration {
-        /// Time reached \[s\].
-        t: f64,
-        /// Why.
-        reason: &'static str,
-    },
+    #[error(transparent)]
+    Integration(#[from] OdeError),
     /// The chained-form path leaves the band of the global normal form: `z2` is outside the
     /// range of `h3` over the band `{sigma != 0}` at `theta1 = z1`.
     #[error(
@@ -227,7 +200,7 @@ pub enum Error {
     )]
     EcsaFailed {
         /// Iterations, residual history and why the iteration stopped.
-        stats: crate::ecsa::EcsaStats,
+        stats: IterationStats,
     },
     /// The forward dynamics under the planned torques could not be integrated to the end: the
     /// open-loop motion leaves the plan so fast that the integrator gives up.
@@ -270,12 +243,6 @@ impl Error {
     /// True when the user's input is at fault (exit code 2); otherwise the problem has no
     /// certified plan with this method (exit code 3).
     pub fn is_bad_input(&self) -> bool {
-        matches!(
-            self,
-            Error::InvalidParameter { .. }
-                | Error::RobotFile { .. }
-                | Error::Io { .. }
-                | Error::TransformUnavailable { .. }
-        )
+        matches!(self, Error::Input(_) | Error::TransformUnavailable { .. })
     }
 }

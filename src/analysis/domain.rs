@@ -46,6 +46,7 @@
 //! order `sigma`-crossing, `P`-crossing (or `sin theta2`-crossing), `d <= 0`, arcsin argument; a
 //! cell classified as a crossing still belongs to the component of its centre.
 
+use crate::model::InputError;
 use serde::Serialize;
 
 use crate::error::{Error, Singularity};
@@ -256,16 +257,16 @@ fn trig_table(n: usize, offset: f64) -> Vec<(f64, f64)> {
 impl DomainMap {
     /// The domain of `transform` for `robot` on a `grid x grid` map of the torus.
     ///
-    /// Errors: [`Error::InvalidParameter`] for a grid outside `3..=`[`MAX_GRID`] or an invalid
+    /// Errors: [`InputError::InvalidParameter`] for a grid outside `3..=`[`MAX_GRID`] or an invalid
     /// robot; [`Error::TransformUnavailable`] for Eqs. (11)-(12) with `a, b != 0`.
     pub fn new(robot: &RobotParams, transform: Transform, grid: usize) -> Result<Self, Error> {
         robot.validate()?;
         if !(3..=MAX_GRID).contains(&grid) {
-            return Err(Error::InvalidParameter {
+            return Err(Error::from(InputError::InvalidParameter {
                 name: "grid".into(),
                 value: grid as f64,
                 expected: "a grid size between 3 and 8192",
-            });
+            }));
         }
         if matches!(transform, Transform::Eq11 | Transform::Eq12) && !robot.mount.is_centred() {
             return Err(Error::TransformUnavailable {
@@ -702,7 +703,10 @@ mod tests {
 
     #[test]
     fn bad_inputs_are_errors() {
-        assert!(matches!(DomainMap::new(&RobotParams::src(), Transform::Eq14, 2), Err(Error::InvalidParameter { .. })));
+        assert!(matches!(
+            DomainMap::new(&RobotParams::src(), Transform::Eq14, 2),
+            Err(Error::Input(InputError::InvalidParameter { .. }))
+        ));
         assert!(matches!(
             DomainMap::new(&robot(0.1, 0.0), Transform::Eq11, 16),
             Err(Error::TransformUnavailable { .. })

@@ -10,6 +10,7 @@
 //! every mounting point (drawn from a counter-based generator keyed by `(seed, k)`), so that
 //! differences between mounting points are not sampling noise between different pairs.
 
+use crate::model::InputError;
 use serde::{Deserialize, Serialize};
 
 use crate::analysis::domain::DomainMap;
@@ -34,18 +35,18 @@ impl Span {
     /// A validated span: finite ends, `min <= max`, `steps >= 1`.
     pub fn new(name: &str, min: f64, max: f64, steps: usize) -> Result<Self, Error> {
         if !(min.is_finite() && max.is_finite() && min <= max) {
-            return Err(Error::InvalidParameter {
+            return Err(Error::from(InputError::InvalidParameter {
                 name: name.to_string(),
                 value: if min.is_finite() { max } else { min },
                 expected: "finite MIN,MAX with MIN <= MAX",
-            });
+            }));
         }
         if steps == 0 || (steps == 1 && min < max) {
-            return Err(Error::InvalidParameter {
+            return Err(Error::from(InputError::InvalidParameter {
                 name: format!("{name} steps"),
                 value: steps as f64,
                 expected: "at least 2 steps for a range, 1 for a single value",
-            });
+            }));
         }
         Ok(Self { min, max, steps })
     }
@@ -206,10 +207,12 @@ impl Shard {
 
     /// Parses `k/n` with `1 <= k <= n`.
     pub fn parse(text: &str) -> Result<Self, Error> {
-        let bad = || Error::InvalidParameter {
-            name: format!("--shard {text}"),
-            value: f64::NAN,
-            expected: "K/N with 1 <= K <= N",
+        let bad = || {
+            Error::from(InputError::InvalidParameter {
+                name: format!("--shard {text}"),
+                value: f64::NAN,
+                expected: "K/N with 1 <= K <= N",
+            })
         };
         let (k, n) = text.split_once('/').ok_or_else(bad)?;
         let (k, n): (usize, usize) = (k.trim().parse().map_err(|_| bad())?, n.trim().parse().map_err(|_| bad())?);
@@ -333,7 +336,7 @@ pub fn run(
 }
 
 fn csv_error(path: &std::path::Path, e: csv::Error) -> Error {
-    Error::Io { path: path.to_path_buf(), source: std::io::Error::other(e.to_string()) }
+    Error::from(InputError::Io { path: path.to_path_buf(), source: std::io::Error::other(e.to_string()) })
 }
 
 /// The rows as CSV (header = [`SweepRow`]'s field names; floats in shortest round-trip form, so
@@ -344,7 +347,9 @@ pub fn to_csv(rows: &[SweepRow]) -> Result<Vec<u8>, Error> {
     for row in rows {
         w.serialize(row).map_err(|e| csv_error(path, e))?;
     }
-    w.into_inner().map_err(|e| Error::Io { path: path.to_path_buf(), source: std::io::Error::other(e.to_string()) })
+    w.into_inner().map_err(|e| {
+        Error::from(InputError::Io { path: path.to_path_buf(), source: std::io::Error::other(e.to_string()) })
+    })
 }
 
 /// Reads rows written by [`to_csv`]; `path` only labels errors.
@@ -361,12 +366,18 @@ pub fn merge(parts: impl IntoIterator<Item = SweepRow>) -> Result<Vec<SweepRow>,
     rows.sort_by_key(|r| r.index);
     rows.dedup_by(|x, y| x == y);
     let Some(first) = rows.first().cloned() else {
-        return Err(Error::InvalidParameter { name: "merge".into(), value: 0.0, expected: "at least one row" });
+        return Err(Error::from(InputError::InvalidParameter {
+            name: "merge".into(),
+            value: 0.0,
+            expected: "at least one row",
+        }));
     };
-    let mismatch = |name: &str, value: f64| Error::InvalidParameter {
-        name: format!("merge: {name}"),
-        value,
-        expected: "shards of one sweep (same points, grid, seed, trials), each point once",
+    let mismatch = |name: &str, value: f64| {
+        Error::from(InputError::InvalidParameter {
+            name: format!("merge: {name}"),
+            value,
+            expected: "shards of one sweep (same points, grid, seed, trials), each point once",
+        })
     };
     for (i, r) in rows.iter().enumerate() {
         if r.points != first.points || r.grid != first.grid || r.seed != first.seed || r.trials != first.trials {

@@ -1,6 +1,7 @@
 //! `freefloat mount-sweep`: the domain of Eq. (14) and the NFA's success rate over a grid of
 //! mounting points, shardable for batch schedulers, and `mount-sweep merge`.
 
+use freefloat::model::InputError;
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -201,7 +202,8 @@ fn best_line(rows: &[SweepRow], scope: &str) -> String {
 }
 
 fn read_rows(path: &Path) -> anyhow::Result<Vec<SweepRow>> {
-    let bytes = std::fs::read(path).map_err(|source| freefloat::Error::Io { path: path.to_path_buf(), source })?;
+    let bytes = std::fs::read(path)
+        .map_err(|source| freefloat::Error::from(InputError::Io { path: path.to_path_buf(), source }))?;
     Ok(sweep::from_csv(&bytes, path)?)
 }
 

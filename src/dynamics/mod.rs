@@ -11,6 +11,8 @@
 //! whose first row is `d/dt (F phi' + G theta1' + H theta2') = 0`, the conservation of angular
 //! momentum (5) (the base is not actuated), and whose last two rows are Eq. (6).
 
+use crate::model::InputError;
+use crate::numerics::ode::OdeError;
 use std::time::Instant;
 
 use nalgebra::{Matrix3, Vector3, Vector6};
@@ -231,11 +233,11 @@ impl TorqueOptions {
     /// Checks the options (a positive tolerance).
     pub fn validate(&self) -> Result<(), Error> {
         if !(self.tolerance > 0.0) {
-            return Err(Error::InvalidParameter {
+            return Err(Error::from(InputError::InvalidParameter {
                 name: "torque tolerance".into(),
                 value: self.tolerance,
                 expected: "a positive number [rad]",
-            });
+            }));
         }
         Ok(())
     }
@@ -306,7 +308,7 @@ pub fn certify_torques(
         },
     )
     .map_err(|e| match e {
-        Error::Integration { t, reason } => Error::TorqueDiverges { t, reason },
+        Error::Integration(OdeError { t, reason }) => Error::TorqueDiverges { t, reason },
         e => e,
     })?;
     if let Some(e) = observe_error {

@@ -3,6 +3,7 @@
 //! dynamics on the paper's five cases and on random smooth joint trajectories.
 
 use super::*;
+use crate::model::InputError;
 use crate::model::{Mount, RobotParams};
 use crate::nfa::normal_form::Transform;
 use crate::plan::{NfaOptions, NormalFormPlanner};
@@ -199,7 +200,10 @@ fn failed_torque_certificate_is_an_error() {
     let e = tp.report.check().unwrap_err();
     assert!(matches!(e, Error::NotCertified { level: "torque", final_error, .. } if final_error > 1e-12), "{e}");
     let bad = TorqueOptions { tolerance: -1.0, ..Default::default() };
-    assert!(matches!(certify_torques(&motion, &plan.problem, &bad), Err(Error::InvalidParameter { .. })));
+    assert!(matches!(
+        certify_torques(&motion, &plan.problem, &bad),
+        Err(Error::Input(InputError::InvalidParameter { .. }))
+    ));
 }
 
 /// A random smooth joint motion starting at rest: `theta_i(t) = theta_i0 + sum_n c_in (1 -
@@ -289,7 +293,7 @@ fn gauss_legendre_quadrature_of_the_test_motion_is_exact() {
         cubic: [0.01, -0.02],
     };
     let (phi, _) = integrate(
-        |t, _: &nalgebra::SVector<f64, 1>| Ok(nalgebra::SVector::<f64, 1>::new(m.dphi(t))),
+        |t, _: &nalgebra::SVector<f64, 1>| Ok::<_, crate::Error>(nalgebra::SVector::<f64, 1>::new(m.dphi(t))),
         0.0,
         nalgebra::SVector::<f64, 1>::new(0.3),
         2.7,

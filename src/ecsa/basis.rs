@@ -6,6 +6,7 @@
 //! ([`Window::SinSquared`]). The coefficient vector of both controls is
 //! `c = (c_10, ..., c_1,2H, c_20, ..., c_2,2H)`, `2 (2H + 1)` numbers.
 
+use crate::model::InputError;
 use serde::Serialize;
 
 use crate::Scalar;
@@ -55,18 +56,18 @@ impl Basis {
     /// A basis of `harmonics` harmonics (1 to [`MAX_HARMONICS`]) on `[0, horizon]`.
     pub fn new(harmonics: usize, horizon: f64, window: Window) -> Result<Self, Error> {
         if !(1..=MAX_HARMONICS).contains(&harmonics) {
-            return Err(Error::InvalidParameter {
+            return Err(Error::from(InputError::InvalidParameter {
                 name: "harmonics".into(),
                 value: harmonics as f64,
                 expected: "1 to 4 harmonics",
-            });
+            }));
         }
         if !(horizon.is_finite() && horizon > 0.0) {
-            return Err(Error::InvalidParameter {
+            return Err(Error::from(InputError::InvalidParameter {
                 name: "time".into(),
                 value: horizon,
                 expected: "a positive, finite horizon [s]",
-            });
+            }));
         }
         Ok(Self { harmonics, horizon, window })
     }
@@ -212,7 +213,10 @@ mod tests {
     #[test]
     fn harmonics_out_of_range_are_rejected() {
         for h in [0, 5] {
-            assert!(matches!(Basis::new(h, 10.0, Window::None), Err(Error::InvalidParameter { .. })));
+            assert!(matches!(
+                Basis::new(h, 10.0, Window::None),
+                Err(Error::Input(InputError::InvalidParameter { .. }))
+            ));
         }
     }
 }

@@ -31,61 +31,21 @@
 
 pub mod basis;
 
+use crate::model::InputError;
 use std::time::Instant;
 
 use nalgebra::{Const, Matrix3, SMatrix, SVector, U1, Vector3};
 use num_dual::{Derivative, Dual64, DualSVec64};
-use serde::Serialize;
 
 pub use basis::{Basis, MAX_HARMONICS, Window};
 
 use crate::error::Error;
 use crate::model::system::{shape, velocity, velocity_acceleration};
 use crate::model::{Configuration, Lumped, wrap_angle};
+pub use crate::numerics::iteration::{IterationStats, Termination};
+use crate::numerics::ode::OdeError;
 use crate::numerics::ode::{OdeOptions, OdeStats, integrate};
 use crate::plan::{Method, Motion, MotionPoint, Plan, Planner, PlanningProblem, Trajectory};
-
-/// Why the ECSA iteration stopped.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum EcsaTermination {
-    /// The residual reached the tolerance.
-    Converged,
-    /// The iteration limit was reached first.
-    MaxIterations,
-    /// The end point or the residual became non-finite.
-    NonFinite,
-    /// `J J^T + lambda^2 I` was not positive definite (only possible with zero damping).
-    SingularJacobian,
-}
-
-impl std::fmt::Display for EcsaTermination {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(match self {
-            EcsaTermination::Converged => "converged",
-            EcsaTermination::MaxIterations => "iteration limit reached",
-            EcsaTermination::NonFinite => "non-finite end point",
-            EcsaTermination::SingularJacobian => "singular Jacobian",
-        })
-    }
-}
-
-/// Statistics of an ECSA run.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct EcsaStats {
-    /// Pseudo-inverse updates of `c` made.
-    pub iterations: usize,
-    /// Final residual `max_i |wrap(K_i(c) - q_di)|` \[rad\].
-    pub residual: f64,
-    /// The residual tolerance \[rad\].
-    pub tolerance: f64,
-    /// The residual before each update and after the last one \[rad\]: `iterations + 1` entries.
-    pub residual_history: Vec<f64>,
-    /// Why the iteration stopped.
-    pub termination: EcsaTermination,
-    /// Integrator work over all evaluations of `K` and `J`.
-    pub ode: OdeStats,
-}
 
 /// Options of the [`EcsaPlanner`]; every default is the one documented on its field.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -151,7 +111,7 @@ impl EcsaOptions {
     /// Checks every option's range.
     pub fn validate(&self) -> Result<(), Error> {
         let bad = |name: &str, value: f64, expected: &'static str| {
-            Err(Error::InvalidParameter { name: name.into(), value, expected })
+            Err(Error::from(InputError::InvalidParameter { name: name.into(), value, expected }))
         };
         if !(1..=MAX_HARMONICS).contains(&self.harmonics) {
             return bad("harmonics", self.harmonics as f64, "1 to 4 harmonics");
@@ -185,7 +145,7 @@ pub struct EcsaSolution {
     /// `K(c)`, the end point reached by the iteration's last integration \[rad\].
     pub reached: Configuration,
     /// Iterations, residuals, termination.
-    pub stats: EcsaStats,
+    pub stats: IterationStats,
 }
 
 /// The end-point map and its Jacobian at one `c`.
@@ -291,11 +251,11 @@ impl EcsaPlanner {
             let residual = if finite { error.amax() } else { f64::NAN };
             history.push(residual);
             let mut stop = if !finite {
-                Some(EcsaTermination::NonFinite)
+                Some(Termination::NonFinite)
             } else if residual <= o.residual_tolerance {
-                Some(EcsaTermination::Converged)
+                Some(Termination::Converged)
             } else if iterations >= o.max_iterations {
-                Some(EcsaTermination::MaxIterations)
+                Some(Termination::MaxIterations)
             } else {
                 None
             };
@@ -304,11 +264,11 @@ impl EcsaPlanner {
                 let gram = jacobian * jacobian.transpose() + Matrix3::identity() * (o.damping * o.damping);
                 match gram.cholesky() {
                     Some(cholesky) => step = Some(jacobian.transpose() * cholesky.solve(&error)),
-                    None => stop = Some(EcsaTermination::SingularJacobian),
+                    None => stop = Some(Termination::SingularJacobian),
                 }
             }
             if let Some(termination) = stop {
-                let stats = EcsaStats {
+                let stats = IterationStats {
                     iterations,
                     residual,
                     tolerance: o.residual_tolerance,
@@ -316,7 +276,7 @@ impl EcsaPlanner {
                     termination,
                     ode,
                 };
-                if termination != EcsaTermination::Converged {
+                if termination != Termination::Converged {
                     return Err(Error::EcsaFailed { stats });
                 }
                 return Ok(EcsaSolution {
@@ -393,16 +353,20 @@ impl Planner for EcsaPlanner {
 }
 
 fn harmonics_error(h: usize) -> Error {
-    Error::InvalidParameter { name: "harmonics".into(), value: h as f64, expected: "1 to 4 harmonics" }
+    Error::from(InputError::InvalidParameter {
+        name: "harmonics".into(),
+        value: h as f64,
+        expected: "1 to 4 harmonics",
+    })
 }
 
 fn check_length(basis: &Basis, coefficients: &[f64]) -> Result<(), Error> {
     if coefficients.len() != 2 * basis.terms() {
-        return Err(Error::InvalidParameter {
+        return Err(Error::from(InputError::InvalidParameter {
             name: "coefficients".into(),
             value: coefficients.len() as f64,
             expected: "2 (2H + 1) coefficients for H harmonics",
-        });
+        }));
     }
     Ok(())
 }
@@ -430,7 +394,7 @@ fn end_point_dual<const P: usize>(
             }
             DualSVec64::new(re, Derivative::some(eps))
         });
-        Ok(SVector::from(velocity(k, [y[0], y[1], y[2]], u)))
+        Ok::<_, Error>(SVector::from(velocity(k, [y[0], y[1], y[2]], u)))
     };
     let (y, stats) = integrate(rhs, 0.0, y0, basis.horizon(), ode, |_, _| {})?;
     let mut jacobian = SMatrix::<f64, 3, P>::zeros();
@@ -456,7 +420,7 @@ impl Flow<'_> {
         }
         let rhs = |t: f64, y: &Vector3<f64>| {
             let u = self.basis.controls(self.coefficients, t);
-            Ok(Vector3::from(velocity(&self.k, [y[0], y[1], y[2]], u)))
+            Ok::<_, Error>(Vector3::from(velocity(&self.k, [y[0], y[1], y[2]], u)))
         };
         let (y, _) = integrate(rhs, t0, Vector3::from(q0), t1, &self.ode, |_, _| {})?;
         Ok([y[0], y[1], y[2]])
@@ -526,7 +490,7 @@ impl Motion for EcsaMotion {
         let n = self.t.len();
         let horizon = self.basis.horizon();
         if !(t >= 0.0 && t <= horizon * (1.0 + 1e-14)) {
-            return Err(Error::Integration { t, reason: "time outside [0, T] of the plan" });
+            return Err(OdeError { t, reason: "time outside [0, T] of the plan" }.into());
         }
         let dt = horizon / (n - 1) as f64;
         let mut i = ((t / dt).floor() as usize).min(n - 1);

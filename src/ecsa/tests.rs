@@ -25,7 +25,7 @@ fn paper_cases_reach_the_goal() {
                 plan.seconds.plan * 1e3,
                 stats.residual_history
             );
-            assert_eq!(stats.termination, EcsaTermination::Converged);
+            assert_eq!(stats.termination, Termination::Converged);
             assert!(stats.residual <= 1e-10, "a = {a}: residual {}", stats.residual);
             assert_eq!(stats.residual_history.len(), stats.iterations + 1);
             assert!(plan.verification.final_error <= 1e-9, "a = {a}: final error {}", plan.verification.final_error);
@@ -106,7 +106,7 @@ fn iteration_limit_gives_typed_error() {
     let err = planner.plan(&problem(0.3)).unwrap_err();
     let Error::EcsaFailed { stats } = &err else { panic!("expected EcsaFailed, got {err:?}") };
     assert_eq!(stats.iterations, 2);
-    assert_eq!(stats.termination, EcsaTermination::MaxIterations);
+    assert_eq!(stats.termination, Termination::MaxIterations);
     assert_eq!(stats.residual_history.len(), 3);
     assert!(stats.residual > 1e-10);
     assert!(!err.is_bad_input());

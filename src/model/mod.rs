@@ -1,11 +1,13 @@
 //! The robot: the SRC space manipulator's parameters and the lumped constants of the
 //! Lagrangian (Sec. 3.1, after Eq. (3)).
 
+mod error;
+mod robot_file;
 pub mod system;
 
-use serde::{Deserialize, Serialize};
+pub use error::InputError;
 
-use crate::error::Error;
+use serde::{Deserialize, Serialize};
 
 /// Physical parameters of the planar free-floating robot (Sec. 3.1, Fig. 3), SI units.
 ///
@@ -48,7 +50,7 @@ pub struct Mount {
 
 impl Mount {
     /// A mounting point; both coordinates must be finite.
-    pub fn new(a: f64, b: f64) -> Result<Self, Error> {
+    pub fn new(a: f64, b: f64) -> Result<Self, InputError> {
         check_finite("mount.a", a)?;
         check_finite("mount.b", b)?;
         Ok(Self { a, b })
@@ -85,18 +87,18 @@ impl RobotParams {
 
     /// Validates a full parameter set: every value finite; masses, inertia and lengths
     /// positive; `0 < d_i <= l_i` (SPEC §1).
-    pub fn new(params: RobotParams) -> Result<Self, Error> {
+    pub fn new(params: RobotParams) -> Result<Self, InputError> {
         params.validate()?;
         Ok(params)
     }
 
     /// The same robot with the arm mounted at `mount`.
-    pub fn with_mount(self, mount: Mount) -> Result<Self, Error> {
+    pub fn with_mount(self, mount: Mount) -> Result<Self, InputError> {
         Self::new(Self { mount, ..self })
     }
 
     /// Checks the invariants listed at [`RobotParams::new`], naming the first offending key.
-    pub fn validate(&self) -> Result<(), Error> {
+    pub fn validate(&self) -> Result<(), InputError> {
         let positive = [
             ("robot.l1", self.l1),
             ("robot.l2", self.l2),
@@ -110,12 +112,16 @@ impl RobotParams {
         for (name, value) in positive {
             check_finite(name, value)?;
             if value <= 0.0 {
-                return Err(Error::InvalidParameter { name: name.to_string(), value, expected: "a positive value" });
+                return Err(InputError::InvalidParameter {
+                    name: name.to_string(),
+                    value,
+                    expected: "a positive value",
+                });
             }
         }
         for (name, d, l) in [("robot.d1", self.d1, self.l1), ("robot.d2", self.d2, self.l2)] {
             if d > l {
-                return Err(Error::InvalidParameter {
+                return Err(InputError::InvalidParameter {
                     name: name.to_string(),
                     value: d,
                     expected: "a centre of mass on the link: 0 < d_i <= l_i",
@@ -132,11 +138,11 @@ impl RobotParams {
     }
 }
 
-fn check_finite(name: &str, value: f64) -> Result<(), Error> {
+fn check_finite(name: &str, value: f64) -> Result<(), InputError> {
     if value.is_finite() {
         Ok(())
     } else {
-        Err(Error::InvalidParameter { name: name.to_string(), value, expected: "a finite number" })
+        Err(InputError::InvalidParameter { name: name.to_string(), value, expected: "a finite number" })
     }
 }
 
@@ -267,11 +273,11 @@ mod tests {
         let src = RobotParams::src();
         assert!(src.validate().is_ok());
         let bad = RobotParams { m1: -1.0, ..src };
-        assert!(matches!(RobotParams::new(bad), Err(Error::InvalidParameter { name, .. }) if name == "robot.m1"));
+        assert!(matches!(RobotParams::new(bad), Err(InputError::InvalidParameter { name, .. }) if name == "robot.m1"));
         let bad = RobotParams { d2: 0.7, ..src };
-        assert!(matches!(RobotParams::new(bad), Err(Error::InvalidParameter { name, .. }) if name == "robot.d2"));
+        assert!(matches!(RobotParams::new(bad), Err(InputError::InvalidParameter { name, .. }) if name == "robot.d2"));
         let bad = RobotParams { base_inertia: f64::NAN, ..src };
-        assert!(matches!(RobotParams::new(bad), Err(Error::InvalidParameter { name, .. }) if name == "robot.I"));
+        assert!(matches!(RobotParams::new(bad), Err(InputError::InvalidParameter { name, .. }) if name == "robot.I"));
     }
 
     /// The lumped constants against the paper's defining formulas evaluated independently as

@@ -2,5 +2,6 @@
 //! every plan, Gauss–Legendre quadrature and Chebyshev interpolation.
 
 pub mod chebyshev;
+pub mod iteration;
 pub mod ode;
 pub mod quadrature;

@@ -4,6 +4,7 @@
 //! [`Verification`], obtained by integrating the original system (7) with the planned controls,
 //! evaluated exactly at any time through the plan's [`Motion`].
 
+use crate::model::InputError;
 use std::time::Instant;
 
 use num_dual::Dual64;
@@ -37,20 +38,20 @@ impl PlanningProblem {
         for (name, q) in [("start", start), ("goal", goal)] {
             for (axis, x) in ["phi", "theta1", "theta2"].iter().zip(q.to_array()) {
                 if !x.is_finite() {
-                    return Err(Error::InvalidParameter {
+                    return Err(Error::from(InputError::InvalidParameter {
                         name: format!("{name}.{axis}"),
                         value: x,
                         expected: "a finite angle",
-                    });
+                    }));
                 }
             }
         }
         if !(horizon.is_finite() && horizon > 0.0) {
-            return Err(Error::InvalidParameter {
+            return Err(Error::from(InputError::InvalidParameter {
                 name: "time".into(),
                 value: horizon,
                 expected: "a positive, finite horizon [s]",
-            });
+            }));
         }
         Ok(Self { robot, start, goal, horizon })
     }
@@ -274,18 +275,18 @@ impl NfaOptions {
     /// Checks the options (at least two samples, a positive tolerance).
     pub fn validate(&self) -> Result<(), Error> {
         if self.samples < 2 {
-            return Err(Error::InvalidParameter {
+            return Err(Error::from(InputError::InvalidParameter {
                 name: "samples".into(),
                 value: self.samples as f64,
                 expected: "at least 2",
-            });
+            }));
         }
         if !(self.tolerance > 0.0) {
-            return Err(Error::InvalidParameter {
+            return Err(Error::from(InputError::InvalidParameter {
                 name: "tolerance".into(),
                 value: self.tolerance,
                 expected: "a positive number [rad]",
-            });
+            }));
         }
         Ok(())
     }
@@ -620,7 +621,7 @@ pub fn verify(
     let (y, stats) = integrate(
         |t, y: &nalgebra::Vector3<f64>| {
             let u = motion.controls(t)?;
-            Ok(nalgebra::Vector3::from(velocity(&k, [y[0], y[1], y[2]], u)))
+            Ok::<_, Error>(nalgebra::Vector3::from(velocity(&k, [y[0], y[1], y[2]], u)))
         },
         0.0,
         y0,

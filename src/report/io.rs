@@ -1,82 +1,19 @@
-//! Files: the TOML robot file (SPEC §1), the JSON plan report and the CSV trajectory (SPEC §3),
+//! Files: the JSON plan report and the CSV trajectory (SPEC §3),
 //! all written atomically (temporary file, then rename).
 
+use crate::model::InputError;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
-use serde::{Deserialize, Serialize};
+use serde::Serialize;
 
 use crate::error::Error;
-use crate::model::{Mount, RobotParams};
 use crate::plan::{Plan, Trajectory};
-
-/// The `[robot]` table: every key required.
-#[allow(non_snake_case)]
-#[derive(Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
-struct RobotTable {
-    l1: f64,
-    l2: f64,
-    d1: f64,
-    d2: f64,
-    M: f64,
-    I: f64,
-    m1: f64,
-    m2: f64,
-}
-
-/// The `[mount]` table: optional, default `a = b = 0`.
-#[derive(Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
-struct MountTable {
-    a: f64,
-    b: f64,
-}
-
-#[derive(Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
-struct RobotFile {
-    robot: RobotTable,
-    mount: Option<MountTable>,
-}
-
-impl RobotParams {
-    /// Parses and validates a robot file's text (SPEC §1). Unknown keys are errors.
-    ///
-    /// ```
-    /// let text = "[robot]\nl1 = 0.619\nl2 = 0.6\nd1 = 0.313\nd2 = 0.287\nM = 12.9\nI = 0.208\nm1 = 4.5\nm2 = 1.5\n[mount]\na = 0.1\nb = 0.1\n";
-    /// let robot = freefloat::RobotParams::from_toml(text, "robot.toml".as_ref()).unwrap();
-    /// assert_eq!(robot.mount.a, 0.1);
-    /// ```
-    pub fn from_toml(text: &str, path: &Path) -> Result<Self, Error> {
-        let file: RobotFile =
-            toml::from_str(text).map_err(|e| Error::RobotFile { path: path.to_path_buf(), reason: e.to_string() })?;
-        let r = file.robot;
-        let mount = file.mount.map(|m| Mount { a: m.a, b: m.b }).unwrap_or_default();
-        RobotParams::new(RobotParams {
-            l1: r.l1,
-            l2: r.l2,
-            d1: r.d1,
-            d2: r.d2,
-            base_mass: r.M,
-            base_inertia: r.I,
-            m1: r.m1,
-            m2: r.m2,
-            mount,
-        })
-    }
-
-    /// Reads and validates a robot file.
-    pub fn load(path: &Path) -> Result<Self, Error> {
-        let text = std::fs::read_to_string(path).map_err(|source| Error::Io { path: path.to_path_buf(), source })?;
-        Self::from_toml(&text, path)
-    }
-}
 
 /// Writes `bytes` to `path` atomically: a temporary file beside it, then a rename, so that a
 /// crash never leaves a half-written result.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), Error> {
-    let io = |source| Error::Io { path: path.to_path_buf(), source };
+    let io = |source| Error::from(InputError::Io { path: path.to_path_buf(), source });
     let dir = match path.parent() {
         Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
         _ => PathBuf::from("."),
@@ -105,8 +42,9 @@ pub const CSV_HEADER: [&str; 15] = [
 /// column does not apply.
 pub fn trajectory_csv(trajectory: &Trajectory) -> Result<Vec<u8>, Error> {
     let mut w = csv::Writer::from_writer(Vec::new());
-    let csv_err =
-        |e: csv::Error| Error::Io { path: PathBuf::from("<csv>"), source: std::io::Error::other(e.to_string()) };
+    let csv_err = |e: csv::Error| {
+        Error::from(InputError::Io { path: PathBuf::from("<csv>"), source: std::io::Error::other(e.to_string()) })
+    };
     w.write_record(CSV_HEADER).map_err(csv_err)?;
     let cell = |x: Option<f64>| x.map(|v| format!("{v:.17e}")).unwrap_or_default();
     for i in 0..trajectory.t.len() {
@@ -125,7 +63,9 @@ pub fn trajectory_csv(trajectory: &Trajectory) -> Result<Vec<u8>, Error> {
         }
         w.write_record(&row).map_err(csv_err)?;
     }
-    w.into_inner().map_err(|e| Error::Io { path: PathBuf::from("<csv>"), source: std::io::Error::other(e.to_string()) })
+    w.into_inner().map_err(|e| {
+        Error::from(InputError::Io { path: PathBuf::from("<csv>"), source: std::io::Error::other(e.to_string()) })
+    })
 }
 
 /// The JSON report of a plan (SPEC §3: every required key, radians inside).
@@ -260,7 +200,7 @@ pub struct EcsaReport {
     /// Residual before each update and after the last \[rad\].
     pub residual_history: Vec<f64>,
     /// Why the iteration stopped.
-    pub termination: crate::ecsa::EcsaTermination,
+    pub termination: crate::ecsa::Termination,
 }
 
 impl EcsaReport {
@@ -304,30 +244,6 @@ impl PlanReport {
 mod tests {
     use super::*;
 
-    const GOOD: &str =
-        "[robot]\nl1 = 0.619\nl2 = 0.6\nd1 = 0.313\nd2 = 0.287\nM = 12.9\nI = 0.208\nm1 = 4.5\nm2 = 1.5\n";
-
-    #[test]
-    fn robot_file_round_trip_and_errors() {
-        let p = Path::new("r.toml");
-        assert_eq!(RobotParams::from_toml(GOOD, p).unwrap(), RobotParams::src());
-        let unknown = format!("{GOOD}m3 = 1.0\n");
-        let e = RobotParams::from_toml(&unknown, p).unwrap_err().to_string();
-        assert!(e.contains("m3"), "{e}");
-        let missing = GOOD.replace("m2 = 1.5\n", "");
-        assert!(RobotParams::from_toml(&missing, p).unwrap_err().to_string().contains("m2"));
-        for (key, bad) in [("M", "-12.9"), ("I", "nan"), ("l1", "inf"), ("d1", "0.0"), ("m1", "0")] {
-            let text = GOOD.replace(&format!("{key} = "), &format!("{key} = {bad} #"));
-            let e = RobotParams::from_toml(&text, p).unwrap_err();
-            assert!(
-                matches!(&e, Error::InvalidParameter { name, .. } if name == &format!("robot.{key}")),
-                "{key}: {e}"
-            );
-        }
-        let mount = format!("{GOOD}[mount]\na = 0.1\nc = 0.2\n");
-        assert!(RobotParams::from_toml(&mount, p).unwrap_err().to_string().contains('c'));
-    }
-
     #[test]
     fn atomic_write_replaces_whole_file() {
         let dir = tempfile::tempdir().unwrap();
@@ -337,6 +253,6 @@ mod tests {
         assert_eq!(std::fs::read(&path).unwrap(), b"second");
         assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
         let e = write_atomic(&dir.path().join("no/such/dir/x.json"), b"x");
-        assert!(matches!(e, Err(Error::Io { .. })));
+        assert!(matches!(e, Err(Error::Input(InputError::Io { .. }))));
     }
 }

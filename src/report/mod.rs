@@ -105,7 +105,7 @@ pub struct CaseOutcome {
 impl Case {
     /// The robot: the paper's SRC manipulator at this mounting point.
     pub fn robot(&self) -> Result<RobotParams, Error> {
-        RobotParams::src().with_mount(Mount::new(self.a, self.b)?)
+        Ok(RobotParams::src().with_mount(Mount::new(self.a, self.b)?)?)
     }
 
     /// The paper's problem for this robot.

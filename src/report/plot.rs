@@ -6,6 +6,7 @@
 //! machine without any system font. Pictures are rendered in memory; the caller writes the bytes
 //! (atomically, with [`crate::report::io::write_atomic`]).
 
+use crate::model::InputError;
 use std::path::Path;
 use std::sync::OnceLock;
 
@@ -38,7 +39,7 @@ impl PictureFormat {
 }
 
 fn picture_error(path: &Path, reason: impl std::fmt::Display) -> Error {
-    Error::Io { path: path.to_path_buf(), source: std::io::Error::other(reason.to_string()) }
+    Error::from(InputError::Io { path: path.to_path_buf(), source: std::io::Error::other(reason.to_string()) })
 }
 
 const FONT: &str = "sans-serif";

@@ -9,6 +9,7 @@ pub mod centred;
 pub mod general;
 pub mod global;
 
+use crate::model::InputError;
 use serde::Serialize;
 
 use crate::Scalar;
@@ -122,7 +123,11 @@ impl NormalForm {
             });
         }
         if !start.is_finite() {
-            return Err(Error::InvalidParameter { name: "start".into(), value: f64::NAN, expected: "finite angles" });
+            return Err(Error::from(InputError::InvalidParameter {
+                name: "start".into(),
+                value: f64::NAN,
+                expected: "finite angles",
+            }));
         }
         let k = robot.lumped();
         let ab = robot.mount.a.hypot(robot.mount.b);

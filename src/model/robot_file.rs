@@ -1,0 +1,101 @@
+//! The TOML robot file (docs/spec.md, Sec. 1): `[robot]` with every key required, `[mount]`
+//! optional; unknown keys are errors, so that typos never pass silently.
+
+use std::path::Path;
+
+use serde::Deserialize;
+
+use super::{InputError, Mount, RobotParams};
+
+/// The `[robot]` table: every key required.
+#[allow(non_snake_case)]
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RobotTable {
+    l1: f64,
+    l2: f64,
+    d1: f64,
+    d2: f64,
+    M: f64,
+    I: f64,
+    m1: f64,
+    m2: f64,
+}
+
+/// The `[mount]` table: optional, default `a = b = 0`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct MountTable {
+    a: f64,
+    b: f64,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RobotFile {
+    robot: RobotTable,
+    mount: Option<MountTable>,
+}
+
+impl RobotParams {
+    /// Parses and validates a robot file's text (SPEC §1). Unknown keys are errors.
+    ///
+    /// ```
+    /// let text = "[robot]\nl1 = 0.619\nl2 = 0.6\nd1 = 0.313\nd2 = 0.287\nM = 12.9\nI = 0.208\nm1 = 4.5\nm2 = 1.5\n[mount]\na = 0.1\nb = 0.1\n";
+    /// let robot = freefloat::RobotParams::from_toml(text, "robot.toml".as_ref()).unwrap();
+    /// assert_eq!(robot.mount.a, 0.1);
+    /// ```
+    pub fn from_toml(text: &str, path: &Path) -> Result<Self, InputError> {
+        let file: RobotFile = toml::from_str(text)
+            .map_err(|e| InputError::RobotFile { path: path.to_path_buf(), reason: e.to_string() })?;
+        let r = file.robot;
+        let mount = file.mount.map(|m| Mount { a: m.a, b: m.b }).unwrap_or_default();
+        RobotParams::new(RobotParams {
+            l1: r.l1,
+            l2: r.l2,
+            d1: r.d1,
+            d2: r.d2,
+            base_mass: r.M,
+            base_inertia: r.I,
+            m1: r.m1,
+            m2: r.m2,
+            mount,
+        })
+    }
+
+    /// Reads and validates a robot file.
+    pub fn load(path: &Path) -> Result<Self, InputError> {
+        let text =
+            std::fs::read_to_string(path).map_err(|source| InputError::Io { path: path.to_path_buf(), source })?;
+        Self::from_toml(&text, path)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const GOOD: &str =
+        "[robot]\nl1 = 0.619\nl2 = 0.6\nd1 = 0.313\nd2 = 0.287\nM = 12.9\nI = 0.208\nm1 = 4.5\nm2 = 1.5\n";
+
+    #[test]
+    fn robot_file_round_trip_and_errors() {
+        let p = Path::new("r.toml");
+        assert_eq!(RobotParams::from_toml(GOOD, p).unwrap(), RobotParams::src());
+        let unknown = format!("{GOOD}m3 = 1.0\n");
+        let e = RobotParams::from_toml(&unknown, p).unwrap_err().to_string();
+        assert!(e.contains("m3"), "{e}");
+        let missing = GOOD.replace("m2 = 1.5\n", "");
+        assert!(RobotParams::from_toml(&missing, p).unwrap_err().to_string().contains("m2"));
+        for (key, bad) in [("M", "-12.9"), ("I", "nan"), ("l1", "inf"), ("d1", "0.0"), ("m1", "0")] {
+            let text = GOOD.replace(&format!("{key} = "), &format!("{key} = {bad} #"));
+            let e = RobotParams::from_toml(&text, p).unwrap_err();
+            assert!(
+                matches!(&e, InputError::InvalidParameter { name, .. } if name == &format!("robot.{key}")),
+                "{key}: {e}"
+            );
+        }
+        let mount = format!("{GOOD}[mount]\na = 0.1\nc = 0.2\n");
+        assert!(RobotParams::from_toml(&mount, p).unwrap_err().to_string().contains('c'));
+    }
+}
