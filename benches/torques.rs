@@ -6,7 +6,7 @@ use std::hint::black_box;
 use std::time::Duration;
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use freefloat::dynamics::{TorqueOptions, certify_torques, torques_at};
+use freefloat::plan::{TorqueOptions, certify_torques, torques_at};
 use freefloat::{Mount, NfaOptions, NormalFormPlanner, PlanningProblem, RobotParams, Transform};
 
 fn problem(a: f64) -> PlanningProblem {

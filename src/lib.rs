@@ -12,10 +12,11 @@
 //!    system (7) at zero angular momentum ([`model::system`]);
 //! 3. [`dynamics`]: the Lagrangian (3), the inertia matrix, inverse and forward dynamics (6);
 //! 4. [`error`]: the error type of the planners, wrapping the layers' own errors;
-//! 5. [`plan`]: planning problems, the [`Planner`] trait, plans with their certificates at the
-//!    velocity and torque levels;
-//! 6. the planners: [`nfa`] (the feedback transformations (11), (12), (14) to the chained
-//!    form (10), steering, the inverse map) and [`ecsa`] (the paper's reference method);
+//! 5. [`plan`]: planning problems, motions, plans with their certificates at the velocity and
+//!    torque levels;
+//! 6. [`planners`]: the [`Planner`] trait and its implementations, [`planners::nfa`] (the
+//!    feedback transformations (11), (12), (14) to the chained form (10), steering, the inverse
+//!    map) and [`planners::ecsa`] (the paper's reference method);
 //! 7. [`analysis`]: where each transformation exists on the joint torus (Figs. 13-14) and the
 //!    mounting-point design sweep;
 //! 8. [`report`]: pictures, the JSON/CSV reports, the summary and the report page of
@@ -23,19 +24,20 @@
 
 pub mod analysis;
 pub mod dynamics;
-pub mod ecsa;
 pub mod error;
 pub mod model;
-pub mod nfa;
 pub mod numerics;
 pub mod plan;
+pub mod planners;
 pub mod report;
 pub mod scalar;
 
-pub use dynamics::{TorqueOptions, TorquePlan, TorqueReport, torque_plan};
-pub use ecsa::{EcsaOptions, EcsaPlanner, Window};
 pub use error::{Error, Singularity};
 pub use model::{Configuration, Lumped, Mount, RobotParams, paper_problem};
-pub use nfa::normal_form::{NormalForm, Transform};
-pub use plan::{Motion, NfaOptions, NormalFormPlanner, Plan, Planner, PlanningProblem, Trajectory};
+pub use plan::{Method, Motion, Plan, PlanningProblem, Trajectory};
+pub use plan::{TorqueOptions, TorquePlan, TorqueReport, torque_plan};
+pub use planners::ecsa::{EcsaOptions, EcsaPlanner, Window};
+pub use planners::nfa::normal_form::{NormalForm, Transform};
+pub use planners::nfa::{NfaOptions, NormalFormPlanner};
+pub use planners::{Details, Planned, Planner};
 pub use scalar::Scalar;

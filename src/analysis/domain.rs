@@ -3,7 +3,7 @@
 //!
 //! A feedback transformation of Theorem 1 exists where its conditions hold: `sin theta2 != 0` for
 //! Eqs. (11)-(12), `sigma != 0` (Eq. 9) and `P != 0` (Eq. 13) for Eq. (14), and `sigma != 0`
-//! alone for the global normal form of [`crate::nfa::normal_form::global`] (SPEC §6, item 4:
+//! alone for the global normal form of [`crate::planners::nfa::normal_form::global`] (SPEC §6, item 4:
 //! `d > 0` and both arcsin arguments in `[-1, 1]` hold everywhere since `F > 0`; they are checked
 //! anyway). None of them depends on `phi`, so the domain is a region of the torus
 //! `T^2 = [0, 2 pi)^2` of the joint angles. Its zero curves have measure zero: what matters is how
@@ -52,7 +52,7 @@ use serde::Serialize;
 use crate::error::{Error, Singularity};
 use crate::model::system::{Shape, shape, shape_from_trig};
 use crate::model::{Configuration, Lumped, RobotParams};
-use crate::nfa::normal_form::Transform;
+use crate::planners::nfa::normal_form::Transform;
 
 /// Largest grid size accepted: `N^2` cells must fit in memory comfortably.
 pub const MAX_GRID: usize = 8192;

@@ -16,8 +16,10 @@ use serde::{Deserialize, Serialize};
 use crate::analysis::domain::DomainMap;
 use crate::error::Error;
 use crate::model::{Configuration, Mount, RobotParams, paper_problem};
-use crate::nfa::normal_form::Transform;
-use crate::plan::{NfaOptions, NormalFormPlanner, Planner, PlanningProblem};
+use crate::plan::PlanningProblem;
+use crate::planners::Planner;
+use crate::planners::nfa::normal_form::Transform;
+use crate::planners::nfa::{NfaOptions, NormalFormPlanner};
 
 /// `steps` equally spaced values from `min` to `max`, both included (`min` alone when
 /// `steps = 1`).
@@ -272,7 +274,7 @@ fn successes(robot: &RobotParams, transform: Transform, options: &SweepOptions) 
         .filter(|&trial| {
             let (start, goal) = trial_pair(options.seed, trial);
             let problem = PlanningProblem { robot: *robot, start, goal, horizon: options.horizon };
-            planner.plan(&problem).is_ok_and(|plan| plan.verification.certified)
+            planner.plan(&problem).is_ok_and(|planned| planned.plan.verification.certified)
         })
         .count()
 }

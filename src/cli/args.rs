@@ -1,4 +1,4 @@
-//! Raw command-line flags (clap), before validation.
+//! Every command-line flag (clap), before validation: the one place that declares them.
 
 use std::path::PathBuf;
 
@@ -21,9 +21,9 @@ pub enum Command {
     /// Regenerate the paper's results (Sec. 5) on the built-in defaults.
     Reproduce(ReproduceArgs),
     /// Map the domain of existence of a feedback transformation on the joint torus (Figs. 13-14).
-    Domain(super::domain::DomainArgs),
+    Domain(DomainArgs),
     /// Sweep mounting points (a, b): domain of Eq. (14) and NFA success rate; shardable.
-    MountSweep(super::sweep::SweepArgs),
+    MountSweep(SweepArgs),
 }
 
 /// The robot: a preset or a TOML file, and the mounting point.
@@ -46,11 +46,9 @@ pub enum Preset {
     Src,
 }
 
-/// The planning problem and the method.
+/// Start, goal and horizon of a planning problem (the paper's by default).
 #[derive(Debug, Args, Clone)]
-pub struct ProblemArgs {
-    #[command(flatten)]
-    pub robot: RobotArgs,
+pub struct EndsArgs {
     /// Start configuration PHI,TH1,TH2 in deg.
     #[arg(long, value_name = "PHI,TH1,TH2", default_value = "45,120,80", allow_hyphen_values = true)]
     pub from: String,
@@ -60,6 +58,15 @@ pub struct ProblemArgs {
     /// Horizon T in s.
     #[arg(long, value_name = "T", default_value_t = 10.0)]
     pub time: f64,
+}
+
+/// The planning problem and the method.
+#[derive(Debug, Args, Clone)]
+pub struct ProblemArgs {
+    #[command(flatten)]
+    pub robot: RobotArgs,
+    #[command(flatten)]
+    pub ends: EndsArgs,
     /// Feedback transformation of the NFA.
     #[arg(long, value_enum, default_value_t = TransformArg::Auto)]
     pub transform: TransformArg,
@@ -115,6 +122,15 @@ pub enum MethodArg {
     Ecsa,
 }
 
+impl From<MethodArg> for freefloat::Method {
+    fn from(m: MethodArg) -> Self {
+        match m {
+            MethodArg::Nfa => freefloat::Method::Nfa,
+            MethodArg::Ecsa => freefloat::Method::Ecsa,
+        }
+    }
+}
+
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum Format {
     /// A human-readable table.
@@ -154,4 +170,110 @@ pub struct ReproduceArgs {
     /// Output directory.
     #[arg(long, value_name = "DIR", default_value = "out")]
     pub out: PathBuf,
+}
+
+/// Flags of `freefloat domain`.
+#[derive(Debug, Args)]
+pub struct DomainArgs {
+    #[command(flatten)]
+    pub robot: RobotArgs,
+    /// Feedback transformation whose domain is mapped.
+    #[arg(long, value_enum, default_value_t = TransformArg::Auto)]
+    pub transform: TransformArg,
+    /// The map has GRID x GRID cells on the (theta1, theta2) torus.
+    #[arg(long, value_name = "N", default_value_t = 720)]
+    pub grid: usize,
+    /// Output format on stdout.
+    #[arg(long, value_enum, default_value_t = DomainFormat::Table)]
+    pub format: DomainFormat,
+    /// Also draw the map to FILE (.svg or .png).
+    #[arg(long, value_name = "FILE")]
+    pub plot: Option<PathBuf>,
+    /// Start and goal of the NFA plan drawn on the map.
+    #[command(flatten)]
+    pub ends: EndsArgs,
+    /// Samples of that plan.
+    #[arg(long, value_name = "N", default_value_t = 1001)]
+    pub samples: usize,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum DomainFormat {
+    /// A human-readable table.
+    Table,
+    /// One JSON object.
+    Json,
+}
+
+/// Flags of `freefloat mount-sweep`.
+#[derive(Debug, Args)]
+#[command(args_conflicts_with_subcommands = true)]
+pub struct SweepArgs {
+    #[command(subcommand)]
+    pub command: Option<SweepCommand>,
+    #[command(flatten)]
+    pub run: SweepRunArgs,
+}
+
+#[derive(Debug, Subcommand)]
+pub enum SweepCommand {
+    /// Merge the CSV files of the shards of one sweep into the whole.
+    Merge(MergeArgs),
+}
+
+#[derive(Debug, Args)]
+pub struct MergeArgs {
+    /// The shards' CSV files.
+    #[arg(required = true, value_name = "FILES")]
+    pub files: Vec<PathBuf>,
+    /// The merged CSV file.
+    #[arg(long, value_name = "FILE.csv")]
+    pub out: PathBuf,
+    /// Also draw the heat maps to FILE (.svg or .png).
+    #[arg(long, value_name = "FILE")]
+    pub plot: Option<PathBuf>,
+}
+
+#[derive(Debug, Args)]
+pub struct SweepRunArgs {
+    #[command(flatten)]
+    pub robot: RobotArgs,
+    /// Range of a, MIN,MAX in m.
+    #[arg(long = "a", value_name = "MIN,MAX", default_value = "-0.3,0.3", allow_hyphen_values = true)]
+    pub a_range: String,
+    /// Range of b, MIN,MAX in m.
+    #[arg(long = "b", value_name = "MIN,MAX", default_value = "-0.3,0.3", allow_hyphen_values = true)]
+    pub b_range: String,
+    /// Number of values of a and of b (both ends included): NA or NA,NB.
+    #[arg(long, value_name = "NA[,NB]", default_value = "41")]
+    pub steps: String,
+    /// Grid size of each domain map.
+    #[arg(long, value_name = "N", default_value_t = 256)]
+    pub grid: usize,
+    /// Random start/goal pairs per mounting point.
+    #[arg(long, value_name = "K", default_value_t = 100)]
+    pub trials: usize,
+    /// Seed of the random pairs (the same pairs at every mounting point).
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+    /// NFA samples per plan (the verification is exact at any sample count).
+    #[arg(long, value_name = "N", default_value_t = 201)]
+    pub samples: usize,
+    /// The start whose component is measured, the goal checked for connection with it, and the
+    /// horizon of every plan.
+    #[command(flatten)]
+    pub ends: EndsArgs,
+    /// Run only part K of N (K from 1): every N-th point from the K-th.
+    #[arg(long, value_name = "K/N")]
+    pub shard: Option<String>,
+    /// Write the CSV to FILE (default: stdout).
+    #[arg(long, value_name = "FILE.csv")]
+    pub out: Option<PathBuf>,
+    /// Also draw the heat maps to FILE (.svg or .png).
+    #[arg(long, value_name = "FILE")]
+    pub plot: Option<PathBuf>,
+    /// Also rate the global normal form (beyond the paper; its band-steered plans cost
+    /// milliseconds more each: use fewer points or trials).
+    #[arg(long)]
+    pub global: bool,
 }

@@ -1,56 +1,16 @@
 //! `freefloat domain`: the domain of existence of a feedback transformation on the joint torus
 //! (SPEC §3; Figs. 13-14), its components, and whether `q0` and `qd` are connected.
 
-use std::path::PathBuf;
 use std::process::ExitCode;
 
-use clap::{Args, ValueEnum};
 use freefloat::analysis::domain::{DomainMap, DomainSummary};
+use freefloat::planners::{Planned, PlannerOptions, planner};
 use freefloat::report::io::write_atomic;
 use freefloat::report::plot::{DomainOverlay, PictureFormat, domain_picture};
-use freefloat::{Configuration, NfaOptions, NormalFormPlanner, Planner, PlanningProblem, Transform};
+use freefloat::{Configuration, Method, NfaOptions, PlanningProblem, Transform};
 use serde::Serialize;
 
-use super::args::{RobotArgs, TransformArg};
-
-/// Flags of `freefloat domain`.
-#[derive(Debug, Args)]
-pub struct DomainArgs {
-    #[command(flatten)]
-    pub robot: RobotArgs,
-    /// Feedback transformation whose domain is mapped.
-    #[arg(long, value_enum, default_value_t = TransformArg::Auto)]
-    pub transform: TransformArg,
-    /// The map has GRID x GRID cells on the (theta1, theta2) torus.
-    #[arg(long, value_name = "N", default_value_t = 720)]
-    pub grid: usize,
-    /// Output format on stdout.
-    #[arg(long, value_enum, default_value_t = DomainFormat::Table)]
-    pub format: DomainFormat,
-    /// Also draw the map to FILE (.svg or .png).
-    #[arg(long, value_name = "FILE")]
-    pub plot: Option<PathBuf>,
-    /// Start configuration PHI,TH1,TH2 [deg].
-    #[arg(long, value_name = "PHI,TH1,TH2", default_value = "45,120,80", allow_hyphen_values = true)]
-    pub from: String,
-    /// Goal configuration PHI,TH1,TH2 [deg].
-    #[arg(long, value_name = "PHI,TH1,TH2", default_value = "0,180,140", allow_hyphen_values = true)]
-    pub to: String,
-    /// Horizon T in s of the NFA plan from --from to --to drawn on the map.
-    #[arg(long, value_name = "T", default_value_t = 10.0)]
-    pub time: f64,
-    /// Samples of that plan.
-    #[arg(long, value_name = "N", default_value_t = 1001)]
-    pub samples: usize,
-}
-
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum DomainFormat {
-    /// A human-readable table.
-    Table,
-    /// One JSON object.
-    Json,
-}
+use super::args::{DomainArgs, DomainFormat, TransformArg};
 
 /// The NFA plan from q0 to qd with the mapped transformation.
 #[derive(Debug, Serialize)]
@@ -81,19 +41,18 @@ pub fn run(args: &DomainArgs) -> anyhow::Result<ExitCode> {
         TransformArg::Eq14 => Transform::Eq14,
         TransformArg::Global => Transform::Global,
     };
-    let [p0, a0, b0] = super::parse_list::<3>("--from", &args.from)?;
-    let [p1, a1, b1] = super::parse_list::<3>("--to", &args.to)?;
+    let [p0, a0, b0] = super::parse_list::<3>("--from", &args.ends.from)?;
+    let [p1, a1, b1] = super::parse_list::<3>("--to", &args.ends.to)?;
     let (start, goal) = (Configuration::from_degrees(p0, a0, b0), Configuration::from_degrees(p1, a1, b1));
     let format = args.plot.as_deref().map(PictureFormat::from_path).transpose()?;
     let clock = std::time::Instant::now();
     let map = DomainMap::new(&robot, transform, args.grid)?;
     let seconds = clock.elapsed().as_secs_f64();
     let summary = map.summary(&start, &goal);
-    let problem = PlanningProblem::new(robot, start, goal, args.time)?;
-    let planner =
-        NormalFormPlanner::new(NfaOptions { transform: Some(transform), samples: args.samples, ..Default::default() });
-    let (plan, path) = match planner.plan(&problem) {
-        Ok(plan) => {
+    let problem = PlanningProblem::new(robot, start, goal, args.ends.time)?;
+    let nfa = NfaOptions { transform: Some(transform), samples: args.samples, ..Default::default() };
+    let (plan, path) = match planner(Method::Nfa, &PlannerOptions { nfa, ..Default::default() }).plan(&problem) {
+        Ok(Planned { plan, .. }) => {
             let v = &plan.verification;
             let path = plan.trajectory.q.iter().map(|q| (q[1], q[2])).collect::<Vec<_>>();
             (PlanCheck { certified: v.certified, final_error: Some(v.final_error), error: None }, Some(path))

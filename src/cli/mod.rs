@@ -69,13 +69,13 @@ pub fn robot(args: &RobotArgs) -> anyhow::Result<RobotParams> {
 /// The planning problem of the flags.
 pub fn problem(args: &ProblemArgs) -> anyhow::Result<freefloat::PlanningProblem> {
     let robot = robot(&args.robot)?;
-    let [p0, a0, b0] = parse_list::<3>("--from", &args.from)?;
-    let [p1, a1, b1] = parse_list::<3>("--to", &args.to)?;
+    let [p0, a0, b0] = parse_list::<3>("--from", &args.ends.from)?;
+    let [p1, a1, b1] = parse_list::<3>("--to", &args.ends.to)?;
     Ok(freefloat::PlanningProblem::new(
         robot,
         Configuration::from_degrees(p0, a0, b0),
         Configuration::from_degrees(p1, a1, b1),
-        args.time,
+        args.ends.time,
     )?)
 }
 

@@ -3,65 +3,32 @@
 use std::process::ExitCode;
 
 use anyhow::bail;
-use freefloat::dynamics::{TorqueOptions, TorqueReport};
-use freefloat::ecsa::EcsaSolution;
-use freefloat::plan::{Method, Motion};
+use freefloat::plan::{Method, Plan, PlanningProblem, TorqueOptions};
+use freefloat::planners::{Planned, PlannerOptions, planner};
 use freefloat::report::io::{PlanReport, trajectory_csv, write_atomic};
-use freefloat::{EcsaPlanner, NormalFormPlanner, Plan, PlanningProblem};
 
-use super::args::{CompareArgs, Format, MethodArg, PlanArgs, ProblemArgs};
+use super::args::{CompareArgs, Format, PlanArgs, ProblemArgs};
 
-/// A plan with what the reports need: the ECSA's solution and the torque level.
-struct Planned {
-    plan: Plan,
-    solution: Option<EcsaSolution>,
-    torques: Option<TorqueReport>,
+/// The planner options of the flags.
+fn planner_options(args: &ProblemArgs) -> anyhow::Result<PlannerOptions> {
+    Ok(PlannerOptions { nfa: super::nfa_options(args), ecsa: super::ecsa_options(args)? })
 }
 
-impl Planned {
-    /// The JSON report, with the ECSA details and the torque level when there are any.
-    fn report(&self, with_trajectory: bool) -> PlanReport {
-        let mut report = PlanReport::new(&self.plan, with_trajectory);
-        if let Some(s) = &self.solution {
-            report = report.with_ecsa(s);
-        }
-        if let Some(t) = &self.torques {
-            report = report.with_torques(t);
-        }
-        report
-    }
-
-    /// Both certificates: the velocity level, and the torque level when computed.
-    fn certified(&self) -> Result<(), freefloat::Error> {
-        self.plan.certified()?;
-        self.torques.as_ref().map_or(Ok(()), TorqueReport::check)
-    }
-}
-
-/// Plans with `method`; with `--torques`, adds the torque level (SPEC §2): inverse dynamics at
-/// the samples, and the forward-dynamics certificate. Bad flags are the outer error, a problem
-/// without a plan the inner one.
+/// Plans with `method`; with `--torques`, adds the torque level (docs/spec.md, Sec. 2): inverse
+/// dynamics at the samples, and the forward-dynamics certificate. Bad flags are the outer error,
+/// a problem without a plan the inner one.
 fn plan_with(
-    method: MethodArg,
+    method: Method,
     args: &ProblemArgs,
     problem: &PlanningProblem,
 ) -> anyhow::Result<Result<Planned, freefloat::Error>> {
-    let nfa = NormalFormPlanner::new(super::nfa_options(args));
-    let ecsa = EcsaPlanner::new(super::ecsa_options(args)?);
+    let planner = planner(method, &planner_options(args)?);
     let planned = |problem: &PlanningProblem| -> Result<Planned, freefloat::Error> {
-        let (mut plan, solution, motion): (Plan, Option<EcsaSolution>, Box<dyn Motion>) = match method {
-            MethodArg::Nfa => {
-                let (plan, motion) = nfa.plan_with_motion(problem)?;
-                (plan, None, Box::new(motion))
-            }
-            MethodArg::Ecsa => {
-                let (plan, solution) = ecsa.plan_with_solution(problem)?;
-                let motion = ecsa.motion(problem, &solution)?;
-                (plan, Some(solution), Box::new(motion))
-            }
-        };
-        let torques = if args.torques { Some(add_torques(&mut plan, motion.as_ref())?) } else { None };
-        Ok(Planned { plan, solution, torques })
+        let mut planned = planner.plan(problem)?;
+        if args.torques {
+            planned.add_torques(&TorqueOptions::default())?;
+        }
+        Ok(planned)
     };
     let cap = match args.max_velocity {
         Some(v) if !(v.is_finite() && v > 0.0) => bail!("--max-velocity {v}: expected a positive number of rad/s"),
@@ -82,17 +49,12 @@ fn plan_with(
     })
 }
 
-/// The torque level of `plan` (SPEC §2), certificate tolerance 1e-6 rad.
-fn add_torques(plan: &mut Plan, motion: &dyn Motion) -> Result<TorqueReport, freefloat::Error> {
-    freefloat::dynamics::add_torques(plan, motion, &TorqueOptions::default())
-}
-
 /// Runs `plan`: exit 0 with a certified plan, 3 (numbers on stderr) otherwise.
 pub fn run(args: &PlanArgs) -> anyhow::Result<ExitCode> {
     let problem = super::problem(&args.problem)?;
-    let planned = plan_with(args.method, &args.problem, &problem)??;
+    let planned = plan_with(args.method.into(), &args.problem, &problem)??;
     let plan = &planned.plan;
-    let r = planned.report(false);
+    let r = PlanReport::new(&planned, false);
     match args.format {
         Format::Table => print!("{}", table(plan, &r)),
         Format::Json => println!("{}", serde_json::to_string_pretty(&r)?),
@@ -101,7 +63,7 @@ pub fn run(args: &PlanArgs) -> anyhow::Result<ExitCode> {
     if let Some(path) = &args.out {
         let bytes = match path.extension().and_then(|e| e.to_str()) {
             Some("csv") => trajectory_csv(&plan.trajectory)?,
-            Some("json") => serde_json::to_vec_pretty(&planned.report(true))?,
+            Some("json") => serde_json::to_vec_pretty(&PlanReport::new(&planned, true))?,
             _ => bail!("--out {}: the file name must end in .json or .csv", path.display()),
         };
         write_atomic(path, &bytes)?;
@@ -118,7 +80,7 @@ pub fn compare(args: &CompareArgs) -> anyhow::Result<ExitCode> {
     }
     let problem = super::problem(&args.problem)?;
     let mut results = Vec::new();
-    for method in [MethodArg::Nfa, MethodArg::Ecsa] {
+    for method in [Method::Nfa, Method::Ecsa] {
         let result = plan_with(method, &args.problem, &problem)?;
         if let Err(e) = result {
             if e.is_bad_input() {
@@ -132,7 +94,7 @@ pub fn compare(args: &CompareArgs) -> anyhow::Result<ExitCode> {
     let reports: Vec<Result<PlanReport, String>> = results
         .iter()
         .map(|r| match r {
-            Ok(planned) => Ok(planned.report(false)),
+            Ok(planned) => Ok(PlanReport::new(planned, false)),
             Err(e) => Err(e.to_string()),
         })
         .collect();
@@ -318,16 +280,17 @@ pub fn table(plan: &Plan, r: &PlanReport) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use freefloat::{Mount, Planner, RobotParams, Transform};
+    use freefloat::{Mount, RobotParams, Transform};
 
     fn reports(a: f64, transform: Option<Transform>) -> (PlanningProblem, Vec<Result<PlanReport, String>>) {
         let robot = RobotParams::src().with_mount(Mount::new(a, -a).expect("finite")).expect("valid");
         let problem = PlanningProblem::paper(robot);
-        let options = freefloat::NfaOptions { transform, ..Default::default() };
-        let nfa = NormalFormPlanner::new(options).plan(&problem).map(|p| PlanReport::new(&p, false));
-        let ecsa =
-            EcsaPlanner::default().plan_with_solution(&problem).map(|(p, s)| PlanReport::new(&p, false).with_ecsa(&s));
-        (problem, vec![nfa.map_err(|e| e.to_string()), ecsa.map_err(|e| e.to_string())])
+        let options =
+            PlannerOptions { nfa: freefloat::NfaOptions { transform, ..Default::default() }, ..Default::default() };
+        let report = |method| {
+            planner(method, &options).plan(&problem).map(|p| PlanReport::new(&p, false)).map_err(|e| e.to_string())
+        };
+        (problem, vec![report(Method::Nfa), report(Method::Ecsa)])
     }
 
     /// The paper's problem: both columns filled, JSON has both reports with SPEC §3's keys.
@@ -364,10 +327,12 @@ mod tests {
     #[test]
     fn torques_fill_report_csv_and_table() {
         let problem = PlanningProblem::paper(RobotParams::src());
-        let options = freefloat::NfaOptions { samples: 101, accelerations: true, ..Default::default() };
-        let (mut plan, motion) = NormalFormPlanner::new(options).plan_with_motion(&problem).unwrap();
-        let torques = add_torques(&mut plan, &motion).unwrap();
-        let report = PlanReport::new(&plan, false).with_torques(&torques);
+        let nfa = freefloat::NfaOptions { samples: 101, accelerations: true, ..Default::default() };
+        let options = PlannerOptions { nfa, ..Default::default() };
+        let mut planned = planner(Method::Nfa, &options).plan(&problem).unwrap();
+        planned.add_torques(&TorqueOptions::default()).unwrap();
+        let plan = &planned.plan;
+        let report = PlanReport::new(&planned, false);
         let json: serde_json::Value = serde_json::to_value(&report).unwrap();
         assert!(json["max_abs_torque"].as_array().is_some_and(|a| a.len() == 2));
         assert!(json["torque_final_error"].as_f64().is_some_and(|e| e <= 1e-6));
@@ -376,7 +341,7 @@ mod tests {
         let csv = String::from_utf8(trajectory_csv(&plan.trajectory).unwrap()).unwrap();
         let row = csv.lines().nth(50).unwrap();
         assert!(row.split(',').skip(13).all(|cell| cell.parse::<f64>().is_ok()), "{row}");
-        let text = table(&plan, &report);
+        let text = table(plan, &report);
         assert!(text.contains("max |tau1|, |tau2|") && text.contains("torque final error"), "{text}");
 
         let failed = freefloat::Error::NotCertified { final_error: 2e-6, tolerance: 1e-6, level: "torque" };

@@ -1,6 +1,6 @@
 //! The robot's dynamics from the Lagrangian (3) (Sec. 3.1): inertia matrix, Coriolis and
-//! centrifugal terms, the Euler–Lagrange equations (6), exact inverse dynamics along any
-//! [`Motion`], and the forward-dynamics certificate of a torque plan.
+//! centrifugal terms, the Euler–Lagrange equations (6), inverse and forward dynamics at one point
+//! of a motion. (The torques along a plan and their certificate are in [`crate::plan`].)
 //!
 //! The centre of mass `(x, y)` moves uniformly and decouples (Eq. 4), so the dynamics live on
 //! `q = (phi, theta1, theta2)`: with `L = (1/2) q'^T M(q) q'` the equations of motion are
@@ -11,19 +11,12 @@
 //! whose first row is `d/dt (F phi' + G theta1' + H theta2') = 0`, the conservation of angular
 //! momentum (5) (the base is not actuated), and whose last two rows are Eq. (6).
 
-use crate::model::InputError;
-use crate::numerics::ode::OdeError;
-use std::time::Instant;
-
-use nalgebra::{Matrix3, Vector3, Vector6};
+use nalgebra::{Matrix3, Vector3};
 use serde::Serialize;
 
 use crate::Scalar;
-use crate::error::Error;
-use crate::model::system::{momentum, shape, velocity_acceleration};
+use crate::model::system::{MotionPoint, shape, velocity_acceleration};
 use crate::model::{Configuration, Lumped};
-use crate::numerics::ode::{OdeOptions, OdeStats, integrate};
-use crate::plan::{Motion, MotionPoint, PlanningProblem};
 
 /// The Lagrangian (3) without the decoupled term `(1/2) m_c (x'^2 + y'^2)` of the centre of mass
 /// (Eq. 4): kinetic energy of the base and the arm \[J\] at `q = (phi, theta1, theta2)` \[rad\] with
@@ -205,218 +198,6 @@ pub fn joint_torques(k: &Lumped, point: &MotionPoint) -> [f64; 2] {
     let tau2 = H * dw + m12c * du1 + B * du2 + dH * w + dm12 * u1
         - 0.5 * (F2 * w * w + 2.0 * w * (G2 * u1 + H2 * u2) - 2.0 * C * s2 * u1 * (u1 + u2));
     [tau1, tau2]
-}
-
-/// Joint torques `(tau1, tau2)` [N m] along `motion` at the given times \[s\] (e.g. a
-/// trajectory's samples), exact: the motion's own `u` and `u'` at each time
-/// ([`Motion::points`]) through [`joint_torques`], no finite differences.
-pub fn torques_at(k: &Lumped, motion: &dyn Motion, times: &[f64]) -> Result<Vec<[f64; 2]>, Error> {
-    Ok(motion.points(times)?.iter().map(|p| joint_torques(k, p)).collect())
-}
-
-/// Options of the torque-level certificate.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct TorqueOptions {
-    /// Integrator options of the forward dynamics (default rtol = atol = 1e-12, SPEC §2).
-    pub ode: OdeOptions,
-    /// Largest certified final error of the torque plan \[rad\]; default 1e-6 (SPEC §2).
-    pub tolerance: f64,
-}
-
-impl Default for TorqueOptions {
-    fn default() -> Self {
-        Self { ode: OdeOptions::default(), tolerance: 1e-6 }
-    }
-}
-
-impl TorqueOptions {
-    /// Checks the options (a positive tolerance).
-    pub fn validate(&self) -> Result<(), Error> {
-        if !(self.tolerance > 0.0) {
-            return Err(Error::from(InputError::InvalidParameter {
-                name: "torque tolerance".into(),
-                value: self.tolerance,
-                expected: "a positive number [rad]",
-            }));
-        }
-        Ok(())
-    }
-}
-
-/// The forward-dynamics certificate of a torque plan.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-pub struct TorqueCertificate {
-    /// `max_i |wrap(q_i(T) - qd_i)|` \[rad\] of the forward dynamics (SPEC §2).
-    pub final_error: f64,
-    /// `q(T)` reached by the forward dynamics \[rad\].
-    pub reached: Configuration,
-    /// Largest `max_i |q_i(t) - q_plan_i(t)|` over the integrator's steps \[rad\].
-    pub max_path_deviation: f64,
-    /// Largest `|F phi' + G theta1' + H theta2'|` (Eq. 5) over the integrator's steps
-    /// [kg m^2/s]: the angular momentum, zero for the plan.
-    pub max_abs_momentum: f64,
-    /// Tolerance the final error is held to \[rad\].
-    pub tolerance: f64,
-    /// `final_error <= tolerance`.
-    pub certified: bool,
-    /// Integrator work.
-    pub stats: OdeStats,
-}
-
-/// The forward-dynamics certificate: integrates `M q'' + c = (0, tau1(t), tau2(t))` (base
-/// unactuated) from `q0` at rest, with the torques of `motion` evaluated exactly at every stage
-/// time ([`joint_torques`] of [`Motion::at`]), and measures the final error against the goal,
-/// the deviation from the planned path and the angular momentum along the way.
-///
-/// The start is at rest, as the problem demands (SPEC §2), whatever the motion's `u(0)`: a motion
-/// whose joint velocities do not vanish at `t = 0` (ECSA's trigonometric controls, SPEC §6,
-/// item 8) cannot be followed from rest, and the certificate shows it.
-pub fn certify_torques(
-    motion: &dyn Motion,
-    problem: &PlanningProblem,
-    options: &TorqueOptions,
-) -> Result<TorqueCertificate, Error> {
-    options.validate()?;
-    let k = problem.robot.lumped();
-    let q0 = problem.start.to_array();
-    let y0 = Vector6::new(q0[0], q0[1], q0[2], 0.0, 0.0, 0.0);
-    let split = |y: &Vector6<f64>| (Configuration::new(y[0], y[1], y[2]), [y[3], y[4], y[5]]);
-    let mut deviation: f64 = 0.0;
-    let mut max_momentum: f64 = 0.0;
-    let mut observe_error = None;
-    let (y, stats) = integrate(
-        |t, y: &Vector6<f64>| {
-            let tau = joint_torques(&k, &motion.at(t)?);
-            let (q, dq) = split(y);
-            let ddq = forward_dynamics(&k, &q, dq, [0.0, tau[0], tau[1]]);
-            Ok(Vector6::new(dq[0], dq[1], dq[2], ddq[0], ddq[1], ddq[2]))
-        },
-        0.0,
-        y0,
-        problem.horizon,
-        &options.ode,
-        |t, y| {
-            let (q, dq) = split(y);
-            max_momentum = max_momentum.max(momentum(&k, &q, dq).abs());
-            match motion.at(t) {
-                Ok(p) => {
-                    let d = (Vector3::from(q.to_array()) - Vector3::from(p.q.to_array())).abs().max();
-                    deviation = deviation.max(d);
-                }
-                Err(e) => observe_error = Some(e),
-            }
-        },
-    )
-    .map_err(|e| match e {
-        Error::Integration(OdeError { t, reason }) => Error::TorqueDiverges { t, reason },
-        e => e,
-    })?;
-    if let Some(e) = observe_error {
-        return Err(e);
-    }
-    let reached = Configuration::new(y[0], y[1], y[2]);
-    let final_error = reached.distance(&problem.goal);
-    Ok(TorqueCertificate {
-        final_error,
-        reached,
-        max_path_deviation: deviation,
-        max_abs_momentum: max_momentum,
-        tolerance: options.tolerance,
-        certified: final_error.is_finite() && final_error <= options.tolerance,
-        stats,
-    })
-}
-
-/// Wall time of the torque stages \[s\].
-#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize)]
-pub struct TorqueSeconds {
-    /// Inverse dynamics at the samples.
-    pub torques: f64,
-    /// The forward-dynamics certificate and the base-row check.
-    pub verify: f64,
-}
-
-/// The torque level of a plan: peak torques at the samples and the forward-dynamics certificate.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-pub struct TorqueReport {
-    /// `[max |tau1|, max |tau2|]` over the samples [N m].
-    pub max_abs_torque: [f64; 2],
-    /// Largest `|Q_phi|` over the samples [N m]: the base row of the Euler–Lagrange equations
-    /// by the reference [`inverse_dynamics`], zero up to rounding since the motion conserves the
-    /// angular momentum.
-    pub max_abs_base_residual: f64,
-    /// The forward-dynamics certificate.
-    pub certificate: TorqueCertificate,
-    /// Wall time.
-    pub seconds: TorqueSeconds,
-}
-
-impl TorqueReport {
-    /// `Ok` if the certificate holds, else [`Error::NotCertified`] at the `torque` level.
-    pub fn check(&self) -> Result<(), Error> {
-        let c = &self.certificate;
-        if c.certified {
-            Ok(())
-        } else {
-            Err(Error::NotCertified { final_error: c.final_error, tolerance: c.tolerance, level: "torque" })
-        }
-    }
-}
-
-/// The torque plan: torques at the samples (to fill [`crate::Trajectory::tau`]) and its report.
-#[derive(Debug, Clone, PartialEq)]
-pub struct TorquePlan {
-    /// `(tau1, tau2)` [N m] at each sample time.
-    pub tau: Vec<[f64; 2]>,
-    /// Peaks and certificate.
-    pub report: TorqueReport,
-}
-
-/// Inverse dynamics of `motion` at `times` ([`torques_at`]) followed by the forward-dynamics
-/// certificate ([`certify_torques`]), each timed.
-pub fn torque_plan(
-    motion: &dyn Motion,
-    problem: &PlanningProblem,
-    times: &[f64],
-    options: &TorqueOptions,
-) -> Result<TorquePlan, Error> {
-    options.validate()?;
-    let clock = Instant::now();
-    let k = problem.robot.lumped();
-    let tau = torques_at(&k, motion, times)?;
-    let torques_seconds = clock.elapsed().as_secs_f64();
-    let clock = Instant::now();
-    let certificate = certify_torques(motion, problem, options)?;
-    // The base row of the Euler–Lagrange equations at the samples, by the reference path.
-    let mut max_abs_base_residual = 0.0_f64;
-    for p in motion.points(times)? {
-        max_abs_base_residual = max_abs_base_residual.max(inverse_dynamics(&k, &p).base_residual.abs());
-    }
-    let verify_seconds = clock.elapsed().as_secs_f64();
-    let max_abs_torque = tau.iter().fold([0.0_f64; 2], |m, t| [m[0].max(t[0].abs()), m[1].max(t[1].abs())]);
-    Ok(TorquePlan {
-        tau,
-        report: TorqueReport {
-            max_abs_torque,
-            max_abs_base_residual,
-            certificate,
-            seconds: TorqueSeconds { torques: torques_seconds, verify: verify_seconds },
-        },
-    })
-}
-
-/// The torque level of `plan` (SPEC §2) along its `motion`: [`torque_plan`] at the plan's
-/// samples, the torques into `plan.trajectory.tau`, their wall time into
-/// `plan.seconds.torques`; returns the report with the forward-dynamics certificate.
-pub fn add_torques(
-    plan: &mut crate::plan::Plan,
-    motion: &dyn Motion,
-    options: &TorqueOptions,
-) -> Result<TorqueReport, Error> {
-    let tp = torque_plan(motion, &plan.problem, &plan.trajectory.t, options)?;
-    plan.trajectory.tau = Some(tp.tau);
-    plan.seconds.torques = Some(tp.report.seconds.torques);
-    Ok(tp.report)
 }
 
 #[cfg(test)]

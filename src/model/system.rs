@@ -97,6 +97,18 @@ pub fn momentum(k: &Lumped, q: &Configuration, dq: [f64; 3]) -> f64 {
     s.F * dq[0] + s.G * dq[1] + s.H * dq[2]
 }
 
+/// A point of a motion of system (7): the configuration, the controls `u` (joint velocities)
+/// and their rates; what the inverse dynamics needs.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MotionPoint {
+    /// Planned configuration \[rad\].
+    pub q: Configuration,
+    /// Joint velocities `(theta1', theta2')` \[rad/s\]: the controls of system (7).
+    pub u: [f64; 2],
+    /// Their time derivatives \[rad/s^2\].
+    pub du: [f64; 2],
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

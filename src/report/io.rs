@@ -8,7 +8,8 @@ use std::path::{Path, PathBuf};
 use serde::Serialize;
 
 use crate::error::Error;
-use crate::plan::{Plan, Trajectory};
+use crate::plan::Trajectory;
+use crate::planners::{Details, Planned};
 
 /// Writes `bytes` to `path` atomically: a temporary file beside it, then a rename, so that a
 /// crash never leaves a half-written result.
@@ -74,7 +75,7 @@ pub struct PlanReport {
     /// `nfa` or `ecsa`.
     pub method: crate::plan::Method,
     /// Transformation (null for ECSA).
-    pub transform: Option<crate::nfa::normal_form::Transform>,
+    pub transform: Option<crate::planners::nfa::normal_form::Transform>,
     /// `[a, b]` \[m\].
     pub mount: [f64; 2],
     /// Horizon \[s\].
@@ -111,7 +112,7 @@ pub struct PlanReport {
     pub torque_final_error: Option<f64>,
     /// The torque level (with torques): peaks, base-row check and the forward-dynamics
     /// certificate with its path deviation, angular momentum, integrator work and wall time.
-    pub torque_certificate: Option<crate::dynamics::TorqueReport>,
+    pub torque_certificate: Option<crate::plan::TorqueReport>,
     /// Wall time per stage \[s\].
     pub seconds: crate::plan::Seconds,
     /// ECSA iterations (null for NFA).
@@ -119,7 +120,7 @@ pub struct PlanReport {
     /// Chained-form steering of the NFA: `polynomial` (Sec. 5) or `band` (global normal form).
     pub steering: Option<&'static str>,
     /// The band steering's choice `(N, A, eps, kappa)`, when used.
-    pub band: Option<crate::nfa::steering::BandChoice>,
+    pub band: Option<crate::planners::nfa::steering::BandChoice>,
     /// Total variation of `(phi, theta1, theta2)` along the path \[rad\].
     pub joint_travel: [f64; 3],
     /// Accepted steps of the verification's integrator.
@@ -136,20 +137,26 @@ pub struct PlanReport {
 }
 
 impl PlanReport {
-    /// The report of `plan`, with the trajectory when `with_trajectory`.
-    pub fn new(plan: &Plan, with_trajectory: bool) -> Self {
+    /// The report of a planned motion (with its torque level, when computed), with the
+    /// trajectory when `with_trajectory`.
+    pub fn new(planned: &Planned, with_trajectory: bool) -> Self {
+        let plan = &planned.plan;
         let p = &plan.problem;
+        let nfa = match &planned.details {
+            Details::Nfa(d) => Some(d),
+            Details::Ecsa(_) => None,
+        };
         let v = &plan.verification;
-        Self {
+        let mut report = Self {
             method: plan.method,
-            transform: plan.transform,
+            transform: nfa.map(|d| d.transform),
             mount: [p.robot.mount.a, p.robot.mount.b],
             time: p.horizon,
             samples: plan.trajectory.t.len(),
             start: p.start.to_array(),
             goal: p.goal.to_array(),
-            z0: plan.z0,
-            zd: plan.zd,
+            z0: nfa.map(|d| d.z0),
+            zd: nfa.map(|d| d.zd),
             final_error: v.final_error,
             tolerance: v.tolerance,
             certified: v.certified,
@@ -163,17 +170,20 @@ impl PlanReport {
             torque_certificate: None,
             seconds: plan.seconds,
             iterations: plan.iterations,
-            steering: match (plan.method, plan.band) {
-                (crate::plan::Method::Nfa, Some(_)) => Some("band"),
-                (crate::plan::Method::Nfa, None) => Some("polynomial"),
-                _ => None,
-            },
-            band: plan.band,
+            steering: nfa.map(|d| if d.band.is_some() { "band" } else { "polynomial" }),
+            band: nfa.and_then(|d| d.band),
             joint_travel: plan.joint_travel,
             verify_steps: v.stats.accepted,
             controls_at_ends: controls_at_ends(&plan.trajectory),
             ecsa: None,
             trajectory: with_trajectory.then(|| plan.trajectory.clone()),
+        };
+        if let Details::Ecsa(solution) = &planned.details {
+            report = report.with_ecsa(solution);
+        }
+        match &planned.torques {
+            Some(torques) => report.with_torques(torques),
+            None => report,
         }
     }
 }
@@ -190,7 +200,7 @@ pub struct EcsaReport {
     /// Harmonics `H` of the controls.
     pub harmonics: usize,
     /// `none` (the paper's plain series) or `sin2`.
-    pub window: crate::ecsa::Window,
+    pub window: crate::planners::ecsa::Window,
     /// `c = (c_10, ..., c_1,2H, c_20, ..., c_2,2H)` \[rad/s\].
     pub coefficients: Vec<f64>,
     /// Final residual of the iteration \[rad\].
@@ -200,7 +210,7 @@ pub struct EcsaReport {
     /// Residual before each update and after the last \[rad\].
     pub residual_history: Vec<f64>,
     /// Why the iteration stopped.
-    pub termination: crate::ecsa::Termination,
+    pub termination: crate::planners::ecsa::Termination,
 }
 
 impl EcsaReport {
@@ -212,7 +222,7 @@ impl EcsaReport {
 
 impl PlanReport {
     /// This report with the ECSA details of `solution`.
-    pub fn with_ecsa(mut self, solution: &crate::ecsa::EcsaSolution) -> Self {
+    fn with_ecsa(mut self, solution: &crate::planners::ecsa::EcsaSolution) -> Self {
         let s = &solution.stats;
         self.ecsa = Some(EcsaReport {
             harmonics: solution.basis.harmonics(),
@@ -230,7 +240,7 @@ impl PlanReport {
 impl PlanReport {
     /// The report with the torque level filled in: `max_abs_torque`, `torque_final_error`,
     /// `seconds.torques`, the certificate; `certified` then requires both levels.
-    pub fn with_torques(mut self, torques: &crate::dynamics::TorqueReport) -> Self {
+    fn with_torques(mut self, torques: &crate::plan::TorqueReport) -> Self {
         self.max_abs_torque = Some(torques.max_abs_torque);
         self.torque_final_error = Some(torques.certificate.final_error);
         self.certified &= torques.certificate.certified;

@@ -22,12 +22,13 @@ use serde::Serialize;
 
 use crate::analysis::domain::{DomainMap, DomainSummary};
 use crate::analysis::sweep::{Span, SweepOptions, SweepRow};
-use crate::dynamics::{TorqueOptions, TorqueReport, add_torques};
-use crate::ecsa::{EcsaOptions, EcsaPlanner, EcsaSolution, Window};
 use crate::error::Error;
 use crate::model::{Configuration, Mount, RobotParams};
-use crate::nfa::normal_form::Transform;
-use crate::plan::{NfaOptions, NormalFormPlanner, Plan, Planner, PlanningProblem};
+use crate::plan::{Method, Plan, PlanningProblem, TorqueOptions, TorqueReport};
+use crate::planners::ecsa::{EcsaOptions, EcsaSolution, Window};
+use crate::planners::nfa::normal_form::Transform;
+use crate::planners::nfa::{NfaDetails, NfaOptions};
+use crate::planners::{Details, Planned, PlannerOptions, planner};
 use crate::report::plot::{DomainOverlay, Panel, PlanFigure, Series};
 
 /// How a case is planned.
@@ -100,6 +101,8 @@ pub struct CaseOutcome {
     pub torques: TorqueReport,
     /// The ECSA's solution (ECSA only).
     pub ecsa: Option<EcsaSolution>,
+    /// The NFA's transformation, chained-form ends and steering (NFA only).
+    pub nfa: Option<NfaDetails>,
 }
 
 impl Case {
@@ -163,22 +166,24 @@ impl Case {
     /// with its forward-dynamics certificate (tolerance 1e-6 rad).
     pub fn run(&self) -> Result<CaseOutcome, Error> {
         let problem = self.problem()?;
-        let torque_options = TorqueOptions::default();
-        match self.method {
+        let mut options = PlannerOptions::default();
+        let method = match self.method {
             CaseMethod::Nfa(transform) => {
-                let options = NfaOptions { transform: Some(transform), accelerations: true, ..Default::default() };
-                let (mut plan, motion) = NormalFormPlanner::new(options).plan_with_motion(&problem)?;
-                let torques = add_torques(&mut plan, &motion, &torque_options)?;
-                Ok(CaseOutcome { case: *self, plan, torques, ecsa: None })
+                options.nfa = NfaOptions { transform: Some(transform), accelerations: true, ..Default::default() };
+                Method::Nfa
             }
             CaseMethod::Ecsa(window) => {
-                let planner = EcsaPlanner::new(EcsaOptions::default().with_window(window));
-                let (mut plan, solution) = planner.plan_with_solution(&problem)?;
-                let motion = planner.motion(&problem, &solution)?;
-                let torques = add_torques(&mut plan, &motion, &torque_options)?;
-                Ok(CaseOutcome { case: *self, plan, torques, ecsa: Some(solution) })
+                options.ecsa = EcsaOptions::default().with_window(window);
+                Method::Ecsa
             }
-        }
+        };
+        let mut planned = planner(method, &options).plan(&problem)?;
+        let torques = planned.add_torques(&TorqueOptions::default())?;
+        let (nfa, ecsa) = match planned.details {
+            Details::Nfa(details) => (Some(details), None),
+            Details::Ecsa(solution) => (None, Some(solution)),
+        };
+        Ok(CaseOutcome { case: *self, plan: planned.plan, torques, ecsa, nfa })
     }
 }
 
@@ -341,9 +346,12 @@ pub fn domain_panel(figure: &str, a: f64, b: f64) -> Result<DomainPanel, Error> 
     let map = DomainMap::new(&robot, Transform::Eq14, DOMAIN_GRID)?;
     let seconds = clock.elapsed().as_secs_f64();
     let summary = map.summary(&problem.start, &problem.goal);
-    let planner = NormalFormPlanner::new(NfaOptions { transform: Some(Transform::Eq14), ..Default::default() });
-    let (final_error, error, path, note) = match planner.plan(&problem) {
-        Ok(plan) => {
+    let options = PlannerOptions {
+        nfa: NfaOptions { transform: Some(Transform::Eq14), ..Default::default() },
+        ..Default::default()
+    };
+    let (final_error, error, path, note) = match planner(Method::Nfa, &options).plan(&problem) {
+        Ok(Planned { plan, .. }) => {
             let e = plan.verification.final_error;
             let path = plan.trajectory.q.iter().map(|q| (q[1], q[2])).collect();
             (Some(e), None, Some(path), format!("Eq. (14) plan q0 -> qd: verified final error {e:.1e} rad"))
@@ -584,7 +592,7 @@ pub fn plan_figure(o: &CaseOutcome) -> PlanFigure {
             dq[1], dq[2]
         ));
     }
-    if let Some(b) = &o.plan.band {
+    if let Some(b) = o.nfa.and_then(|d| d.band) {
         caption.push(format!(
             "band steering: {} loops of amplitude {:.2} rad; the open-loop torque plan of such fast loops is ill-conditioned",
             b.loops, b.amplitude

@@ -687,7 +687,7 @@ mod tests {
     use super::*;
     use crate::analysis::domain::DomainMap;
     use crate::model::{Mount, RobotParams, paper_problem};
-    use crate::nfa::normal_form::Transform;
+    use crate::planners::nfa::normal_form::Transform;
 
     /// Both formats render with the embedded font only: an SVG with the title's text, and a PNG
     /// with the PNG signature and some non-white pixels.

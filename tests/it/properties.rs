@@ -2,7 +2,7 @@
 //! number; a plan is either certified, or says it is not, or there is a typed error.
 
 use freefloat::{
-    Configuration, Mount, NfaOptions, NormalFormPlanner, Planner, PlanningProblem, RobotParams, Transform,
+    Configuration, Mount, NfaOptions, NormalFormPlanner, Planned, Planner, PlanningProblem, RobotParams, Transform,
 };
 use proptest::prelude::*;
 
@@ -30,7 +30,7 @@ proptest! {
         let problem = PlanningProblem::new(robot, start, goal, 10.0).expect("valid problem");
         let options = NfaOptions { transform, samples: 201, accelerations: true, ..Default::default() };
         match NormalFormPlanner::new(options).plan(&problem) {
-            Ok(plan) => {
+            Ok(Planned { plan, .. }) => {
                 prop_assert!(finite(&plan), "non-finite value in a plan");
                 if plan.verification.certified {
                     prop_assert!(plan.verification.final_error <= 1e-9);

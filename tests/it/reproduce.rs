@@ -6,10 +6,11 @@ use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
 use approx::assert_relative_eq;
-use freefloat::dynamics::{TorqueOptions, torque_plan};
+use freefloat::plan::{TorqueOptions, torque_plan};
 use freefloat::report::plot::{DOMAIN_PAIR_SIZE, PLAN_FIGURE_SIZE, SWEEP_SIZE};
 use freefloat::{
-    EcsaOptions, EcsaPlanner, Mount, NfaOptions, NormalFormPlanner, PlanningProblem, RobotParams, Transform,
+    EcsaOptions, EcsaPlanner, Mount, NfaOptions, NormalFormPlanner, Planned, Planner, PlanningProblem, RobotParams,
+    Transform,
 };
 use serde_json::Value;
 
@@ -167,10 +168,9 @@ fn reproduce_writes_every_file_whole_and_the_planners_numbers() {
 
     let problem = PlanningProblem::paper(robot(0.2, 0.2));
     let ecsa = EcsaPlanner::new(EcsaOptions::default());
-    let (plan, solution) = ecsa.plan_with_solution(&problem).expect("ecsa plan");
-    let motion = ecsa.motion(&problem, &solution).expect("ecsa motion");
+    let Planned { plan, motion, .. } = ecsa.plan(&problem).expect("ecsa plan");
     let torques =
-        torque_plan(&motion, &problem, &plan.trajectory.t, &TorqueOptions::default()).expect("torques").report;
+        torque_plan(motion.as_ref(), &problem, &plan.trajectory.t, &TorqueOptions::default()).expect("torques").report;
     let r = row(&summary, "fig11");
     assert_eq!(r["iterations"].as_u64(), plan.iterations.map(|i| i as u64));
     close(f64_at(r, "final_error"), plan.verification.final_error);

@@ -5,9 +5,9 @@
 use crate::Scalar;
 use crate::error::Error;
 use crate::model::Configuration;
-use crate::nfa::normal_form::NormalForm;
 use crate::numerics::chebyshev::Chebyshev;
 use crate::numerics::quadrature::GaussLegendre;
+use crate::planners::nfa::normal_form::NormalForm;
 
 /// Highest polynomial degree kept (`z3` has degree 7).
 const LEN: usize = 9;
@@ -298,7 +298,7 @@ impl BandSteering {
             let (z1, l0, l1) = self.path_terms(s);
             let z2 = self.lower.eval(z1) + (l0 + l1 * self.choice.kappa) * self.width.eval(z1);
             let band = nf.band(z1.re, theta2);
-            match crate::nfa::normal_form::global::solve_in_band(nf.lumped(), z1.re, z2.re, band, theta2) {
+            match crate::planners::nfa::normal_form::global::solve_in_band(nf.lumped(), z1.re, z2.re, band, theta2) {
                 Ok(x) => theta2 = x,
                 Err(_) => return f64::INFINITY,
             }

@@ -14,7 +14,7 @@ fn paper_cases_reach_the_goal() {
         for a in [0.0, 0.1, 0.2, 0.3] {
             let p = problem(a);
             let planner = EcsaPlanner::new(EcsaOptions::default().with_window(window));
-            let (plan, solution) = planner.plan_with_solution(&p).unwrap();
+            let (plan, solution, _) = planner.plan_with_solution(&p).unwrap();
             let stats = &solution.stats;
             eprintln!(
                 "ecsa {window:?} a = b = {a}: {} iterations, residual {:.2e}, verified {:.2e}, plan {:.2} ms, \

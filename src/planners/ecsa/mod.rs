@@ -31,7 +31,6 @@
 
 pub mod basis;
 
-use crate::model::InputError;
 use std::time::Instant;
 
 use nalgebra::{Const, Matrix3, SMatrix, SVector, U1, Vector3};
@@ -41,11 +40,11 @@ pub use basis::{Basis, MAX_HARMONICS, Window};
 
 use crate::error::Error;
 use crate::model::system::{shape, velocity, velocity_acceleration};
-use crate::model::{Configuration, Lumped, wrap_angle};
+use crate::model::{Configuration, InputError, Lumped, wrap_angle};
 pub use crate::numerics::iteration::{IterationStats, Termination};
-use crate::numerics::ode::OdeError;
-use crate::numerics::ode::{OdeOptions, OdeStats, integrate};
-use crate::plan::{Method, Motion, MotionPoint, Plan, Planner, PlanningProblem, Trajectory};
+use crate::numerics::ode::{OdeError, OdeOptions, OdeStats, integrate};
+use crate::plan::{Method, Motion, MotionPoint, Plan, PlanningProblem, Trajectory};
+use crate::planners::{Details, Planned, Planner};
 
 /// Options of the [`EcsaPlanner`]; every default is the one documented on its field.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -164,7 +163,7 @@ pub struct EndPoint {
 /// ```
 /// use freefloat::{EcsaOptions, EcsaPlanner, Planner, PlanningProblem, RobotParams};
 /// let problem = PlanningProblem::paper(RobotParams::src());
-/// let plan = EcsaPlanner::new(EcsaOptions::default()).plan(&problem).unwrap();
+/// let plan = EcsaPlanner::new(EcsaOptions::default()).plan(&problem).unwrap().plan;
 /// assert!(plan.verification.final_error <= 1e-9);
 /// assert!(plan.iterations.unwrap() < 20);
 /// ```
@@ -328,7 +327,7 @@ impl EcsaPlanner {
     }
 
     /// Plans, samples and verifies, returning the solution's statistics beside the plan.
-    pub fn plan_with_solution(&self, problem: &PlanningProblem) -> Result<(Plan, EcsaSolution), Error> {
+    pub fn plan_with_solution(&self, problem: &PlanningProblem) -> Result<(Plan, EcsaSolution, EcsaMotion), Error> {
         let clock = Instant::now();
         let solution = self.solve(problem)?;
         let motion = self.motion(problem, &solution)?;
@@ -338,17 +337,18 @@ impl EcsaPlanner {
         let mut plan =
             Plan::verified(Method::Ecsa, problem, &motion, trajectory, motion.margins(), plan_seconds, ode, tolerance)?;
         plan.iterations = Some(solution.stats.iterations);
-        Ok((plan, solution))
+        Ok((plan, solution, motion))
     }
 }
 
 impl Planner for EcsaPlanner {
-    fn name(&self) -> &'static str {
-        "ecsa"
+    fn method(&self) -> Method {
+        Method::Ecsa
     }
 
-    fn plan(&self, problem: &PlanningProblem) -> Result<Plan, Error> {
-        Ok(self.plan_with_solution(problem)?.0)
+    fn plan(&self, problem: &PlanningProblem) -> Result<Planned, Error> {
+        let (plan, solution, motion) = self.plan_with_solution(problem)?;
+        Ok(Planned::new(plan, Box::new(motion), Details::Ecsa(solution)))
     }
 }
 
