@@ -2,6 +2,7 @@
 //! Lagrangian (Sec. 3.1, after Eq. (3)).
 
 mod error;
+pub mod kinematics;
 mod robot_file;
 pub mod system;
 

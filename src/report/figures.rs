@@ -1,0 +1,152 @@
+//! What the report draws of a plan: the four panels of Figs. 4-12 and the animation data.
+
+use serde::Serialize;
+
+use super::cases::CaseOutcome;
+use super::summary::fmt_pair;
+use crate::model::Configuration;
+use crate::model::kinematics::pose;
+use crate::report::plot::{Panel, PlanFigure, Series};
+
+/// The four panels of a plan figure (as in the paper's Figs. 4-12), and a caption with both
+/// certificates.
+pub fn plan_figure(o: &CaseOutcome) -> PlanFigure {
+    let tr = &o.plan.trajectory;
+    let t = &tr.t;
+    let column = |f: &dyn Fn(usize) -> f64| t.iter().enumerate().map(|(i, &t)| (t, f(i))).collect::<Vec<_>>();
+    let series = |label: &str, f: &dyn Fn(usize) -> f64| Series { label: label.into(), points: column(f) };
+    let x_label = "t [s]".to_string();
+    let angles = Panel {
+        title: "Base orientation and joint positions".into(),
+        x_label: x_label.clone(),
+        y_label: "angle [deg]".into(),
+        series: vec![
+            series("φ", &|i| tr.q[i][0].to_degrees()),
+            series("θ1", &|i| tr.q[i][1].to_degrees()),
+            series("θ2", &|i| tr.q[i][2].to_degrees()),
+        ],
+        text: vec![],
+    };
+    let second = match (&tr.z, &o.ecsa) {
+        (Some(z), _) => Panel {
+            title: format!("Normal-form variables z ({})", o.case.variant()),
+            x_label: x_label.clone(),
+            y_label: "z".into(),
+            series: (0..3).map(|k| series(&format!("z{}", k + 1), &|i| z[i][k])).collect(),
+            text: vec![],
+        },
+        (None, Some(s)) => Panel {
+            title: "ECSA iteration".into(),
+            text: vec![
+                format!("Jacobian pseudo-inverse iterations: {}", s.stats.iterations),
+                format!("end-point residual: {:.2e} rad", s.stats.residual),
+                format!("controls: constant + {} harmonic(s), window {}", s.basis.harmonics(), o.case.variant()),
+                "no normal form: no z variables".into(),
+            ],
+            ..Default::default()
+        },
+        _ => Panel { title: "(no z)".into(), ..Default::default() },
+    };
+    let controls = Panel {
+        title: "Velocity controls u".into(),
+        x_label: x_label.clone(),
+        y_label: "u [rad/s]".into(),
+        series: vec![series("u1 = θ1'", &|i| tr.dq[i][1]), series("u2 = θ2'", &|i| tr.dq[i][2])],
+        text: vec![],
+    };
+    let torques = match &tr.tau {
+        Some(tau) => Panel {
+            title: "Joint torques τ".into(),
+            x_label,
+            y_label: "τ [N m]".into(),
+            series: vec![series("τ1", &|i| tau[i][0]), series("τ2", &|i| tau[i][1])],
+            text: vec![],
+        },
+        None => Panel { title: "(no torques)".into(), ..Default::default() },
+    };
+    let v = &o.plan.verification;
+    let c = &o.torques.certificate;
+    let verdict = |ok: bool| if ok { "certified" } else { "NOT certified" };
+    let mut caption = vec![
+        format!(
+            "velocity level: verified final error {:.2e} rad (tolerance {:.0e}): {};  peak |u1|, |u2| = {} rad/s",
+            v.final_error,
+            v.tolerance,
+            verdict(v.certified),
+            fmt_pair(o.plan.max_abs_u, 4)
+        ),
+        format!(
+            "torque level: forward dynamics from rest, final error {:.2e} rad (tolerance {:.0e}): {};  \
+             peak |τ1|, |τ2| = {} N m",
+            c.final_error,
+            c.tolerance,
+            verdict(c.certified),
+            fmt_pair(o.torques.max_abs_torque, 4)
+        ),
+    ];
+    if let Some(dq) = tr.dq.first().filter(|dq| dq[1].abs().max(dq[2].abs()) > 1e-9) {
+        caption.push(format!(
+            "u(0) = ({:.4}, {:.4}) rad/s: the plan does not start at rest, so the torque plan (from rest) cannot follow it",
+            dq[1], dq[2]
+        ));
+    }
+    if let Some(b) = o.nfa.and_then(|d| d.band) {
+        caption.push(format!(
+            "band steering: {} loops of amplitude {:.2} rad; the open-loop torque plan of such fast loops is ill-conditioned",
+            b.loops, b.amplitude
+        ));
+    }
+    PlanFigure { title: o.case.title(), panels: vec![angles, second, controls, torques], caption }
+}
+
+/// Side lengths of the base rectangle drawn by the animation \[m\] (illustrative: the paper
+/// gives the base's mass and inertia, not its shape).
+pub const BASE_SIZE: [f64; 2] = [0.6, 0.5];
+
+/// The animation data of a plan: poses at up to 501 of its samples.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Animation {
+    /// The case's identifier.
+    pub id: String,
+    /// Its title.
+    pub title: String,
+    /// Mounting point `[a, b]` \[m\].
+    pub mount: [f64; 2],
+    /// Base rectangle \[m\] ([`BASE_SIZE`]).
+    pub base_size: [f64; 2],
+    /// Times \[s\].
+    pub t: Vec<f64>,
+    /// Base orientation `phi` \[rad\] at each time.
+    pub phi: Vec<f64>,
+    /// Flattened poses: `[base x, base y, joint1 x, y, joint2 x, y, tip x, y]` per time \[m\].
+    pub points: Vec<[f64; 8]>,
+}
+
+/// The animation of a planned case.
+pub fn animation(o: &CaseOutcome) -> Animation {
+    let tr = &o.plan.trajectory;
+    let n = tr.t.len();
+    let step = n.div_ceil(501).max(1);
+    let mut indices: Vec<usize> = (0..n).step_by(step).collect();
+    if n > 0 && indices.last() != Some(&(n - 1)) {
+        indices.push(n - 1);
+    }
+    let round = |x: f64| (x * 1e5).round() / 1e5;
+    let robot = &o.plan.problem.robot;
+    let points = indices
+        .iter()
+        .map(|&i| {
+            let p = pose(robot, &Configuration::from_array(tr.q[i]));
+            [p.base, p.joint1, p.joint2, p.tip].concat().try_into().map(|a: [f64; 8]| a.map(round)).unwrap_or([0.0; 8])
+        })
+        .collect();
+    Animation {
+        id: o.case.id.into(),
+        title: o.case.title(),
+        mount: [robot.mount.a, robot.mount.b],
+        base_size: BASE_SIZE,
+        t: indices.iter().map(|&i| round(tr.t[i])).collect(),
+        phi: indices.iter().map(|&i| round(tr.q[i][0])).collect(),
+        points,
+    }
+}

@@ -1,0 +1,284 @@
+//! The reproduction of the paper's results of Sec. 5 (Figs. 4-14) and two beyond it
+//! (Figs. 15-16) on the built-in defaults, as figures (SVG and PNG), `summary.md`,
+//! `summary.json` and a self-contained `report.html` with an animation of every plan: what
+//! `freefloat reproduce` writes.
+
+use std::path::Path;
+use std::time::Instant;
+
+use rayon::prelude::*;
+use serde::Serialize;
+
+use super::cases::{Case, CaseMethod, CaseOutcome, cases};
+use super::figures::{animation, plan_figure};
+use super::html::{FigureEmbed, Page, page};
+use super::io::write_atomic;
+use super::plot::{PictureFormat, domain_pair_picture, plan_picture, sweep_picture};
+use super::summary::{
+    DOMAIN_FIGURES, DomainPanel, DomainRow, SummaryRow, SweepSummary, domain_panel, summary_markdown, sweep_options,
+};
+use crate::analysis::sweep::Shard;
+use crate::error::Error;
+use crate::model::{Configuration, InputError, RobotParams, paper_problem};
+use crate::planners::nfa::normal_form::Transform;
+
+/// `summary.json`.
+#[derive(Serialize)]
+struct Summary<'a> {
+    problem: Problem,
+    cases: &'a [SummaryRow],
+    domains: &'a [DomainRow],
+    sweep: &'a SweepSummary,
+    /// Wall time of the computation and the pictures (before the page and the summary) \[s\].
+    seconds: f64,
+}
+
+#[derive(Serialize)]
+struct Problem {
+    start_deg: [f64; 3],
+    goal_deg: [f64; 3],
+    horizon: f64,
+    samples: usize,
+}
+
+/// What a figure shows, in words, with the verdict of its certificates.
+fn description(outcome: &CaseOutcome) -> String {
+    let case = &outcome.case;
+    let title = case.title();
+    let paper = title.split(':').next().unwrap_or_default();
+    let verdict = match (outcome.plan.verification.certified, outcome.torques.certificate.certified) {
+        (true, true) => "Both levels certified.",
+        (true, false) => "Certified at the velocity level, not at the torque level (see the caption).",
+        (false, _) => "NOT certified at the velocity level (see the caption).",
+    };
+    match case.method {
+        CaseMethod::Nfa(Transform::Global) => format!(
+            "Beyond the paper: a = 1 m, b = -1 m, where the paper calls the NFA impossible (q0 and qd lie in \
+             different components of the domain of Eq. (14), Fig. 14 right). The global normal form plans it with \
+             band steering; the open-loop torque plan of such fast loops is ill-conditioned. {verdict}"
+        ),
+        CaseMethod::Nfa(_) => format!(
+            "As the paper's {paper}: base orientation and joint positions; normal-form variables z; velocity \
+             controls u; torques τ from the inverse dynamics (6). {verdict}"
+        ),
+        CaseMethod::Ecsa(_) => format!(
+            "As the paper's {paper}: base orientation and joint positions; velocity controls u (constant + first \
+             harmonic: not zero at the ends); torques τ. The forward dynamics of the torque certificate starts \
+             from rest, the plain series does not (the sin² window, in the summary, does). {verdict}"
+        ),
+    }
+}
+
+/// The number of jobs that [`reproduce`] reports to its progress callback.
+pub fn job_count() -> usize {
+    cases().len() + 2 * DOMAIN_FIGURES.len() + 1
+}
+
+/// What [`reproduce`] wrote and found.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Reproduction {
+    /// `summary.md`, also written to the directory.
+    pub markdown: String,
+    /// Number of files written.
+    pub files: usize,
+    /// Wall time \[s\].
+    pub seconds: f64,
+    /// What keeps the reproduction from being a success: a figure's case without a plan, or a
+    /// paper's NFA case (Figs. 4-8) not certified at both levels. Empty on success.
+    pub failures: Vec<String>,
+}
+
+/// Plans every case, maps the domains, runs the sweep, draws every figure (SVG and PNG) and writes
+/// them with `summary.json`, `summary.md` and `report.html` into `out` (created if missing).
+/// `progress(what, seconds, status)` is called once per finished job ([`job_count`] in all),
+/// from rayon's threads.
+pub fn reproduce(out: &Path, progress: &(dyn Fn(&str, f64, &str) + Sync)) -> Result<Reproduction, Error> {
+    std::fs::create_dir_all(out).map_err(|source| InputError::Io { path: out.to_path_buf(), source })?;
+    let clock = Instant::now();
+    let all = cases();
+    let sweep_opts = sweep_options();
+    // Cases, domain maps and the sweep, on all of rayon's threads.
+    let run_case = |case: &Case| {
+        let clock = Instant::now();
+        let outcome = case.run();
+        let status = match &outcome {
+            Ok(o) => {
+                let mark = |ok: bool| if ok { "" } else { " (NOT certified)" };
+                let (v, c) = (&o.plan.verification, &o.torques.certificate);
+                format!(
+                    "{:.1e} rad{}, torques {:.1e} rad{}",
+                    v.final_error,
+                    mark(v.certified),
+                    c.final_error,
+                    mark(c.certified)
+                )
+            }
+            Err(_) => "no plan".into(),
+        };
+        let what =
+            format!("{:<14} {:<4} {:<6} a, b = {}, {} m", case.id, case.method_name(), case.variant(), case.a, case.b);
+        progress(&what, clock.elapsed().as_secs_f64(), &status);
+        outcome
+    };
+    let run_domain = |(figure, a, b): (&str, f64, f64)| {
+        let clock = Instant::now();
+        let panel = domain_panel(figure, a, b);
+        let status = match &panel {
+            Ok(p) => format!("{} components", p.row.summary.components),
+            Err(_) => "failed".into(),
+        };
+        progress(&format!("{figure:<14} domain eq14 a, b = {a}, {b} m"), clock.elapsed().as_secs_f64(), &status);
+        panel
+    };
+    let domain_jobs: Vec<(&str, f64, f64)> =
+        DOMAIN_FIGURES.iter().flat_map(|(f, mounts)| mounts.iter().map(move |&(a, b)| (*f, a, b))).collect();
+    let robot = RobotParams::src();
+    let ((outcomes, panels), sweep) = rayon::join(
+        || {
+            rayon::join(
+                || all.par_iter().map(run_case).collect::<Vec<_>>(),
+                || domain_jobs.par_iter().map(|&j| run_domain(j)).collect::<Vec<_>>(),
+            )
+        },
+        || {
+            let clock = Instant::now();
+            let rows = crate::analysis::sweep::run(&robot, &sweep_opts, Shard::ALL, &|| {});
+            let seconds = clock.elapsed().as_secs_f64();
+            progress(
+                &format!("{:<14} mount sweep, {} points", "fig16", sweep_opts.points()),
+                seconds,
+                if rows.is_ok() { "done" } else { "failed" },
+            );
+            rows.map(|rows| (rows, seconds))
+        },
+    );
+    let panels: Vec<DomainPanel> = panels.into_iter().collect::<Result<_, _>>()?;
+    let (sweep_rows, sweep_seconds) = sweep?;
+    let sweep_summary = SweepSummary::new(&sweep_opts, &sweep_rows, sweep_seconds);
+    let rows: Vec<SummaryRow> = all.iter().zip(&outcomes).map(|(c, o)| SummaryRow::new(c, o.as_ref())).collect();
+
+    // Pictures, each as SVG and PNG, rendered in parallel.
+    enum Picture<'a> {
+        Plan(&'a CaseOutcome),
+        Domains(&'static str, [&'a DomainPanel; 2]),
+        Sweep,
+    }
+    let mut pictures: Vec<(String, Picture)> = Vec::new();
+    for (case, outcome) in all.iter().zip(&outcomes) {
+        if let (Some(figure), Ok(o)) = (case.figure, outcome) {
+            pictures.push((figure.to_string(), Picture::Plan(o)));
+        }
+    }
+    for (k, (figure, _)) in DOMAIN_FIGURES.iter().enumerate() {
+        pictures.push((figure.to_string(), Picture::Domains(figure, [&panels[2 * k], &panels[2 * k + 1]])));
+    }
+    pictures.push(("fig16".into(), Picture::Sweep));
+    pictures.sort_by(|a, b| a.0.cmp(&b.0));
+    let rendered: Vec<(String, Vec<u8>, Vec<u8>)> = pictures
+        .par_iter()
+        .map(|(name, picture)| -> Result<_, Error> {
+            let draw = |format: PictureFormat| -> Result<Vec<u8>, Error> {
+                let ext = if format == PictureFormat::Svg { "svg" } else { "png" };
+                let path = out.join(format!("{name}.{ext}"));
+                match picture {
+                    Picture::Plan(o) => plan_picture(&plan_figure(o), format, &path),
+                    Picture::Domains(_, [p, q]) => {
+                        domain_pair_picture([(&p.map, &p.overlay), (&q.map, &q.overlay)], format, &path)
+                    }
+                    Picture::Sweep => sweep_picture(&sweep_rows, format, &path),
+                }
+            };
+            let (svg, png) = rayon::join(|| draw(PictureFormat::Svg), || draw(PictureFormat::Png));
+            let (svg, png) = (svg?, png?);
+            write_atomic(&out.join(format!("{name}.svg")), &svg)?;
+            write_atomic(&out.join(format!("{name}.png")), &png)?;
+            Ok((name.clone(), svg, png))
+        })
+        .collect::<Result<_, Error>>()?;
+    let seconds = clock.elapsed().as_secs_f64();
+
+    // The page: every figure with its description, and an animation for each plan.
+    let figures: Vec<FigureEmbed> = pictures
+        .iter()
+        .zip(&rendered)
+        .map(|((name, picture), (_, _, png))| {
+            let (title, description, anim) = match picture {
+                Picture::Plan(o) => (o.case.title(), description(o), Some(animation(o))),
+                Picture::Domains(f, [p, q]) => (
+                    format!(
+                        "Fig. {}: domains of existence of feedback (14), a, b = ({}, {}) m and ({}, {}) m",
+                        f.trim_start_matches("fig"),
+                        p.row.summary.mount[0],
+                        p.row.summary.mount[1],
+                        q.row.summary.mount[0],
+                        q.row.summary.mount[1]
+                    ),
+                    "As the paper's figure: the joint torus (θ1, θ2) cut by σ = 0 (Eq. 9) and P = 0 (Eq. 13) into \
+                     components; q0's component in green, q0, qd and the Eq. (14) plan's path. At a = 1, b = -1 q0 \
+                     and qd lie in different components: no Eq. (14) plan (Fig. 15 plans it with the global normal \
+                     form)."
+                        .to_string(),
+                    None,
+                ),
+                Picture::Sweep => (
+                    "Fig. 16 (beyond the paper): mounting-point map".to_string(),
+                    "A coarse map over the mounting point (a, b): left, the share of the torus taken by q0's \
+                     component of the domain of Eq. (14) (where plans from q0 may go); right, the best NFA success \
+                     rate over random start/goal pairs (certified plans, best of the applicable transformations). \
+                     The paper's advice, mount the arm where the domain is large, read off one picture."
+                        .to_string(),
+                    None,
+                ),
+            };
+            FigureEmbed { name: name.clone(), title, description, png: Some(png.clone()), animation: anim }
+        })
+        .chain(all.iter().zip(&outcomes).filter(|(c, _)| c.figure.is_none()).filter_map(|(c, o)| {
+            let o = o.as_ref().ok()?;
+            Some(FigureEmbed {
+                name: c.id.to_string(),
+                title: c.title(),
+                description: "Beyond the paper, no figure: the ECSA's controls times sin²(πt/T), so that the plan \
+                              starts and ends at rest like the NFA's; its torques are then certified from rest \
+                              (see the summary). The animation shows the plan."
+                    .into(),
+                png: None,
+                animation: Some(animation(o)),
+            })
+        }))
+        .collect();
+    let domain_rows: Vec<DomainRow> = panels.iter().map(|p| p.row.clone()).collect();
+    let html =
+        page(&Page { rows: &rows, domains: &domain_rows, sweep: Some(&sweep_summary), figures: &figures, seconds })
+            .map_err(|e| InputError::Io { path: out.join("report.html"), source: std::io::Error::other(e) })?;
+    write_atomic(&out.join("report.html"), html.as_bytes())?;
+    let (q0, qd, horizon) = paper_problem();
+    let deg = |q: Configuration| q.to_array().map(f64::to_degrees);
+    let summary = Summary {
+        problem: Problem { start_deg: deg(q0), goal_deg: deg(qd), horizon, samples: 1001 },
+        cases: &rows,
+        domains: &domain_rows,
+        sweep: &sweep_summary,
+        seconds,
+    };
+    let json = serde_json::to_vec_pretty(&summary)
+        .map_err(|e| InputError::Io { path: out.join("summary.json"), source: std::io::Error::other(e) })?;
+    write_atomic(&out.join("summary.json"), &json)?;
+    let md = summary_markdown(&rows, &domain_rows, Some(&sweep_summary));
+    write_atomic(&out.join("summary.md"), md.as_bytes())?;
+    let files = 2 * rendered.len() + 3;
+    let mut failures = Vec::new();
+    for (case, outcome) in all.iter().zip(&outcomes) {
+        match outcome {
+            Err(e) if case.figure.is_some() => failures.push(format!("{}: no plan: {e}", case.id)),
+            Ok(o)
+                if case.paper_seconds().is_some()
+                    && case.method_name() == "nfa"
+                    && !(o.plan.verification.certified && o.torques.certificate.certified) =>
+            {
+                failures.push(format!("{}: the paper's case is not certified", case.id));
+            }
+            _ => {}
+        }
+    }
+    Ok(Reproduction { markdown: md, files, seconds: clock.elapsed().as_secs_f64(), failures })
+}
