@@ -1,4 +1,4 @@
-//! `freefloat`: the command-line shell over the library (SPEC §3). Raw flags are parsed by clap
+//! `freefloat`: the command-line shell over the library (docs/spec.md §3). Raw flags are parsed by clap
 //! in [`cli::args`], validated into library types, run, and errors printed with their cause
 //! chain; exit code 2 for bad input, 3 when the problem has no certified plan.
 

@@ -3,7 +3,7 @@
 //!
 //! A feedback transformation of Theorem 1 exists where its conditions hold: `sin theta2 != 0` for
 //! Eqs. (11)-(12), `sigma != 0` (Eq. 9) and `P != 0` (Eq. 13) for Eq. (14), and `sigma != 0`
-//! alone for the global normal form of [`crate::planners::nfa::normal_form::global`] (SPEC §6, item 4:
+//! alone for the global normal form of [`crate::planners::nfa::normal_form::global`] (docs/spec.md §6, item 4:
 //! `d > 0` and both arcsin arguments in `[-1, 1]` hold everywhere since `F > 0`; they are checked
 //! anyway). None of them depends on `phi`, so the domain is a region of the torus
 //! `T^2 = [0, 2 pi)^2` of the joint angles. Its zero curves have measure zero: what matters is how
@@ -89,7 +89,7 @@ pub enum CellClass {
     /// between the centre and a neighbour's centre (a sign change).
     Crossing(Singularity),
     /// `d <= 0` or an arcsin argument outside `[-1, 1]` at the centre (never for a physical robot,
-    /// SPEC §6, item 4).
+    /// docs/spec.md §6, item 4).
     Undefined(Singularity),
     /// Defined, with the branch `sign(P)` (Eq. 14) or `sign(sin theta2)` (Eqs. 11-12).
     Defined {
@@ -403,7 +403,7 @@ impl DomainMap {
         &self.curves
     }
 
-    /// Number of resolved components (see [`Component::resolved`]): the count of SPEC §3.
+    /// Number of resolved components (see [`Component::resolved`]): the count of docs/spec.md §3.
     pub fn resolved_count(&self) -> usize {
         self.components.iter().filter(|c| c.resolved).count()
     }
@@ -484,7 +484,7 @@ impl DomainMap {
         best.and_then(|(_, i)| (self.labels[i] != NONE).then_some(self.labels[i] as usize))
     }
 
-    /// The summary of SPEC §3 (`freefloat domain --format json`) for the start `q0` and goal `qd`.
+    /// The summary of docs/spec.md §3 (`freefloat domain --format json`) for the start `q0` and goal `qd`.
     pub fn summary(&self, start: &Configuration, goal: &Configuration) -> DomainSummary {
         let start_component = self.component_at(start);
         let goal_component = self.component_at(goal);
@@ -507,7 +507,7 @@ impl DomainMap {
     }
 }
 
-/// The report of `freefloat domain` (SPEC §3), radians inside.
+/// The report of `freefloat domain` (docs/spec.md §3), radians inside.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct DomainSummary {
     /// `[a, b]` \[m\].

@@ -32,7 +32,7 @@ pub struct RobotArgs {
     /// Built-in robot (the paper's SRC manipulator).
     #[arg(long, value_enum, default_value_t = Preset::Src, conflicts_with = "robot")]
     pub preset: Preset,
-    /// Robot file (TOML, SPEC §1); its [mount] is overridden by --mount.
+    /// Robot file (TOML, docs/spec.md §1); its [mount] is overridden by --mount.
     #[arg(long, value_name = "FILE")]
     pub robot: Option<PathBuf>,
     /// Mounting point of the arm in the base frame, A,B in m (default: the file's, else 0,0).

@@ -1,5 +1,5 @@
 //! `freefloat domain`: the domain of existence of a feedback transformation on the joint torus
-//! (SPEC §3; Figs. 13-14), its components, and whether `q0` and `qd` are connected.
+//! (docs/spec.md §3; Figs. 13-14), its components, and whether `q0` and `qd` are connected.
 
 use std::process::ExitCode;
 

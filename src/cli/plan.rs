@@ -293,7 +293,7 @@ mod tests {
         (problem, vec![report(Method::Nfa), report(Method::Ecsa)])
     }
 
-    /// The paper's problem: both columns filled, JSON has both reports with SPEC §3's keys.
+    /// The paper's problem: both columns filled, JSON has both reports with docs/spec.md §3's keys.
     #[test]
     fn compare_default_problem() {
         let (problem, reports) = reports(0.0, None);

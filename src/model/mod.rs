@@ -87,7 +87,7 @@ impl RobotParams {
     }
 
     /// Validates a full parameter set: every value finite; masses, inertia and lengths
-    /// positive; `0 < d_i <= l_i` (SPEC §1).
+    /// positive; `0 < d_i <= l_i` (docs/spec.md §1).
     pub fn new(params: RobotParams) -> Result<Self, InputError> {
         params.validate()?;
         Ok(params)
@@ -198,7 +198,7 @@ impl Lumped {
 /// A configuration `q = (phi, theta1, theta2)` of the driftless system (7) \[rad\]:
 /// base orientation and the two joint angles, all counter-clockwise.
 ///
-/// Angles are taken literally, not reduced modulo 2 pi (SPEC §6, item 6).
+/// Angles are taken literally, not reduced modulo 2 pi (docs/spec.md §6, item 6).
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
 pub struct Configuration {
     /// Base orientation in the inertial frame \[rad\].
@@ -236,7 +236,7 @@ impl Configuration {
     }
 
     /// `max_i |wrap(self_i - other_i)|`, angle differences wrapped to (-pi, pi] \[rad\]: the
-    /// final-error measure of SPEC §2.
+    /// final-error measure of docs/spec.md §2.
     pub fn distance(&self, other: &Configuration) -> f64 {
         self.to_array().iter().zip(other.to_array()).map(|(x, y)| wrap_angle(x - y).abs()).fold(0.0, f64::max)
     }

@@ -38,7 +38,7 @@ struct RobotFile {
 }
 
 impl RobotParams {
-    /// Parses and validates a robot file's text (SPEC §1). Unknown keys are errors.
+    /// Parses and validates a robot file's text (docs/spec.md §1). Unknown keys are errors.
     ///
     /// ```
     /// let text = "[robot]\nl1 = 0.619\nl2 = 0.6\nd1 = 0.313\nd2 = 0.287\nM = 12.9\nI = 0.208\nm1 = 4.5\nm2 = 1.5\n[mount]\na = 0.1\nb = 0.1\n";

@@ -123,7 +123,7 @@ mod tests {
     proptest! {
         #![proptest_config(ProptestConfig::with_cases(1000))]
 
-        /// `F` is the base's effective inertia, hence positive everywhere (SPEC §6, item 4),
+        /// `F` is the base's effective inertia, hence positive everywhere (docs/spec.md §6, item 4),
         /// `P = (1/2) dF/dtheta2`, Eq. (21) `P^2 + (F - U)^2 / 4 = f^2`, and `d > 0`.
         #[test]
         fn shape_identities(a in -1.0..1.0f64, b in -1.0..1.0f64, t1 in -7.0..7.0f64, t2 in -7.0..7.0f64) {

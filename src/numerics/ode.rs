@@ -26,9 +26,9 @@ pub struct OdeError {
 /// Options of [`integrate`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct OdeOptions {
-    /// Relative tolerance per component; default 1e-12 (SPEC §2).
+    /// Relative tolerance per component; default 1e-12 (docs/spec.md §2).
     pub rtol: f64,
-    /// Absolute tolerance per component; default 1e-12 (SPEC §2).
+    /// Absolute tolerance per component; default 1e-12 (docs/spec.md §2).
     pub atol: f64,
     /// Largest number of steps (accepted + rejected) before giving up; default 1_000_000.
     pub max_steps: usize,

@@ -19,7 +19,7 @@ use crate::numerics::ode::{OdeError, OdeOptions, OdeStats, integrate};
 /// The certificate of a plan: system (7) integrated from `q0` with the planned controls.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Verification {
-    /// `max_i |wrap(q_i(T) - qd_i)|` \[rad\] (SPEC §2).
+    /// `max_i |wrap(q_i(T) - qd_i)|` \[rad\] (docs/spec.md §2).
     pub final_error: f64,
     /// `q(T)` reached by the integration \[rad\].
     pub reached: Configuration,
@@ -104,7 +104,7 @@ pub fn verify(
 /// The forward-dynamics certificate of a torque plan.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct TorqueCertificate {
-    /// `max_i |wrap(q_i(T) - qd_i)|` \[rad\] of the forward dynamics (SPEC §2).
+    /// `max_i |wrap(q_i(T) - qd_i)|` \[rad\] of the forward dynamics (docs/spec.md §2).
     pub final_error: f64,
     /// `q(T)` reached by the forward dynamics \[rad\].
     pub reached: Configuration,

@@ -6,7 +6,7 @@ use crate::error::Error;
 use crate::model::{Configuration, InputError, RobotParams};
 
 /// Drive the robot from `start` to `goal` in time `horizon`, joint velocities zero at both
-/// ends, zero angular momentum (SPEC §2).
+/// ends, zero angular momentum (docs/spec.md §2).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct PlanningProblem {
     /// The robot, with its mounting point.

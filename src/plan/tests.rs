@@ -28,10 +28,10 @@ const PAPER_CASES: [(f64, Transform); 5] = [
 ];
 
 /// The paper's five NFA cases (Figs. 4-8): inverse dynamics at the samples, then forward
-/// dynamics from q0 at rest, reaches the goal within 1e-6 rad (SPEC §4), stays on the planned
+/// dynamics from q0 at rest, reaches the goal within 1e-6 rad (docs/spec.md §4), stays on the planned
 /// path within 1e-6 rad, keeps the angular momentum at zero (1e-11 kg m^2/s), and the base row of
 /// the Euler–Lagrange equations vanishes along the plan (1e-12 N m). Torques at the ends are not
-/// zero (SPEC §6, item 7).
+/// zero (docs/spec.md §6, item 7).
 #[test]
 fn paper_cases_torque_plans_are_certified() {
     for (a, transform) in PAPER_CASES {

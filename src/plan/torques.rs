@@ -24,9 +24,9 @@ pub fn torques_at(k: &Lumped, motion: &dyn Motion, times: &[f64]) -> Result<Vec<
 /// Options of the torque-level certificate.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct TorqueOptions {
-    /// Integrator options of the forward dynamics (default rtol = atol = 1e-12, SPEC §2).
+    /// Integrator options of the forward dynamics (default rtol = atol = 1e-12, docs/spec.md §2).
     pub ode: OdeOptions,
-    /// Largest certified final error of the torque plan \[rad\]; default 1e-6 (SPEC §2).
+    /// Largest certified final error of the torque plan \[rad\]; default 1e-6 (docs/spec.md §2).
     pub tolerance: f64,
 }
 
@@ -128,7 +128,7 @@ pub fn torque_plan(
     })
 }
 
-/// The torque level of `plan` (SPEC §2) along its `motion`: [`torque_plan`] at the plan's
+/// The torque level of `plan` (docs/spec.md §2) along its `motion`: [`torque_plan`] at the plan's
 /// samples, the torques into `plan.trajectory.tau`, their wall time into
 /// `plan.seconds.torques`; returns the report with the forward-dynamics certificate.
 pub fn add_torques(plan: &mut Plan, motion: &dyn Motion, options: &TorqueOptions) -> Result<TorqueReport, Error> {

@@ -1,4 +1,4 @@
-//! Files: the JSON plan report and the CSV trajectory (SPEC §3),
+//! Files: the JSON plan report and the CSV trajectory (docs/spec.md §3),
 //! all written atomically (temporary file, then rename).
 
 use crate::model::InputError;
@@ -33,13 +33,13 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), Error> {
     result.map_err(io)
 }
 
-/// The CSV header of SPEC §3.
+/// The CSV header of docs/spec.md §3.
 pub const CSV_HEADER: [&str; 15] = [
     "t", "phi", "theta1", "theta2", "dphi", "dtheta1", "dtheta2", "ddphi", "ddtheta1", "ddtheta2", "z1", "z2", "z3",
     "tau1", "tau2",
 ];
 
-/// The trajectory as CSV (SPEC §3): one row per sample, SI units, radians, empty cells where a
+/// The trajectory as CSV (docs/spec.md §3): one row per sample, SI units, radians, empty cells where a
 /// column does not apply.
 pub fn trajectory_csv(trajectory: &Trajectory) -> Result<Vec<u8>, Error> {
     let mut w = csv::Writer::from_writer(Vec::new());
@@ -69,7 +69,7 @@ pub fn trajectory_csv(trajectory: &Trajectory) -> Result<Vec<u8>, Error> {
     })
 }
 
-/// The JSON report of a plan (SPEC §3: every required key, radians inside).
+/// The JSON report of a plan (docs/spec.md §3: every required key, radians inside).
 #[derive(Debug, Clone, Serialize)]
 pub struct PlanReport {
     /// `nfa` or `ecsa`.
@@ -126,7 +126,7 @@ pub struct PlanReport {
     /// Accepted steps of the verification's integrator.
     pub verify_steps: usize,
     /// Joint velocities `[[u1(0), u2(0)], [u1(T), u2(T)]]` \[rad/s\]: zero for the NFA, not for
-    /// the ECSA's plain trigonometric controls (SPEC §6, item 8).
+    /// the ECSA's plain trigonometric controls (docs/spec.md §6, item 8).
     pub controls_at_ends: [[f64; 2]; 2],
     /// ECSA details (ECSA only): basis, coefficients, residual history.
     #[serde(skip_serializing_if = "Option::is_none")]

@@ -22,7 +22,7 @@ pub const MAX_TERMS: usize = 2 * MAX_HARMONICS + 1;
 #[serde(rename_all = "snake_case")]
 pub enum Window {
     /// No window: the plain trigonometric series, as in the paper (Figs. 9-12). The controls,
-    /// i.e. the joint velocities, do **not** vanish at `t = 0` and `t = T` (SPEC §6, item 8):
+    /// i.e. the joint velocities, do **not** vanish at `t = 0` and `t = T` (docs/spec.md §6, item 8):
     /// the robot starts and stops with a jump in velocity. Default.
     #[default]
     None,

@@ -20,7 +20,7 @@
 //! `sin^2`-shaped counterpart with the window); only `phi` is then off.
 //!
 //! **Which controls the paper used**: the plain series ([`Window::None`], the default), whose
-//! joint velocities do not vanish at `t = 0` and `t = T` (SPEC §6, item 8): report it, the
+//! joint velocities do not vanish at `t = 0` and `t = T` (docs/spec.md §6, item 8): report it, the
 //! plan's `trajectory.dq` shows the jump. [`Window::SinSquared`] gives plans that start and end
 //! at rest, like the NFA's.
 //!
@@ -54,7 +54,7 @@ pub struct EcsaOptions {
     pub harmonics: usize,
     /// Window of the series; default [`Window::None`] (the paper's).
     pub window: Window,
-    /// Residual tolerance of the iteration \[rad\]; default 1e-10 (SPEC §4).
+    /// Residual tolerance of the iteration \[rad\]; default 1e-10 (docs/spec.md §4).
     pub residual_tolerance: f64,
     /// Largest number of updates of `c`; default 50.
     pub max_iterations: usize,
@@ -69,7 +69,7 @@ pub struct EcsaOptions {
     /// Integrator options of `K`, `J`, the samples and the verification (default
     /// rtol = atol = 1e-12).
     pub ode: OdeOptions,
-    /// Tolerance of the verified final error \[rad\]; default 1e-9 (SPEC §2).
+    /// Tolerance of the verified final error \[rad\]; default 1e-9 (docs/spec.md §2).
     pub tolerance: f64,
 }
 

@@ -5,9 +5,9 @@ fn problem(a: f64) -> PlanningProblem {
     PlanningProblem::paper(RobotParams::src().with_mount(Mount::new(a, a).unwrap()).unwrap())
 }
 
-/// SPEC §4: ECSA reaches the paper's goal for a = b in {0, 0.1, 0.2, 0.3}: residual <= 1e-10
+/// docs/spec.md §4: ECSA reaches the paper's goal for a = b in {0, 0.1, 0.2, 0.3}: residual <= 1e-10
 /// rad, verified final error <= 1e-9 rad, the samples start at q0 and end within 1e-9 rad of qd.
-/// The plain series does not start at rest (SPEC §6, item 8); the windowed one does, to 1e-12.
+/// The plain series does not start at rest (docs/spec.md §6, item 8); the windowed one does, to 1e-12.
 #[test]
 fn paper_cases_reach_the_goal() {
     for window in [Window::None, Window::SinSquared] {

@@ -28,7 +28,7 @@ pub struct NfaOptions {
     pub newton: NewtonOptions,
     /// Integrator options of the verification (default rtol = atol = 1e-12).
     pub ode: OdeOptions,
-    /// Tolerance of the verified final error \[rad\]; default 1e-9 (SPEC §2).
+    /// Tolerance of the verified final error \[rad\]; default 1e-9 (docs/spec.md §2).
     pub tolerance: f64,
     /// Search limits of the band steering (global normal form).
     pub band: BandOptions,
@@ -85,7 +85,7 @@ impl NormalFormPlanner {
 
     /// The velocity-level plan without verification: the exact [`NfaMotion`] and its samples.
     ///
-    /// With the transformation `None` (SPEC's `auto`), the paper's Eq. (12) or (14) is tried
+    /// With the transformation `None` (`auto` of docs/spec.md §2), the paper's Eq. (12) or (14) is tried
     /// first and the global normal form when their path does not exist.
     pub fn motion(&self, problem: &PlanningProblem) -> Result<NfaMotion, Error> {
         self.options.validate()?;

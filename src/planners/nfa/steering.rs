@@ -98,7 +98,7 @@ impl PolynomialSteering {
     /// `c1 = -4(19 w1 w2 - 35 w3 + 35 w1 z02) / (w2 T^3)`,
     /// `d1 = 140(w1 w2 - 2 w3 + 2 w1 z02) / (3 w2 T^4)`, `b2 = 6 w2 / T^2`, `c2 = -6 w2 / T^3`.
     ///
-    /// These need `w2 != 0` (SPEC §6, item 5): otherwise [`Error::DegenerateSteering`], except
+    /// These need `w2 != 0` (docs/spec.md §6, item 5): otherwise [`Error::DegenerateSteering`], except
     /// for `zd = z0`, where the path rests at `z0`.
     pub fn new(z0: [f64; 3], zd: [f64; 3], horizon: f64) -> Result<Self, Error> {
         let t = horizon;

@@ -36,7 +36,7 @@ pub fn eq11_invert(k: &Lumped, z: [f64; 3], interval: i64) -> Option<[f64; 3]> {
     Some([z[0] - t1, t1, t2])
 }
 
-/// Eq. (12) with the correction of SPEC §6, item 1 (`sign(s2) theta2 / 2`):
+/// Eq. (12) with the correction of docs/spec.md §6, item 1 (`sign(s2) theta2 / 2`):
 /// `z1 = theta1`, `z2 = -sign(s2) G/F`,
 /// `z3 = sign(s2) phi - pi/4 + sign(s2) theta2/2 + (U - 2B)/(2 sqrt(U^2 - 4C^2)) arcsin((2C + U c2)/(U + 2C c2))`.
 ///

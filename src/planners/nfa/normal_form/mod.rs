@@ -45,7 +45,7 @@ impl Transform {
         }
     }
 
-    /// SPEC §2's `auto`: Eq. (12) when `a = b = 0`, else Eq. (14). (The planner with no
+    /// docs/spec.md §2's `auto`: Eq. (12) when `a = b = 0`, else Eq. (14). (The planner with no
     /// transformation chosen tries this one first and falls back to [`Transform::Global`].)
     pub fn auto(robot: &RobotParams) -> Self {
         if robot.mount.is_centred() { Transform::Eq12 } else { Transform::Eq14 }

@@ -53,7 +53,7 @@ fn random_point(rng: &mut Rng, transform: Transform, mount_range: f64) -> (Norma
 
 /// Chained-form identity: along `q' = g1 u1 + g2 u2`, `d/dt h(q) = (v1, v2, z2 v1)` with
 /// `v = feedback(q, u)`; the time derivative of `h` by forward-mode AD. >= 1000 random points
-/// per transformation, relative 1e-10 (SPEC §4).
+/// per transformation, relative 1e-10 (docs/spec.md §4).
 fn chained_form_identity(transform: Transform, seed: u64) {
     let mut rng = Rng(seed);
     for _ in 0..1000 {
@@ -150,7 +150,7 @@ proptest! {
         prop_assert!((ours - printed).abs() < 1e-12, "{ours} vs {printed}");
     }
 
-    /// At `a = b = 0` Eq. (14) reduces to Eq. (12) in its corrected form (SPEC §6, item 1),
+    /// At `a = b = 0` Eq. (14) reduces to Eq. (12) in its corrected form (docs/spec.md §6, item 1),
     /// on both branches `sign(s2)`; the printed Eq. (12) (`+ theta2/2`) agrees only for s2 > 0.
     #[test]
     fn eq14_at_centre_is_eq12(phi in -4.0..4.0f64, t1 in -4.0..4.0f64, t2 in -4.0..4.0f64) {
@@ -171,7 +171,7 @@ proptest! {
 }
 
 /// Eq. (12) as printed (`+ theta2/2`, no sign) fails the chained-form identity where s2 < 0:
-/// `dh2 . g2 = 0` needs `sign(s2) theta2 / 2` (erratum 1 of SPEC §6).
+/// `dh2 . g2 = 0` needs `sign(s2) theta2 / 2` (erratum 1 of docs/spec.md §6).
 #[test]
 fn printed_eq12_fails_for_negative_s2() {
     let r = RobotParams::src();
