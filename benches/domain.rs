@@ -1,4 +1,4 @@
-//! Criterion bench of the domain map (SPEC §5): 720 x 720 cells, Eq. (14), one thread,
+//! Criterion bench of the domain map (docs/spec.md §5): 720 x 720 cells, Eq. (14), one thread,
 //! <= 100 ms.
 
 use criterion::{Criterion, criterion_group, criterion_main};

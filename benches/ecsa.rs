@@ -1,4 +1,4 @@
-//! Criterion benches of the ECSA (SPEC §5): the pseudo-inverse iteration to a residual of
+//! Criterion benches of the ECSA (docs/spec.md §5): the pseudo-inverse iteration to a residual of
 //! 1e-10 rad for a = b = 0.1 <= 20 ms (the paper: 1.5 s). Also the full velocity-level plan
 //! (iteration + 1001 samples with accelerations) and the verification, which does not count.
 

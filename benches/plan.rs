@@ -1,4 +1,4 @@
-//! Criterion benches of the velocity-level NFA plan (SPEC §5): eq14 with 1001 samples <= 1 ms,
+//! Criterion benches of the velocity-level NFA plan (docs/spec.md §5): eq14 with 1001 samples <= 1 ms,
 //! eq11/eq12 <= 0.3 ms; the band-steered global plan <= 5 ms. Verification is benched
 //! separately and does not count.
 

@@ -1,4 +1,4 @@
-//! Criterion benches of the torque level (SPEC §5): inverse dynamics at the 1001 samples of an
+//! Criterion benches of the torque level (docs/spec.md §5): inverse dynamics at the 1001 samples of an
 //! eq14 plan (a = b = 0.1) <= 0.5 ms. The forward-dynamics certificate is benched separately
 //! and does not count.
 
