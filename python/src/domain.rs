@@ -75,7 +75,7 @@ impl PyDomain {
 
     fn __repr__(&self) -> String {
         format!(
-            "Domain(transform={:?}, grid={}, components={}, start_component_fraction={:.4}, start_goal_connected={})",
+            "Domain(transform='{}', grid={}, components={}, start_component_fraction={:.4}, start_goal_connected={})",
             self.transform,
             self.grid,
             self.components,

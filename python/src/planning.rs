@@ -235,9 +235,9 @@ impl PyPlan {
 
     fn __repr__(&self, py: Python<'_>) -> String {
         let n = self.t.bind(py).len().unwrap_or(0);
-        let transform = self.transform.as_deref().map(|t| format!(", transform={t:?}")).unwrap_or_default();
+        let transform = self.transform.as_deref().map(|t| format!(", transform='{t}'")).unwrap_or_default();
         format!(
-            "Plan(method={:?}{transform}, samples={n}, final_error={:.3e}, certified={}, effort={:.6})",
+            "Plan(method='{}'{transform}, samples={n}, final_error={:.3e}, certified={}, effort={:.6})",
             self.method,
             self.final_error,
             if self.certified { "True" } else { "False" },
