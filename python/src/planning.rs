@@ -126,26 +126,28 @@ pub struct Planned {
 /// The one dispatch on the method: a new planner is one more arm here (and its name in
 /// [`METHODS`]).
 pub fn plan_core(method: &str, problem: &PlanningProblem, options: &Options) -> Result<Planned, BindingError> {
-    let (mut plan, motion, report): (Plan, Box<dyn Motion>, PlanReport) = match method {
+    // Each arm: the plan, its report, and its exact motion (required when `options.torques`).
+    let (mut plan, report, motion): (Plan, PlanReport, Option<Box<dyn Motion>>) = match method {
         "nfa" => {
             let (plan, motion) = NormalFormPlanner::new(options.nfa()).plan_with_motion(problem)?;
             let report = PlanReport::new(&plan, false);
-            (plan, Box::new(motion), report)
+            (plan, report, Some(Box::new(motion)))
         }
         "ecsa" => {
             let planner = EcsaPlanner::new(options.ecsa()?);
             let (plan, solution) = planner.plan_with_solution(problem)?;
-            let motion = planner.motion(problem, &solution)?;
             let report = PlanReport::new(&plan, false).with_ecsa(&solution);
-            (plan, Box::new(motion), report)
+            let motion = if options.torques { Some(Box::new(planner.motion(problem, &solution)?) as _) } else { None };
+            (plan, report, motion)
         }
         other => return Err(BindingError::UnknownChoice { name: "method", value: other.into(), allowed: METHODS }),
     };
-    let (report, torques) = if options.torques {
-        let torques = add_torques(&mut plan, motion.as_ref(), &TorqueOptions::default())?;
-        (report.with_torques(&torques), Some(torques))
-    } else {
-        (report, None)
+    let (report, torques) = match motion {
+        Some(motion) if options.torques => {
+            let torques = add_torques(&mut plan, motion.as_ref(), &TorqueOptions::default())?;
+            (report.with_torques(&torques), Some(torques))
+        }
+        _ => (report, None),
     };
     Ok(Planned { plan, report, torques })
 }
