@@ -1,23 +1,26 @@
 """Type stubs of the native module ``freefloat._freefloat`` (PyO3). Import from ``freefloat``."""
 
 from os import PathLike
-from typing import Any, Literal, Optional, Sequence, Union
+from typing import Any, Literal, Optional, Sequence, Union, final
 
 import numpy as np
 import numpy.typing as npt
 
 from ._errors import FreefloatError
 
-Method = Literal["nfa", "ecsa"]
-TransformName = Literal["auto", "eq11", "eq12", "eq14", "global"]
-WindowName = Literal["none", "sin2"]
-Angles = Union[Sequence[float], npt.NDArray[np.floating[Any]]]
+_Method = Literal["nfa", "ecsa"]
+_TransformName = Literal["auto", "eq11", "eq12", "eq14", "global"]
+_WindowName = Literal["none", "sin2"]
+_Angles = Union[Sequence[float], npt.NDArray[np.floating[Any]]]
 
 METHODS: list[str]
 """The planning methods, e.g. ``["nfa", "ecsa"]``."""
 
 __version__: str
 
+__all__ = ["Domain", "METHODS", "Plan", "Robot", "__version__", "_time_plan", "compare", "domain", "plan"]
+
+@final
 class Robot:
     """A planar free-floating robot, SI units (the library's ``RobotParams``). Immutable.
 
@@ -28,8 +31,8 @@ class Robot:
     else :class:`freefloat.BadInput`.
     """
 
-    def __init__(
-        self,
+    def __new__(
+        cls,
         *,
         l1: float,
         l2: float,
@@ -41,7 +44,7 @@ class Robot:
         m2: float,
         a: float = 0.0,
         b: float = 0.0,
-    ) -> None: ...
+    ) -> Robot: ...
     @staticmethod
     def src() -> Robot:
         """The paper's SRC manipulator: l1 = 0.619, l2 = 0.6, d1 = 0.313, d2 = 0.287 m,
@@ -52,7 +55,7 @@ class Robot:
         are errors). Raises :class:`freefloat.BadInput` when unreadable or invalid."""
     def with_mount(self, a: float, b: float) -> Robot:
         """The same robot with the arm mounted at ``(a, b)`` [m]."""
-    def momentum(self, q: Angles, dq: Angles) -> float:
+    def momentum(self, q: _Angles, dq: _Angles) -> float:
         """The angular momentum ``F phi' + G theta1' + H theta2'`` (Eqs. 4-5) [kg m^2/s] at
         ``q`` [rad] with velocities ``dq`` [rad/s]: zero along every plan."""
     @property
@@ -85,8 +88,9 @@ class Robot:
     @property
     def b(self) -> float:
         """Mounting point along the base's Y axis [m]."""
-    def __eq__(self, other: object) -> bool: ...
+    def __eq__(self, other: object, /) -> bool: ...
 
+@final
 class Plan:
     """A certified plan: the sampled trajectory (N samples, both ends included) as float64
     NumPy arrays in SI units and radians, and its certificate."""
@@ -140,6 +144,7 @@ class Plan:
         ``max_abs_u``, ``min_abs_sigma``, ``min_abs_p``, ``max_abs_torque``,
         ``torque_final_error``, ``torque_certificate``, ``seconds``, ``iterations``, ...)."""
 
+@final
 class Domain:
     """The domain of existence of one transformation on a grid x grid map of the
     (theta1, theta2) torus (the paper's Figs. 13-14), with its connected components."""
@@ -189,17 +194,17 @@ class Domain:
 
 def plan(
     robot: Robot,
-    start: Angles,
-    goal: Angles,
+    start: _Angles,
+    goal: _Angles,
     T: float,
     *,
-    method: Method = "nfa",
-    transform: TransformName = "auto",
+    method: _Method = "nfa",
+    transform: _TransformName = "auto",
     samples: int = 1001,
     torques: bool = False,
     tolerance: float = 1e-9,
     harmonics: int = 1,
-    window: WindowName = "none",
+    window: _WindowName = "none",
 ) -> Plan:
     """Plans a motion from ``start`` to ``goal`` = (phi, theta1, theta2) [rad] in ``T`` [s],
     at rest at both ends, zero angular momentum, and certifies it.
@@ -216,17 +221,17 @@ def plan(
 
 def compare(
     robot: Robot,
-    start: Angles,
-    goal: Angles,
+    start: _Angles,
+    goal: _Angles,
     T: float,
     *,
     methods: Optional[Sequence[str]] = None,
-    transform: TransformName = "auto",
+    transform: _TransformName = "auto",
     samples: int = 1001,
     torques: bool = False,
     tolerance: float = 1e-9,
     harmonics: int = 1,
-    window: WindowName = "none",
+    window: _WindowName = "none",
     strict: bool = True,
 ) -> dict[str, Union[Plan, FreefloatError]]:
     """The same problem with each of ``methods`` (default: every method, NFA and ECSA), as a
@@ -235,11 +240,11 @@ def compare(
 
 def domain(
     robot: Robot,
-    transform: TransformName = "auto",
+    transform: _TransformName = "auto",
     grid: int = 720,
     *,
-    start: Optional[Angles] = None,
-    goal: Optional[Angles] = None,
+    start: Optional[_Angles] = None,
+    goal: Optional[_Angles] = None,
 ) -> Domain:
     """The domain map of ``transform`` (``"auto"``: eq12 at a = b = 0, else eq14) on a
     grid x grid map of the torus; ``start`` and ``goal`` [rad] (default: the paper's
@@ -247,12 +252,12 @@ def domain(
 
 def _time_plan(
     robot: Robot,
-    start: Angles,
-    goal: Angles,
+    start: _Angles,
+    goal: _Angles,
     T: float,
     *,
-    method: Method = "nfa",
-    transform: TransformName = "auto",
+    method: _Method = "nfa",
+    transform: _TransformName = "auto",
     samples: int = 1001,
     torques: bool = False,
     repeats: int = 1,
