@@ -1,0 +1,52 @@
+//! Conversions to Python: JSON values to Python objects, sampled columns to NumPy arrays.
+
+use numpy::ndarray::Array2;
+use numpy::{IntoPyArray, PyArray1, PyArray2};
+use pyo3::IntoPyObjectExt;
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+use serde_json::Value;
+
+/// A JSON value as the Python object `json.loads` would give (dicts keep the key order).
+pub fn json_to_py<'py>(py: Python<'py>, value: &Value) -> PyResult<Bound<'py, PyAny>> {
+    Ok(match value {
+        Value::Null => py.None().into_bound(py),
+        Value::Bool(b) => b.into_bound_py_any(py)?,
+        Value::Number(n) => match (n.as_i64(), n.as_u64()) {
+            (Some(i), _) => i.into_bound_py_any(py)?,
+            (None, Some(u)) => u.into_bound_py_any(py)?,
+            // serde_json writes non-finite floats as null; finite ones are always f64 here.
+            _ => n.as_f64().unwrap_or(f64::NAN).into_bound_py_any(py)?,
+        },
+        Value::String(s) => s.into_bound_py_any(py)?,
+        Value::Array(items) => {
+            let list = PyList::empty(py);
+            for item in items {
+                list.append(json_to_py(py, item)?)?;
+            }
+            list.into_any()
+        }
+        Value::Object(map) => json_dict(py, map)?.into_any(),
+    })
+}
+
+/// A JSON object as a Python dict.
+pub fn json_dict<'py>(py: Python<'py>, map: &serde_json::Map<String, Value>) -> PyResult<Bound<'py, PyDict>> {
+    let dict = PyDict::new(py);
+    for (key, item) in map {
+        dict.set_item(key, json_to_py(py, item)?)?;
+    }
+    Ok(dict)
+}
+
+/// Rows of `N` numbers as an `(rows, N)` float64 array (the vector is moved, not copied twice).
+pub fn rows<'py, const N: usize>(py: Python<'py>, rows: &[[f64; N]]) -> Bound<'py, PyArray2<f64>> {
+    let flat = rows.as_flattened().to_vec();
+    let array = Array2::from_shape_vec((rows.len(), N), flat).expect("invariant: rows * N numbers");
+    array.into_pyarray(py)
+}
+
+/// A column as a float64 array.
+pub fn column<'py>(py: Python<'py>, values: &[f64]) -> Bound<'py, PyArray1<f64>> {
+    PyArray1::from_slice(py, values)
+}

@@ -1,0 +1,145 @@
+//! The library's errors as the Python exceptions of `freefloat._errors`: `BadInput` when
+//! [`freefloat::Error::is_bad_input`], `NotCertified` for [`freefloat::Error::NotCertified`],
+//! `NoPlan` for everything else; each carries the library's message and its numbers.
+
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use serde_json::{Value, json};
+
+use crate::convert::json_dict;
+
+/// An error of the bindings: the library's, or an option string that names nothing.
+#[derive(Debug)]
+pub enum BindingError {
+    /// The library's error.
+    Library(freefloat::Error),
+    /// A string option (`method`, `transform`, `window`) that is none of the accepted names.
+    UnknownChoice {
+        /// The keyword, e.g. `method`.
+        name: &'static str,
+        /// What was given.
+        value: String,
+        /// What is accepted.
+        allowed: &'static [&'static str],
+    },
+}
+
+impl From<freefloat::Error> for BindingError {
+    fn from(e: freefloat::Error) -> Self {
+        BindingError::Library(e)
+    }
+}
+
+impl BindingError {
+    /// The Python exception.
+    pub fn into_pyerr(self, py: Python<'_>) -> PyErr {
+        match self {
+            BindingError::Library(e) => library_error(py, &e, None),
+            BindingError::UnknownChoice { name, value, allowed } => {
+                let message = format!("invalid {name} {value:?}: expected one of {}", allowed.join(", "));
+                let details = json!({ "name": name, "value": value, "expected": allowed.join(" | ") });
+                raise(py, "BadInput", message, "unknown_choice", &details, None)
+            }
+        }
+    }
+}
+
+/// The exception of a library error; `plan` (a `freefloat.Plan`) is attached to `NotCertified`.
+pub fn library_error(py: Python<'_>, e: &freefloat::Error, plan: Option<Bound<'_, PyAny>>) -> PyErr {
+    let class = match e {
+        e if e.is_bad_input() => "BadInput",
+        freefloat::Error::NotCertified { .. } => "NotCertified",
+        _ => "NoPlan",
+    };
+    raise(py, class, e.to_string(), &kind(e), &details(e), plan)
+}
+
+/// Instantiates `freefloat._errors.<class>(message, kind=..., details=..., plan=...)`.
+fn raise(
+    py: Python<'_>,
+    class: &str,
+    message: String,
+    kind: &str,
+    details: &Value,
+    plan: Option<Bound<'_, PyAny>>,
+) -> PyErr {
+    let build = || -> PyResult<PyErr> {
+        let kwargs = PyDict::new(py);
+        kwargs.set_item("kind", kind)?;
+        let map = details.as_object().cloned().unwrap_or_default();
+        kwargs.set_item("details", json_dict(py, &map)?)?;
+        if let Some(plan) = plan {
+            kwargs.set_item("plan", plan)?;
+        }
+        let class = py.import("freefloat._errors")?.getattr(class)?;
+        Ok(PyErr::from_value(class.call((message,), Some(&kwargs))?))
+    };
+    build().unwrap_or_else(|e| e)
+}
+
+/// The variant's name in snake case (`InvalidParameter` -> `invalid_parameter`), read from its
+/// `Debug` form so that variants added later are named too.
+fn kind(e: &freefloat::Error) -> String {
+    let debug = format!("{e:?}");
+    let name = debug.split([' ', '{', '(']).next().unwrap_or_default();
+    let mut out = String::new();
+    for (i, c) in name.chars().enumerate() {
+        if c.is_uppercase() && i > 0 {
+            out.push('_');
+        }
+        out.extend(c.to_lowercase());
+    }
+    out
+}
+
+/// The numbers of an error, by the names of its fields (radians, seconds); `q` as
+/// `[phi, theta1, theta2]`.
+fn details(e: &freefloat::Error) -> Value {
+    use freefloat::Error as E;
+    let name = |s: &freefloat::Singularity| serde_json::to_value(s).unwrap_or(Value::Null);
+    match e {
+        E::InvalidParameter { name, value, expected } => json!({"name": name, "value": value, "expected": expected}),
+        E::RobotFile { path, reason } => json!({"path": path.display().to_string(), "reason": reason}),
+        E::Io { path, source } => json!({"path": path.display().to_string(), "reason": source.to_string()}),
+        E::TransformUnavailable { transform, reason } => json!({"transform": transform, "reason": reason}),
+        E::Singular { which, transform, where_, q, t, value, .. } => json!({
+            "which": name(which), "transform": transform, "where": where_,
+            "q": q.map(|q| q.to_array()), "t": t, "value": value,
+        }),
+        E::DifferentComponents { transform, which, start_sign, goal_sign } => json!({
+            "transform": transform, "which": name(which), "start_sign": start_sign, "goal_sign": goal_sign,
+        }),
+        E::NewtonFailed { iterations, residual, target, guess, t } => json!({
+            "iterations": iterations, "residual": residual, "target": target, "guess": guess, "t": t,
+        }),
+        E::DegenerateSteering { w2 } => json!({ "w2": w2 }),
+        E::Integration { t, reason } | E::TorqueDiverges { t, reason } => json!({"t": t, "reason": reason}),
+        E::LeavesBand { t, theta1, z2, lower, upper } => json!({
+            "t": t, "theta1": theta1, "z2": z2, "lower": lower, "upper": upper,
+        }),
+        E::NoBandSteering { loops, amplitude } => json!({"loops": loops, "amplitude": amplitude}),
+        E::NotCertified { final_error, tolerance, level } => json!({
+            "final_error": final_error, "tolerance": tolerance, "level": level,
+        }),
+        E::EcsaFailed { stats } => json!({
+            "iterations": stats.iterations, "residual": stats.residual, "tolerance": stats.tolerance,
+            "residual_history": stats.residual_history, "termination": stats.termination,
+        }),
+        E::GoalNotReached { transform, reached, goal, distance } => json!({
+            "transform": transform, "reached": reached.to_array(), "goal": goal.to_array(), "distance": distance,
+        }),
+        _ => json!({}),
+    }
+}
+
+/// `Err(library error)` as a Python exception.
+pub trait IntoPyResult<T> {
+    /// The Python result.
+    fn py_result(self, py: Python<'_>) -> PyResult<T>;
+}
+
+impl<T, E: Into<BindingError>> IntoPyResult<T> for Result<T, E> {
+    fn py_result(self, py: Python<'_>) -> PyResult<T> {
+        self.map_err(|e| e.into().into_pyerr(py))
+    }
+}

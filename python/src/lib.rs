@@ -1,0 +1,29 @@
+//! Python bindings of freefloat (PyO3): `freefloat.Robot`, `plan`, `compare`, `domain`.
+//!
+//! The Python package is `python/freefloat/` (its exceptions in `_errors.py`, the stubs in
+//! `_freefloat.pyi`); this crate is its native module `freefloat._freefloat`. Planning and
+//! domain maps run with the GIL released.
+
+mod compat;
+mod convert;
+mod domain;
+mod errors;
+mod planning;
+mod robot;
+
+use pyo3::prelude::*;
+
+/// The native module `freefloat._freefloat`.
+#[pymodule]
+fn _freefloat(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<robot::PyRobot>()?;
+    m.add_class::<planning::PyPlan>()?;
+    m.add_class::<domain::PyDomain>()?;
+    m.add_function(wrap_pyfunction!(planning::plan, m)?)?;
+    m.add_function(wrap_pyfunction!(planning::compare, m)?)?;
+    m.add_function(wrap_pyfunction!(planning::_time_plan, m)?)?;
+    m.add_function(wrap_pyfunction!(domain::domain, m)?)?;
+    m.add("METHODS", planning::METHODS.to_vec())?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    Ok(())
+}
