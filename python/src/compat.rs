@@ -2,7 +2,9 @@
 //! that a move of the library's modules touches this file only. The rest of the bindings use
 //! `freefloat::{...}` root re-exports, or these names through `crate::compat`.
 
-pub use freefloat::domain::{DomainMap, DomainSummary};
-pub use freefloat::dynamics::add_torques;
-pub use freefloat::io::PlanReport;
-pub use freefloat::system::momentum;
+pub use freefloat::analysis::domain::{DomainMap, DomainSummary};
+pub use freefloat::model::InputError;
+pub use freefloat::model::system::momentum;
+pub use freefloat::numerics::ode::OdeError;
+pub use freefloat::planners::{PlannerOptions, planner};
+pub use freefloat::report::io::PlanReport;

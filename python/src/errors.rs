@@ -6,6 +6,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use serde_json::{Value, json};
 
+use crate::compat::{InputError, OdeError};
 use crate::convert::json_dict;
 
 /// An error of the bindings: the library's, or an option string that names nothing.
@@ -27,6 +28,12 @@ pub enum BindingError {
 impl From<freefloat::Error> for BindingError {
     fn from(e: freefloat::Error) -> Self {
         BindingError::Library(e)
+    }
+}
+
+impl From<InputError> for BindingError {
+    fn from(e: InputError) -> Self {
+        BindingError::Library(e.into())
     }
 }
 
@@ -80,7 +87,10 @@ fn raise(
 /// The variant's name in snake case (`InvalidParameter` -> `invalid_parameter`), read from its
 /// `Debug` form so that variants added later are named too.
 fn kind(e: &freefloat::Error) -> String {
-    let debug = format!("{e:?}");
+    let debug = match e {
+        freefloat::Error::Input(inner) => format!("{inner:?}"),
+        e => format!("{e:?}"),
+    };
     let name = debug.split([' ', '{', '(']).next().unwrap_or_default();
     let mut out = String::new();
     for (i, c) in name.chars().enumerate() {
@@ -98,9 +108,15 @@ fn details(e: &freefloat::Error) -> Value {
     use freefloat::Error as E;
     let name = |s: &freefloat::Singularity| serde_json::to_value(s).unwrap_or(Value::Null);
     match e {
-        E::InvalidParameter { name, value, expected } => json!({"name": name, "value": value, "expected": expected}),
-        E::RobotFile { path, reason } => json!({"path": path.display().to_string(), "reason": reason}),
-        E::Io { path, source } => json!({"path": path.display().to_string(), "reason": source.to_string()}),
+        E::Input(InputError::InvalidParameter { name, value, expected }) => {
+            json!({"name": name, "value": value, "expected": expected})
+        }
+        E::Input(InputError::RobotFile { path, reason }) => {
+            json!({"path": path.display().to_string(), "reason": reason})
+        }
+        E::Input(InputError::Io { path, source }) => {
+            json!({"path": path.display().to_string(), "reason": source.to_string()})
+        }
         E::TransformUnavailable { transform, reason } => json!({"transform": transform, "reason": reason}),
         E::Singular { which, transform, where_, q, t, value, .. } => json!({
             "which": name(which), "transform": transform, "where": where_,
@@ -113,7 +129,7 @@ fn details(e: &freefloat::Error) -> Value {
             "iterations": iterations, "residual": residual, "target": target, "guess": guess, "t": t,
         }),
         E::DegenerateSteering { w2 } => json!({ "w2": w2 }),
-        E::Integration { t, reason } | E::TorqueDiverges { t, reason } => json!({"t": t, "reason": reason}),
+        E::Integration(OdeError { t, reason }) | E::TorqueDiverges { t, reason } => json!({"t": t, "reason": reason}),
         E::LeavesBand { t, theta1, z2, lower, upper } => json!({
             "t": t, "theta1": theta1, "z2": z2, "lower": lower, "upper": upper,
         }),

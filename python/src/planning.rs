@@ -5,8 +5,7 @@
 use std::time::Instant;
 
 use freefloat::{
-    EcsaOptions, EcsaPlanner, Motion, NfaOptions, NormalFormPlanner, Plan, PlanningProblem, TorqueOptions,
-    TorqueReport, Transform, Window,
+    EcsaOptions, Method, NfaOptions, Plan, PlanningProblem, TorqueOptions, TorqueReport, Transform, Window,
 };
 use numpy::{PyArray1, PyArray2};
 use pyo3::prelude::*;
@@ -14,7 +13,7 @@ use pyo3::sync::PyOnceLock;
 use pyo3::types::PyDict;
 use serde_json::Value;
 
-use crate::compat::{PlanReport, add_torques};
+use crate::compat::{InputError, PlanReport, PlannerOptions, planner};
 use crate::convert::{column, json_dict, rows};
 use crate::errors::{BindingError, IntoPyResult, library_error};
 use crate::robot::{PyRobot, triple};
@@ -107,11 +106,11 @@ pub fn parse_transform(name: &str) -> Result<Option<Transform>, BindingError> {
 /// A non-negative count, else `BadInput` naming it.
 pub fn count(name: &str, value: i64) -> Result<usize, BindingError> {
     usize::try_from(value).map_err(|_| {
-        BindingError::Library(freefloat::Error::InvalidParameter {
+        BindingError::Library(freefloat::Error::from(InputError::InvalidParameter {
             name: name.into(),
             value: value as f64,
             expected: "a non-negative integer",
-        })
+        }))
     })
 }
 
@@ -126,29 +125,18 @@ pub struct Planned {
 /// The one dispatch on the method: a new planner is one more arm here (and its name in
 /// [`METHODS`]).
 pub fn plan_core(method: &str, problem: &PlanningProblem, options: &Options) -> Result<Planned, BindingError> {
-    // Each arm: the plan, its report, and its exact motion (required when `options.torques`).
-    let (mut plan, report, motion): (Plan, PlanReport, Option<Box<dyn Motion>>) = match method {
-        "nfa" => {
-            let (plan, motion) = NormalFormPlanner::new(options.nfa()).plan_with_motion(problem)?;
-            let report = PlanReport::new(&plan, false);
-            (plan, report, Some(Box::new(motion)))
-        }
-        "ecsa" => {
-            let planner = EcsaPlanner::new(options.ecsa()?);
-            let (plan, solution) = planner.plan_with_solution(problem)?;
-            let report = PlanReport::new(&plan, false).with_ecsa(&solution);
-            let motion = if options.torques { Some(Box::new(planner.motion(problem, &solution)?) as _) } else { None };
-            (plan, report, motion)
-        }
+    let method = match method {
+        "nfa" => Method::Nfa,
+        "ecsa" => Method::Ecsa,
         other => return Err(BindingError::UnknownChoice { name: "method", value: other.into(), allowed: METHODS }),
     };
-    let (report, torques) = match motion {
-        Some(motion) if options.torques => {
-            let torques = add_torques(&mut plan, motion.as_ref(), &TorqueOptions::default())?;
-            (report.with_torques(&torques), Some(torques))
-        }
-        _ => (report, None),
-    };
+    let planner_options = PlannerOptions { nfa: options.nfa(), ecsa: options.ecsa()? };
+    let mut planned = planner(method, &planner_options).plan(problem)?;
+    if options.torques {
+        planned.add_torques(&TorqueOptions::default())?;
+    }
+    let report = PlanReport::new(&planned, false);
+    let (plan, torques) = (planned.plan, planned.torques);
     Ok(Planned { plan, report, torques })
 }
 
@@ -264,7 +252,7 @@ pub fn into_python(py: Python<'_>, planned: Planned) -> PyResult<Bound<'_, PyPla
         z: tr.z.as_deref().map(|a| rows(py, a).unbind()),
         tau: tr.tau.as_deref().map(|a| rows(py, a).unbind()),
         method: method_name(&report_value),
-        transform: plan.transform.map(|t| t.name().to_string()),
+        transform: report.transform.map(|t| t.name().to_string()),
         effort: effort(&tr.t, &tr.dq),
         final_error: v.final_error,
         tolerance: v.tolerance,

@@ -127,11 +127,11 @@ impl PyRobot {
 /// Three numbers from a sequence (`q`, `start`, ...), else `BadInput` naming the argument.
 pub fn triple(py: Python<'_>, name: &str, values: &[f64]) -> PyResult<[f64; 3]> {
     <[f64; 3]>::try_from(values).map_err(|_| {
-        BindingError::Library(freefloat::Error::InvalidParameter {
+        BindingError::Library(freefloat::Error::from(crate::compat::InputError::InvalidParameter {
             name: name.to_string(),
             value: values.len() as f64,
             expected: "3 numbers (phi, theta1, theta2) [rad]",
-        })
+        }))
         .into_pyerr(py)
     })
 }
