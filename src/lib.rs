@@ -25,6 +25,7 @@ pub mod io;
 pub mod model;
 pub mod normal_form;
 pub mod ode;
+pub mod optimal;
 pub mod plan;
 pub mod plot;
 pub mod quadrature;

@@ -78,6 +78,11 @@ pub trait Motion {
     fn points(&self, times: &[f64]) -> Result<Vec<MotionPoint>, Error> {
         times.iter().map(|&t| self.at(t)).collect()
     }
+    /// Times in `(0, T)` \[s\] where the controls are less smooth (spline knots), ascending; the
+    /// verification integrates one piece at a time between them. Default: none.
+    fn breakpoints(&self) -> Vec<f64> {
+        Vec::new()
+    }
 }
 
 /// A point of a [`Motion`].
@@ -144,6 +149,8 @@ pub enum Method {
     Nfa,
     /// Endogenous Configuration Space Approach.
     Ecsa,
+    /// Minimum-effort (or minimum-energy) trajectory optimisation.
+    Optimal,
 }
 
 /// A plan with its certificate.
@@ -617,23 +624,38 @@ pub fn verify(
     let y0 = nalgebra::Vector3::from(problem.start.to_array());
     let mut deviation: f64 = 0.0;
     let mut observe_error = None;
-    let (y, stats) = integrate(
-        |t, y: &nalgebra::Vector3<f64>| {
-            let u = motion.controls(t)?;
-            Ok(nalgebra::Vector3::from(velocity(&k, [y[0], y[1], y[2]], u)))
-        },
-        0.0,
-        y0,
-        problem.horizon,
-        ode,
-        |t, y| match motion.at(t) {
-            Ok(p) => {
-                let d = (y - nalgebra::Vector3::from(p.q.to_array())).abs().max();
-                deviation = deviation.max(d);
-            }
-            Err(e) => observe_error = Some(e),
-        },
-    )?;
+    // One integration per piece between the motion's breakpoints: the adaptive steps never
+    // straddle a point where the controls lose smoothness.
+    let mut ends: Vec<f64> = motion.breakpoints().into_iter().filter(|&t| t > 0.0 && t < problem.horizon).collect();
+    ends.push(problem.horizon);
+    let (mut y, mut t0) = (y0, 0.0);
+    let mut stats = OdeStats::default();
+    for t1 in ends {
+        if !(t1 > t0) {
+            continue;
+        }
+        let (y1, piece) = integrate(
+            |t, y: &nalgebra::Vector3<f64>| {
+                let u = motion.controls(t)?;
+                Ok(nalgebra::Vector3::from(velocity(&k, [y[0], y[1], y[2]], u)))
+            },
+            t0,
+            y,
+            t1,
+            ode,
+            |t, y| match motion.at(t) {
+                Ok(p) => {
+                    let d = (y - nalgebra::Vector3::from(p.q.to_array())).abs().max();
+                    deviation = deviation.max(d);
+                }
+                Err(e) => observe_error = Some(e),
+            },
+        )?;
+        stats.accepted += piece.accepted;
+        stats.rejected += piece.rejected;
+        stats.evaluations += piece.evaluations;
+        (y, t0) = (y1, t1);
+    }
     if let Some(e) = observe_error {
         return Err(e);
     }

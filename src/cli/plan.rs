@@ -244,6 +244,7 @@ pub fn table(plan: &Plan, r: &PlanReport) -> String {
     let method = match plan.method {
         Method::Nfa => format!("NFA, transform {}", r.transform.map(|t| t.name()).unwrap_or("-")),
         Method::Ecsa => format!("ECSA, {} iterations", r.iterations.unwrap_or(0)),
+        Method::Optimal => format!("optimal, {} SQP iterations", r.iterations.unwrap_or(0)),
     };
     let status = if r.certified { "CERTIFIED" } else { "NOT CERTIFIED" };
     let mut s = String::new();
