@@ -2,7 +2,8 @@
 //! conditions built in, the cost and the holonomy constraint as Gauss–Legendre sums over the knot
 //! spans, with exact gradients and Hessians of those sums.
 //!
-//! The free variables `x` are the interior coefficients of both joints, `[theta1 | theta2]`; the
+//! The free variables `x` are the interior coefficients of both joints, interleaved
+//! `(theta1_i, theta2_i)` so that every Hessian is banded (half-bandwidth `2 p + 1`); the
 //! first and last `r` coefficients of each joint (`r = 2`, or 3 with smooth ends) are fixed by
 //! `theta(0), theta'(0), [theta''(0)]` and `theta(T), theta'(T) = 0, [theta''(T) = 0]`.
 
@@ -120,7 +121,7 @@ impl Discretisation {
         let mut free_index = vec![None; 2 * n];
         for j in 0..2 {
             for i in r..n - r {
-                free_index[j * n + i] = Some(j * nf + i - r);
+                free_index[j * n + i] = Some(2 * (i - r) + j);
             }
         }
         let rule = GaussLegendre::new(nodes_per_span);
@@ -158,6 +159,11 @@ impl Discretisation {
         Ok(me)
     }
 
+    /// Half-bandwidth of every Hessian in the free variables: `2 p + 1`.
+    pub fn half_bandwidth(&self) -> usize {
+        2 * self.basis.degree() + 1
+    }
+
     /// Number of free variables.
     pub fn dim(&self) -> usize {
         self.effort_hessian.nrows()
@@ -186,7 +192,7 @@ impl Discretisation {
         let nf = n - 2 * r;
         std::array::from_fn(|j| {
             let mut c = self.head[j].clone();
-            c.extend(x.rows(j * nf, nf).iter());
+            c.extend((0..nf).map(|m| x[2 * m + j]));
             c.extend_from_slice(&self.tail[j]);
             c
         })
@@ -213,45 +219,47 @@ impl Discretisation {
         let p = self.basis.degree();
         let n = self.basis.len();
         let w = scale * node.weight;
-        // Free index and the (value, rate) factors of each of the 2 (p + 1) local coefficients.
+        // The 2 (p + 1) local coefficients: free index, joint, (value, rate) factors.
+        let count = 2 * (p + 1);
         let mut idx = [usize::MAX; 12];
+        let mut joint = [0usize; 12];
         let mut fac = [[0.0; 2]; 12];
-        for j in 0..2 {
-            for l in 0..=p {
-                let m = j * (p + 1) + l;
+        let mut raw = [[0.0; 2]; 12];
+        for l in 0..=p {
+            for j in 0..2 {
+                let m = 2 * l + j;
                 idx[m] = self.free_index[j * n + node.first + l].unwrap_or(usize::MAX);
-                fac[m] = [node.value[l], node.rate[l]];
+                joint[m] = j;
+                raw[m] = [node.value[l], node.rate[l]];
+                fac[m] = [node.value[l] * w, node.rate[l] * w];
             }
         }
-        let count = 2 * (p + 1);
-        let joint = |m: usize| m / (p + 1);
+        let lg = &local.gradient;
+        for m in 0..count {
+            if idx[m] != usize::MAX {
+                let j = joint[m];
+                g[idx[m]] += lg[j] * fac[m][0] + lg[2 + j] * fac[m][1];
+            }
+        }
+        let Some(h) = h else { return };
+        let lh = &local.hessian;
+        let dim = h.nrows();
+        let data = h.as_mut_slice();
         for m in 0..count {
             if idx[m] == usize::MAX {
                 continue;
             }
-            let j = joint(m);
-            g[idx[m]] += w * (local.gradient[j] * fac[m][0] + local.gradient[2 + j] * fac[m][1]);
-        }
-        if let Some(h) = h {
-            // r_m = hessian * e_m with e_m = value at j, rate at 2 + j.
-            let mut rows = [[0.0; 4]; 12];
-            for m in 0..count {
-                let j = joint(m);
-                for (a, row) in rows[m].iter_mut().enumerate() {
-                    *row = local.hessian[a][j] * fac[m][0] + local.hessian[a][2 + j] * fac[m][1];
-                }
-            }
-            for m in 0..count {
-                if idx[m] == usize::MAX {
+            let j = joint[m];
+            // The local Hessian's row pair of this coefficient, contracted with its factors.
+            let [v, r] = raw[m];
+            let row: [f64; 4] = std::array::from_fn(|a| lh[j][a] * v + lh[2 + j][a] * r);
+            let col = idx[m] * dim;
+            for mm in 0..count {
+                if idx[mm] == usize::MAX {
                     continue;
                 }
-                let j = joint(m);
-                for (mm, row) in rows.iter().enumerate().take(count) {
-                    if idx[mm] == usize::MAX {
-                        continue;
-                    }
-                    h[(idx[m], idx[mm])] += w * (fac[m][0] * row[j] + fac[m][1] * row[2 + j]);
-                }
+                let jj = joint[mm];
+                data[col + idx[mm]] += row[jj] * fac[mm][0] + row[2 + jj] * fac[mm][1];
             }
         }
     }
@@ -325,12 +333,12 @@ impl Discretisation {
             let target = path(node.t);
             let (theta_fixed, _) = self.point(&fixed, node);
             for l in 0..=p {
-                let Some(i) = self.free_index[node.first + l] else { continue };
+                let Some(i) = self.free_index[node.first + l].map(|f| f / 2) else { continue };
                 for j in 0..2 {
                     rhs[j][i] += node.weight * node.value[l] * (target[j] - theta_fixed[j]);
                 }
                 for ll in 0..=p {
-                    if let Some(ii) = self.free_index[node.first + ll] {
+                    if let Some(ii) = self.free_index[node.first + ll].map(|f| f / 2) {
                         mass[(i, ii)] += node.weight * node.value[l] * node.value[ll];
                     }
                 }
@@ -343,7 +351,9 @@ impl Discretisation {
         })?;
         let mut x = DVector::zeros(dim);
         for (j, r) in rhs.iter().enumerate() {
-            x.rows_mut(j * nf, nf).copy_from(&chol.solve(r));
+            for (m, v) in chol.solve(r).iter().enumerate() {
+                x[2 * m + j] = *v;
+            }
         }
         if x.iter().all(|v| v.is_finite()) {
             Ok(x)

@@ -18,6 +18,7 @@
 //!    are refined on finer bases until the cost settles;
 //! 3. the result is an exact [`OptimalMotion`], certified like every plan of the crate.
 
+pub mod band;
 pub mod discrete;
 pub mod holonomy;
 pub mod motion;
@@ -32,6 +33,7 @@ use serde::Serialize;
 
 use crate::error::Error;
 use crate::model::wrap_angle;
+use crate::normal_form::Transform;
 use crate::ode::OdeOptions;
 use crate::plan::{Method, Motion, NfaOptions, NormalFormPlanner, Plan, Planner, PlanningProblem};
 
@@ -86,8 +88,14 @@ pub struct OptimalOptions {
     pub quadrature_nodes: usize,
     /// How many of the best coarse solutions are refined; default 2.
     pub finalists: usize,
-    /// Seed with the NFA's joint path where the NFA plans; default true.
+    /// Seed with the NFA's joint path where the paper's transformation (Eq. 12 or 14) plans;
+    /// default true.
     pub nfa_seed: bool,
+    /// How many goal representatives (best first by the constant-speed effort of their loop
+    /// seeds) are solved; default 2.
+    pub targets_solved: usize,
+    /// Largest radius of a loop seed \[rad\]; larger areas take several turns; default 2.
+    pub max_loop_radius: f64,
     /// SQP options of the refined solves.
     pub sqp: SqpOptions,
 }
@@ -109,6 +117,8 @@ impl Default for OptimalOptions {
             quadrature_nodes: 8,
             finalists: 2,
             nfa_seed: true,
+            targets_solved: 2,
+            max_loop_radius: 2.0,
             sqp: SqpOptions::default(),
         }
     }
@@ -139,6 +149,12 @@ impl OptimalOptions {
         }
         if !(6..=64).contains(&self.quadrature_nodes) {
             return bad("quadrature_nodes", self.quadrature_nodes as f64, "6 to 64 nodes per knot span");
+        }
+        if self.targets_solved == 0 {
+            return bad("targets_solved", 0.0, "at least 1");
+        }
+        if !(self.max_loop_radius > 0.0 && self.max_loop_radius < 10.0) {
+            return bad("max_loop_radius", self.max_loop_radius, "a radius in (0, 10) rad");
         }
         if self.finalists == 0 {
             return bad("finalists", 0.0, "at least 1");
@@ -196,11 +212,7 @@ impl OptimalPlanner {
         }
         let joint = |from: f64, to: f64| {
             let near = from + wrap_angle(to - from);
-            let mut v = vec![near];
-            if (near - from).abs() > std::f64::consts::FRAC_PI_2 {
-                v.push(near - std::f64::consts::TAU * (near - from).signum());
-            }
-            v
+            [near, near - std::f64::consts::TAU, near + std::f64::consts::TAU]
         };
         let phi = q0.phi + wrap_angle(qd.phi - q0.phi);
         let mut out = Vec::new();
@@ -232,9 +244,11 @@ impl OptimalPlanner {
 
     /// The NFA's joint path, sampled, when the NFA plans this problem.
     fn nfa_path(&self, problem: &PlanningProblem) -> Option<(Sampled, [f64; 2], f64)> {
-        let options = NfaOptions { samples: 201, ..Default::default() };
+        // The paper's transformation only: the global normal form's band steering costs more than
+        // the whole optimisation.
+        let n = 101;
+        let options = NfaOptions { samples: n, transform: Some(Transform::auto(&problem.robot)), ..Default::default() };
         let motion = NormalFormPlanner::new(options).motion(problem).ok()?;
-        let n = 201;
         let times: Vec<f64> = (0..n)
             .map(|i| if i + 1 == n { problem.horizon } else { problem.horizon * i as f64 / (n - 1) as f64 })
             .collect();
@@ -253,7 +267,8 @@ impl OptimalPlanner {
         let nfa =
             if o.nfa_seed && o.initial_velocity.iter().all(|u| u.abs() == 0.0) { self.nfa_path(problem) } else { None };
         let kappa_max = seeds::curvature_bound(&k);
-        // Each goal representative with its straight line and a lower bound of its effort.
+        // Each goal representative with its straight line, its loop seeds and two cheap numbers:
+        // a lower bound of its effort and the constant-speed effort of its best loop seed.
         let mut prepared = Vec::new();
         for targets in self.targets(problem) {
             let disc = self.discretise(problem, targets, o.coarse_spans, o.quadrature_nodes)?;
@@ -266,100 +281,102 @@ impl OptimalPlanner {
             let x_line = disc.project(|t| line.at(t))?;
             let needed = -disc.evaluate(&x_line, 0).c;
             let bound = seeds::effort_lower_bound(&line, needed, kappa_max);
-            prepared.push((bound, disc, line, x_line, needed));
+            // Each side's loop as estimated from the curvature at its centre, and re-fitted to
+            // the constraint: they lead to different local minima.
+            let raw = [1, -1].map(|side| line.loop_seed(&k, needed, side, 0, o.max_loop_radius));
+            let fitted = raw.map(|kind| {
+                line.fit_radius(kind, o.max_loop_radius, |kind| {
+                    disc.project(|t| line.path(kind, t)).map(|x| disc.evaluate(&x, 0).c).unwrap_or(f64::NAN)
+                })
+            });
+            let loops = [raw[0], raw[1], fitted[0], fitted[1]];
+            let estimate = raw.iter().map(|kind| line.effort_estimate(*kind)).fold(f64::INFINITY, f64::min);
+            prepared.push((estimate, bound, disc, line, x_line, loops));
         }
         prepared.sort_by(|a, b| a.0.total_cmp(&b.0));
-        let mut coarse: Vec<Candidate> = Vec::new();
         let mut seeds = 0;
         let mut total_iterations = 0;
         let mut best = f64::INFINITY;
-        for (bound, disc, line, x_line, needed) in prepared {
-            if bound > best {
-                break;
-            }
-            let targets = *disc.targets();
-            let mut starts: Vec<DVector<f64>> = vec![x_line];
-            for side in [1, -1] {
-                let kind = line.loop_seed(&k, needed, side, 0, 2.5);
-                starts.push(disc.project(|t| line.path(kind, t))?);
-            }
-            if let Some((path, end, phi)) = &nfa {
-                let same_end = (end[0] - targets.end[0]).abs() < 1e-6 && (end[1] - targets.end[1]).abs() < 1e-6;
-                if same_end && (phi - targets.phi_end).abs() < 1e-6 {
-                    starts.push(disc.project(|t| path.at(t))?);
-                }
-            }
-            for x0 in starts {
-                seeds += 1;
-                let Ok(result) = sqp::solve(&disc, x0, &COARSE_SQP) else { continue };
-                total_iterations += result.iterations;
-                if std::env::var("OPT_DEBUG").is_ok() {
-                    eprintln!(
-                        "coarse phi_end {:.4} end {:?} bound {bound:.3e}: it {} f {:.6e} c {:.2e} kkt {:.2e} {:?}",
-                        targets.phi_end,
-                        targets.end,
-                        result.iterations,
-                        result.f,
-                        result.c,
-                        result.kkt,
-                        result.termination
-                    );
-                }
-                if result.c.abs() <= 1e-6 && result.f < best {
-                    best = result.f;
-                }
-                coarse.push(Candidate {
-                    disc: disc.clone(),
-                    iterations: result.iterations,
-                    result,
-                    spans: o.coarse_spans,
-                    nodes: o.quadrature_nodes,
-                });
-            }
-        }
-        // Rank: feasible first, then by cost.
-        let feasible = |c: &Candidate| c.result.c.abs() <= 1e-6 && c.result.f.is_finite();
-        coarse.sort_by(|a, b| feasible(b).cmp(&feasible(a)).then(a.result.f.total_cmp(&b.result.f)));
-        let mut finalists: Vec<Candidate> = Vec::new();
-        for c in coarse {
-            if finalists.len() >= o.finalists {
-                break;
-            }
-            let duplicate =
-                finalists.iter().any(|f| (f.result.f - c.result.f).abs() <= 1e-6 * c.result.f.abs().max(1e-12));
-            if !duplicate {
-                finalists.push(c);
-            }
-        }
-        let mut done = Vec::new();
         let mut best_failure: Option<Candidate> = None;
-        for c in finalists {
-            let c = self.refine(problem, c)?;
-            total_iterations += c.iterations;
-            if c.result.converged() {
-                done.push(c);
-            } else if best_failure.as_ref().is_none_or(|b| c.result.c.abs() < b.result.c.abs()) {
-                best_failure = Some(c);
-            }
-        }
-        if done.is_empty() {
-            let (iterations, c, kkt, effort, termination) = match &best_failure {
-                Some(b) => {
-                    (b.iterations, b.result.c.abs(), b.result.kkt, b.disc.effort(&b.result.x), b.result.termination)
+        // Batches of representatives, best estimates first: the next batch only when no
+        // finalist of the previous ones converged.
+        let mut batch = o.targets_solved;
+        let mut prepared = prepared.into_iter().peekable();
+        while prepared.peek().is_some() {
+            let mut coarse: Vec<Candidate> = Vec::new();
+            for (_, bound, disc, line, x_line, loops) in prepared.by_ref().take(batch) {
+                if bound > best {
+                    break;
                 }
-                None => (0, f64::INFINITY, f64::INFINITY, f64::INFINITY, Termination::MaxIterations),
-            };
-            return Err(Error::OptimalFailed {
-                iterations,
-                constraint_residual: c,
-                kkt_residual: kkt,
-                effort,
-                seeds,
-                termination: termination_name(termination),
-            });
+                let targets = *disc.targets();
+                let mut starts: Vec<DVector<f64>> = vec![x_line];
+                for kind in loops {
+                    starts.push(disc.project(|t| line.path(kind, t))?);
+                }
+                if let Some((path, end, phi)) = &nfa {
+                    let same_end = (end[0] - targets.end[0]).abs() < 1e-6 && (end[1] - targets.end[1]).abs() < 1e-6;
+                    if same_end && (phi - targets.phi_end).abs() < 1e-6 {
+                        starts.push(disc.project(|t| path.at(t))?);
+                    }
+                }
+                for x0 in starts {
+                    seeds += 1;
+                    let Ok(result) = sqp::solve(&disc, x0, &COARSE_SQP) else { continue };
+                    total_iterations += result.iterations;
+                    if result.c.abs() <= 1e-6 && result.f < best {
+                        best = result.f;
+                    }
+                    coarse.push(Candidate {
+                        disc: disc.clone(),
+                        iterations: result.iterations,
+                        result,
+                        spans: o.coarse_spans,
+                        nodes: o.quadrature_nodes,
+                    });
+                }
+            }
+            // Rank: feasible first, then by cost.
+            let feasible = |c: &Candidate| c.result.c.abs() <= 1e-6 && c.result.f.is_finite();
+            coarse.sort_by(|a, b| feasible(b).cmp(&feasible(a)).then(a.result.f.total_cmp(&b.result.f)));
+            let mut finalists: Vec<Candidate> = Vec::new();
+            for c in coarse {
+                if finalists.len() >= o.finalists {
+                    break;
+                }
+                let duplicate =
+                    finalists.iter().any(|f| (f.result.f - c.result.f).abs() <= 1e-6 * c.result.f.abs().max(1e-12));
+                if !duplicate {
+                    finalists.push(c);
+                }
+            }
+            let mut done = Vec::new();
+            for c in finalists {
+                let c = self.refine(problem, c)?;
+                total_iterations += c.iterations;
+                if c.result.converged() {
+                    done.push(c);
+                } else if best_failure.as_ref().is_none_or(|b| c.result.c.abs() < b.result.c.abs()) {
+                    best_failure = Some(c);
+                }
+            }
+            if !done.is_empty() {
+                done.sort_by(|a, b| a.result.f.total_cmp(&b.result.f));
+                return Ok(done.into_iter().map(|c| self.to_motion(problem, c, seeds, total_iterations)).collect());
+            }
+            batch *= 2;
         }
-        done.sort_by(|a, b| a.result.f.total_cmp(&b.result.f));
-        Ok(done.into_iter().map(|c| self.to_motion(problem, c, seeds, total_iterations)).collect())
+        let (iterations, c, kkt, effort, termination) = match &best_failure {
+            Some(b) => (b.iterations, b.result.c.abs(), b.result.kkt, b.disc.effort(&b.result.x), b.result.termination),
+            None => (0, f64::INFINITY, f64::INFINITY, f64::INFINITY, Termination::MaxIterations),
+        };
+        Err(Error::OptimalFailed {
+            iterations,
+            constraint_residual: c,
+            kkt_residual: kkt,
+            effort,
+            seeds,
+            termination: termination_name(termination),
+        })
     }
 
     /// Refines a coarse solution: doubles the spans until the cost settles (or `max_spans`),
@@ -414,12 +431,6 @@ impl OptimalPlanner {
         let old_basis = c.disc.basis();
         let x0 = disc.project(|t| [old_basis.evaluate(&old[0], t)[0], old_basis.evaluate(&old[1], t)[0]])?;
         let result = sqp::solve(&disc, x0, &self.options.sqp)?;
-        if std::env::var("OPT_DEBUG").is_ok() {
-            eprintln!(
-                "refine spans {spans} nodes {nodes}: it {} f {:.12e} c {:.2e} kkt {:.2e} {:?}",
-                result.iterations, result.f, result.c, result.kkt, result.termination
-            );
-        }
         let iterations = c.iterations + result.iterations;
         Ok(Candidate { disc, result, spans, nodes, iterations })
     }

@@ -129,19 +129,39 @@ impl OptimalMotion {
     }
 
     /// The sampled trajectory at `samples` equally spaced times: `q`, `q' = g(q) u` and `q''`
-    /// exact; `z` is `None`.
+    /// exact; `z` is `None`. `phi` is accumulated from sample to sample (pieces split at the
+    /// breakpoints, an 8-node Gauss–Legendre rule on each: the pieces are short).
     pub fn trajectory(&self, problem: &PlanningProblem, samples: usize) -> Result<Trajectory, Error> {
         let horizon = self.basis.horizon();
         let n = samples.max(2);
         let dt = horizon / (n - 1) as f64;
         let k = problem.robot.lumped();
+        let short = GaussLegendre::new(8);
+        let b = self.basis.breakpoints();
         let mut tr = Trajectory { ddq: Some(Vec::with_capacity(n)), ..Default::default() };
+        let (mut phi, mut previous) = (self.phi_breaks[0], 0.0);
         for i in 0..n {
             let t = if i + 1 == n { horizon } else { i as f64 * dt };
-            let m = self.at(t)?;
-            let (v, a) = velocity_acceleration(&k, &m.q, m.u, m.du);
+            let s = self.basis.interval(t);
+            let span = self.basis.span_of_interval(s);
+            if b[s] >= previous {
+                // A breakpoint lies in (previous, t]: restart from it.
+                phi = self.phi_breaks[s];
+                previous = b[s];
+            }
+            if t > previous {
+                phi -= short.integrate(previous, t, |x| {
+                    let [th, w] = self.joints_in(span, x, 1);
+                    let (a, bb) = connection(&self.k, th[0], th[1]);
+                    a * w[0] + bb * w[1]
+                });
+            }
+            previous = t;
+            let [th, u, du] = self.joints_in(span, t, 2);
+            let q = Configuration::new(phi, th[0], th[1]);
+            let (v, a) = velocity_acceleration(&k, &q, u, du);
             tr.t.push(t);
-            tr.q.push(m.q.to_array());
+            tr.q.push(q.to_array());
             tr.dq.push(v);
             if let Some(ddq) = tr.ddq.as_mut() {
                 ddq.push(a);

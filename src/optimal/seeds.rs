@@ -28,6 +28,8 @@ pub enum SeedKind {
         orientation: i8,
         /// Radius \[rad\].
         radius: f64,
+        /// Number of turns around the loop.
+        turns: usize,
     },
     /// The NFA's joint path.
     Nfa,
@@ -77,6 +79,7 @@ impl Line {
         let n = self.normal();
         let mut radius: f64 = 0.5;
         let mut orient = if orientation == 0 { 1 } else { orientation };
+        let mut turns = 1;
         for _ in 0..3 {
             let c = [mid[0] + side as f64 * radius * n[0], mid[1] + side as f64 * radius * n[1]];
             let s = shape(k, c[0], c[1]);
@@ -85,21 +88,59 @@ impl Line {
             if orientation == 0 {
                 orient = if area >= 0.0 { 1 } else { -1 };
             }
-            radius = if area * orient as f64 > 0.0 { (area.abs() / PI).sqrt() } else { 0.5 };
-            radius = radius.clamp(0.1, max_radius);
+            let wanted = if area * orient as f64 > 0.0 { area.abs() / PI } else { 0.25 };
+            turns = ((wanted / (max_radius * max_radius)).ceil() as usize).clamp(1, 6);
+            radius = (wanted / turns as f64).sqrt().clamp(0.1, max_radius);
         }
-        SeedKind::Loop { side, orientation: orient, radius }
+        SeedKind::Loop { side, orientation: orient, radius, turns }
+    }
+
+    /// The loop seed `kind` with its radius re-fitted (secant iteration, at most 8 evaluations of
+    /// `residual`) so that the residual of the holonomy constraint vanishes; the radius stays in
+    /// `[0.05, max_radius]` and the best one seen is returned.
+    pub fn fit_radius(&self, kind: SeedKind, max_radius: f64, mut residual: impl FnMut(SeedKind) -> f64) -> SeedKind {
+        let SeedKind::Loop { side, orientation, radius, turns } = kind else { return kind };
+        let with = |r: f64| SeedKind::Loop { side, orientation, radius: r, turns };
+        let (mut r0, mut r1) = (radius, (radius * 1.2).min(max_radius));
+        if (r1 - r0).abs() < 1e-9 {
+            r1 = 0.8 * r0;
+        }
+        let (mut c0, mut c1) = (residual(with(r0)), residual(with(r1)));
+        let mut best = if c0.abs() < c1.abs() { (r0, c0) } else { (r1, c1) };
+        for _ in 0..6 {
+            if !(c1 - c0).is_finite() || (c1 - c0).abs() < 1e-300 || best.1.abs() < 1e-6 {
+                break;
+            }
+            let r2 = (r1 - c1 * (r1 - r0) / (c1 - c0)).clamp(0.05, max_radius);
+            let c2 = residual(with(r2));
+            if c2.abs() < best.1.abs() {
+                best = (r2, c2);
+            }
+            (r0, c0, r1, c1) = (r1, c1, r2, c2);
+        }
+        with(best.0)
+    }
+
+    /// The effort `L^2 / T` of the seed's path run at constant speed, with its length `L`
+    /// estimated as the line's length plus the loop's circumference times its turns.
+    pub fn effort_estimate(&self, kind: SeedKind) -> f64 {
+        let d = (self.end[0] - self.start[0]).hypot(self.end[1] - self.start[1]);
+        let extra = match kind {
+            SeedKind::Loop { radius, turns, .. } => TAU * radius * turns as f64,
+            _ => 0.0,
+        };
+        (d + extra).powi(2) / self.horizon
     }
 
     /// The seed's joint path at `t` \[s\] (not for [`SeedKind::Nfa`], which is sampled instead).
     pub fn path(&self, kind: SeedKind, t: f64) -> [f64; 2] {
         let base = self.at(t);
-        let SeedKind::Loop { side, orientation, radius } = kind else { return base };
+        let SeedKind::Loop { side, orientation, radius, turns } = kind else { return base };
         let n = self.normal();
         // Centre `side` of the midpoint; on the line (side 0) the loop starts toward the normal.
         let a = if side == 0 { n } else { [side as f64 * n[0], side as f64 * n[1]] };
         let b = [-a[1], a[0]];
-        let psi = TAU * smooth_step(t / self.horizon);
+        let psi = TAU * turns as f64 * smooth_step(t / self.horizon);
         let (sp, cp) = psi.sin_cos();
         // Circle through the line point, centre at radius * a: counter-clockwise for +1.
         let o = orientation as f64;

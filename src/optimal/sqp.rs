@@ -12,9 +12,10 @@
 //! M. E. Hribar, J. Nocedal, *On the solution of equality constrained quadratic programming problems
 //! arising in optimization*, SIAM J. Sci. Comput. 23 (2001) 1376–1395, doi:10.1137/S1064827598345667.
 
-use nalgebra::{DMatrix, DVector, linalg::Cholesky};
+use nalgebra::{DMatrix, DVector};
 use serde::Serialize;
 
+use super::band::{BandCholesky, matvec};
 use super::discrete::{Discretisation, Evaluation};
 use crate::error::Error;
 
@@ -88,12 +89,17 @@ impl SqpResult {
 /// The metric `S` (Cholesky factor) with the helpers of the composite step.
 struct Metric {
     s: DMatrix<f64>,
-    chol: Cholesky<f64, nalgebra::Dyn>,
+    chol: BandCholesky,
+    hb: usize,
 }
 
 impl Metric {
+    fn times(&self, v: &DVector<f64>) -> DVector<f64> {
+        matvec(&self.s, self.hb, v)
+    }
+
     fn norm(&self, v: &DVector<f64>) -> f64 {
-        v.dot(&(&self.s * v)).max(0.0).sqrt()
+        v.dot(&self.times(v)).max(0.0).sqrt()
     }
 }
 
@@ -111,12 +117,13 @@ fn multiplier(m: &Metric, e: &Evaluation) -> (f64, f64) {
 /// Solves the discretised problem from `x0` (Byrd–Omojokun trust-region SQP).
 pub fn solve(problem: &Discretisation, x0: DVector<f64>, options: &SqpOptions) -> Result<SqpResult, Error> {
     let s = problem.effort_hessian().clone();
-    let chol = s.clone().cholesky().ok_or(Error::InvalidParameter {
+    let hb = problem.half_bandwidth();
+    let chol = BandCholesky::new(&s, hb).ok_or(Error::InvalidParameter {
         name: "spans".into(),
         value: s.nrows() as f64,
         expected: "a basis whose effort Hessian is positive definite",
     })?;
-    let m = Metric { s, chol };
+    let m = Metric { s, chol, hb };
     let mut x = x0;
     let mut e = problem.evaluate(&x, 2);
     let (mut lambda, mut kkt) = multiplier(&m, &e);
@@ -142,12 +149,6 @@ pub fn solve(problem: &Discretisation, x0: DVector<f64>, options: &SqpOptions) -
         }
         iterations += 1;
         since_best += 1;
-        if std::env::var("SQP_DEBUG").is_ok() {
-            eprintln!(
-                "it {iterations} f {:.12e} c {:.3e} kkt {:.3e} radius {:.3e} lambda {:.4e}",
-                e.f, e.c, kkt, radius, lambda
-            );
-        }
         let w = &e.hess_f + &e.hess_c * lambda;
         let a_s = m.chol.solve(&e.grad_c);
         let den = e.grad_c.dot(&a_s);
@@ -166,10 +167,16 @@ pub fn solve(problem: &Discretisation, x0: DVector<f64>, options: &SqpOptions) -
             }
         }
         let tangential_radius = (radius * radius - v_norm * v_norm).max(0.0).sqrt();
-        let r0 = &e.grad_f + &w * &v;
-        let t = steihaug(&m, &w, &r0, &a_s, den, tangential_radius, x.len() + 5);
+        let r0 = &e.grad_f + matvec(&w, hb, &v);
+        // The Newton step on the constraint's tangent space when W is positive definite and the
+        // step fits; else Steihaug's truncated CG.
+        let newton = newton_tangential(&w, hb, &r0, &e.grad_c).filter(|t| m.norm(t) <= tangential_radius);
+        let t = match newton {
+            Some(t) => t,
+            None => steihaug(&m, &w, &r0, &a_s, den, tangential_radius, x.len() + 5),
+        };
         let d = &v + &t;
-        let wd = &w * &d;
+        let wd = matvec(&w, hb, &d);
         let q = e.grad_f.dot(&d) + 0.5 * d.dot(&wd);
         let linear_c = e.c + e.grad_c.dot(&d);
         let dc = e.c.abs() - linear_c.abs();
@@ -258,8 +265,8 @@ fn steihaug(
     let mut p = -&z;
     let mut st = DVector::zeros(n);
     for _ in 0..max {
-        let wp = w * &p;
-        let sp = &m.s * &p;
+        let wp = matvec(w, m.hb, &p);
+        let sp = m.times(&p);
         let kappa = p.dot(&wp);
         let pp = p.dot(&sp);
         if kappa <= 1e-14 * pp {
@@ -283,6 +290,17 @@ fn steihaug(
         rz = rz_new;
     }
     t
+}
+
+/// The minimiser of `r0^T t + 1/2 t^T W t` subject to `a^T t = 0` when `W` is positive definite
+/// (band Cholesky), by the range-space formula `t = -(W^-1 r0 - W^-1 a (a^T W^-1 r0) / (a^T W^-1 a))`.
+fn newton_tangential(w: &DMatrix<f64>, hb: usize, r0: &DVector<f64>, a: &DVector<f64>) -> Option<DVector<f64>> {
+    let chol = BandCholesky::new(w, hb)?;
+    let y2 = chol.solve(r0);
+    let y1 = chol.solve(a);
+    let den = a.dot(&y1);
+    let t = if den > 0.0 { -(&y2 - &y1 * (a.dot(&y2) / den)) } else { -y2 };
+    t.iter().all(|x| x.is_finite()).then_some(t)
 }
 
 /// `t + tau p` with `tau >= 0` on the boundary `|t + tau p|_S = radius`.
