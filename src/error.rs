@@ -233,6 +233,27 @@ pub enum Error {
         /// `max_i |wrap(reached_i - goal_i)|` \[rad\].
         distance: f64,
     },
+    /// The optimal planner (trust-region SQP) found no plan meeting its tolerances: every seed
+    /// stopped short of convergence; the numbers are those of the best attempt.
+    #[error(
+        "the optimal planner did not converge ({termination}): {iterations} SQP iterations, constraint \
+         residual |phi(T) - phi_d| = {constraint_residual:.3e} rad, relative KKT residual \
+         {kkt_residual:.3e}, effort {effort:.6e} rad^2/s, {seeds} seeds"
+    )]
+    OptimalFailed {
+        /// SQP iterations of the best attempt.
+        iterations: usize,
+        /// Its constraint residual \[rad\].
+        constraint_residual: f64,
+        /// Its relative KKT residual.
+        kkt_residual: f64,
+        /// Its effort \[rad^2/s\].
+        effort: f64,
+        /// Seeds tried.
+        seeds: usize,
+        /// Why the best attempt stopped (e.g. `max_iterations`).
+        termination: &'static str,
+    },
 }
 
 fn fmt_history(history: &[f64]) -> String {

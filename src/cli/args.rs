@@ -84,6 +84,21 @@ pub struct ProblemArgs {
     /// says which horizon was used.
     #[arg(long, value_name = "RAD_PER_S")]
     pub max_velocity: Option<f64>,
+    /// Optimal: joint velocities at t = 0, DTH1,DTH2 in deg/s (for re-planning while moving;
+    /// the verification starts from them).
+    #[arg(long, value_name = "DTH1,DTH2", default_value = "0,0", allow_hyphen_values = true)]
+    pub from_velocity: String,
+    /// Optimal: also zero joint accelerations at both ends (quintic splines), so that the
+    /// torques start and end at zero.
+    #[arg(long)]
+    pub smooth_ends: bool,
+    /// Optimal: the cost minimised.
+    #[arg(long, value_enum, default_value_t = CostArg::Effort)]
+    pub cost: CostArg,
+    /// Optimal: take the goal's angles literally (by default phi and the joint angles count
+    /// modulo 360 deg: the nearby representatives are tried and the best certified plan kept).
+    #[arg(long)]
+    pub no_wrap: bool,
     /// ECSA: number of harmonics of the trigonometric controls, 1 to 4 (the paper: 1).
     #[arg(long, value_name = "H", default_value_t = 1)]
     pub harmonics: usize,
@@ -98,6 +113,14 @@ pub enum WindowArg {
     None,
     /// The series times sin^2(pi t / T): the plan starts and ends at rest.
     Sin2,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum CostArg {
+    /// The control effort, integral of |theta'|^2 dt.
+    Effort,
+    /// The robot's kinetic energy integrated over time (the natural metric of Eq. 3).
+    Energy,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -116,9 +139,12 @@ pub enum TransformArg {
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum MethodArg {
-    /// Normal Form Approach.
+    /// Minimum-effort steering of the joint path under the base's holonomy constraint (plans
+    /// across sigma = 0; warm-started by the NFA).
+    Optimal,
+    /// Normal Form Approach (the paper).
     Nfa,
-    /// Endogenous Configuration Space Approach.
+    /// Endogenous Configuration Space Approach (the paper's reference method).
     Ecsa,
 }
 
@@ -127,6 +153,7 @@ impl From<MethodArg> for freefloat::Method {
         match m {
             MethodArg::Nfa => freefloat::Method::Nfa,
             MethodArg::Ecsa => freefloat::Method::Ecsa,
+            MethodArg::Optimal => freefloat::Method::Optimal,
         }
     }
 }
@@ -145,9 +172,9 @@ pub enum Format {
 pub struct PlanArgs {
     #[command(flatten)]
     pub problem: ProblemArgs,
-    /// Planning method.
-    #[arg(long, value_enum, default_value_t = MethodArg::Nfa)]
-    pub method: MethodArg,
+    /// Planning method [default: optimal, or nfa when --transform names a transformation].
+    #[arg(long, value_enum)]
+    pub method: Option<MethodArg>,
     /// Output format on stdout.
     #[arg(long, value_enum, default_value_t = Format::Table)]
     pub format: Format,

@@ -12,7 +12,7 @@ use anyhow::{Context, bail};
 use clap::Parser;
 use freefloat::{Configuration, Mount, RobotParams};
 
-use args::{Cli, Command, ProblemArgs, RobotArgs, TransformArg, WindowArg};
+use args::{Cli, Command, CostArg, ProblemArgs, RobotArgs, TransformArg, WindowArg};
 
 /// Parses the command line and runs the command.
 pub fn run() -> anyhow::Result<ExitCode> {
@@ -95,6 +95,24 @@ pub fn nfa_options(args: &ProblemArgs) -> freefloat::NfaOptions {
         tolerance: args.tolerance,
         ..Default::default()
     }
+}
+
+/// The optimal planner's options of the flags.
+pub fn optimal_options(args: &ProblemArgs) -> anyhow::Result<freefloat::planners::optimal::OptimalOptions> {
+    use freefloat::planners::optimal::{Cost, OptimalOptions};
+    let [v1, v2] = parse_list::<2>("--from-velocity", &args.from_velocity)?;
+    Ok(OptimalOptions {
+        cost: match args.cost {
+            CostArg::Effort => Cost::Effort,
+            CostArg::Energy => Cost::Energy,
+        },
+        smooth_ends: args.smooth_ends,
+        initial_velocity: [v1.to_radians(), v2.to_radians()],
+        wrap: !args.no_wrap,
+        samples: args.samples,
+        tolerance: args.tolerance,
+        ..Default::default()
+    })
 }
 
 /// The ECSA options of the flags (harmonics checked: exit 2 when out of range).

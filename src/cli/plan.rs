@@ -7,11 +7,15 @@ use freefloat::plan::{Method, Plan, PlanningProblem, TorqueOptions};
 use freefloat::planners::{Planned, PlannerOptions, planner};
 use freefloat::report::io::{PlanReport, trajectory_csv, write_atomic};
 
-use super::args::{CompareArgs, Format, PlanArgs, ProblemArgs};
+use super::args::{CompareArgs, CostArg, Format, PlanArgs, ProblemArgs, TransformArg, WindowArg};
 
 /// The planner options of the flags.
 fn planner_options(args: &ProblemArgs) -> anyhow::Result<PlannerOptions> {
-    Ok(PlannerOptions { nfa: super::nfa_options(args), ecsa: super::ecsa_options(args)? })
+    Ok(PlannerOptions {
+        nfa: super::nfa_options(args),
+        ecsa: super::ecsa_options(args)?,
+        optimal: super::optimal_options(args)?,
+    })
 }
 
 /// Plans with `method`; with `--torques`, adds the torque level (docs/spec.md, Sec. 2): inverse
@@ -49,10 +53,35 @@ fn plan_with(
     })
 }
 
+/// The method of `plan`: `--method`, else the NFA when `--transform` names a transformation, else
+/// the optimal planner. A method-specific flag given to another method is bad input (exit 2).
+fn method(args: &PlanArgs) -> anyhow::Result<Method> {
+    let p = &args.problem;
+    let transform = p.transform != TransformArg::Auto;
+    let method = match args.method {
+        Some(m) => Method::from(m),
+        None if transform => Method::Nfa,
+        None => Method::Optimal,
+    };
+    let ecsa = p.harmonics != 1 || p.window != WindowArg::None;
+    let optimal = p.smooth_ends || p.no_wrap || p.cost != CostArg::Effort || p.from_velocity.trim() != "0,0";
+    let misplaced = [
+        (transform, Method::Nfa, "--transform"),
+        (ecsa, Method::Ecsa, "--harmonics/--window"),
+        (optimal, Method::Optimal, "--from-velocity/--smooth-ends/--cost/--no-wrap"),
+    ];
+    for (given, owner, flags) in misplaced {
+        if given && method != owner {
+            bail!("{flags} apply to --method {}, not to --method {}", owner.name(), method.name());
+        }
+    }
+    Ok(method)
+}
+
 /// Runs `plan`: exit 0 with a certified plan, 3 (numbers on stderr) otherwise.
 pub fn run(args: &PlanArgs) -> anyhow::Result<ExitCode> {
     let problem = super::problem(&args.problem)?;
-    let planned = plan_with(args.method.into(), &args.problem, &problem)??;
+    let planned = plan_with(method(args)?, &args.problem, &problem)??;
     let plan = &planned.plan;
     let r = PlanReport::new(&planned, false);
     match args.format {
@@ -72,15 +101,16 @@ pub fn run(args: &PlanArgs) -> anyhow::Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
-/// Runs `compare`: NFA and ECSA on the same problem, side by side. Exit 0 when both plans are
-/// certified; 3 when either has no certified plan (the other is still shown); 2 for bad input.
+/// Runs `compare`: the optimal planner, the NFA and the ECSA on the same problem, side by side.
+/// Exit 0 when every plan is certified; 3 when one has no certified plan (the others are still
+/// shown); 2 for bad input.
 pub fn compare(args: &CompareArgs) -> anyhow::Result<ExitCode> {
     if args.format == Format::Csv {
         bail!("compare prints a table or JSON, not CSV (use `plan --format csv` for a trajectory)");
     }
     let problem = super::problem(&args.problem)?;
     let mut results = Vec::new();
-    for method in [Method::Nfa, Method::Ecsa] {
+    for method in COMPARED {
         let result = plan_with(method, &args.problem, &problem)?;
         if let Err(e) = result {
             if e.is_bad_input() {
@@ -109,12 +139,15 @@ pub fn compare(args: &CompareArgs) -> anyhow::Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
-/// The JSON object of `compare`: `{"nfa": report, "ecsa": report}`, a method without a plan
-/// as `null` with its message under `"errors"`.
+/// The methods of `compare`, in its columns' order.
+const COMPARED: [Method; 3] = [Method::Optimal, Method::Nfa, Method::Ecsa];
+
+/// The JSON object of `compare`: `{"optimal": report, "nfa": report, "ecsa": report}`, a method
+/// without a plan as `null` with its message under `"errors"`.
 fn compare_json(reports: &[Result<PlanReport, String>]) -> anyhow::Result<serde_json::Value> {
     let mut object = serde_json::Map::new();
     let mut errors = serde_json::Map::new();
-    for (name, r) in ["nfa", "ecsa"].iter().zip(reports) {
+    for (name, r) in COMPARED.iter().map(|m| m.name()).zip(reports) {
         let value = match r {
             Ok(report) => serde_json::to_value(report)?,
             Err(message) => {
@@ -133,7 +166,8 @@ fn compare_json(reports: &[Result<PlanReport, String>]) -> anyhow::Result<serde_
 /// The side-by-side table of `compare`.
 fn compare_table(problem: &PlanningProblem, reports: &[Result<PlanReport, String>]) -> String {
     type Row = (&'static str, fn(&PlanReport) -> String);
-    let rows: [Row; 14] = [
+    let rows: [Row; 16] = [
+        ("effort [rad^2/s]", |r| format!("{:.6}", r.effort)),
         ("verified final error [rad]", |r| format!("{:.3e}", r.final_error)),
         ("certified", |r| if r.certified { "yes".into() } else { "NO".into() }),
         ("iterations", |r| r.iterations.map(|i| i.to_string()).unwrap_or_else(|| "- (closed form)".into())),
@@ -151,11 +185,16 @@ fn compare_table(problem: &PlanningProblem, reports: &[Result<PlanReport, String
         ("time: plan [ms]", |r| format!("{:.3}", r.seconds.plan * 1e3)),
         ("time: torques [ms]", |r| r.seconds.torques.map(|t| format!("{:.3}", t * 1e3)).unwrap_or("-".into())),
         ("time: verify [ms]", |r| format!("{:.3}", r.seconds.verify * 1e3)),
+        ("time: total [ms]", |r| {
+            let s = &r.seconds;
+            format!("{:.3}", (s.plan + s.verify + s.torques.unwrap_or(0.0)) * 1e3)
+        }),
     ];
     let header = |r: &Result<PlanReport, String>, name: &str| match r {
-        Ok(r) => match (&r.transform, &r.ecsa) {
-            (Some(t), _) => format!("NFA ({})", t.name()),
-            (None, Some(x)) => format!("ECSA (H = {}, window {})", x.harmonics, x.window.name()),
+        Ok(r) => match (&r.transform, &r.ecsa, &r.optimal) {
+            (Some(t), _, _) => format!("NFA ({})", t.name()),
+            (None, Some(x), _) => format!("ECSA (H = {}, window {})", x.harmonics, x.window.name()),
+            (None, None, Some(_)) => "optimal".to_string(),
             _ => name.to_uppercase(),
         },
         Err(_) => name.to_uppercase(),
@@ -170,7 +209,10 @@ fn compare_table(problem: &PlanningProblem, reports: &[Result<PlanReport, String
         deg(problem.goal.to_array()),
         problem.horizon
     );
-    let head = format!("  {:<31}{:<26}{}", "", header(&reports[0], "nfa"), header(&reports[1], "ecsa"));
+    let mut head = format!("  {:<31}", "");
+    for (method, r) in COMPARED.iter().zip(reports) {
+        head += &format!("{:<26}", header(r, method.name()));
+    }
     s += head.trim_end();
     s += "\n";
     for (label, cell) in rows {
@@ -185,7 +227,7 @@ fn compare_table(problem: &PlanningProblem, reports: &[Result<PlanReport, String
         s = s.trim_end().to_string();
         s += "\n";
     }
-    for (name, r) in ["nfa", "ecsa"].iter().zip(reports) {
+    for (name, r) in COMPARED.iter().map(|m| m.name()).zip(reports) {
         if let Err(message) = r {
             s += &format!("  {name}: {message}\n");
         }
@@ -206,6 +248,7 @@ pub fn table(plan: &Plan, r: &PlanReport) -> String {
     let method = match plan.method {
         Method::Nfa => format!("NFA, transform {}", r.transform.map(|t| t.name()).unwrap_or("-")),
         Method::Ecsa => format!("ECSA, {} iterations", r.iterations.unwrap_or(0)),
+        Method::Optimal => format!("optimal (minimum effort), {} SQP iterations", r.iterations.unwrap_or(0)),
     };
     let status = if r.certified { "CERTIFIED" } else { "NOT CERTIFIED" };
     let mut s = String::new();
@@ -218,7 +261,14 @@ pub fn table(plan: &Plan, r: &PlanReport) -> String {
     s += &format!("  verified final error     {:.3e} rad (tolerance {:.1e})  {status}\n", r.final_error, r.tolerance);
     s +=
         &format!("  max deviation from plan  {:.3e} rad ({} integrator steps)\n", r.max_path_deviation, r.verify_steps);
+    s += &format!("  effort                   {:.6} rad^2/s (integral of |u|^2 dt)\n", r.effort);
     s += &format!("  max |u1|, |u2|           {:.6}, {:.6} rad/s\n", r.max_abs_u[0], r.max_abs_u[1]);
+    if let Some(o) = &r.optimal {
+        s += &format!(
+            "  optimality               KKT residual {:.1e}, holonomy residual {:.1e} rad, {} spline spans (degree {})\n",
+            o.kkt_residual, o.holonomy_residual, o.spans, o.degree
+        );
+    }
     s += &format!("  min |sigma|, |P|         {:.6}, {:.6}\n", r.min_abs_sigma, r.min_abs_p);
     if let Some(x) = &r.ecsa {
         let [u0, u1] = r.controls_at_ends;
@@ -290,7 +340,7 @@ mod tests {
         let report = |method| {
             planner(method, &options).plan(&problem).map(|p| PlanReport::new(&p, false)).map_err(|e| e.to_string())
         };
-        (problem, vec![report(Method::Nfa), report(Method::Ecsa)])
+        (problem, COMPARED.iter().map(|&m| report(m)).collect())
     }
 
     /// The paper's problem: both columns filled, JSON has both reports with docs/spec.md §3's keys.
@@ -301,7 +351,7 @@ mod tests {
         assert!(table.contains("NFA (eq12)") && table.contains("ECSA (H = 1, window none)"), "{table}");
         assert!(!table.contains("(no plan)"), "{table}");
         let json = compare_json(&reports).unwrap();
-        for method in ["nfa", "ecsa"] {
+        for method in ["optimal", "nfa", "ecsa"] {
             for key in ["final_error", "max_abs_u", "iterations", "seconds", "max_abs_torque", "transform"] {
                 assert!(json[method].get(key).is_some(), "{method}.{key}");
             }
@@ -315,7 +365,7 @@ mod tests {
     #[test]
     fn compare_when_the_nfa_fails() {
         let (problem, reports) = reports(1.0, Some(Transform::Eq14));
-        assert!(reports[0].is_err() && reports[1].is_ok());
+        assert!(reports[0].is_ok() && reports[1].is_err() && reports[2].is_ok());
         let table = compare_table(&problem, &reports);
         assert!(table.contains("(no plan)") && table.contains("  nfa: "), "{table}");
         let json = compare_json(&reports).unwrap();

@@ -46,7 +46,8 @@ pub struct Followed {
     pub stats: OdeStats,
 }
 
-/// Integrates `y' = rhs(t, y)` from `y0` over `[0, T]` of `problem`, where `y` starts with
+/// Integrates `y' = rhs(t, y)` from `y0` over `[0, T]` of `problem`, one piece between
+/// [`Motion::breakpoints`] at a time, where `y` starts with
 /// `q = (phi, theta1, theta2)`; measures the deviation of `q` from `motion` at every accepted step
 /// (after `observe(y)`) and the final error of `q(T)` against the goal.
 pub fn follow<const N: usize>(
@@ -54,21 +55,35 @@ pub fn follow<const N: usize>(
     problem: &PlanningProblem,
     y0: SVector<f64, N>,
     ode: &OdeOptions,
-    rhs: impl FnMut(f64, &SVector<f64, N>) -> Result<SVector<f64, N>, Error>,
+    mut rhs: impl FnMut(f64, &SVector<f64, N>) -> Result<SVector<f64, N>, Error>,
     mut observe: impl FnMut(&SVector<f64, N>),
 ) -> Result<Followed, Error> {
     let mut deviation: f64 = 0.0;
     let mut observe_error = None;
-    let (y, stats) = integrate(rhs, 0.0, y0, problem.horizon, ode, |t, y| {
-        observe(y);
-        match motion.at(t) {
-            Ok(p) => {
-                let d = (Vector3::new(y[0], y[1], y[2]) - Vector3::from(p.q.to_array())).abs().max();
-                deviation = deviation.max(d);
-            }
-            Err(e) => observe_error = Some(e),
+    // One integration per piece between the motion's breakpoints: the adaptive steps never
+    // straddle a point where the controls lose smoothness.
+    let mut ends: Vec<f64> = motion.breakpoints().into_iter().filter(|&t| t > 0.0 && t < problem.horizon).collect();
+    ends.push(problem.horizon);
+    let (mut y, mut t0, mut stats) = (y0, 0.0, OdeStats::default());
+    for t1 in ends {
+        if !(t1 > t0) {
+            continue;
         }
-    })?;
+        let (y1, piece) = integrate(&mut rhs, t0, y, t1, ode, |t, y| {
+            observe(y);
+            match motion.at(t) {
+                Ok(p) => {
+                    let d = (Vector3::new(y[0], y[1], y[2]) - Vector3::from(p.q.to_array())).abs().max();
+                    deviation = deviation.max(d);
+                }
+                Err(e) => observe_error = Some(e),
+            }
+        })?;
+        stats.accepted += piece.accepted;
+        stats.rejected += piece.rejected;
+        stats.evaluations += piece.evaluations;
+        (y, t0) = (y1, t1);
+    }
     if let Some(e) = observe_error {
         return Err(e);
     }

@@ -16,7 +16,7 @@ use std::time::Instant;
 use serde::Serialize;
 
 pub use certificate::{TorqueCertificate, Verification, certify_torques, verify};
-pub use motion::{Motion, MotionPoint, Trajectory, max_abs_controls, travel};
+pub use motion::{Motion, MotionPoint, Trajectory, effort, max_abs_controls, travel};
 pub use problem::PlanningProblem;
 pub use torques::{TorqueOptions, TorquePlan, TorqueReport, TorqueSeconds, add_torques, torque_plan, torques_at};
 
@@ -42,14 +42,18 @@ pub enum Method {
     Nfa,
     /// Endogenous Configuration Space Approach.
     Ecsa,
+    /// Minimum-effort (or minimum-energy) steering of the joint path under the holonomy
+    /// constraint of the base angle.
+    Optimal,
 }
 
 impl Method {
-    /// `nfa` or `ecsa`, as on the command line.
+    /// `nfa`, `ecsa` or `optimal`, as on the command line.
     pub fn name(self) -> &'static str {
         match self {
             Method::Nfa => "nfa",
             Method::Ecsa => "ecsa",
+            Method::Optimal => "optimal",
         }
     }
 }
@@ -73,6 +77,9 @@ pub struct Plan {
     pub iterations: Option<usize>,
     /// Total variation of `(phi, theta1, theta2)` along the samples \[rad\].
     pub joint_travel: [f64; 3],
+    /// The control effort `integral_0^T |u|^2 dt` \[rad^2/s\] ([`motion::effort`], or exact where
+    /// the planner knows it).
+    pub effort: f64,
     /// The velocity-level certificate.
     pub verification: Verification,
     /// Wall time per stage.
@@ -102,6 +109,7 @@ impl Plan {
             method,
             problem: *problem,
             joint_travel: travel(&trajectory),
+            effort: effort(&trajectory),
             max_abs_u: max_abs_controls(&trajectory),
             trajectory,
             min_abs_sigma: margins.0,

@@ -20,6 +20,11 @@ pub trait Motion {
     fn points(&self, times: &[f64]) -> Result<Vec<MotionPoint>, Error> {
         times.iter().map(|&t| self.at(t)).collect()
     }
+    /// Times in `(0, T)` \[s\] where the controls are less smooth (spline knots), ascending; the
+    /// certificates integrate one piece at a time between them. Default: none.
+    fn breakpoints(&self) -> Vec<f64> {
+        Vec::new()
+    }
 }
 
 /// A sampled trajectory, one entry per sample in every column (SI units, radians).
@@ -53,4 +58,33 @@ pub fn travel(trajectory: &Trajectory) -> [f64; 3] {
 /// `[max |u1|, max |u2|]` over a trajectory's samples.
 pub fn max_abs_controls(trajectory: &Trajectory) -> [f64; 2] {
     trajectory.dq.iter().fold([0.0, 0.0], |m, dq| [m[0].max(dq[1].abs()), m[1].max(dq[2].abs())])
+}
+
+/// The control effort `integral_0^T |u(t)|^2 dt` \[rad^2/s\] of a trajectory, from the samples of
+/// `u = (dtheta1, dtheta2)` by the composite Simpson rule (Simpson's 3/8 rule on the last three
+/// intervals when their number is odd, the trapezoid for one interval): error `O(h^4)` for smooth
+/// controls. Planners that know their effort exactly replace it (the optimal planner does).
+pub fn effort(trajectory: &Trajectory) -> f64 {
+    let (t, dq) = (&trajectory.t, &trajectory.dq);
+    let f: Vec<f64> = dq.iter().map(|d| d[1] * d[1] + d[2] * d[2]).collect();
+    let n = f.len().saturating_sub(1);
+    if n == 0 {
+        return 0.0;
+    }
+    let h = (t[n] - t[0]) / n as f64;
+    if n == 1 {
+        return h * (f[0] + f[1]) / 2.0;
+    }
+    let simpson = |f: &[f64]| -> f64 {
+        let m = f.len() - 1;
+        let inner: f64 = (1..m).map(|i| if i % 2 == 1 { 4.0 * f[i] } else { 2.0 * f[i] }).sum();
+        h / 3.0 * (f[0] + inner + f[m])
+    };
+    if n.is_multiple_of(2) {
+        simpson(&f)
+    } else {
+        let (head, tail) = (&f[..=n - 3], &f[n - 3..]);
+        let head = if head.len() > 1 { simpson(head) } else { 0.0 };
+        head + 3.0 * h / 8.0 * (tail[0] + 3.0 * tail[1] + 3.0 * tail[2] + tail[3])
+    }
 }

@@ -1,9 +1,10 @@
-//! The planners behind one trait: [`nfa`], the paper's Normal Form Approach, and [`ecsa`], its
-//! reference method. A caller picks one by its [`Method`] ([`planner`]) and uses it only
+//! The planners behind one trait: [`nfa`], the paper's Normal Form Approach, [`ecsa`], its
+//! reference method, and [`optimal`], the minimum-effort planner. A caller picks one by its [`Method`] ([`planner`]) and uses it only
 //! through [`Planner`].
 
 pub mod ecsa;
 pub mod nfa;
+pub mod optimal;
 
 use crate::error::Error;
 use crate::plan::{Method, Motion, Plan, PlanningProblem, TorqueOptions, TorqueReport, add_torques};
@@ -69,6 +70,8 @@ pub enum Details {
     Nfa(nfa::NfaDetails),
     /// The ECSA: the control basis, its coefficients and the iteration.
     Ecsa(ecsa::EcsaSolution),
+    /// The minimum-effort planner: its cost, residuals and SQP iterations.
+    Optimal(optimal::OptimalStats),
 }
 
 /// The options of every planner, one field per method (each with its documented defaults).
@@ -78,6 +81,8 @@ pub struct PlannerOptions {
     pub nfa: nfa::NfaOptions,
     /// Options of the ECSA.
     pub ecsa: ecsa::EcsaOptions,
+    /// Options of the minimum-effort planner.
+    pub optimal: optimal::OptimalOptions,
 }
 
 /// The planner of `method` with its options from `options`.
@@ -85,5 +90,6 @@ pub fn planner(method: Method, options: &PlannerOptions) -> Box<dyn Planner + Se
     match method {
         Method::Nfa => Box::new(nfa::NormalFormPlanner::new(options.nfa.clone())),
         Method::Ecsa => Box::new(ecsa::EcsaPlanner::new(options.ecsa)),
+        Method::Optimal => Box::new(optimal::OptimalPlanner::new(options.optimal.clone())),
     }
 }

@@ -162,6 +162,7 @@ impl Case {
         let (nfa, ecsa) = match planned.details {
             Details::Nfa(details) => (Some(details), None),
             Details::Ecsa(solution) => (None, Some(solution)),
+            Details::Optimal(_) => (None, None),
         };
         Ok(CaseOutcome { case: *self, plan: planned.plan, torques, ecsa, nfa })
     }

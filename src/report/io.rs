@@ -9,6 +9,7 @@ use serde::Serialize;
 
 use crate::error::Error;
 use crate::plan::Trajectory;
+use crate::planners::optimal::OptimalStats;
 use crate::planners::{Details, Planned};
 
 /// Writes `bytes` to `path` atomically: a temporary file beside it, then a rename, so that a
@@ -123,6 +124,8 @@ pub struct PlanReport {
     pub band: Option<crate::planners::nfa::steering::BandChoice>,
     /// Total variation of `(phi, theta1, theta2)` along the path \[rad\].
     pub joint_travel: [f64; 3],
+    /// Control effort `integral_0^T |u|^2 dt` \[rad^2/s\].
+    pub effort: f64,
     /// Accepted steps of the verification's integrator.
     pub verify_steps: usize,
     /// Joint velocities `[[u1(0), u2(0)], [u1(T), u2(T)]]` \[rad/s\]: zero for the NFA, not for
@@ -131,6 +134,10 @@ pub struct PlanReport {
     /// ECSA details (ECSA only): basis, coefficients, residual history.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub ecsa: Option<EcsaReport>,
+    /// The minimum-effort planner's account (optimal only): effort, cost, residuals, SQP
+    /// iterations, basis and the goal representative reached.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub optimal: Option<OptimalStats>,
     /// The trajectory (only in `--out FILE.json`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub trajectory: Option<Trajectory>,
@@ -144,7 +151,7 @@ impl PlanReport {
         let p = &plan.problem;
         let nfa = match &planned.details {
             Details::Nfa(d) => Some(d),
-            Details::Ecsa(_) => None,
+            _ => None,
         };
         let v = &plan.verification;
         let mut report = Self {
@@ -173,9 +180,14 @@ impl PlanReport {
             steering: nfa.map(|d| if d.band.is_some() { "band" } else { "polynomial" }),
             band: nfa.and_then(|d| d.band),
             joint_travel: plan.joint_travel,
+            effort: plan.effort,
             verify_steps: v.stats.accepted,
             controls_at_ends: controls_at_ends(&plan.trajectory),
             ecsa: None,
+            optimal: match &planned.details {
+                Details::Optimal(stats) => Some(*stats),
+                _ => None,
+            },
             trajectory: with_trajectory.then(|| plan.trajectory.clone()),
         };
         if let Details::Ecsa(solution) = &planned.details {

@@ -15,7 +15,7 @@ const ROBOT: &str = "[robot]\nl1 = 0.619\nl2 = 0.6\nd1 = 0.313\nd2 = 0.287\nM = 
 
 #[test]
 fn plan_json_has_the_required_keys_and_a_certificate() {
-    let o = freefloat(&["plan", "--mount", "0.2,0.2", "--format", "json"]);
+    let o = freefloat(&["plan", "--method", "nfa", "--mount", "0.2,0.2", "--format", "json"]);
     assert!(o.status.success(), "{}", stderr(&o));
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("one JSON object");
     for key in [
@@ -118,6 +118,9 @@ fn bad_flags_exit_2() {
         &["plan", "--samples", "1"],
         &["plan", "--mount", "0.1,0.1", "--transform", "eq11"],
         &["plan", "--out", "plan.txt"],
+        &["plan", "--method", "optimal", "--transform", "eq14"],
+        &["plan", "--method", "nfa", "--window", "sin2"],
+        &["plan", "--method", "ecsa", "--smooth-ends"],
     ] {
         let o = freefloat(args);
         assert_eq!(o.status.code(), Some(2), "{args:?}: {}", stderr(&o));
@@ -129,9 +132,9 @@ fn bad_flags_exit_2() {
 fn problems_without_a_plan_exit_3_with_the_reason() {
     let cases: [(&[&str], &str); 5] = [
         (&["plan", "--from", "45,120,0", "--transform", "eq12"], "sin(theta2) = 0"),
-        (&["plan", "--from", "45,120,0"], "sigma = 0"),
+        (&["plan", "--method", "nfa", "--from", "45,120,0"], "sigma = 0"),
         (&["plan", "--mount", "0.1,0.1", "--from", "45,120,0", "--transform", "eq14"], "leaves the domain"),
-        (&["plan", "--to", "0,180,-140"], "different components"),
+        (&["plan", "--method", "nfa", "--to", "0,180,-140"], "different components"),
         (&["plan", "--mount", "1,-1", "--transform", "eq14"], "eq14"),
     ];
     for (args, reason) in cases {
@@ -174,7 +177,23 @@ fn max_velocity_stretches_the_horizon() {
 /// turns away across sin(theta2) = 0) is a clear error, not a plan that ends elsewhere.
 #[test]
 fn goal_on_another_sheet_is_named() {
-    let o = freefloat(&["plan", "--from", "45,120,80000"]);
+    let o = freefloat(&["plan", "--method", "nfa", "--from", "45,120,80000"]);
     assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
     assert!(stderr(&o).contains("instead of the goal"), "{}", stderr(&o));
+}
+
+/// The default method is the optimal planner, and it plans what the normal form refuses: a start
+/// on sigma = 0, and a goal across sigma = 0 (docs/spec.md §2).
+#[test]
+fn default_plans_across_sigma_zero() {
+    for args in
+        [&["plan", "--from", "45,120,0", "--format", "json"][..], &["plan", "--to", "0,180,-140", "--format", "json"]]
+    {
+        let o = freefloat(args);
+        assert!(o.status.success(), "{args:?}: {}", stderr(&o));
+        let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("json");
+        assert_eq!(v["method"], "optimal");
+        assert!(v["final_error"].as_f64().expect("number") <= 1e-9);
+        assert!(v["optimal"]["kkt_residual"].as_f64().expect("number") < 1e-6);
+    }
 }

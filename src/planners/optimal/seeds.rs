@@ -1,0 +1,210 @@
+//! Warm starts of the SQP: the straight joint line, loops superimposed on it (their enclosed
+//! signed area sets the net base rotation) and the NFA's joint path.
+//!
+//! By Green's theorem and Eq. (25), a closed joint loop turns the base by
+//! `Delta phi = -oint (G/F dtheta1 + H/F dtheta2) = iint 2 sigma / F^2 dtheta1 dtheta2`
+//! (counter-clockwise loops count positive area), so a loop of radius `R` centred where the
+//! curvature `kappa = 2 sigma / F^2` (Eq. 9) is roughly constant turns it by `pi R^2 kappa`.
+
+use std::f64::consts::{PI, TAU};
+
+use serde::Serialize;
+
+use crate::model::Lumped;
+use crate::model::system::shape;
+
+/// Where a seed came from.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SeedKind {
+    /// The straight joint line, smooth-step timing.
+    Line,
+    /// The line with one closed loop of radius `radius` \[rad\] centred `side` (+1 left, -1 right,
+    /// 0 on the line's midpoint) of it, counter-clockwise when `orientation = +1`.
+    Loop {
+        /// Side of the line.
+        side: i8,
+        /// `+1` counter-clockwise, `-1` clockwise in the `(theta1, theta2)` plane.
+        orientation: i8,
+        /// Radius \[rad\].
+        radius: f64,
+        /// Number of turns around the loop.
+        turns: usize,
+    },
+    /// The NFA's joint path.
+    Nfa,
+}
+
+/// The ends and timing shared by the seeds.
+#[derive(Debug, Clone, Copy)]
+pub struct Line {
+    /// `theta(0)` \[rad\].
+    pub start: [f64; 2],
+    /// `theta(T)` \[rad\].
+    pub end: [f64; 2],
+    /// `theta'(0)` \[rad/s\].
+    pub initial_velocity: [f64; 2],
+    /// `T` \[s\].
+    pub horizon: f64,
+}
+
+/// Cubic smooth step `3 s^2 - 2 s^3` on `[0, 1]` (zero slope at both ends).
+fn smooth_step(s: f64) -> f64 {
+    let s = s.clamp(0.0, 1.0);
+    s * s * (3.0 - 2.0 * s)
+}
+
+impl Line {
+    /// The straight line at `t` \[s\], with the initial velocity added by the Hermite function
+    /// `t (1 - t/T)^2` (zero at both ends, slope 1 at 0, 0 at T).
+    pub fn at(&self, t: f64) -> [f64; 2] {
+        let s = smooth_step(t / self.horizon);
+        let h = t * (1.0 - t / self.horizon).powi(2);
+        std::array::from_fn(|j| self.start[j] + (self.end[j] - self.start[j]) * s + self.initial_velocity[j] * h)
+    }
+
+    /// Unit vector normal to the line (left of it), `(0, 1)` for a degenerate line.
+    fn normal(&self) -> [f64; 2] {
+        let d = [self.end[0] - self.start[0], self.end[1] - self.start[1]];
+        let n = d[0].hypot(d[1]);
+        if n < 1e-9 { [0.0, 1.0] } else { [-d[1] / n, d[0] / n] }
+    }
+
+    /// A loop seed that should turn the base by about `needed` \[rad\] more than the line:
+    /// centred `side` of the line's midpoint (0: on it), radius from the curvature at the centre,
+    /// clamped to `[0.1, max_radius]` rad; with `orientation = 0` the orientation follows the
+    /// curvature's sign, else it is forced.
+    pub fn loop_seed(&self, k: &Lumped, needed: f64, side: i8, orientation: i8, max_radius: f64) -> SeedKind {
+        let mid = self.at(self.horizon / 2.0);
+        let n = self.normal();
+        let mut radius: f64 = 0.5;
+        let mut orient = if orientation == 0 { 1 } else { orientation };
+        let mut turns = 1;
+        for _ in 0..3 {
+            let c = [mid[0] + side as f64 * radius * n[0], mid[1] + side as f64 * radius * n[1]];
+            let s = shape(k, c[0], c[1]);
+            let kappa = 2.0 * s.sigma / (s.F * s.F);
+            let area = needed / kappa;
+            if orientation == 0 {
+                orient = if area >= 0.0 { 1 } else { -1 };
+            }
+            let wanted = if area * orient as f64 > 0.0 { area.abs() / PI } else { 0.25 };
+            turns = ((wanted / (max_radius * max_radius)).ceil() as usize).clamp(1, 6);
+            radius = (wanted / turns as f64).sqrt().clamp(0.1, max_radius);
+        }
+        SeedKind::Loop { side, orientation: orient, radius, turns }
+    }
+
+    /// The loop seed `kind` with its radius re-fitted (secant iteration, at most 8 evaluations of
+    /// `residual`) so that the residual of the holonomy constraint vanishes; the radius stays in
+    /// `[0.05, max_radius]` and the best one seen is returned.
+    pub fn fit_radius(&self, kind: SeedKind, max_radius: f64, mut residual: impl FnMut(SeedKind) -> f64) -> SeedKind {
+        let SeedKind::Loop { side, orientation, radius, turns } = kind else { return kind };
+        let with = |r: f64| SeedKind::Loop { side, orientation, radius: r, turns };
+        let (mut r0, mut r1) = (radius, (radius * 1.2).min(max_radius));
+        if (r1 - r0).abs() < 1e-9 {
+            r1 = 0.8 * r0;
+        }
+        let (mut c0, mut c1) = (residual(with(r0)), residual(with(r1)));
+        let mut best = if c0.abs() < c1.abs() { (r0, c0) } else { (r1, c1) };
+        for _ in 0..6 {
+            if !(c1 - c0).is_finite() || (c1 - c0).abs() < 1e-300 || best.1.abs() < 1e-6 {
+                break;
+            }
+            let r2 = (r1 - c1 * (r1 - r0) / (c1 - c0)).clamp(0.05, max_radius);
+            let c2 = residual(with(r2));
+            if c2.abs() < best.1.abs() {
+                best = (r2, c2);
+            }
+            (r0, c0, r1, c1) = (r1, c1, r2, c2);
+        }
+        with(best.0)
+    }
+
+    /// The effort `L^2 / T` of the seed's path run at constant speed, with its length `L`
+    /// estimated as the line's length plus the loop's circumference times its turns.
+    pub fn effort_estimate(&self, kind: SeedKind) -> f64 {
+        let d = (self.end[0] - self.start[0]).hypot(self.end[1] - self.start[1]);
+        let extra = match kind {
+            SeedKind::Loop { radius, turns, .. } => TAU * radius * turns as f64,
+            _ => 0.0,
+        };
+        (d + extra).powi(2) / self.horizon
+    }
+
+    /// The seed's joint path at `t` \[s\] (not for [`SeedKind::Nfa`], which is sampled instead).
+    pub fn path(&self, kind: SeedKind, t: f64) -> [f64; 2] {
+        let base = self.at(t);
+        let SeedKind::Loop { side, orientation, radius, turns } = kind else { return base };
+        let n = self.normal();
+        // Centre `side` of the midpoint; on the line (side 0) the loop starts toward the normal.
+        let a = if side == 0 { n } else { [side as f64 * n[0], side as f64 * n[1]] };
+        let b = [-a[1], a[0]];
+        let psi = TAU * turns as f64 * smooth_step(t / self.horizon);
+        let (sp, cp) = psi.sin_cos();
+        // Circle through the line point, centre at radius * a: counter-clockwise for +1.
+        let o = orientation as f64;
+        std::array::from_fn(|j| base[j] + radius * ((1.0 - cp) * a[j] - o * sp * b[j]))
+    }
+}
+
+/// Cubic Hermite interpolation of sampled `(t, theta, theta')`.
+#[derive(Debug, Clone)]
+pub struct Sampled {
+    /// Equally spaced times \[s\].
+    pub t: Vec<f64>,
+    /// Joint angles \[rad\].
+    pub theta: Vec<[f64; 2]>,
+    /// Joint velocities \[rad/s\].
+    pub rate: Vec<[f64; 2]>,
+}
+
+impl Sampled {
+    /// The interpolated joint path at `t` \[s\].
+    pub fn at(&self, t: f64) -> [f64; 2] {
+        let n = self.t.len();
+        let dt = self.t[n - 1] / (n - 1) as f64;
+        let i = ((t / dt).floor().max(0.0) as usize).min(n - 2);
+        let h = self.t[i + 1] - self.t[i];
+        let s = ((t - self.t[i]) / h).clamp(0.0, 1.0);
+        let (h00, h10, h01, h11) = (
+            2.0 * s * s * s - 3.0 * s * s + 1.0,
+            s * s * s - 2.0 * s * s + s,
+            -2.0 * s * s * s + 3.0 * s * s,
+            s * s * s - s * s,
+        );
+        std::array::from_fn(|j| {
+            h00 * self.theta[i][j]
+                + h10 * h * self.rate[i][j]
+                + h01 * self.theta[i + 1][j]
+                + h11 * h * self.rate[i + 1][j]
+        })
+    }
+}
+
+/// An upper bound of the curvature `|2 sigma / F^2|` (Eqs. 9, 25) over the torus: its largest
+/// value on a 32 x 32 grid, times 1.5 (the function is a smooth ratio of low-order trigonometric
+/// polynomials, so the grid misses its maximum by far less).
+pub fn curvature_bound(k: &Lumped) -> f64 {
+    let n = 32;
+    let mut m: f64 = 0.0;
+    for i in 0..n {
+        for j in 0..n {
+            let s = shape(k, TAU * i as f64 / n as f64, TAU * j as f64 / n as f64);
+            m = m.max((2.0 * s.sigma / (s.F * s.F)).abs());
+        }
+    }
+    1.5 * m
+}
+
+/// A lower bound of the effort of any joint path between the line's ends whose holonomy differs
+/// from the line's by `needed` \[rad\]: closed by the line, the path encloses (with multiplicity)
+/// an area of at least `|needed| / kappa_max`, so by the Banchoff–Pohl isoperimetric inequality
+/// its length is at least `L = sqrt(4 pi |needed| / kappa_max) - d` (`d` the line's length), and
+/// at least `d`; by Cauchy–Schwarz the effort is at least `L^2 / T`.
+pub fn effort_lower_bound(line: &Line, needed: f64, kappa_max: f64) -> f64 {
+    let d = (line.end[0] - line.start[0]).hypot(line.end[1] - line.start[1]);
+    let loop_length = (4.0 * PI * needed.abs() / kappa_max).sqrt() - d;
+    let length = d.max(loop_length);
+    length * length / line.horizon
+}

@@ -1,0 +1,207 @@
+//! Clamped B-spline bases of the joint paths, with knots graded geometrically toward both ends,
+//! and the end conditions that fix the first and last coefficients.
+//!
+//! ## Reference
+//! L. Piegl, W. Tiller, *The NURBS Book*, 2nd ed., Springer (1997), Algorithms A2.1 (span) and
+//! A2.3 (basis functions and their derivatives), doi:10.1007/978-3-642-59223-2.
+
+use crate::error::Error;
+use crate::model::InputError;
+
+/// Largest supported degree (quintic, for smooth ends).
+pub const MAX_DEGREE: usize = 5;
+
+/// Values and derivatives of the `p + 1` basis functions that do not vanish on one knot span:
+/// `ders[k][l]` is the `k`-th derivative of basis function `span - p + l`.
+pub type Ders = [[f64; MAX_DEGREE + 1]; 3];
+
+/// A clamped B-spline basis of degree `p` on `[0, T]`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SplineBasis {
+    degree: usize,
+    /// Full knot vector: `p + 1` zeros, the interior breakpoints, `p + 1` times `T`.
+    knots: Vec<f64>,
+    /// Distinct breakpoints `0 = b_0 < ... < b_N = T`.
+    breakpoints: Vec<f64>,
+}
+
+impl SplineBasis {
+    /// The basis of degree `degree` (3 or 5) on `[0, horizon]` with `spans` uniform spans of width
+    /// `h = T / spans`, the first and last of which are split further at `h / 4^j`,
+    /// `j = 1..=grading`: thin end layers, where the path leaves and reaches rest.
+    pub fn graded(degree: usize, horizon: f64, spans: usize, grading: usize) -> Result<Self, Error> {
+        if !(1..=MAX_DEGREE).contains(&degree) {
+            return Err(Error::from(InputError::InvalidParameter {
+                name: "degree".into(),
+                value: degree as f64,
+                expected: "a B-spline degree from 1 to 5",
+            }));
+        }
+        if spans < 2 || !(horizon.is_finite() && horizon > 0.0) {
+            return Err(Error::from(InputError::InvalidParameter {
+                name: "spans".into(),
+                value: spans as f64,
+                expected: "at least 2 knot spans on a positive, finite horizon",
+            }));
+        }
+        let h = horizon / spans as f64;
+        let mut b = vec![0.0];
+        for j in (1..=grading).rev() {
+            b.push(h / 4f64.powi(j as i32));
+        }
+        for i in 1..spans {
+            b.push(i as f64 * h);
+        }
+        for j in 1..=grading {
+            b.push(horizon - h / 4f64.powi(j as i32));
+        }
+        b.push(horizon);
+        let mut knots = vec![0.0; degree];
+        knots.extend_from_slice(&b);
+        knots.extend(std::iter::repeat_n(horizon, degree));
+        Ok(Self { degree, knots, breakpoints: b })
+    }
+
+    /// The degree `p`.
+    pub fn degree(&self) -> usize {
+        self.degree
+    }
+
+    /// The number `n` of basis functions (coefficients per joint).
+    pub fn len(&self) -> usize {
+        self.knots.len() - self.degree - 1
+    }
+
+    /// Always false: a basis has at least `p + 1` functions.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// The distinct breakpoints `0 = b_0 < ... < b_N = T` \[s\].
+    pub fn breakpoints(&self) -> &[f64] {
+        &self.breakpoints
+    }
+
+    /// The horizon `T` \[s\].
+    pub fn horizon(&self) -> f64 {
+        self.breakpoints[self.breakpoints.len() - 1]
+    }
+
+    /// The knot-span index `i` (`knots[i] <= t < knots[i + 1]`, the last span closed) of the
+    /// breakpoint interval `s` (`b_s <= t <= b_{s+1}`).
+    pub fn span_of_interval(&self, s: usize) -> usize {
+        s + self.degree
+    }
+
+    /// The breakpoint interval holding `t` (clamped to `[0, T]`).
+    pub fn interval(&self, t: f64) -> usize {
+        let b = &self.breakpoints;
+        let last = b.len() - 2;
+        if !(t > b[0]) {
+            return 0;
+        }
+        // partition_point: the number of breakpoints <= t.
+        b.partition_point(|&x| x <= t).saturating_sub(1).min(last)
+    }
+
+    /// Values, first and second derivatives of the basis functions of knot span `span` at `t`
+    /// (Piegl–Tiller A2.3, up to the second derivative).
+    pub fn ders(&self, span: usize, t: f64) -> Ders {
+        let p = self.degree;
+        let u = &self.knots;
+        let mut ndu = [[0.0; MAX_DEGREE + 1]; MAX_DEGREE + 1];
+        let mut left = [0.0; MAX_DEGREE + 1];
+        let mut right = [0.0; MAX_DEGREE + 1];
+        ndu[0][0] = 1.0;
+        for j in 1..=p {
+            left[j] = t - u[span + 1 - j];
+            right[j] = u[span + j] - t;
+            let mut saved = 0.0;
+            for r in 0..j {
+                ndu[j][r] = right[r + 1] + left[j - r];
+                let temp = ndu[r][j - 1] / ndu[j][r];
+                ndu[r][j] = saved + right[r + 1] * temp;
+                saved = left[j - r] * temp;
+            }
+            ndu[j][j] = saved;
+        }
+        let mut ders: Ders = [[0.0; MAX_DEGREE + 1]; 3];
+        for (j, d) in ders[0].iter_mut().enumerate().take(p + 1) {
+            *d = ndu[j][p];
+        }
+        let nd = 2.min(p);
+        let mut a = [[0.0; MAX_DEGREE + 1]; 2];
+        for r in 0..=p {
+            let (mut s1, mut s2) = (0usize, 1usize);
+            a[0] = [0.0; MAX_DEGREE + 1];
+            a[0][0] = 1.0;
+            for k in 1..=nd {
+                let mut d = 0.0;
+                let rk = r as isize - k as isize;
+                let pk = p - k;
+                if r >= k {
+                    a[s2][0] = a[s1][0] / ndu[pk + 1][r - k];
+                    d = a[s2][0] * ndu[r - k][pk];
+                }
+                let j1 = if rk >= -1 { 1 } else { (-rk) as usize };
+                let j2 = if (r as isize - 1) <= pk as isize { k - 1 } else { p - r };
+                for j in j1..=j2 {
+                    let idx = (rk + j as isize) as usize;
+                    a[s2][j] = (a[s1][j] - a[s1][j - 1]) / ndu[pk + 1][idx];
+                    d += a[s2][j] * ndu[idx][pk];
+                }
+                if r <= pk {
+                    a[s2][k] = -a[s1][k - 1] / ndu[pk + 1][r];
+                    d += a[s2][k] * ndu[r][pk];
+                }
+                ders[k][r] = d;
+                std::mem::swap(&mut s1, &mut s2);
+            }
+        }
+        let mut factor = p as f64;
+        for (k, row) in ders.iter_mut().enumerate().take(nd + 1).skip(1) {
+            for d in row.iter_mut().take(p + 1) {
+                *d *= factor;
+            }
+            factor *= (p - k) as f64;
+        }
+        ders
+    }
+
+    /// `(theta, theta', theta'')` of the spline with coefficients `c` at `t` \[rad, rad/s, rad/s^2\].
+    pub fn evaluate(&self, c: &[f64], t: f64) -> [f64; 3] {
+        let s = self.interval(t);
+        let span = self.span_of_interval(s);
+        let d = self.ders(span, t);
+        let first = span - self.degree;
+        let mut out = [0.0; 3];
+        for (k, o) in out.iter_mut().enumerate() {
+            *o = (0..=self.degree).map(|l| d[k][l] * c[first + l]).sum();
+        }
+        out
+    }
+
+    /// The coefficients fixed by the end conditions: `theta^(k)(0) = start[k]` and
+    /// `theta^(k)(T) = end[k]` for `k < start.len()` (value, velocity, acceleration). On a clamped
+    /// basis the `k`-th derivative at an end involves only the first (last) `k + 1` coefficients,
+    /// so they follow by forward (backward) substitution. Returns `(head, tail)`.
+    pub fn end_coefficients(&self, start: &[f64], end: &[f64]) -> (Vec<f64>, Vec<f64>) {
+        let p = self.degree;
+        let n = self.len();
+        let d0 = self.ders(p, 0.0);
+        let mut head = Vec::with_capacity(start.len());
+        for (k, &target) in start.iter().enumerate() {
+            let known: f64 = (0..k).map(|l| d0[k][l] * head[l]).sum();
+            head.push((target - known) / d0[k][k]);
+        }
+        // On the last span the functions are n-1-p .. n-1, i.e. local index l = p - j for c_{n-1-j}.
+        let d1 = self.ders(n - 1, self.horizon());
+        let mut tail_rev: Vec<f64> = Vec::with_capacity(end.len());
+        for (k, &target) in end.iter().enumerate() {
+            let known: f64 = (0..k).map(|j| d1[k][p - j] * tail_rev[j]).sum();
+            tail_rev.push((target - known) / d1[k][p - k]);
+        }
+        tail_rev.reverse();
+        (head, tail_rev)
+    }
+}
