@@ -1,0 +1,349 @@
+//! Beyond the paper: band steering of the chained form (10) inside the domain of the global
+//! normal form (Sec. 6, item 3), with its options, its choice and the Chebyshev fit of the band.
+
+use super::ChainedPoint;
+use crate::Scalar;
+use crate::error::Error;
+use crate::model::Configuration;
+use crate::numerics::chebyshev::Chebyshev;
+use crate::numerics::quadrature::GaussLegendre;
+use crate::planners::nfa::normal_form::NormalForm;
+
+/// Options of the [`BandSteering`] search.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BandOptions {
+    /// Margin `eps`: `lambda` is kept in `[eps, 1 - eps]`; default 0.05.
+    pub margin: f64,
+    /// Largest number of loops `N` tried; default 12.
+    pub max_loops: usize,
+    /// Loop amplitudes `A` tried \[rad\]; default 0.5, 1.0, .., 3.0.
+    pub amplitudes: Vec<f64>,
+}
+
+impl Default for BandOptions {
+    fn default() -> Self {
+        Self { margin: 0.05, max_loops: 12, amplitudes: vec![0.5, 1.0, 1.5, 2.0, 2.5, 3.0] }
+    }
+}
+
+/// The choice made by [`BandSteering::new`].
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct BandChoice {
+    /// Number of loops `N` of `z1`.
+    pub loops: usize,
+    /// Loop amplitude `A` \[rad\].
+    pub amplitude: f64,
+    /// Margin `eps` of `lambda`.
+    pub margin: f64,
+    /// The solved scalar `kappa` (amplitude of the `lambda` modulation).
+    pub kappa: f64,
+    /// Range of `lambda(t)` along the path.
+    pub lambda_range: [f64; 2],
+}
+
+/// Beyond the paper: steering the chained form inside the band of the global normal form
+/// (Sec. 6, item 3's domain of existence, made explicit), for mounting points where the
+/// polynomial path of Sec. 5 leaves the band.
+///
+/// In band coordinates `z2 = L(z1) + lambda W(z1)`, where `(L, L + W)` is the range of `h3` over
+/// the band `{sigma != 0}` at `theta1 = z1` (smooth functions of `z1`, fitted by a Chebyshev
+/// series: any smooth `L, W` inside the band define an exact path), with `s(t)` the quintic
+/// smoothstep (`s' = s'' = 0` at both ends):
+/// `z1 = z01 + w1 s + A sin(2 pi N s)` (N loops of amplitude A),
+/// `lambda = (1 - e(s)) (lambda0 + (lambdad - lambda0) s) + e(s) (1/2 + kappa cos(2 pi N s))`
+/// with the flat-topped envelope `e(s) = 1 - (2s - 1)^8`,
+/// `z3 = z03 + integral z2 dz1`. `z3(T) = zd3` is linear in `kappa`, which is solved exactly;
+/// `(N, A)` is the cheapest pair (smallest `|w1| + 2 pi N A`, which bounds the peak `|v1|`) that
+/// keeps `lambda` in `[eps, 1 - eps]`. The controls vanish at both ends.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BandSteering {
+    /// Horizon `T` \[s\].
+    pub horizon: f64,
+    /// Start `z0`.
+    pub z0: [f64; 3],
+    /// Goal `zd`.
+    pub zd: [f64; 3],
+    /// The choice of `(N, A, eps, kappa)`.
+    pub choice: BandChoice,
+    lower: Chebyshev,
+    lower_integral: Chebyshev,
+    width: Chebyshev,
+    lambda: [f64; 2],
+    rule: GaussLegendre,
+    /// Cumulative `integral_0^t lambda W z1' dt` at `knots` equal steps.
+    knots: Vec<f64>,
+}
+
+/// Number of quadrature intervals of `z3` for the final path.
+const Z3_KNOTS: usize = 1000;
+
+impl BandSteering {
+    /// The band-steered path from `z0` to `zd` in time `horizon`; `nf` must be the global normal
+    /// form on the start's band and `start` the start configuration.
+    pub fn new(
+        nf: &NormalForm,
+        start: &Configuration,
+        z0: [f64; 3],
+        zd: [f64; 3],
+        horizon: f64,
+        options: &BandOptions,
+    ) -> Result<Self, Error> {
+        let w1 = zd[0] - z0[0];
+        let reach = options.amplitudes.iter().copied().fold(0.0, f64::max) + 0.1;
+        let (lo, hi) = (z0[0].min(zd[0]) - reach, z0[0].max(zd[0]) + reach);
+        let (lower, width) = fit_band(nf, start, lo, hi)?;
+        let lower_integral = lower.integral();
+        let lambda_of = |z: [f64; 3]| (z[1] - lower.eval(z[0])) / width.eval(z[0]);
+        let lambda = [lambda_of(z0), lambda_of(zd)];
+        let edge = |l: f64| l.min(1.0 - l);
+        let margin = options.margin.min(edge(lambda[0]) / 2.0).min(edge(lambda[1]) / 2.0);
+        let fixed = lower_integral.eval(zd[0]) - lower_integral.eval(z0[0]);
+        let rule = GaussLegendre::new(5);
+        let template = Self {
+            horizon,
+            z0,
+            zd,
+            choice: BandChoice { loops: 0, amplitude: 0.0, margin, kappa: 0.0, lambda_range: [0.0; 2] },
+            lower: lower.clone(),
+            lower_integral: lower_integral.clone(),
+            width: width.clone(),
+            lambda,
+            rule,
+            knots: Vec::new(),
+        };
+        let w3 = zd[2] - z0[2] - fixed;
+        let try_candidate = |(loops, amplitude): (usize, f64)| -> Option<Self> {
+            let mut path = template.clone();
+            path.choice.loops = loops;
+            path.choice.amplitude = amplitude;
+            let [base, unit] = path.area_integrals(4 * (loops + 1));
+            if unit.abs() < 1e-12 || !w1.is_finite() {
+                return None;
+            }
+            path.choice.kappa = (w3 - base) / unit;
+            let range = (0..=128)
+                .map(|i| path.lambda_at(horizon * i as f64 / 128.0))
+                .fold([f64::INFINITY, f64::NEG_INFINITY], |r, l| [r[0].min(l), r[1].max(l)]);
+            path.choice.lambda_range = range;
+            (range[0] >= margin && range[1] <= 1.0 - margin).then_some(path)
+        };
+        // No loops if a single pass suffices; else, for each amplitude, the fewest loops that keep
+        // lambda inside (binary search: the loops' area grows with N), and of those the pair with
+        // the smallest estimated peak joint velocity.
+        let mut feasible: Vec<Self> = try_candidate((0, 0.0)).into_iter().collect();
+        if feasible.is_empty() {
+            for &amplitude in &options.amplitudes {
+                let (mut lo_n, mut hi_n) = (1, options.max_loops + 1);
+                let mut found = None;
+                while lo_n < hi_n {
+                    let mid = (lo_n + hi_n) / 2;
+                    match try_candidate((mid, amplitude)) {
+                        Some(path) => {
+                            found = Some(path);
+                            hi_n = mid;
+                        }
+                        None => lo_n = mid + 1,
+                    }
+                }
+                feasible.extend(found);
+            }
+        }
+        let best = feasible
+            .into_iter()
+            .map(|p| (p.peak_velocity_estimate(nf, start), p))
+            .filter(|(peak, _)| peak.is_finite())
+            .min_by(|x, y| x.0.total_cmp(&y.0));
+        let Some((_, mut path)) = best else {
+            return Err(Error::NoBandSteering { loops: options.max_loops, amplitude: reach - 0.1 });
+        };
+        // The exact kappa from the fine quadrature of z3, which is tabulated on the way.
+        path.tabulate_z3(w3);
+        Ok(path)
+    }
+
+    /// The peak joint velocity `max(|u1|, |u2|)` over 33 times (the inverse map needs only
+    /// `z1, z2`, not the quadrature of `z3`); infinite when the path cannot be inverted.
+    fn peak_velocity_estimate(&self, nf: &NormalForm, start: &Configuration) -> f64 {
+        let mut peak = 0.0f64;
+        let mut theta2 = start.theta2;
+        for i in 0..=32 {
+            let t = self.horizon * i as f64 / 32.0;
+            let s = smoothstep(num_dual::Dual64::new(t / self.horizon, 1.0 / self.horizon));
+            let (z1, l0, l1) = self.path_terms(s);
+            let z2 = self.lower.eval(z1) + (l0 + l1 * self.choice.kappa) * self.width.eval(z1);
+            let band = nf.band(z1.re, theta2);
+            match crate::planners::nfa::normal_form::global::solve_in_band(nf.lumped(), z1.re, z2.re, band, theta2) {
+                Ok(x) => theta2 = x,
+                Err(_) => return f64::INFINITY,
+            }
+            let u = nf.control([0.0, z1.re, theta2], [z1.eps, z2.eps]);
+            peak = peak.max(u[0].abs()).max(u[1].abs());
+        }
+        peak
+    }
+
+    /// `(integral_0^T lambda W z1' dt at kappa = 0, its derivative in kappa)` on `pieces` panels.
+    fn area_integrals(&self, pieces: usize) -> [f64; 2] {
+        let h = self.horizon / pieces as f64;
+        (0..pieces)
+            .map(|i| self.area_panel(i as f64 * h, (i + 1) as f64 * h))
+            .fold([0.0; 2], |s, p| [s[0] + p[0], s[1] + p[1]])
+    }
+
+    /// [`Self::area_integrals`] over one panel `[a, b]`, with the Gauss–Legendre rule.
+    fn area_panel(&self, a: f64, b: f64) -> [f64; 2] {
+        let (mid, half) = ((a + b) / 2.0, (b - a) / 2.0);
+        let mut out = [0.0; 2];
+        for (x, w) in self.rule.nodes.iter().zip(&self.rule.weights) {
+            let t = mid + half * x;
+            let s = smoothstep(num_dual::Dual64::new(t / self.horizon, 1.0 / self.horizon));
+            let (z1, l0, l1) = self.path_terms(s);
+            let wz = self.width.eval(z1.re) * z1.eps * w * half;
+            out[0] += l0.re * wz;
+            out[1] += l1.re * wz;
+        }
+        out
+    }
+
+    /// `lambda(t)`.
+    fn lambda_at(&self, t: f64) -> f64 {
+        let s = smoothstep(t / self.horizon);
+        self.lambda_parts(s, self.choice.kappa)
+    }
+
+    /// `lambda(s) = (1 - e) (lambda0 + (lambdad - lambda0) s) + e/2 + kappa e cos(2 pi N s)` with
+    /// the flat-topped envelope `e(s) = 1 - (2s - 1)^8`: `lambda` leaves the ends' values for the
+    /// band's middle, where the loops have the whole width to swing in.
+    fn lambda_parts<D: Scalar>(&self, s: D, kappa: f64) -> D {
+        let (_, l0, l1) = self.path_terms(s);
+        l0 + l1 * kappa
+    }
+
+    /// `z1(s) = z01 + w1 s + A sin(2 pi N s)`.
+    fn z1_of<D: Scalar>(&self, s: D) -> D {
+        self.path_terms(s).0
+    }
+
+    /// `(z1(s), lambda(s) at kappa = 0, d lambda / d kappa)`, from one `sin_cos`.
+    fn path_terms<D: Scalar>(&self, s: D) -> (D, D, D) {
+        let n = self.choice.loops as f64;
+        let (sin, cos) = (s * (2.0 * std::f64::consts::PI * n)).sin_cos();
+        let z1 = s * (self.zd[0] - self.z0[0]) + self.z0[0] + sin * self.choice.amplitude;
+        let e = -(s * 2.0 - 1.0).powi(8) + 1.0;
+        let straight = s * (self.lambda[1] - self.lambda[0]) + self.lambda[0];
+        (z1, straight * (-e + 1.0) + e * 0.5, e * cos)
+    }
+
+    /// `lambda W(z1) z1'` at `t`, with the given `kappa`.
+    fn area_rate(&self, t: f64, kappa: f64) -> f64 {
+        let s = smoothstep(num_dual::Dual64::new(t / self.horizon, 1.0 / self.horizon));
+        let (z1, l0, l1) = self.path_terms(s);
+        (l0.re + l1.re * kappa) * self.width.eval(z1.re) * z1.eps
+    }
+
+    /// Tabulates `integral_0^t lambda W z1' dt` at the knots, solving on the way for the `kappa`
+    /// that makes `z3(T) - z03 - (FL(zd1) - FL(z01)) = w3`.
+    fn tabulate_z3(&mut self, w3: f64) {
+        let h = self.horizon / Z3_KNOTS as f64;
+        let mut parts = Vec::with_capacity(Z3_KNOTS + 1);
+        let mut acc = [0.0; 2];
+        parts.push(acc);
+        for i in 0..Z3_KNOTS {
+            let p = self.area_panel(i as f64 * h, (i + 1) as f64 * h);
+            acc = [acc[0] + p[0], acc[1] + p[1]];
+            parts.push(acc);
+        }
+        let kappa = (w3 - acc[0]) / acc[1];
+        self.choice.kappa = kappa;
+        self.knots = parts.iter().map(|p| p[0] + kappa * p[1]).collect();
+    }
+
+    /// The path at `t` \[s\] with exact first and second time derivatives: `z` carries `z'` and `v`
+    /// carries `v'` in their dual parts.
+    pub fn at_dual(&self, t: f64) -> ChainedPoint<num_dual::Dual64> {
+        use num_dual::{Dual2, Dual64};
+        let tau = Dual2::new(t / self.horizon, 1.0 / self.horizon, 0.0);
+        let s = smoothstep(tau);
+        let (z1, l0, l1) = self.path_terms(s);
+        let lambda = l0 + l1 * self.choice.kappa;
+        let z2 = self.lower.eval(z1) + lambda * self.width.eval(z1);
+        let z3 = self.z3_at(t);
+        ChainedPoint {
+            z: [Dual64::new(z1.re, z1.v1), Dual64::new(z2.re, z2.v1), Dual64::new(z3, z2.re * z1.v1)],
+            v: [Dual64::new(z1.v1, z1.v2), Dual64::new(z2.v1, z2.v2)],
+        }
+    }
+
+    /// `((z1, z2), (v1, v2))` at `t` \[s\]: what the joint velocities need, without the
+    /// quadrature of `z3`.
+    pub fn joints(&self, t: f64) -> ([f64; 2], [f64; 2]) {
+        let s = smoothstep(num_dual::Dual64::new(t / self.horizon, 1.0 / self.horizon));
+        let (z1, l0, l1) = self.path_terms(s);
+        let z2 = self.lower.eval(z1) + (l0 + l1 * self.choice.kappa) * self.width.eval(z1);
+        ([z1.re, z2.re], [z1.eps, z2.eps])
+    }
+
+    /// The path at `t` \[s\].
+    pub fn at(&self, t: f64) -> ChainedPoint<f64> {
+        let p = self.at_dual(t);
+        ChainedPoint { z: [p.z[0].re, p.z[1].re, p.z[2].re], v: [p.v[0].re, p.v[1].re] }
+    }
+
+    /// `z3(t) = z03 + (FL(z1(t)) - FL(z01)) + integral_0^t lambda W z1' dt`.
+    fn z3_at(&self, t: f64) -> f64 {
+        let h = self.horizon / Z3_KNOTS as f64;
+        let i = ((t / h).round().max(0.0) as usize).min(Z3_KNOTS);
+        let kappa = self.choice.kappa;
+        let knot = i as f64 * h;
+        let partial = if (t - knot).abs() <= 1e-13 * self.horizon {
+            self.knots[i]
+        } else {
+            self.knots[i] + self.rule.integrate(knot, t, |s| self.area_rate(s, kappa))
+        };
+        let z1 = self.z1_of(smoothstep(t / self.horizon));
+        self.z0[2] + self.lower_integral.eval(z1) - self.lower_integral.eval(self.z0[0]) + partial
+    }
+}
+
+/// The quintic smoothstep `10 x^3 - 15 x^4 + 6 x^5`: 0 and 1 at the ends with zero first and
+/// second derivatives.
+fn smoothstep<D: Scalar>(x: D) -> D {
+    x * x * x * (x * (x * 6.0 - 15.0) + 10.0)
+}
+
+/// Chebyshev fits of `L(theta1)` and `W(theta1)` over `[lo, hi]`, the band tracked continuously
+/// from the start.
+fn fit_band(nf: &NormalForm, start: &Configuration, lo: f64, hi: f64) -> Result<(Chebyshev, Chebyshev), Error> {
+    // Walk theta1 from the start to both ends in small steps, following the band's centre.
+    let step = 0.02;
+    let mut walk: Vec<(f64, f64)> = Vec::new();
+    for direction in [-1.0, 1.0] {
+        let mut theta1 = start.theta1;
+        let mut centre = start.theta2;
+        loop {
+            let (a, b) = nf.band(theta1, centre);
+            centre = 0.5 * (a + b);
+            walk.push((theta1, centre));
+            if (direction < 0.0 && theta1 <= lo) || (direction > 0.0 && theta1 >= hi) {
+                break;
+            }
+            theta1 += direction * step;
+        }
+    }
+    walk.sort_by(|x, y| x.0.total_cmp(&y.0));
+    let n = 64;
+    let points = Chebyshev::points(lo, hi, n);
+    let mut lower = Vec::with_capacity(n);
+    let mut width = Vec::with_capacity(n);
+    for &theta1 in &points {
+        let i = walk.partition_point(|w| w.0 < theta1).min(walk.len() - 1);
+        let (a, b) = nf.band(theta1, walk[i].1);
+        let (ha, hb) = (nf.h([0.0, theta1, a])[1], nf.h([0.0, theta1, b])[1]);
+        lower.push(ha.min(hb));
+        width.push((ha - hb).abs());
+    }
+    if width.iter().any(|w| !(w.is_finite() && *w > 0.0)) {
+        return Err(Error::NoBandSteering { loops: 0, amplitude: 0.0 });
+    }
+    Ok((Chebyshev::from_values(lo, hi, &lower), Chebyshev::from_values(lo, hi, &width)))
+}
