@@ -1,5 +1,6 @@
 use super::*;
 use crate::model::{Mount, RobotParams};
+use crate::plan::Motion;
 
 fn problem(a: f64) -> PlanningProblem {
     PlanningProblem::paper(RobotParams::src().with_mount(Mount::new(a, a).unwrap()).unwrap())

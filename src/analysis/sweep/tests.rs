@@ -1,0 +1,97 @@
+//! Tests of the mounting-point sweep (Sec. 6, item 3): shards merge to the whole, the global
+//! rate's column, common random numbers, spans.
+
+use super::*;
+
+fn small() -> SweepOptions {
+    SweepOptions {
+        a: Span::new("a", -0.3, 0.3, 3).unwrap(),
+        b: Span::new("b", -0.2, 0.2, 3).unwrap(),
+        grid: 64,
+        trials: 6,
+        seed: 7,
+        ..Default::default()
+    }
+}
+
+/// `--shard 1/2` + `--shard 2/2` + merge equals the unsharded result exactly, through CSV.
+#[test]
+fn shards_merge_to_the_whole() {
+    let robot = RobotParams::src();
+    let options = small();
+    let whole = run(&robot, &options, Shard::ALL, &|| {}).unwrap();
+    assert_eq!(whole.len(), 9);
+    let p = std::path::Path::new("x.csv");
+    let mut parts = Vec::new();
+    for k in [2, 1] {
+        let rows = run(&robot, &options, Shard { k, n: 2 }, &|| {}).unwrap();
+        parts.extend(from_csv(&to_csv(&rows).unwrap(), p).unwrap());
+    }
+    let merged = merge(parts).unwrap();
+    assert_eq!(merged, whole);
+    assert_eq!(to_csv(&merged).unwrap(), to_csv(&whole).unwrap());
+    // The centre point (a = b = 0) has every transformation, the others Eq. (14) only.
+    assert!(whole[4].eq12_rate.is_some() && whole[4].eq11_rate.is_some());
+    assert_eq!((whole[4].a, whole[4].b), (0.0, 0.0));
+    assert!(whole[0].eq12_rate.is_none());
+    // Missing or conflicting shards are errors.
+    assert!(merge(whole[1..].to_vec()).is_err());
+    let mut other = whole.clone();
+    other[3].eq14_successes += 1;
+    assert!(merge(whole.iter().cloned().chain(std::iter::once(other[3].clone()))).is_err());
+}
+
+/// With `global`, the global normal form is rated too (a column of its own, through CSV and
+/// merge), and beyond the paper it plans far more pairs than Eq. (14) at a large offset.
+#[test]
+fn global_rate_is_a_column_of_its_own() {
+    let robot = RobotParams::src();
+    let options = SweepOptions {
+        a: Span::new("a", 1.0, 1.0, 1).unwrap(),
+        b: Span::new("b", -1.0, -1.0, 1).unwrap(),
+        grid: 32,
+        trials: 12,
+        global: true,
+        ..Default::default()
+    };
+    let rows = run(&robot, &options, Shard::ALL, &|| {}).unwrap();
+    let back = from_csv(&to_csv(&rows).unwrap(), std::path::Path::new("g.csv")).unwrap();
+    assert_eq!(merge(back).unwrap(), rows);
+    let (global, eq14) = (rows[0].global_successes.unwrap(), rows[0].eq14_successes);
+    assert!(global > eq14, "global {global} vs eq14 {eq14}");
+    assert!(!small().global);
+}
+
+#[test]
+fn pairs_are_deterministic_uniform_and_independent_of_order() {
+    let (s, g) = trial_pair(3, 41);
+    assert_eq!(trial_pair(3, 41), (s, g));
+    assert_ne!(trial_pair(4, 41).0, s);
+    for q in [s, g] {
+        assert!(q.is_finite());
+    }
+    for i in 0..3 {
+        let d = (g.to_array()[i] - s.to_array()[i]).abs();
+        assert!(d < std::f64::consts::PI);
+    }
+    // Mean of many draws ~ 1/2, all in [0, 1).
+    let xs: Vec<f64> = (0..20_000).map(|k| uniform(1, k, 0)).collect();
+    assert!(xs.iter().all(|&x| (0.0..1.0).contains(&x)));
+    let mean = xs.iter().sum::<f64>() / xs.len() as f64;
+    assert!((mean - 0.5).abs() < 0.01, "{mean}");
+}
+
+#[test]
+#[allow(clippy::float_cmp)] // exactness is the property tested: a = 0 exactly in the middle
+fn shards_and_spans() {
+    assert_eq!(Shard::parse("2/3").unwrap(), Shard { k: 2, n: 3 });
+    for bad in ["0/2", "3/2", "x", "1/0", "1/"] {
+        assert!(Shard::parse(bad).is_err(), "{bad}");
+    }
+    assert_eq!(Shard { k: 2, n: 3 }.indices(8).collect::<Vec<_>>(), vec![1, 4, 7]);
+    let s = Span::new("a", -0.3, 0.3, 41).unwrap();
+    assert_eq!(s.value(20), 0.0);
+    assert_eq!((s.value(0), s.value(40)), (-0.3, 0.3));
+    assert!(Span::new("a", 0.3, -0.3, 3).is_err());
+    assert!(Span::new("a", -0.3, 0.3, 1).is_err());
+}

@@ -1,0 +1,141 @@
+//! Plan pictures (Figs. 4-12): up to four panels of curves against time and a caption.
+
+use std::path::Path;
+
+use plotters::coord::Shift;
+use plotters::prelude::*;
+
+use super::{FONT, Painter, PictureFormat, render, round_label};
+use crate::error::Error;
+
+/// The size \[px\] of a plan picture ([`plan_picture`]).
+pub const PLAN_FIGURE_SIZE: (u32, u32) = (1400, 1050);
+
+/// One curve of a [`Panel`]: `(x, y)` points and the legend's label.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Series {
+    /// Legend label.
+    pub label: String,
+    /// Points, in the panel's units (non-finite points are skipped).
+    pub points: Vec<(f64, f64)>,
+}
+
+/// One panel of a plan picture: curves against time, or (without curves) lines of text.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Panel {
+    /// Caption above the panel.
+    pub title: String,
+    /// Label of the horizontal axis, e.g. `t [s]`.
+    pub x_label: String,
+    /// Label of the vertical axis, with its unit.
+    pub y_label: String,
+    /// The curves.
+    pub series: Vec<Series>,
+    /// Lines of text, drawn in place of the chart when there are no curves.
+    pub text: Vec<String>,
+}
+
+/// A plan picture: a title, up to four panels in a 2 x 2 grid, and a caption of a few lines
+/// below (e.g. the plan's certificates).
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct PlanFigure {
+    /// Title above the panels.
+    pub title: String,
+    /// Panels, row by row (at most four are drawn).
+    pub panels: Vec<Panel>,
+    /// Lines under the panels.
+    pub caption: Vec<String>,
+}
+
+/// Colours of a panel's curves, in order (colour-blind safe, after Okabe and Ito).
+const SERIES_COLOURS: [RGBColor; 4] =
+    [RGBColor(0, 114, 178), RGBColor(213, 94, 0), RGBColor(0, 158, 115), RGBColor(204, 121, 167)];
+
+/// The picture of a plan ([`PlanFigure`]) on a [`PLAN_FIGURE_SIZE`] canvas.
+pub fn plan_picture(figure: &PlanFigure, format: PictureFormat, path: &Path) -> Result<Vec<u8>, Error> {
+    struct Figure<'a>(&'a PlanFigure);
+    impl Painter for Figure<'_> {
+        fn paint<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), String> {
+            draw_plan(root, self.0)
+        }
+    }
+    render(path, format, PLAN_FIGURE_SIZE, &Figure(figure))
+}
+
+fn draw_plan<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, figure: &PlanFigure) -> Result<(), String> {
+    let e = |x: DrawingAreaErrorKind<DB::ErrorType>| x.to_string();
+    root.fill(&WHITE).map_err(e)?;
+    let (_, height) = root.dim_in_pixel();
+    let caption_height = 24 * figure.caption.len() as u32 + 16;
+    let titled = root.titled(&figure.title, (FONT, 24)).map_err(e)?;
+    let (body, foot) = titled.split_vertically(height.saturating_sub(caption_height + 40));
+    for (area, panel) in body.split_evenly((2, 2)).iter().zip(&figure.panels) {
+        draw_panel(area, panel)?;
+    }
+    for (k, line) in figure.caption.iter().enumerate() {
+        foot.draw(&Text::new(line.clone(), (24, 8 + 24 * k as i32), (FONT, 17).into_font().color(&BLACK)))
+            .map_err(e)?;
+    }
+    Ok(())
+}
+
+fn draw_panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, panel: &Panel) -> Result<(), String> {
+    let e = |x: DrawingAreaErrorKind<DB::ErrorType>| x.to_string();
+    let finite = |p: &&(f64, f64)| p.0.is_finite() && p.1.is_finite();
+    let points = || panel.series.iter().flat_map(|s| s.points.iter().filter(finite));
+    if points().next().is_none() {
+        let area = area.margin(14, 14, 14, 14).titled(&panel.title, (FONT, 19)).map_err(e)?;
+        for (k, line) in panel.text.iter().enumerate() {
+            area.draw(&Text::new(line.clone(), (40, 30 + 26 * k as i32), (FONT, 17).into_font().color(&BLACK)))
+                .map_err(e)?;
+        }
+        return Ok(());
+    }
+    let (mut x0, mut x1, mut y0, mut y1) = (f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY, f64::NEG_INFINITY);
+    for &(x, y) in points() {
+        (x0, x1, y0, y1) = (x0.min(x), x1.max(x), y0.min(y), y1.max(y));
+    }
+    if !(x1 > x0) {
+        x1 = x0 + 1.0;
+    }
+    // A flat curve (e.g. a control that is zero) still gets a visible range.
+    let pad = ((y1 - y0) * 0.06).max(1e-9 * y0.abs().max(y1.abs())).max(1e-12);
+    let (y0, y1) = (y0 - pad, y1 + pad);
+    let mut chart = ChartBuilder::on(area)
+        .caption(&panel.title, (FONT, 19))
+        .margin(14)
+        .x_label_area_size(48)
+        .y_label_area_size(78)
+        .build_cartesian_2d(x0..x1, y0..y1)
+        .map_err(e)?;
+    chart
+        .configure_mesh()
+        .light_line_style(TRANSPARENT)
+        .bold_line_style(RGBColor(225, 225, 225))
+        .x_desc(panel.x_label.as_str())
+        .y_desc(panel.y_label.as_str())
+        .label_style((FONT, 14))
+        .axis_desc_style((FONT, 16))
+        .x_label_formatter(&|x| format!("{}", round_label(*x)))
+        .y_label_formatter(&|y| format!("{}", round_label(*y)))
+        .draw()
+        .map_err(e)?;
+    for (k, series) in panel.series.iter().enumerate() {
+        let colour = SERIES_COLOURS[k % SERIES_COLOURS.len()];
+        let style = ShapeStyle::from(&colour).stroke_width(2);
+        chart
+            .draw_series(LineSeries::new(series.points.iter().copied().filter(|p| finite(&p)), style))
+            .map_err(e)?
+            .label(series.label.as_str())
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 22, y)], colour.stroke_width(3)));
+    }
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::UpperRight)
+        .background_style(WHITE.mix(0.85))
+        .border_style(RGBColor(160, 160, 160))
+        .label_font((FONT, 15))
+        .draw()
+        .map_err(e)?;
+    Ok(())
+}
