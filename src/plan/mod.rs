@@ -104,6 +104,8 @@ impl Plan {
     ) -> Result<Plan, Error> {
         let clock = Instant::now();
         let verification = verify(motion, problem, ode, tolerance)?;
+        let mut trajectory = trajectory;
+        trajectory.add_task_space(&problem.robot);
         let verify_seconds = clock.elapsed().as_secs_f64();
         Ok(Plan {
             method,

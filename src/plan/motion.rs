@@ -3,6 +3,8 @@
 use serde::Serialize;
 
 use crate::error::Error;
+use crate::model::RobotParams;
+use crate::model::kinematics::task_point;
 pub use crate::model::system::MotionPoint;
 
 /// A planned motion, evaluated exactly at any time `t` in `[0, T]`.
@@ -42,6 +44,24 @@ pub struct Trajectory {
     pub z: Option<Vec<[f64; 3]>>,
     /// Joint torques `(tau1, tau2)` \[N m\], when computed.
     pub tau: Option<Vec<[f64; 2]>>,
+    /// Base centre of mass `(xb, yb)` \[m\], inertial frame, the system's centre of mass at the
+    /// origin ([`task_point`]).
+    pub base: Vec<[f64; 2]>,
+    /// End-effector pose `(xe, ye, psie)` \[m, m, rad\].
+    pub end_effector: Vec<[f64; 3]>,
+    /// End-effector velocity `(xe', ye', psie')` \[m/s, m/s, rad/s\].
+    pub end_effector_velocity: Vec<[f64; 3]>,
+}
+
+impl Trajectory {
+    /// Fills the task-space columns ([`Trajectory::base`], [`Trajectory::end_effector`] and its
+    /// velocity) from `q` and `q'` by the robot's kinematics.
+    pub fn add_task_space(&mut self, robot: &RobotParams) {
+        let points: Vec<_> = self.q.iter().zip(&self.dq).map(|(q, dq)| task_point(robot, *q, *dq)).collect();
+        self.base = points.iter().map(|p| p.base).collect();
+        self.end_effector = points.iter().map(|p| p.end_effector).collect();
+        self.end_effector_velocity = points.iter().map(|p| p.end_effector_velocity).collect();
+    }
 }
 
 /// Total variation of each coordinate of `q` over a trajectory's samples \[rad\].

@@ -35,9 +35,9 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), Error> {
 }
 
 /// The CSV header of docs/spec.md §3.
-pub const CSV_HEADER: [&str; 15] = [
+pub const CSV_HEADER: [&str; 23] = [
     "t", "phi", "theta1", "theta2", "dphi", "dtheta1", "dtheta2", "ddphi", "ddtheta1", "ddtheta2", "z1", "z2", "z3",
-    "tau1", "tau2",
+    "tau1", "tau2", "xb", "yb", "xe", "ye", "psie", "dxe", "dye", "dpsie",
 ];
 
 /// The trajectory as CSV (docs/spec.md §3): one row per sample, SI units, radians, empty cells where a
@@ -50,7 +50,7 @@ pub fn trajectory_csv(trajectory: &Trajectory) -> Result<Vec<u8>, Error> {
     w.write_record(CSV_HEADER).map_err(csv_err)?;
     let cell = |x: Option<f64>| x.map(|v| format!("{v:.17e}")).unwrap_or_default();
     for i in 0..trajectory.t.len() {
-        let mut row = Vec::with_capacity(15);
+        let mut row = Vec::with_capacity(CSV_HEADER.len());
         row.push(cell(Some(trajectory.t[i])));
         row.extend(trajectory.q[i].iter().map(|&x| cell(Some(x))));
         row.extend(trajectory.dq[i].iter().map(|&x| cell(Some(x))));
@@ -63,6 +63,10 @@ pub fn trajectory_csv(trajectory: &Trajectory) -> Result<Vec<u8>, Error> {
         for j in 0..2 {
             row.push(cell(trajectory.tau.as_ref().map(|a| a[i][j])));
         }
+        let task = |column: &Vec<[f64; 3]>, j: usize| cell(column.get(i).map(|p| p[j]));
+        row.extend((0..2).map(|j| cell(trajectory.base.get(i).map(|p| p[j]))));
+        row.extend((0..3).map(|j| task(&trajectory.end_effector, j)));
+        row.extend((0..3).map(|j| task(&trajectory.end_effector_velocity, j)));
         w.write_record(&row).map_err(csv_err)?;
     }
     w.into_inner().map_err(|e| {

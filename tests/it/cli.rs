@@ -59,7 +59,9 @@ fn plan_writes_csv_and_json_files_whole() {
     let mut lines = text.lines();
     assert_eq!(
         lines.next(),
-        Some("t,phi,theta1,theta2,dphi,dtheta1,dtheta2,ddphi,ddtheta1,ddtheta2,z1,z2,z3,tau1,tau2")
+        Some(
+            "t,phi,theta1,theta2,dphi,dtheta1,dtheta2,ddphi,ddtheta1,ddtheta2,z1,z2,z3,tau1,tau2,xb,yb,xe,ye,psie,dxe,dye,dpsie"
+        )
     );
     assert_eq!(lines.clone().count(), 101);
     assert!(!text.to_lowercase().contains("nan"));
@@ -70,8 +72,22 @@ fn plan_writes_csv_and_json_files_whole() {
             assert!(c.parse::<f64>().expect("number").abs() < 1e-12, "{row}");
         }
     }
+    // Task space: psie = phi + theta1 + theta2, and the end-effector velocity is the derivative
+    // of its position (central differences over the 0.1 s samples, O(dt^2)).
+    let rows: Vec<Vec<f64>> =
+        text.lines().skip(1).map(|r| r.split(',').map(|c| c.parse::<f64>().unwrap_or(f64::NAN)).collect()).collect();
+    for (i, r) in rows.iter().enumerate() {
+        assert!((r[19] - (r[1] + r[2] + r[3])).abs() < 1e-12, "psie at row {i}");
+        if i > 0 && i + 1 < rows.len() {
+            for (x, dx) in [(17, 20), (18, 21)] {
+                let fd = (rows[i + 1][x] - rows[i - 1][x]) / (rows[i + 1][0] - rows[i - 1][0]);
+                assert!((fd - r[dx]).abs() < 1e-3, "row {i}: {fd} vs {}", r[dx]);
+            }
+        }
+    }
     let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).expect("json")).expect("valid");
     assert_eq!(v["trajectory"]["t"].as_array().expect("t column").len(), 101);
+    assert_eq!(v["trajectory"]["end_effector"].as_array().expect("end-effector column").len(), 101);
 }
 
 #[test]

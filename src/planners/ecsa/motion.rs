@@ -50,7 +50,7 @@ impl EcsaMotion {
             dq.push(v);
             ddq.push(a);
         }
-        Ok(Trajectory { t: self.t.clone(), q: self.q.clone(), dq, ddq: Some(ddq), z: None, tau: None })
+        Ok(Trajectory { t: self.t.clone(), q: self.q.clone(), dq, ddq: Some(ddq), ..Default::default() })
     }
 
     /// `(min |sigma|, min |P|)` over the samples (Eqs. 9 and 13): how close the ECSA's path

@@ -95,7 +95,7 @@ impl NfaMotion {
             dq,
             ddq,
             z: Some(self.z.clone()),
-            tau: None,
+            ..Default::default()
         })
     }
 
