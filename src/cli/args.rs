@@ -67,6 +67,14 @@ pub struct ProblemArgs {
     pub robot: RobotArgs,
     #[command(flatten)]
     pub ends: EndsArgs,
+    /// Goal as an end-effector pose X,Y,PSI (m, m, deg; inertial frame, the system's centre of
+    /// mass at the origin) instead of --to: solved by the free-floating inverse kinematics (both
+    /// elbows planned, the certified plan of least effort kept, unless --elbow).
+    #[arg(long, value_name = "X,Y,PSI", allow_hyphen_values = true, conflicts_with = "to")]
+    pub to_ee: Option<String>,
+    /// With --to-ee: the inverse-kinematics solution, by the sign of sin(theta1 - atan2(b, a)).
+    #[arg(long, value_enum, requires = "to_ee")]
+    pub elbow: Option<ElbowArg>,
     /// Feedback transformation of the NFA.
     #[arg(long, value_enum, default_value_t = TransformArg::Auto)]
     pub transform: TransformArg,
@@ -113,6 +121,14 @@ pub enum WindowArg {
     None,
     /// The series times sin^2(pi t / T): the plan starts and ends at rest.
     Sin2,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum ElbowArg {
+    /// sin(theta1 - atan2(b, a)) >= 0.
+    Up,
+    /// sin(theta1 - atan2(b, a)) < 0.
+    Down,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]

@@ -3,11 +3,12 @@
 use std::process::ExitCode;
 
 use anyhow::bail;
+use freefloat::model::kinematics::Elbow;
 use freefloat::plan::{Method, Plan, PlanningProblem, TorqueOptions};
-use freefloat::planners::{Planned, PlannerOptions, planner};
+use freefloat::planners::{Planned, PlannerOptions, plan_to_pose, planner};
 use freefloat::report::io::{PlanReport, trajectory_csv, write_atomic};
 
-use super::args::{CompareArgs, CostArg, Format, PlanArgs, ProblemArgs, TransformArg, WindowArg};
+use super::args::{CompareArgs, CostArg, ElbowArg, Format, PlanArgs, ProblemArgs, TransformArg, WindowArg};
 
 /// The planner options of the flags.
 fn planner_options(args: &ProblemArgs) -> anyhow::Result<PlannerOptions> {
@@ -27,8 +28,22 @@ fn plan_with(
     problem: &PlanningProblem,
 ) -> anyhow::Result<Result<Planned, freefloat::Error>> {
     let planner = planner(method, &planner_options(args)?);
+    let pose = match &args.to_ee {
+        Some(text) => {
+            let [x, y, psi] = super::parse_list::<3>("--to-ee", text)?;
+            Some((x, y, psi.to_radians()))
+        }
+        None => None,
+    };
+    let elbow = args.elbow.map(|e| match e {
+        ElbowArg::Up => Elbow::Up,
+        ElbowArg::Down => Elbow::Down,
+    });
     let planned = |problem: &PlanningProblem| -> Result<Planned, freefloat::Error> {
-        let mut planned = planner.plan(problem)?;
+        let mut planned = match pose {
+            Some(pose) => plan_to_pose(planner.as_ref(), problem, pose, elbow)?.1,
+            None => planner.plan(problem)?,
+        };
         if args.torques {
             planned.add_torques(&TorqueOptions::default())?;
         }

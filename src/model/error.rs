@@ -33,4 +33,7 @@ pub enum InputError {
         #[source]
         source: std::io::Error,
     },
+    /// An end-effector goal out of the arm's reach.
+    #[error(transparent)]
+    Unreachable(#[from] super::kinematics::Unreachable),
 }

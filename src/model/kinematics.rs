@@ -90,6 +90,95 @@ pub fn task_point(robot: &RobotParams, q: [f64; 3], dq: [f64; 3]) -> TaskPoint {
     }
 }
 
+/// The elbow of an inverse-kinematics solution: the sign of `sin(theta1 - mu)`, where `mu` is
+/// the direction of the mounting point `(a, b)` in the base frame (for `a = b = 0`, of
+/// `sin theta1`'s solution family, see [`inverse_kinematics`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Elbow {
+    /// `sin(theta1 - mu) >= 0`.
+    Up,
+    /// `sin(theta1 - mu) < 0`.
+    Down,
+}
+
+/// An end-effector pose the arm cannot take: the wrist point's distance from the system's centre
+/// of mass and the reachable range.
+#[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
+#[error(
+    "the end-effector pose (x, y, psi) = ({x:.4} m, {y:.4} m, {psi_deg:.2} deg) is out of reach: its wrist point \
+     lies {distance:.4} m from the system's centre of mass, reachable is {min:.4} to {max:.4} m"
+)]
+pub struct Unreachable {
+    /// `x` \[m\].
+    pub x: f64,
+    /// `y` \[m\].
+    pub y: f64,
+    /// `psi` \[deg\].
+    pub psi_deg: f64,
+    /// Distance of the wrist point `(x, y) - L2 (cos psi, sin psi)` from the origin \[m\].
+    pub distance: f64,
+    /// Smallest reachable distance \[m\].
+    pub min: f64,
+    /// Largest reachable distance \[m\].
+    pub max: f64,
+}
+
+/// The configurations that put the end-effector at `(x, y, psi)` (inertial frame, the system's
+/// centre of mass at the origin; `psi = phi + theta1 + theta2`): the free-floating inverse
+/// kinematics, in closed form.
+///
+/// From [`bodies`], the tip is `(M/m_c) R(phi) (a, b) + L1 e(phi + theta1) + L2 e(psi)` with
+/// `L1 = l1 - (m1 d1 + m2 l1)/m_c`, `L2 = l2 - m2 d2/m_c` (the base moves so that the centre of
+/// mass stays put). So the wrist point `p = (x, y) - L2 e(psi)` is reached by a two-link chain
+/// of lengths `rho = (M/m_c) |(a, b)|` (the mount, turning with `phi`) and `L1`: two solutions,
+/// [`Elbow::Up`] and [`Elbow::Down`], when `|rho - L1| <= |p| <= rho + L1`. At `a = b = 0` the
+/// pose fixes `phi + theta1` but not `phi`: `phi` is taken as `phi_hint` and the two solutions
+/// coincide. Angles are returned in `(-pi, pi]`.
+pub fn inverse_kinematics(
+    robot: &RobotParams,
+    (x, y, psi): (f64, f64, f64),
+    phi_hint: f64,
+) -> Result<Vec<(Elbow, Configuration)>, Unreachable> {
+    let RobotParams { l1, l2, d1, d2, base_mass, m1, m2, mount, .. } = *robot;
+    let mc = base_mass + m1 + m2;
+    let (big_l1, big_l2) = (l1 - (m1 * d1 + m2 * l1) / mc, l2 - m2 * d2 / mc);
+    let rho = base_mass / mc * mount.a.hypot(mount.b);
+    let mu = mount.b.atan2(mount.a);
+    let p = [x - big_l2 * psi.cos(), y - big_l2 * psi.sin()];
+    let distance = p[0].hypot(p[1]);
+    let (min, max) = ((rho - big_l1).abs(), rho + big_l1);
+    let tolerance = 1e-12 * max;
+    let unreachable = Unreachable { x, y, psi_deg: psi.to_degrees(), distance, min, max };
+    if !(distance >= min - tolerance && distance <= max + tolerance) {
+        return Err(unreachable);
+    }
+    let wrap = |a: f64| crate::model::wrap_angle(a);
+    let direction = p[1].atan2(p[0]);
+    if rho <= 1e-12 * big_l1 {
+        // a = b = 0: phi + theta1 = direction, phi free.
+        let phi = phi_hint;
+        let theta1 = wrap(direction - phi);
+        let q = Configuration::new(phi, theta1, wrap(psi - phi - theta1));
+        let elbow = if (theta1 - mu).sin() >= 0.0 { Elbow::Up } else { Elbow::Down };
+        return Ok(vec![(elbow, q)]);
+    }
+    let cos_delta = ((distance * distance - rho * rho - big_l1 * big_l1) / (2.0 * rho * big_l1)).clamp(-1.0, 1.0);
+    let delta = cos_delta.acos();
+    let mut out = Vec::with_capacity(2);
+    for (elbow, d) in [(Elbow::Up, delta), (Elbow::Down, -delta)] {
+        // p = rho e(phi + mu) + L1 e(phi + mu + d): the chain's first direction phi + mu; at the
+        // edge of the reach (|cos d| = 1) the two elbows coincide.
+        let phi = wrap(direction - (big_l1 * d.sin()).atan2(rho + big_l1 * d.cos()) - mu);
+        let theta1 = wrap(d + mu);
+        out.push((elbow, Configuration::new(phi, theta1, wrap(psi - phi - theta1))));
+        if cos_delta.abs() >= 1.0 {
+            break;
+        }
+    }
+    Ok(out)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -149,5 +238,39 @@ mod tests {
             assert!((t.end_effector[0] - tip[0]).abs() < 1e-15 && (t.end_effector[1] - tip[1]).abs() < 1e-15);
             assert!((t.end_effector_velocity[0] - b.tip[0].eps).abs() < 1e-15);
         }
+    }
+
+    /// Inverse kinematics inverts the forward kinematics: at random configurations and mounts,
+    /// every solution returned puts the end-effector at the pose (1e-12), one of them is the
+    /// configuration the pose came from (angles mod 2 pi), and the elbows differ.
+    #[test]
+    fn inverse_kinematics_round_trips() {
+        let mut x = 0.61_f64;
+        let mut next = || {
+            x = (x * 991.0 + 0.317).fract();
+            x
+        };
+        for k in 0..300 {
+            let (a, b) = if k % 10 == 0 { (0.0, 0.0) } else { (3.0 * next() - 1.5, 3.0 * next() - 1.5) };
+            let robot = RobotParams::src().with_mount(Mount::new(a, b).unwrap()).unwrap();
+            let q = Configuration::new(6.0 * next() - 3.0, 6.0 * next() - 3.0, 6.0 * next() - 3.0);
+            let tip = pose(&robot, &q).tip;
+            let psi = q.phi + q.theta1 + q.theta2;
+            let solutions = inverse_kinematics(&robot, (tip[0], tip[1], psi), q.phi).expect("reachable");
+            let mut found = false;
+            for (_, s) in &solutions {
+                let t = pose(&robot, s).tip;
+                assert!((t[0] - tip[0]).abs() < 1e-12 && (t[1] - tip[1]).abs() < 1e-12, "{q:?} -> {s:?}");
+                assert!(crate::model::wrap_angle(s.phi + s.theta1 + s.theta2 - psi).abs() < 1e-12);
+                found |= s.distance(&q) < 1e-9;
+            }
+            assert!(found, "{q:?} not among {solutions:?} (a, b = {a}, {b})");
+            if solutions.len() == 2 {
+                assert_ne!(solutions[0].0, solutions[1].0);
+            }
+        }
+        let robot = RobotParams::src().with_mount(Mount::new(0.2, 0.1).unwrap()).unwrap();
+        let e = inverse_kinematics(&robot, (5.0, 0.0, 0.0), 0.0).unwrap_err();
+        assert!(e.distance > e.max && e.to_string().contains("out of reach"), "{e}");
     }
 }

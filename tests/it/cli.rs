@@ -213,3 +213,19 @@ fn default_plans_across_sigma_zero() {
         assert!(v["optimal"]["kkt_residual"].as_f64().expect("number") < 1e-6);
     }
 }
+
+/// `--to-ee` plans to an end-effector pose: the plan ends there (task-space columns of the last
+/// sample), and an unreachable pose is bad input naming the reachable range.
+#[test]
+fn plans_to_an_end_effector_pose() {
+    let o = freefloat(&["plan", "--mount", "0.1,0.1", "--to-ee", "0.5,0.3,90", "--samples", "201", "--format", "csv"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = String::from_utf8(o.stdout).expect("utf-8");
+    let last: Vec<f64> = text.lines().last().expect("rows").split(',').map(|c| c.parse().unwrap_or(f64::NAN)).collect();
+    assert!((last[17] - 0.5).abs() < 1e-9 && (last[18] - 0.3).abs() < 1e-9, "{last:?}");
+    let psi = (last[19] - 90f64.to_radians()).rem_euclid(std::f64::consts::TAU);
+    assert!(psi < 1e-9 || psi > std::f64::consts::TAU - 1e-9, "psie {}", last[19]);
+    let far = freefloat(&["plan", "--to-ee", "5,0,0"]);
+    assert_eq!(far.status.code(), Some(2), "{}", stderr(&far));
+    assert!(stderr(&far).contains("out of reach"), "{}", stderr(&far));
+}
