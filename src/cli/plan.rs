@@ -271,7 +271,9 @@ pub fn table(plan: &Plan, r: &PlanReport) -> String {
     s += &format!("  start q0 [deg]           {}\n", deg(r.start));
     s += &format!("  goal  qd [deg]           {}\n", deg(r.goal));
     s += &format!("  horizon                  {} s, {} samples\n", r.time, r.samples);
-    s += &format!("  z0, zd                   {}  ->  {}\n", vec3(r.z0), vec3(r.zd));
+    if r.z0.is_some() {
+        s += &format!("  z0, zd                   {}  ->  {}\n", vec3(r.z0), vec3(r.zd));
+    }
     s += &format!("  reached q(T) [deg]       {}\n", deg(r.reached));
     s += &format!("  verified final error     {:.3e} rad (tolerance {:.1e})  {status}\n", r.final_error, r.tolerance);
     s +=
