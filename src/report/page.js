@@ -105,6 +105,10 @@
       var path = anim.points.map(function (q) { return [q[6], q[7]]; });
       line(path, "#d9d9d9", 1.5);
       line(path.slice(0, i + 1), "#d55e00", 2);
+      // The base's centre of mass: where the base drifts (same kinematics, model::kinematics).
+      var drift = anim.points.map(function (q) { return [q[0], q[1]]; });
+      line(drift, "#dbe6f0", 1.5);
+      line(drift.slice(0, i + 1), "#0072b2", 2);
       // The base: a rectangle at its orientation, centred at its centre of mass.
       var c = Math.cos(phi), s = Math.sin(phi);
       var w = anim.base_size[0] / 2, h = anim.base_size[1] / 2;
