@@ -33,11 +33,14 @@ HORIZON = 10.0
 TARGET = 0.10
 
 CASES = [
+    ("optimal, a = b = 0", ff.Robot.src(), dict(method="optimal")),
+    ("optimal, a = b = 0.1", ff.Robot.src().with_mount(0.1, 0.1), dict(method="optimal")),
     ("NFA eq12, a = b = 0", ff.Robot.src(), dict(method="nfa", transform="eq12")),
     ("NFA eq14, a = b = 0.1", ff.Robot.src().with_mount(0.1, 0.1), dict(method="nfa", transform="eq14")),
     ("ECSA, a = b = 0.1", ff.Robot.src().with_mount(0.1, 0.1), dict(method="ecsa")),
     ("NFA eq14 + torques, a = b = 0.1", ff.Robot.src().with_mount(0.1, 0.1),
      dict(method="nfa", transform="eq14", torques=True)),
+    ("optimal + torques, a = b = 0.1", ff.Robot.src().with_mount(0.1, 0.1), dict(method="optimal", torques=True)),
 ]
 
 
@@ -47,7 +50,8 @@ def python_times(robot, kwargs, repeats, read):
         clock = time.perf_counter()
         p = ff.plan(robot, START, GOAL, HORIZON, **kwargs)
         if read:
-            (p.t, p.q, p.dq, p.ddq, p.z, p.tau, p.effort, p.certificate)
+            (p.t, p.q, p.dq, p.ddq, p.z, p.tau, p.base, p.end_effector, p.end_effector_velocity, p.effort,
+             p.certificate)
         times.append(time.perf_counter() - clock)
     return times
 
