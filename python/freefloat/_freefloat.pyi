@@ -294,13 +294,36 @@ def plan(
     :class:`NotCertified` (final error above ``tolerance``, or the torque certificate failing).
     """
 
+@overload
 def compare(
     robot: Robot,
     start: _Angles,
-    goal: Optional[_Angles] = None,
-    T: Optional[float] = None,
+    goal: _Angles,
+    T: float,
     *,
-    goal_ee: Optional[_Angles] = None,
+    goal_ee: None = None,
+    elbow: None = None,
+    methods: Optional[Sequence[str]] = None,
+    transform: _TransformName = "auto",
+    samples: int = 1001,
+    torques: bool = False,
+    tolerance: float = 1e-9,
+    harmonics: int = 1,
+    window: _WindowName = "none",
+    smooth_ends: bool = False,
+    initial_velocity: Optional[_Pair] = None,
+    wrap: bool = True,
+    cost: _CostName = "effort",
+    strict: bool = True,
+) -> dict[str, Union[Plan, FreefloatError]]: ...
+@overload
+def compare(
+    robot: Robot,
+    start: _Angles,
+    goal: None = None,
+    *,
+    T: float,
+    goal_ee: _Angles,
     elbow: Optional[_ElbowName] = None,
     methods: Optional[Sequence[str]] = None,
     transform: _TransformName = "auto",
@@ -316,10 +339,10 @@ def compare(
     strict: bool = True,
 ) -> dict[str, Union[Plan, FreefloatError]]:
     """The same problem with each of ``methods`` (default: :data:`METHODS`, optimal, NFA and
-    ECSA), as a dict method -> :class:`Plan`. ``goal``/``goal_ee``/``elbow`` and ``T`` as for
-    :func:`plan` (``T`` required). Each method takes its own keywords and ignores the others'.
-    With ``strict=False`` a method without a certified plan maps to its exception instead of
-    raising it (bad input always raises)."""
+    ECSA), as a dict method -> :class:`Plan`. ``goal`` or ``goal_ee`` (with ``elbow``) and
+    ``T`` as for :func:`plan`. Each method takes its own keywords and ignores the others' (as
+    ``freefloat compare``). With ``strict=False`` a method without a certified plan maps to its
+    exception instead of raising it (bad input always raises)."""
 
 def domain(
     robot: Robot,
