@@ -65,15 +65,14 @@ def main():
     print(f"{'case':<34}{'rust':>8}{'python':>9}{'overhead':>10}{'+read':>9}{'overhead':>10}{'library stages':>16}")
     worst = 0.0
     for name, robot, kwargs in CASES:
-        # Warm up, then interleave the three measurements in rounds to share any drift.
+        # Warm up, then interleave the three measurements call by call, so that they share the
+        # load of a busy machine (other builds on the same cores) instead of meeting it in turn.
         python_times(robot, kwargs, 20, read=True)
         rust, python, read = [], [], []
-        rounds = 5
-        for _ in range(rounds):
-            n = max(1, args.repeats // rounds)
-            rust += _time_plan(robot, START, GOAL, HORIZON, repeats=n, **kwargs)
-            python += python_times(robot, kwargs, n, read=False)
-            read += python_times(robot, kwargs, n, read=True)
+        for _ in range(args.repeats):
+            rust += _time_plan(robot, START, GOAL, HORIZON, repeats=1, **kwargs)
+            python += python_times(robot, kwargs, 1, read=False)
+            read += python_times(robot, kwargs, 1, read=True)
         stages = [ff.plan(robot, START, GOAL, HORIZON, **kwargs).certificate["seconds"] for _ in range(50)]
         lib = statistics.median(s["plan"] + s["verify"] + (s["torques"] or 0.0) for s in stages)
         r, p, pr = (statistics.median(x) for x in (rust, python, read))
