@@ -33,11 +33,14 @@ HORIZON = 10.0
 TARGET = 0.10
 
 CASES = [
+    ("optimal, a = b = 0", ff.Robot.src(), dict(method="optimal")),
+    ("optimal, a = b = 0.1", ff.Robot.src().with_mount(0.1, 0.1), dict(method="optimal")),
     ("NFA eq12, a = b = 0", ff.Robot.src(), dict(method="nfa", transform="eq12")),
     ("NFA eq14, a = b = 0.1", ff.Robot.src().with_mount(0.1, 0.1), dict(method="nfa", transform="eq14")),
     ("ECSA, a = b = 0.1", ff.Robot.src().with_mount(0.1, 0.1), dict(method="ecsa")),
     ("NFA eq14 + torques, a = b = 0.1", ff.Robot.src().with_mount(0.1, 0.1),
      dict(method="nfa", transform="eq14", torques=True)),
+    ("optimal + torques, a = b = 0.1", ff.Robot.src().with_mount(0.1, 0.1), dict(method="optimal", torques=True)),
 ]
 
 
@@ -47,7 +50,8 @@ def python_times(robot, kwargs, repeats, read):
         clock = time.perf_counter()
         p = ff.plan(robot, START, GOAL, HORIZON, **kwargs)
         if read:
-            (p.t, p.q, p.dq, p.ddq, p.z, p.tau, p.effort, p.certificate)
+            (p.t, p.q, p.dq, p.ddq, p.z, p.tau, p.base, p.end_effector, p.end_effector_velocity, p.effort,
+             p.certificate)
         times.append(time.perf_counter() - clock)
     return times
 
@@ -61,15 +65,14 @@ def main():
     print(f"{'case':<34}{'rust':>8}{'python':>9}{'overhead':>10}{'+read':>9}{'overhead':>10}{'library stages':>16}")
     worst = 0.0
     for name, robot, kwargs in CASES:
-        # Warm up, then interleave the three measurements in rounds to share any drift.
+        # Warm up, then interleave the three measurements call by call, so that they share the
+        # load of a busy machine (other builds on the same cores) instead of meeting it in turn.
         python_times(robot, kwargs, 20, read=True)
         rust, python, read = [], [], []
-        rounds = 5
-        for _ in range(rounds):
-            n = max(1, args.repeats // rounds)
-            rust += _time_plan(robot, START, GOAL, HORIZON, repeats=n, **kwargs)
-            python += python_times(robot, kwargs, n, read=False)
-            read += python_times(robot, kwargs, n, read=True)
+        for _ in range(args.repeats):
+            rust += _time_plan(robot, START, GOAL, HORIZON, repeats=1, **kwargs)
+            python += python_times(robot, kwargs, 1, read=False)
+            read += python_times(robot, kwargs, 1, read=True)
         stages = [ff.plan(robot, START, GOAL, HORIZON, **kwargs).certificate["seconds"] for _ in range(50)]
         lib = statistics.median(s["plan"] + s["verify"] + (s["torques"] or 0.0) for s in stages)
         r, p, pr = (statistics.median(x) for x in (rust, python, read))

@@ -1,20 +1,24 @@
 """Type stubs of the native module ``freefloat._freefloat`` (PyO3). Import from ``freefloat``."""
 
 from os import PathLike
-from typing import Any, Literal, Optional, Sequence, Union, final
+from typing import Any, Literal, Optional, Sequence, Tuple, Union, final, overload
 
 import numpy as np
 import numpy.typing as npt
 
 from ._errors import FreefloatError
 
-_Method = Literal["nfa", "ecsa"]
+_Method = Literal["optimal", "nfa", "ecsa"]
 _TransformName = Literal["auto", "eq11", "eq12", "eq14", "global"]
 _WindowName = Literal["none", "sin2"]
+_CostName = Literal["effort", "energy"]
+_ElbowName = Literal["up", "down"]
 _Angles = Union[Sequence[float], npt.NDArray[np.floating[Any]]]
+_Pair = Union[Tuple[float, float], Sequence[float], npt.NDArray[np.floating[Any]]]
 
 METHODS: list[str]
-"""The planning methods, e.g. ``["nfa", "ecsa"]``."""
+"""The planning methods, the default first: ``["optimal", "nfa", "ecsa"]`` (the order of
+:func:`compare`)."""
 
 __version__: str
 
@@ -107,7 +111,7 @@ class Plan:
     @property
     def ddq(self) -> Optional[npt.NDArray[np.float64]]:
         """Accelerations [rad/s^2], shape (N, 3), exact (automatic differentiation); computed
-        for ``torques=True`` (NFA) and always by ECSA, else None."""
+        for ``torques=True`` (NFA) and always by ECSA and the optimal planner, else None."""
     @property
     def z(self) -> Optional[npt.NDArray[np.float64]]:
         """Chained-form state z, shape (N, 3) (NFA only), else None."""
@@ -115,17 +119,34 @@ class Plan:
     def tau(self) -> Optional[npt.NDArray[np.float64]]:
         """Joint torques (tau1, tau2) [N m], shape (N, 2), with ``torques=True``, else None."""
     @property
+    def base(self) -> npt.NDArray[np.float64]:
+        """Base centre of mass ``(xb, yb)`` [m], shape (N, 2), in the inertial frame with the
+        system's centre of mass at the origin (it stays there: zero linear momentum)."""
+    @property
+    def end_effector(self) -> npt.NDArray[np.float64]:
+        """End-effector pose ``(xe, ye, psie)`` [m, m, rad], shape (N, 3), same frame: the tip of
+        link 2 and its absolute angle ``psie = phi + theta1 + theta2`` (not wrapped)."""
+    @property
+    def end_effector_velocity(self) -> npt.NDArray[np.float64]:
+        """End-effector velocity ``(xe', ye', psie')`` [m/s, m/s, rad/s], shape (N, 3), exact at
+        each sample (forward-mode differentiation along ``dq``)."""
+    @property
     def method(self) -> str:
-        """``"nfa"`` or ``"ecsa"``."""
+        """``"optimal"``, ``"nfa"`` or ``"ecsa"``."""
     @property
     def transform(self) -> Optional[str]:
         """The NFA's transformation (``"eq11"``, ``"eq12"``, ``"eq14"``, ``"global"``), None for
-        ECSA."""
+        the other methods."""
+    @property
+    def elbow(self) -> Optional[str]:
+        """The elbow (``"up"``, ``"down"``) of the inverse-kinematics solution planned to, for a
+        plan to ``goal_ee``; None for a plan to a goal configuration."""
     @property
     def effort(self) -> float:
-        """The control effort ``integral_0^T |u(t)|^2 dt`` [rad^2/s], ``u = dq[:, 1:]``, by the
-        composite Simpson rule over the samples (Simpson's 3/8 rule on the last three intervals
-        when their number is odd): an O(h^4) approximation, not an exact integral."""
+        """The control effort ``integral_0^T |u(t)|^2 dt`` [rad^2/s], ``u = dq[:, 1:]``, as the
+        library reports it (``certificate["effort"]``): exact for the optimal planner (Gauss-
+        Legendre on its spline's knot spans); for NFA and ECSA the composite Simpson rule over
+        the samples, an O(h^4) approximation."""
     @property
     def final_error(self) -> float:
         """Verified final error ``max_i |wrap(q_i(T) - qd_i)|`` [rad]: system (7) integrated
@@ -142,7 +163,9 @@ class Plan:
         """The report of ``freefloat plan --format json``, same keys (``method``,
         ``transform``, ``mount``, ``time``, ``samples``, ``z0``, ``zd``, ``final_error``,
         ``max_abs_u``, ``min_abs_sigma``, ``min_abs_p``, ``max_abs_torque``,
-        ``torque_final_error``, ``torque_certificate``, ``seconds``, ``iterations``, ...)."""
+        ``torque_final_error``, ``torque_certificate``, ``seconds``, ``iterations``,
+        ``effort``, ``optimal`` (the optimal planner's cost, residuals and SQP iterations,
+        None for the other methods), ...)."""
 
 @final
 class Domain:
@@ -192,39 +215,94 @@ class Domain:
     def summary(self) -> dict[str, Any]:
         """The summary of ``freefloat domain --format json`` (same keys, without the plan)."""
 
+@overload
 def plan(
     robot: Robot,
     start: _Angles,
     goal: _Angles,
     T: float,
     *,
-    method: _Method = "nfa",
+    goal_ee: None = None,
+    elbow: None = None,
+    method: _Method = "optimal",
     transform: _TransformName = "auto",
     samples: int = 1001,
     torques: bool = False,
     tolerance: float = 1e-9,
     harmonics: int = 1,
     window: _WindowName = "none",
+    smooth_ends: bool = False,
+    initial_velocity: Optional[_Pair] = None,
+    wrap: bool = True,
+    cost: _CostName = "effort",
+) -> Plan: ...
+@overload
+def plan(
+    robot: Robot,
+    start: _Angles,
+    goal: None = None,
+    *,
+    T: float,
+    goal_ee: _Angles,
+    elbow: Optional[_ElbowName] = None,
+    method: _Method = "optimal",
+    transform: _TransformName = "auto",
+    samples: int = 1001,
+    torques: bool = False,
+    tolerance: float = 1e-9,
+    harmonics: int = 1,
+    window: _WindowName = "none",
+    smooth_ends: bool = False,
+    initial_velocity: Optional[_Pair] = None,
+    wrap: bool = True,
+    cost: _CostName = "effort",
 ) -> Plan:
-    """Plans a motion from ``start`` to ``goal`` = (phi, theta1, theta2) [rad] in ``T`` [s],
-    at rest at both ends, zero angular momentum, and certifies it.
+    """Plans a motion from ``start`` = (phi, theta1, theta2) [rad] in ``T`` [s] with zero
+    angular momentum, to rest at the goal, and certifies it. The goal is either
 
-    ``method``: ``"nfa"`` (Normal Form Approach) or ``"ecsa"``. ``transform`` (NFA):
-    ``"auto"`` tries the paper's eq12 (a = b = 0) or eq14 and falls back to the global normal
-    form. ``torques=True`` adds exact accelerations, the joint torques and the second
-    certificate (full dynamics from rest, tolerance 1e-6 rad). ``harmonics``, ``window``: the
-    ECSA's control series. The GIL is released while planning.
+    * ``goal`` = (phi, theta1, theta2) [rad], joint space: ``plan(robot, start, goal, T)``; or
+    * ``goal_ee`` = (x, y, psi) [m, m, rad], the end-effector pose in the inertial frame with
+      the system's centre of mass at the origin (``psi = phi + theta1 + theta2``), by keyword:
+      ``plan(robot, start, T=10.0, goal_ee=(x, y, psi))``. The goal configurations are the
+      free-floating inverse kinematics' solutions, each angle nearest the start's; with
+      ``elbow="up"`` or ``"down"`` only that one is planned, else both and the certified plan
+      of least effort is kept (``Plan.elbow`` says which).
+
+    Exactly one of ``goal`` and ``goal_ee`` (else :class:`BadInput`); ``T`` is required
+    (``TypeError`` when missing). A pose out of reach is :class:`BadInput` with ``kind ==
+    "unreachable"`` and ``details`` = {``x``, ``y``, ``psi`` [rad], ``distance``, ``min``,
+    ``max``} [m]: the wrist point's distance from the centre of mass and the reachable range.
+
+    ``method``: ``"optimal"`` (default; the minimum-effort joint path under the base's
+    holonomy constraint, across sigma = 0 as anywhere), ``"nfa"`` (Normal Form Approach) or
+    ``"ecsa"``. Each method's keywords, given with a value other than their default to another
+    method, are :class:`BadInput` (``kind == "misplaced_option"``):
+
+    * NFA: ``transform``: ``"auto"`` tries the paper's eq12 (a = b = 0) or eq14 and falls back
+      to the global normal form.
+    * ECSA: ``harmonics``, ``window``: its control series.
+    * optimal: ``smooth_ends=True`` also zeroes the joint accelerations at both ends (quintic
+      splines: torques start and end at zero); ``initial_velocity`` = (dtheta1, dtheta2)
+      [rad/s] at t = 0, for re-planning while moving (default: at rest); ``wrap=False`` takes
+      the goal's angles literally instead of modulo 2 pi; ``cost``: ``"effort"``
+      (``integral |theta'|^2 dt``) or ``"energy"`` (the kinetic energy).
+
+    ``torques=True`` adds exact accelerations, the joint torques and the second certificate
+    (full dynamics from rest, tolerance 1e-6 rad). The GIL is released while planning.
 
     Raises :class:`BadInput` (bad parameters), :class:`NoPlan` (no plan with this method),
     :class:`NotCertified` (final error above ``tolerance``, or the torque certificate failing).
     """
 
+@overload
 def compare(
     robot: Robot,
     start: _Angles,
     goal: _Angles,
     T: float,
     *,
+    goal_ee: None = None,
+    elbow: None = None,
     methods: Optional[Sequence[str]] = None,
     transform: _TransformName = "auto",
     samples: int = 1001,
@@ -232,11 +310,39 @@ def compare(
     tolerance: float = 1e-9,
     harmonics: int = 1,
     window: _WindowName = "none",
+    smooth_ends: bool = False,
+    initial_velocity: Optional[_Pair] = None,
+    wrap: bool = True,
+    cost: _CostName = "effort",
+    strict: bool = True,
+) -> dict[str, Union[Plan, FreefloatError]]: ...
+@overload
+def compare(
+    robot: Robot,
+    start: _Angles,
+    goal: None = None,
+    *,
+    T: float,
+    goal_ee: _Angles,
+    elbow: Optional[_ElbowName] = None,
+    methods: Optional[Sequence[str]] = None,
+    transform: _TransformName = "auto",
+    samples: int = 1001,
+    torques: bool = False,
+    tolerance: float = 1e-9,
+    harmonics: int = 1,
+    window: _WindowName = "none",
+    smooth_ends: bool = False,
+    initial_velocity: Optional[_Pair] = None,
+    wrap: bool = True,
+    cost: _CostName = "effort",
     strict: bool = True,
 ) -> dict[str, Union[Plan, FreefloatError]]:
-    """The same problem with each of ``methods`` (default: every method, NFA and ECSA), as a
-    dict method -> :class:`Plan`. With ``strict=False`` a method without a certified plan maps
-    to its exception instead of raising it (bad input always raises)."""
+    """The same problem with each of ``methods`` (default: :data:`METHODS`, optimal, NFA and
+    ECSA), as a dict method -> :class:`Plan`. ``goal`` or ``goal_ee`` (with ``elbow``) and
+    ``T`` as for :func:`plan`. Each method takes its own keywords and ignores the others' (as
+    ``freefloat compare``). With ``strict=False`` a method without a certified plan maps to its
+    exception instead of raising it (bad input always raises)."""
 
 def domain(
     robot: Robot,
@@ -253,13 +359,19 @@ def domain(
 def _time_plan(
     robot: Robot,
     start: _Angles,
-    goal: _Angles,
-    T: float,
+    goal: Optional[_Angles] = None,
+    T: Optional[float] = None,
     *,
-    method: _Method = "nfa",
+    goal_ee: Optional[_Angles] = None,
+    elbow: Optional[_ElbowName] = None,
+    method: _Method = "optimal",
     transform: _TransformName = "auto",
     samples: int = 1001,
     torques: bool = False,
+    smooth_ends: bool = False,
+    initial_velocity: Optional[_Pair] = None,
+    wrap: bool = True,
+    cost: _CostName = "effort",
     repeats: int = 1,
 ) -> list[float]:
     """Wall time [s] of the Rust planning call alone (what :func:`plan` runs without the GIL),

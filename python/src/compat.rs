@@ -4,7 +4,9 @@
 
 pub use freefloat::analysis::domain::{DomainMap, DomainSummary};
 pub use freefloat::model::InputError;
+pub use freefloat::model::kinematics::{Elbow, Unreachable};
 pub use freefloat::model::system::momentum;
 pub use freefloat::numerics::ode::OdeError;
-pub use freefloat::planners::{PlannerOptions, planner};
+pub use freefloat::planners::optimal::{Cost, OptimalOptions};
+pub use freefloat::planners::{PlannerOptions, plan_to_pose, planner};
 pub use freefloat::report::io::PlanReport;

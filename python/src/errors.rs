@@ -6,7 +6,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use serde_json::{Value, json};
 
-use crate::compat::{InputError, OdeError};
+use crate::compat::{InputError, OdeError, Unreachable};
 use crate::convert::json_dict;
 
 /// An error of the bindings: the library's, or an option string that names nothing.
@@ -22,6 +22,21 @@ pub enum BindingError {
         value: String,
         /// What is accepted.
         allowed: &'static [&'static str],
+    },
+    /// Keywords of one method given, with values other than their defaults, to another.
+    Misplaced {
+        /// The keywords, e.g. `transform`.
+        keywords: &'static str,
+        /// The method they apply to.
+        owner: &'static str,
+        /// The method asked for.
+        method: &'static str,
+    },
+    /// A keyword that needs another one (`elbow` without `goal_ee`), or two that exclude each
+    /// other (`goal` and `goal_ee`).
+    Conflict {
+        /// What is wrong, as the message says it.
+        message: &'static str,
     },
 }
 
@@ -46,6 +61,14 @@ impl BindingError {
                 let message = format!("invalid {name} {value:?}: expected one of {}", allowed.join(", "));
                 let details = json!({ "name": name, "value": value, "expected": allowed.join(" | ") });
                 raise(py, "BadInput", message, "unknown_choice", &details, None)
+            }
+            BindingError::Misplaced { keywords, owner, method } => {
+                let message = format!("{keywords} apply to method={owner:?}, not to method={method:?}");
+                let details = json!({ "name": keywords, "expected": format!("method={owner:?}"), "method": method });
+                raise(py, "BadInput", message, "misplaced_option", &details, None)
+            }
+            BindingError::Conflict { message } => {
+                raise(py, "BadInput", message.to_string(), "conflicting_options", &json!({}), None)
             }
         }
     }
@@ -117,6 +140,9 @@ fn details(e: &freefloat::Error) -> Value {
         E::Input(InputError::Io { path, source }) => {
             json!({"path": path.display().to_string(), "reason": source.to_string()})
         }
+        E::Input(InputError::Unreachable(Unreachable { x, y, psi_deg, distance, min, max })) => json!({
+            "x": x, "y": y, "psi": psi_deg.to_radians(), "distance": distance, "min": min, "max": max,
+        }),
         E::TransformUnavailable { transform, reason } => json!({"transform": transform, "reason": reason}),
         E::Singular { which, transform, where_, q, t, value, .. } => json!({
             "which": name(which), "transform": transform, "where": where_,

@@ -11,10 +11,11 @@ from conftest import GOAL, HORIZON, START
 
 @pytest.mark.parametrize("samples", [2, 101, 1001])
 def test_plan_arrays(src, samples):
-    p = ff.plan(src, START, GOAL, HORIZON, samples=samples)
+    p = ff.plan(src, START, GOAL, HORIZON, method="nfa", samples=samples)
     assert p.t.shape == (samples,) and p.t.dtype == np.float64
-    for a in (p.q, p.dq, p.z):
+    for a in (p.q, p.dq, p.z, p.end_effector, p.end_effector_velocity):
         assert a.shape == (samples, 3) and a.dtype == np.float64
+    assert p.base.shape == (samples, 2) and p.base.dtype == np.float64
     assert p.ddq is None and p.tau is None
     assert p.t[0] == 0.0 and p.t[-1] == HORIZON and np.all(np.diff(p.t) > 0)
     assert p.certificate["samples"] == samples
@@ -26,12 +27,17 @@ def test_inputs_may_be_lists_tuples_or_arrays(src):
     assert np.array_equal(a.q, b.q)
 
 
-@pytest.mark.parametrize("method, kwargs", [("nfa", {}), ("ecsa", {"window": "sin2"})])
-def test_torques(src, method, kwargs):
+@pytest.mark.parametrize(
+    "method, kwargs, samples",
+    # The optimal plan's accelerations ramp within graded end layers (T / 128 here): finer
+    # samples for the central differences below.
+    [("nfa", {}, 201), ("ecsa", {"window": "sin2"}, 201), ("optimal", {"smooth_ends": True}, 2001)],
+)
+def test_torques(src, method, kwargs, samples):
     robot = src.with_mount(0.2, 0.2)
-    p = ff.plan(robot, START, GOAL, HORIZON, method=method, torques=True, samples=201, **kwargs)
-    assert p.tau.shape == (201, 2) and p.tau.dtype == np.float64
-    assert p.ddq.shape == (201, 3) and p.ddq.dtype == np.float64
+    p = ff.plan(robot, START, GOAL, HORIZON, method=method, torques=True, samples=samples, **kwargs)
+    assert p.tau.shape == (samples, 2) and p.tau.dtype == np.float64
+    assert p.ddq.shape == (samples, 3) and p.ddq.dtype == np.float64
     c = p.certificate
     assert c["torque_final_error"] <= 1e-6 and c["certified"] is True
     assert c["max_abs_torque"] == pytest.approx(np.max(np.abs(p.tau), axis=0).tolist(), rel=1e-12)
@@ -42,14 +48,17 @@ def test_torques(src, method, kwargs):
     assert np.max(np.abs(central - p.ddq[1:-1])) <= 1e-2 * (1 + np.max(np.abs(p.ddq)))
 
 
-def test_certificate_has_the_cli_keys(src):
-    c = ff.plan(src, START, GOAL, HORIZON).certificate
+@pytest.mark.parametrize("method", ff.METHODS)
+def test_certificate_has_the_cli_keys(src, method):
+    c = ff.plan(src, START, GOAL, HORIZON, method=method).certificate
     keys = ["method", "transform", "mount", "time", "samples", "z0", "zd", "final_error", "max_abs_u",
-            "min_abs_sigma", "min_abs_p", "max_abs_torque", "torque_final_error", "seconds", "iterations"]
+            "min_abs_sigma", "min_abs_p", "max_abs_torque", "torque_final_error", "seconds", "iterations",
+            "effort"]
     assert all(key in c for key in keys)
     # The key order of the CLI's JSON report (PlanReport's fields).
     assert list(c)[:5] == ["method", "transform", "mount", "time", "samples"]
     assert c["time"] == HORIZON and c["start"] == pytest.approx(list(START))
+    assert c["method"] == method and ("optimal" in c) == (method == "optimal")
 
 
 @pytest.mark.parametrize("grid", [16, 101, 720])
@@ -94,7 +103,8 @@ def test_planning_releases_the_gil(src):
 
 
 def test_reprs(src):
-    p = ff.plan(src, START, GOAL, HORIZON)
+    p = ff.plan(src, START, GOAL, HORIZON, method="nfa")
     assert repr(p).startswith("Plan(method='nfa', transform='eq12'")
+    assert repr(ff.plan(src, START, GOAL, HORIZON)).startswith("Plan(method='optimal', samples=1001")
     assert repr(ff.domain(src, grid=16)).startswith("Domain(transform='eq12'")
-    assert ff.METHODS == ["nfa", "ecsa"]
+    assert ff.METHODS == ["optimal", "nfa", "ecsa"]

@@ -60,11 +60,53 @@ def test_robot_file(tmp_path):
         dict(tolerance=0.0),
         dict(method="ecsa", harmonics=9),
         dict(window="hann"),
+        dict(cost="time"),
+        dict(initial_velocity=(0.1,)),
+        dict(initial_velocity=(0.1, 0.2, 0.3)),
+        dict(initial_velocity=(float("nan"), 0.0)),
+        dict(goal_ee=(0.5, 0.0, 0.0), elbow="sideways"),
     ],
 )
 def test_bad_options(src, kwargs):
     with pytest.raises(ff.BadInput):
         ff.plan(src, START, GOAL, HORIZON, **kwargs)
+
+
+@pytest.mark.parametrize(
+    "method, kwargs",
+    [
+        ("optimal", dict(transform="eq12")),
+        ("optimal", dict(harmonics=2)),
+        ("nfa", dict(window="sin2")),
+        ("nfa", dict(smooth_ends=True)),
+        ("ecsa", dict(initial_velocity=(0.1, 0.0))),
+        ("nfa", dict(wrap=False)),
+        ("ecsa", dict(cost="energy")),
+    ],
+)
+def test_keywords_of_another_method_are_bad_input(src, method, kwargs):
+    # As `freefloat plan` rejects misplaced flags; default values are accepted by every method.
+    with pytest.raises(ff.BadInput) as info:
+        ff.plan(src, START, GOAL, HORIZON, method=method, **kwargs)
+    assert info.value.kind == "misplaced_option" and info.value.details["method"] == method
+    ff.plan(src, START, GOAL, HORIZON, method=method, initial_velocity=(0.0, 0.0), cost="effort", samples=11)
+
+
+def test_goal_keywords(src):
+    with pytest.raises(TypeError, match="'T'"):
+        ff.plan(src, START, GOAL)
+    with pytest.raises(TypeError, match="'T'"):
+        ff.plan(src, START, goal_ee=(0.5, 0.0, 0.0))
+    with pytest.raises(ff.BadInput, match="not both"):
+        ff.plan(src, START, GOAL, HORIZON, goal_ee=(0.5, 0.0, 0.0))
+    with pytest.raises(ff.BadInput, match="goal_ee"):
+        ff.plan(src, START, T=HORIZON)
+    with pytest.raises(ff.BadInput, match="elbow"):
+        ff.plan(src, START, GOAL, HORIZON, elbow="up")
+    for pose in [(0.5, 0.0), (0.5, float("inf"), 0.0)]:
+        with pytest.raises(ff.BadInput) as info:
+            ff.plan(src, START, T=HORIZON, goal_ee=pose)
+        assert info.value.name == "goal_ee"
 
 
 def test_bad_problem(src):
@@ -74,7 +116,7 @@ def test_bad_problem(src):
         ff.plan(src, START[:2], GOAL, HORIZON)
     assert info.value.name == "start"
     with pytest.raises(ff.BadInput) as info:
-        ff.plan(src.with_mount(0.1, 0.1), START, GOAL, HORIZON, transform="eq11")
+        ff.plan(src.with_mount(0.1, 0.1), START, GOAL, HORIZON, method="nfa", transform="eq11")
     assert info.value.kind == "transform_unavailable"
 
 
@@ -83,7 +125,7 @@ def test_goal_in_another_component_is_no_plan(src):
     goal = GOAL * np.array([1.0, 1.0, -1.0])
     robot = src.with_mount(0.3, 0.3)
     with pytest.raises(ff.NoPlan) as info:
-        ff.plan(robot, START, goal, HORIZON, transform="eq14")
+        ff.plan(robot, START, goal, HORIZON, method="nfa", transform="eq14")
     e = info.value
     assert e.kind == "different_components" and "different components" in str(e)
     assert e.details["start_sign"] * e.details["goal_sign"] == -1.0
@@ -93,13 +135,14 @@ def test_goal_in_another_component_is_no_plan(src):
 
 def test_path_leaving_the_domain_is_no_plan(src):
     with pytest.raises(ff.NoPlan) as info:
-        ff.plan(src.with_mount(1.0, -1.0), START, GOAL, HORIZON, transform="eq14")
+        ff.plan(src.with_mount(1.0, -1.0), START, GOAL, HORIZON, method="nfa", transform="eq14")
     assert info.value.kind and info.value.details
 
 
-def test_impossible_tolerance_is_not_certified(src):
+@pytest.mark.parametrize("method", ff.METHODS)
+def test_impossible_tolerance_is_not_certified(src, method):
     with pytest.raises(ff.NotCertified) as info:
-        ff.plan(src.with_mount(0.1, 0.1), START, GOAL, HORIZON, tolerance=1e-300)
+        ff.plan(src.with_mount(0.1, 0.1), START, GOAL, HORIZON, method=method, tolerance=1e-300)
     e = info.value
     assert e.level == "velocity" and e.tolerance == 1e-300
     assert 1e-300 < e.final_error <= 1e-9
