@@ -270,6 +270,12 @@ pub fn number(x: f64) -> String {
     if s.contains('.') { s.trim_end_matches('0').trim_end_matches('.').to_string() } else { s }
 }
 
+/// An error or residual: [`number`] between 1e-3 and 1e4 (`1.21`, not `1.210e0`), else
+/// scientific with four digits (`9.290e-13`).
+pub fn error_number(x: f64) -> String {
+    if (1e-3..1e4).contains(&x.abs()) { number(x) } else { format!("{x:.3e}") }
+}
+
 fn deg(q: [f64; 3]) -> String {
     format!("({:.4}, {:.4}, {:.4})", q[0].to_degrees(), q[1].to_degrees(), q[2].to_degrees())
 }
@@ -294,7 +300,11 @@ pub fn table(plan: &Plan, r: &PlanReport) -> String {
     s += &format!("  horizon                  {} s, {} samples\n", number(r.time), r.samples);
     s += &format!("  z0, zd                   {}  ->  {}\n", vec3(r.z0), vec3(r.zd));
     s += &format!("  reached q(T) [deg]       {}\n", deg(r.reached));
-    s += &format!("  verified final error     {:.3e} rad (tolerance {:.1e})  {status}\n", r.final_error, r.tolerance);
+    s += &format!(
+        "  verified final error     {} rad (tolerance {:.1e})  {status}\n",
+        error_number(r.final_error),
+        r.tolerance
+    );
     s +=
         &format!("  max deviation from plan  {:.3e} rad ({} integrator steps)\n", r.max_path_deviation, r.verify_steps);
     s += &format!("  effort                   {:.6} rad^2/s (integral of |u|^2 dt)\n", r.effort);
@@ -340,8 +350,9 @@ pub fn table(plan: &Plan, r: &PlanReport) -> String {
         let status = if c.certified { "CERTIFIED" } else { "NOT CERTIFIED" };
         s += &format!("  max |tau1|, |tau2|       {:.6}, {:.6} N m\n", t.max_abs_torque[0], t.max_abs_torque[1]);
         s += &format!(
-            "  torque final error       {:.3e} rad (tolerance {:.1e})  {status}\n",
-            c.final_error, c.tolerance
+            "  torque final error       {} rad (tolerance {:.1e})  {status}\n",
+            error_number(c.final_error),
+            c.tolerance
         );
         s += &format!(
             "  torque path deviation    {:.3e} rad ({} integrator steps)\n",

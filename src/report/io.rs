@@ -350,4 +350,24 @@ mod tests {
         let e = write_atomic(&dir.path().join("no/such/dir/x.json"), b"x");
         assert!(matches!(e, Err(Error::Input(InputError::Io { .. }))));
     }
+
+    /// The signal handler's routine removes registered temporaries; stale ones of dead
+    /// processes go at the next write of that name, others' files stay.
+    #[test]
+    fn temporaries_are_removed() {
+        let dir = tempfile::tempdir().unwrap();
+        let tmp = dir.path().join(".x.json.1.tmp");
+        std::fs::write(&tmp, b"half").unwrap();
+        register_temporary(&tmp);
+        remove_temporaries();
+        assert!(!tmp.exists());
+        let stale = dir.path().join(".y.json.999999999.tmp");
+        let other = dir.path().join(".z.json.999999999.tmp");
+        std::fs::write(&stale, b"half").unwrap();
+        std::fs::write(&other, b"keep").unwrap();
+        write_atomic(&dir.path().join("y.json"), b"whole").unwrap();
+        assert!(other.exists());
+        assert_eq!(stale.exists(), !Path::new("/proc/self").exists());
+        assert!(check_writable(&dir.path().join("none/y.json")).is_err());
+    }
 }
