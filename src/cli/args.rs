@@ -10,6 +10,9 @@ use clap::{Args, Parser, Subcommand, ValueEnum};
 pub struct Cli {
     #[command(subcommand)]
     pub command: Command,
+    /// Print no notes, progress or summaries on stderr (errors are still printed).
+    #[arg(long, short, global = true)]
+    pub quiet: bool,
 }
 
 #[derive(Debug, Subcommand)]
@@ -24,6 +27,18 @@ pub enum Command {
     Domain(DomainArgs),
     /// Sweep mounting points (a, b): domain of Eq. (14) and NFA success rate; shardable.
     MountSweep(SweepArgs),
+    /// Print a shell completion script (e.g. `freefloat completions bash > /etc/bash_completion.d/freefloat`).
+    Completions(CompletionsArgs),
+    /// Print the man page (roff; e.g. `freefloat man > freefloat.1`).
+    Man,
+}
+
+/// Flags of `freefloat completions`.
+#[derive(Debug, Args)]
+pub struct CompletionsArgs {
+    /// The shell.
+    #[arg(value_enum)]
+    pub shell: clap_complete::Shell,
 }
 
 /// The robot: a preset or a TOML file, and the mounting point.
@@ -55,8 +70,8 @@ pub struct EndsArgs {
     /// Goal configuration PHI,TH1,TH2 in deg, taken literally (not modulo 360).
     #[arg(long, value_name = "PHI,TH1,TH2", default_value = "0,180,140", allow_hyphen_values = true)]
     pub to: String,
-    /// Horizon T in s.
-    #[arg(long, value_name = "T", default_value_t = 10.0)]
+    /// Horizon T in s, from 1e-3 to 1e6.
+    #[arg(long, value_name = "T", default_value_t = 10.0, allow_hyphen_values = true)]
     pub time: f64,
 }
 
@@ -78,19 +93,19 @@ pub struct ProblemArgs {
     /// Feedback transformation of the NFA.
     #[arg(long, value_enum, default_value_t = TransformArg::Auto)]
     pub transform: TransformArg,
-    /// Number of samples of the trajectory (both ends included).
-    #[arg(long, value_name = "N", default_value_t = 1001)]
-    pub samples: usize,
+    /// Number of samples of the trajectory (both ends included), 2 to 1048576.
+    #[arg(long, value_name = "N", default_value_t = 1001, allow_hyphen_values = true)]
+    pub samples: u64,
     /// Also compute joint torques by inverse dynamics (Eq. 6) and certify them.
     #[arg(long)]
     pub torques: bool,
-    /// Largest verified final error of a certified velocity plan in rad.
-    #[arg(long, value_name = "RAD", default_value_t = 1e-9)]
+    /// Largest verified final error of a certified velocity plan in rad, positive, at most 1e-3.
+    #[arg(long, value_name = "RAD", default_value = "1e-9", allow_hyphen_values = true)]
     pub tolerance: f64,
     /// Cap on the peak joint velocity |u| in rad/s: a plan that exceeds it is planned again with
     /// the horizon stretched (velocities scale as 1/T along the same path); the report's `time`
-    /// says which horizon was used.
-    #[arg(long, value_name = "RAD_PER_S")]
+    /// says which horizon was used. From 1e-3 to 1e3.
+    #[arg(long, value_name = "RAD_PER_S", allow_hyphen_values = true)]
     pub max_velocity: Option<f64>,
     /// Optimal: joint velocities at t = 0, DTH1,DTH2 in deg/s (for re-planning while moving;
     /// the verification starts from them).
@@ -108,7 +123,7 @@ pub struct ProblemArgs {
     #[arg(long)]
     pub no_wrap: bool,
     /// ECSA: number of harmonics of the trigonometric controls, 1 to 4 (the paper: 1).
-    #[arg(long, value_name = "H", default_value_t = 1)]
+    #[arg(long, value_name = "H", default_value_t = 1, allow_hyphen_values = true)]
     pub harmonics: usize,
     /// ECSA: window of the controls.
     #[arg(long, value_enum, default_value_t = WindowArg::None)]
@@ -203,9 +218,17 @@ pub struct PlanArgs {
 pub struct CompareArgs {
     #[command(flatten)]
     pub problem: ProblemArgs,
-    /// Output format on stdout (table or json).
-    #[arg(long, value_enum, default_value_t = Format::Table)]
-    pub format: Format,
+    /// Output format on stdout.
+    #[arg(long, value_enum, default_value_t = CompareFormat::Table)]
+    pub format: CompareFormat,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum CompareFormat {
+    /// A human-readable table.
+    Table,
+    /// One JSON object.
+    Json,
 }
 
 #[derive(Debug, Args)]
@@ -223,8 +246,8 @@ pub struct DomainArgs {
     /// Feedback transformation whose domain is mapped.
     #[arg(long, value_enum, default_value_t = TransformArg::Auto)]
     pub transform: TransformArg,
-    /// The map has GRID x GRID cells on the (theta1, theta2) torus.
-    #[arg(long, value_name = "N", default_value_t = 720)]
+    /// The map has GRID x GRID cells on the (theta1, theta2) torus, 3 to 8192.
+    #[arg(long, value_name = "N", default_value_t = 720, allow_hyphen_values = true)]
     pub grid: usize,
     /// Output format on stdout.
     #[arg(long, value_enum, default_value_t = DomainFormat::Table)]
@@ -235,9 +258,9 @@ pub struct DomainArgs {
     /// Start and goal of the NFA plan drawn on the map.
     #[command(flatten)]
     pub ends: EndsArgs,
-    /// Samples of that plan.
-    #[arg(long, value_name = "N", default_value_t = 1001)]
-    pub samples: usize,
+    /// Samples of that plan, 2 to 1048576.
+    #[arg(long, value_name = "N", default_value_t = 1001, allow_hyphen_values = true)]
+    pub samples: u64,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -287,27 +310,28 @@ pub struct SweepRunArgs {
     /// Range of b, MIN,MAX in m.
     #[arg(long = "b", value_name = "MIN,MAX", default_value = "-0.3,0.3", allow_hyphen_values = true)]
     pub b_range: String,
-    /// Number of values of a and of b (both ends included): NA or NA,NB.
-    #[arg(long, value_name = "NA[,NB]", default_value = "41")]
+    /// Number of values of a and of b (both ends included): NA or NA,NB, each 1 to 100000.
+    #[arg(long, value_name = "NA[,NB]", default_value = "41", allow_hyphen_values = true)]
     pub steps: String,
-    /// Grid size of each domain map.
-    #[arg(long, value_name = "N", default_value_t = 256)]
+    /// Grid size of each domain map, 3 to 8192.
+    #[arg(long, value_name = "N", default_value_t = 256, allow_hyphen_values = true)]
     pub grid: usize,
     /// Random start/goal pairs per mounting point.
-    #[arg(long, value_name = "K", default_value_t = 100)]
+    #[arg(long, value_name = "K", default_value_t = 100, allow_hyphen_values = true)]
     pub trials: usize,
     /// Seed of the random pairs (the same pairs at every mounting point).
-    #[arg(long, default_value_t = 0)]
+    #[arg(long, default_value_t = 0, allow_hyphen_values = true)]
     pub seed: u64,
-    /// NFA samples per plan (the verification is exact at any sample count).
-    #[arg(long, value_name = "N", default_value_t = 201)]
-    pub samples: usize,
+    /// NFA samples per plan, 2 to 1048576 (the verification is exact at any sample count).
+    #[arg(long, value_name = "N", default_value_t = 201, allow_hyphen_values = true)]
+    pub samples: u64,
     /// The start whose component is measured, the goal checked for connection with it, and the
     /// horizon of every plan.
     #[command(flatten)]
     pub ends: EndsArgs,
-    /// Run only part K of N (K from 1): every N-th point from the K-th.
-    #[arg(long, value_name = "K/N")]
+    /// Run only part K of N (K from 1): every N-th point from the K-th. The file's first line
+    /// names the run and the shard, for `merge` to check.
+    #[arg(long, value_name = "K/N", allow_hyphen_values = true)]
     pub shard: Option<String>,
     /// Write the CSV to FILE (default: stdout).
     #[arg(long, value_name = "FILE.csv")]

@@ -7,7 +7,7 @@ use freefloat::analysis::domain::{DomainMap, DomainSummary};
 use freefloat::planners::{Planned, PlannerOptions, planner};
 use freefloat::report::io::write_atomic;
 use freefloat::report::plot::{DomainOverlay, PictureFormat, domain_picture};
-use freefloat::{Configuration, Method, NfaOptions, PlanningProblem, Transform};
+use freefloat::{Method, NfaOptions, PlanningProblem, Transform};
 use serde::Serialize;
 
 use super::args::{DomainArgs, DomainFormat, TransformArg};
@@ -41,16 +41,15 @@ pub fn run(args: &DomainArgs) -> anyhow::Result<ExitCode> {
         TransformArg::Eq14 => Transform::Eq14,
         TransformArg::Global => Transform::Global,
     };
-    let [p0, a0, b0] = super::parse_list::<3>("--from", &args.ends.from)?;
-    let [p1, a1, b1] = super::parse_list::<3>("--to", &args.ends.to)?;
-    let (start, goal) = (Configuration::from_degrees(p0, a0, b0), Configuration::from_degrees(p1, a1, b1));
+    let (start, goal, time) = super::ends(&args.ends)?;
+    let samples = super::config::samples(args.samples)?;
     let format = args.plot.as_deref().map(PictureFormat::from_path).transpose()?;
     let clock = std::time::Instant::now();
     let map = DomainMap::new(&robot, transform, args.grid)?;
     let seconds = clock.elapsed().as_secs_f64();
     let summary = map.summary(&start, &goal);
-    let problem = PlanningProblem::new(robot, start, goal, args.ends.time)?;
-    let nfa = NfaOptions { transform: Some(transform), samples: args.samples, ..Default::default() };
+    let problem = PlanningProblem::new(robot, start, goal, time)?;
+    let nfa = NfaOptions { transform: Some(transform), samples, ..Default::default() };
     let (plan, path) = match planner(Method::Nfa, &PlannerOptions { nfa, ..Default::default() }).plan(&problem) {
         Ok(Planned { plan, .. }) => {
             let v = &plan.verification;
@@ -73,8 +72,8 @@ pub fn run(args: &DomainArgs) -> anyhow::Result<ExitCode> {
     }
     let report = Report { summary, plan, seconds };
     match args.format {
-        DomainFormat::Json => println!("{}", serde_json::to_string_pretty(&report)?),
-        DomainFormat::Table => print!("{}", table(&report)),
+        DomainFormat::Json => super::emit(&format!("{}\n", serde_json::to_string_pretty(&report)?))?,
+        DomainFormat::Table => super::emit(&table(&report))?,
     }
     Ok(ExitCode::SUCCESS)
 }
@@ -88,15 +87,20 @@ fn table(r: &Report) -> String {
     t += &format!(
         "freefloat domain: {}, mount (a, b) = ({}, {}) m, grid {} x {} ({:.1} ms)\n",
         s.transform.name(),
-        s.mount[0],
-        s.mount[1],
+        super::plan::number(s.mount[0]),
+        super::plan::number(s.mount[1]),
         s.grid,
         s.grid,
         r.seconds * 1e3
     );
+    t += "  The domain is where the transformation is defined; its singular curves cut the (theta1, theta2)\n";
+    t += "  torus into components (numbered 0, 1, ... from the largest). A plan never leaves its component.\n";
     t += &format!("  components               {}", s.components);
     if s.slivers > 0 {
-        t += &format!(" (+{} unresolved slivers, {:.1e} of the torus)", s.slivers, s.sliver_fraction);
+        t += &format!(
+            " (+{} slivers: pieces thinner than 3 grid cells, {:.1e} of the torus, not counted; a finer --grid may resolve them)",
+            s.slivers, s.sliver_fraction
+        );
     }
     t += "\n";
     let areas: Vec<String> = s.component_fractions.iter().map(|&f| pct(f)).collect();

@@ -1,7 +1,9 @@
 //! The command-line interface: flags ([`args`]) validated into library types, then run.
 
 pub mod args;
+pub mod config;
 mod domain;
+mod output;
 mod plan;
 mod reproduce;
 mod sweep;
@@ -14,20 +16,46 @@ use freefloat::{Configuration, Mount, RobotParams};
 
 use args::{Cli, Command, CostArg, ProblemArgs, RobotArgs, TransformArg, WindowArg};
 
-/// Parses the command line and runs the command.
+pub use output::{ClosedPipe, emit, note};
+
+/// Parses the command line and runs the command. With `--format json`, a failure also prints one
+/// JSON error object on stdout (docs/spec.md §3).
 pub fn run() -> anyhow::Result<ExitCode> {
     let cli = Cli::parse();
-    match cli.command {
+    output::set_quiet(cli.quiet);
+    output::install_signal_handler();
+    let json = match &cli.command {
+        Command::Plan(a) => a.format == args::Format::Json,
+        Command::Compare(a) => a.format == args::CompareFormat::Json,
+        Command::Domain(a) => a.format == args::DomainFormat::Json,
+        _ => false,
+    };
+    let result = match cli.command {
         Command::Plan(args) => plan::run(&args),
         Command::Compare(args) => plan::compare(&args),
         Command::Reproduce(args) => reproduce::run(&args),
         Command::Domain(args) => domain::run(&args),
         Command::MountSweep(args) => sweep::run(&args),
+        Command::Completions(args) => output::completions(args.shell),
+        Command::Man => output::man(),
+    };
+    match result {
+        Err(err) if json && !output::wrote_stdout() && err.downcast_ref::<ClosedPipe>().is_none() => {
+            // The script reading stdout gets the error as its one JSON object (a report already
+            // printed, e.g. `"certified": false`, is that object); a closed stdout is no news.
+            let _ignored_closed_pipe = emit(&format!("{}\n", output::error_json(&err)));
+            Err(err)
+        }
+        result => result,
     }
 }
 
-/// Exit code of an error: 2 for bad input, 3 when the problem has no certified plan.
+/// Exit code of an error: 0 for a closed stdout (the reader has what it wanted, as with Unix
+/// tools), 2 for bad input, 3 when the problem has no certified plan.
 pub fn exit_code(err: &anyhow::Error) -> u8 {
+    if err.downcast_ref::<ClosedPipe>().is_some() {
+        return 0;
+    }
     match err.downcast_ref::<freefloat::Error>() {
         Some(e) if !e.is_bad_input() => 3,
         _ => 2,
@@ -38,13 +66,13 @@ pub fn exit_code(err: &anyhow::Error) -> u8 {
 pub fn parse_list<const N: usize>(flag: &str, text: &str) -> anyhow::Result<[f64; N]> {
     let parts: Vec<&str> = text.split(',').map(str::trim).collect();
     if parts.len() != N {
-        bail!("{flag} takes {N} comma-separated numbers, got `{text}`");
+        bail!("{flag} takes {N} comma-separated numbers, got `{}`", config::quote(text));
     }
     let mut out = [0.0; N];
     for (slot, part) in out.iter_mut().zip(parts) {
-        let x: f64 = part.parse().with_context(|| format!("{flag}: `{part}` is not a number"))?;
+        let x: f64 = part.parse().with_context(|| format!("{flag}: `{}` is not a number", config::quote(part)))?;
         if !x.is_finite() {
-            bail!("{flag}: `{part}` is not a finite number");
+            bail!("{flag}: `{}` is not a finite number", config::quote(part));
         }
         *slot = x;
     }
@@ -60,6 +88,14 @@ pub fn robot(args: &RobotArgs) -> anyhow::Result<RobotParams> {
     Ok(match &args.mount {
         Some(text) => {
             let [a, b] = parse_list::<2>("--mount", text)?;
+            if let Some(x) = [a, b].into_iter().find(|x| x.abs() > freefloat::model::MAX_MOUNT) {
+                return Err(freefloat::Error::from(freefloat::model::InputError::InvalidParameter {
+                    name: "--mount".into(),
+                    value: x,
+                    expected: "a mounting point with |a|, |b| <= 1e3 m (docs/spec.md §1)",
+                })
+                .into());
+            }
             robot.with_mount(Mount::new(a, b)?)?
         }
         None => robot,
@@ -69,20 +105,19 @@ pub fn robot(args: &RobotArgs) -> anyhow::Result<RobotParams> {
 /// The planning problem of the flags.
 pub fn problem(args: &ProblemArgs) -> anyhow::Result<freefloat::PlanningProblem> {
     let robot = robot(&args.robot)?;
-    let [p0, a0, b0] = parse_list::<3>("--from", &args.ends.from)?;
-    let [p1, a1, b1] = parse_list::<3>("--to", &args.ends.to)?;
-    Ok(freefloat::PlanningProblem::new(
-        robot,
-        Configuration::from_degrees(p0, a0, b0),
-        Configuration::from_degrees(p1, a1, b1),
-        args.ends.time,
-    )?)
+    let (start, goal, time) = ends(&args.ends)?;
+    Ok(freefloat::PlanningProblem::new(robot, start, goal, time)?)
 }
 
-/// The NFA options of the flags.
-pub fn nfa_options(args: &ProblemArgs) -> freefloat::NfaOptions {
+/// `--from`, `--to` and `--time`, checked.
+pub fn ends(args: &args::EndsArgs) -> anyhow::Result<(Configuration, Configuration, f64)> {
+    Ok((config::angles("--from", &args.from)?, config::angles("--to", &args.to)?, config::time(args.time)?))
+}
+
+/// The NFA options of the flags (samples and tolerance checked).
+pub fn nfa_options(args: &ProblemArgs) -> anyhow::Result<freefloat::NfaOptions> {
     use freefloat::Transform;
-    freefloat::NfaOptions {
+    Ok(freefloat::NfaOptions {
         transform: match args.transform {
             TransformArg::Auto => None,
             TransformArg::Eq11 => Some(Transform::Eq11),
@@ -90,11 +125,11 @@ pub fn nfa_options(args: &ProblemArgs) -> freefloat::NfaOptions {
             TransformArg::Eq14 => Some(Transform::Eq14),
             TransformArg::Global => Some(Transform::Global),
         },
-        samples: args.samples,
+        samples: config::samples(args.samples)?,
         accelerations: true,
-        tolerance: args.tolerance,
+        tolerance: config::tolerance(args.tolerance)?,
         ..Default::default()
-    }
+    })
 }
 
 /// The optimal planner's options of the flags.
@@ -109,8 +144,8 @@ pub fn optimal_options(args: &ProblemArgs) -> anyhow::Result<freefloat::planners
         smooth_ends: args.smooth_ends,
         initial_velocity: [v1.to_radians(), v2.to_radians()],
         wrap: !args.no_wrap,
-        samples: args.samples,
-        tolerance: args.tolerance,
+        samples: config::samples(args.samples)?,
+        tolerance: config::tolerance(args.tolerance)?,
         ..Default::default()
     })
 }
@@ -122,8 +157,12 @@ pub fn ecsa_options(args: &ProblemArgs) -> anyhow::Result<freefloat::EcsaOptions
         WindowArg::None => Window::None,
         WindowArg::Sin2 => Window::SinSquared,
     };
-    let options = EcsaOptions { samples: args.samples, tolerance: args.tolerance, ..Default::default() }
-        .with_window(window)
-        .with_harmonics(args.harmonics)?;
+    let options = EcsaOptions {
+        samples: config::samples(args.samples)?,
+        tolerance: config::tolerance(args.tolerance)?,
+        ..Default::default()
+    }
+    .with_window(window)
+    .with_harmonics(args.harmonics)?;
     Ok(options)
 }

@@ -8,12 +8,14 @@ use freefloat::plan::{Method, Plan, PlanningProblem, TorqueOptions};
 use freefloat::planners::{Planned, PlannerOptions, plan_to_pose, planner};
 use freefloat::report::io::{PlanReport, trajectory_csv, write_atomic};
 
-use super::args::{CompareArgs, CostArg, ElbowArg, Format, PlanArgs, ProblemArgs, TransformArg, WindowArg};
+use super::args::{
+    CompareArgs, CompareFormat, CostArg, ElbowArg, Format, PlanArgs, ProblemArgs, TransformArg, WindowArg,
+};
 
 /// The planner options of the flags.
 fn planner_options(args: &ProblemArgs) -> anyhow::Result<PlannerOptions> {
     Ok(PlannerOptions {
-        nfa: super::nfa_options(args),
+        nfa: super::nfa_options(args)?,
         ecsa: super::ecsa_options(args)?,
         optimal: super::optimal_options(args)?,
     })
@@ -49,19 +51,18 @@ fn plan_with(
         }
         Ok(planned)
     };
-    let cap = match args.max_velocity {
-        Some(v) if !(v.is_finite() && v > 0.0) => bail!("--max-velocity {v}: expected a positive number of rad/s"),
-        cap => cap,
-    };
+    let cap = super::config::max_velocity(args.max_velocity)?;
     Ok(match (cap, planned(problem)) {
         (Some(cap), Ok(first)) if first.plan.max_abs_u[0].max(first.plan.max_abs_u[1]) > cap => {
             // Each method's path is fixed in the time scaled by T, so velocities scale as 1/T.
             let peak = first.plan.max_abs_u[0].max(first.plan.max_abs_u[1]);
             let stretched = PlanningProblem { horizon: problem.horizon * peak / cap, ..*problem };
-            eprintln!(
-                "note: peak |u| = {peak:.4} rad/s exceeds --max-velocity {cap}: horizon stretched from {} s to {:.4} s",
-                problem.horizon, stretched.horizon
-            );
+            freefloat::plan::check_horizon("the horizon stretched by --max-velocity", stretched.horizon)?;
+            super::note(&format!(
+                "note: peak |u| = {peak:.4} rad/s exceeds --max-velocity {cap}: horizon stretched from {} s to {} s\n",
+                number(problem.horizon),
+                number(stretched.horizon)
+            ));
             planned(&stretched)
         }
         (_, result) => result,
@@ -93,25 +94,45 @@ fn method(args: &PlanArgs) -> anyhow::Result<Method> {
     Ok(method)
 }
 
-/// Runs `plan`: exit 0 with a certified plan, 3 (numbers on stderr) otherwise.
+/// The kind of `--out` file by its extension (any case): `true` for JSON, `false` for CSV.
+fn out_is_json(path: &std::path::Path) -> anyhow::Result<bool> {
+    match path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase).as_deref() {
+        Some("json") => Ok(true),
+        Some("csv") => Ok(false),
+        _ => bail!("--out {}: the file name must end in .json or .csv", path.display()),
+    }
+}
+
+/// Runs `plan`: exit 0 with a certified plan, 3 (numbers on stderr) otherwise. The `--out` file
+/// is checked before planning and written before anything is printed, so that stdout never
+/// shows a result of a run that then fails.
 pub fn run(args: &PlanArgs) -> anyhow::Result<ExitCode> {
+    let out = match &args.out {
+        Some(path) => {
+            let json = out_is_json(path)?;
+            freefloat::report::io::check_writable(path)?;
+            Some((path, json))
+        }
+        None => None,
+    };
     let problem = super::problem(&args.problem)?;
     let planned = plan_with(method(args)?, &args.problem, &problem)??;
     let plan = &planned.plan;
     let r = PlanReport::new(&planned, false);
-    match args.format {
-        Format::Table => print!("{}", table(plan, &r)),
-        Format::Json => println!("{}", serde_json::to_string_pretty(&r)?),
-        Format::Csv => print!("{}", String::from_utf8(trajectory_csv(&plan.trajectory)?)?),
-    }
-    if let Some(path) = &args.out {
-        let bytes = match path.extension().and_then(|e| e.to_str()) {
-            Some("csv") => trajectory_csv(&plan.trajectory)?,
-            Some("json") => serde_json::to_vec_pretty(&PlanReport::new(&planned, true))?,
-            _ => bail!("--out {}: the file name must end in .json or .csv", path.display()),
+    let text = match args.format {
+        Format::Table => table(plan, &r),
+        Format::Json => format!("{}\n", serde_json::to_string_pretty(&r)?),
+        Format::Csv => String::from_utf8(trajectory_csv(&plan.trajectory)?)?,
+    };
+    if let Some((path, json)) = out {
+        let bytes = if json {
+            serde_json::to_vec_pretty(&PlanReport::new(&planned, true))?
+        } else {
+            trajectory_csv(&plan.trajectory)?
         };
         write_atomic(path, &bytes)?;
     }
+    super::emit(&text)?;
     planned.certified()?;
     Ok(ExitCode::SUCCESS)
 }
@@ -120,9 +141,6 @@ pub fn run(args: &PlanArgs) -> anyhow::Result<ExitCode> {
 /// Exit 0 when every plan is certified; 3 when one has no certified plan (the others are still
 /// shown); 2 for bad input.
 pub fn compare(args: &CompareArgs) -> anyhow::Result<ExitCode> {
-    if args.format == Format::Csv {
-        bail!("compare prints a table or JSON, not CSV (use `plan --format csv` for a trajectory)");
-    }
     let problem = super::problem(&args.problem)?;
     let mut results = Vec::new();
     for method in COMPARED {
@@ -143,10 +161,10 @@ pub fn compare(args: &CompareArgs) -> anyhow::Result<ExitCode> {
             Err(e) => Err(e.to_string()),
         })
         .collect();
-    if args.format == Format::Json {
-        println!("{}", serde_json::to_string_pretty(&compare_json(&reports)?)?);
+    if args.format == CompareFormat::Json {
+        super::emit(&format!("{}\n", serde_json::to_string_pretty(&compare_json(&reports)?)?))?;
     } else {
-        print!("{}", compare_table(&problem, &reports));
+        super::emit(&compare_table(&problem, &reports))?;
     }
     for result in results {
         result?.certified()?;
@@ -218,11 +236,11 @@ fn compare_table(problem: &PlanningProblem, reports: &[Result<PlanReport, String
     let mount = problem.robot.mount;
     s += &format!(
         "freefloat compare: mount (a, b) = ({}, {}) m, {} -> {} deg, T = {} s\n",
-        mount.a,
-        mount.b,
+        number(mount.a),
+        number(mount.b),
         deg(problem.start.to_array()),
         deg(problem.goal.to_array()),
-        problem.horizon
+        number(problem.horizon)
     );
     let mut head = format!("  {:<31}", "");
     for (method, r) in COMPARED.iter().zip(reports) {
@@ -250,6 +268,31 @@ fn compare_table(problem: &PlanningProblem, reports: &[Result<PlanReport, String
     s
 }
 
+/// A number as a table shows it: at most 6 significant digits, no trailing zeros, scientific
+/// notation for the very small and the very large (`53.5817`, `0.2`, `1e-9`).
+pub fn number(x: f64) -> String {
+    let a = x.abs();
+    if x == 0.0 {
+        return "0".into();
+    }
+    if !(1e-4..1e6).contains(&a) {
+        let s = format!("{x:.5e}");
+        let (mantissa, exponent) = s.split_once('e').unwrap_or((&s, "0"));
+        let mantissa =
+            if mantissa.contains('.') { mantissa.trim_end_matches('0').trim_end_matches('.') } else { mantissa };
+        return format!("{mantissa}e{exponent}");
+    }
+    let decimals = (5 - a.log10().floor() as i32).clamp(0, 10) as usize;
+    let s = format!("{x:.decimals$}");
+    if s.contains('.') { s.trim_end_matches('0').trim_end_matches('.').to_string() } else { s }
+}
+
+/// An error or residual: [`number`] between 1e-3 and 1e4 (`1.21`, not `1.210e0`), else
+/// scientific with four digits (`9.290e-13`).
+pub fn error_number(x: f64) -> String {
+    if (1e-3..1e4).contains(&x.abs()) { number(x) } else { format!("{x:.3e}") }
+}
+
 fn deg(q: [f64; 3]) -> String {
     format!("({:.4}, {:.4}, {:.4})", q[0].to_degrees(), q[1].to_degrees(), q[2].to_degrees())
 }
@@ -265,17 +308,22 @@ pub fn table(plan: &Plan, r: &PlanReport) -> String {
         Method::Ecsa => format!("ECSA, {} iterations", r.iterations.unwrap_or(0)),
         Method::Optimal => format!("optimal (minimum effort), {} SQP iterations", r.iterations.unwrap_or(0)),
     };
-    let status = if r.certified { "CERTIFIED" } else { "NOT CERTIFIED" };
+    // Each level's own verdict: a failed torque level does not mark the velocity level.
+    let status = if plan.verification.certified { "CERTIFIED" } else { "NOT CERTIFIED" };
     let mut s = String::new();
-    s += &format!("freefloat plan: {method}, mount (a, b) = ({}, {}) m\n", r.mount[0], r.mount[1]);
+    s += &format!("freefloat plan: {method}, mount (a, b) = ({}, {}) m\n", number(r.mount[0]), number(r.mount[1]));
     s += &format!("  start q0 [deg]           {}\n", deg(r.start));
     s += &format!("  goal  qd [deg]           {}\n", deg(r.goal));
-    s += &format!("  horizon                  {} s, {} samples\n", r.time, r.samples);
+    s += &format!("  horizon                  {} s, {} samples\n", number(r.time), r.samples);
     if r.z0.is_some() {
         s += &format!("  z0, zd                   {}  ->  {}\n", vec3(r.z0), vec3(r.zd));
     }
     s += &format!("  reached q(T) [deg]       {}\n", deg(r.reached));
-    s += &format!("  verified final error     {:.3e} rad (tolerance {:.1e})  {status}\n", r.final_error, r.tolerance);
+    s += &format!(
+        "  verified final error     {} rad (tolerance {:.1e})  {status}\n",
+        error_number(r.final_error),
+        r.tolerance
+    );
     s +=
         &format!("  max deviation from plan  {:.3e} rad ({} integrator steps)\n", r.max_path_deviation, r.verify_steps);
     s += &format!("  effort                   {:.6} rad^2/s (integral of |u|^2 dt)\n", r.effort);
@@ -321,8 +369,9 @@ pub fn table(plan: &Plan, r: &PlanReport) -> String {
         let status = if c.certified { "CERTIFIED" } else { "NOT CERTIFIED" };
         s += &format!("  max |tau1|, |tau2|       {:.6}, {:.6} N m\n", t.max_abs_torque[0], t.max_abs_torque[1]);
         s += &format!(
-            "  torque final error       {:.3e} rad (tolerance {:.1e})  {status}\n",
-            c.final_error, c.tolerance
+            "  torque final error       {} rad (tolerance {:.1e})  {status}\n",
+            error_number(c.final_error),
+            c.tolerance
         );
         s += &format!(
             "  torque path deviation    {:.3e} rad ({} integrator steps)\n",

@@ -12,7 +12,8 @@ use super::args::ReproduceArgs;
 /// Runs `reproduce`: exit 0 when every figure's case has a plan and the paper's NFA cases
 /// (Figs. 4-8) are certified at both levels; 3 otherwise (everything is still written).
 pub fn run(args: &ReproduceArgs) -> anyhow::Result<ExitCode> {
-    let (total, done, on) = (job_count(), AtomicUsize::new(0), std::io::stderr().is_terminal());
+    let (total, done, on) =
+        (job_count(), AtomicUsize::new(0), std::io::stderr().is_terminal() && !super::output::quiet());
     let progress = |what: &str, seconds: f64, status: &str| {
         let k = done.fetch_add(1, Ordering::Relaxed) + 1;
         if on {
@@ -20,8 +21,7 @@ pub fn run(args: &ReproduceArgs) -> anyhow::Result<ExitCode> {
         }
     };
     let r = reproduce(&args.out, &progress)?;
-    print!("{}", r.markdown);
-    println!("\nwrote {} files to {} in {:.2} s", r.files, args.out.display(), r.seconds);
+    super::emit(&format!("{}\nwrote {} files to {} in {:.2} s\n", r.markdown, r.files, args.out.display(), r.seconds))?;
     for failure in &r.failures {
         eprintln!("{failure}");
     }

@@ -2,12 +2,9 @@
 //! mounting points, shardable for batch schedulers, and `mount-sweep merge`.
 
 use std::io::IsTerminal;
-use std::path::Path;
 use std::process::ExitCode;
 
-use anyhow::Context;
-use freefloat::Configuration;
-use freefloat::analysis::sweep::{self, Shard, Span, SweepOptions, SweepRow};
+use freefloat::analysis::sweep::{self, Shard, Span, SweepOptions, SweepRow, file};
 use freefloat::report::io::write_atomic;
 use freefloat::report::plot::{PictureFormat, sweep_picture};
 
@@ -24,33 +21,32 @@ pub fn run(args: &SweepArgs) -> anyhow::Result<ExitCode> {
 fn options(args: &SweepRunArgs) -> anyhow::Result<SweepOptions> {
     let [a0, a1] = super::parse_list::<2>("--a", &args.a_range)?;
     let [b0, b1] = super::parse_list::<2>("--b", &args.b_range)?;
-    let steps: Vec<usize> = args
-        .steps
-        .split(',')
-        .map(|s| s.trim().parse::<usize>().with_context(|| format!("--steps: `{s}` is not a count")))
-        .collect::<anyhow::Result<_>>()?;
-    let (na, nb) = match steps[..] {
-        [n] => (n, n),
-        [na, nb] => (na, nb),
-        _ => anyhow::bail!("--steps takes NA or NA,NB"),
-    };
+    let (na, nb) = super::config::steps(&args.steps)?;
     let single = |lo: f64, hi: f64, n: usize| if lo < hi { n } else { 1 };
-    let [p0, s1, s2] = super::parse_list::<3>("--from", &args.ends.from)?;
-    let [p1, g1, g2] = super::parse_list::<3>("--to", &args.ends.to)?;
-    if !(args.ends.time.is_finite() && args.ends.time > 0.0) {
-        anyhow::bail!("--time must be a positive number of seconds");
+    let (na, nb) = (single(a0, a1, na), single(b0, b1, nb));
+    super::config::sweep_points(na, nb)?;
+    let (start, goal, horizon) = super::ends(&args.ends)?;
+    for (flag, x) in [("--a", a0), ("--a", a1), ("--b", b0), ("--b", b1)] {
+        if x.abs() > freefloat::model::MAX_MOUNT {
+            return Err(freefloat::Error::from(freefloat::model::InputError::InvalidParameter {
+                name: flag.into(),
+                value: x,
+                expected: "mounting coordinates with |a|, |b| <= 1e3 m (docs/spec.md §1)",
+            })
+            .into());
+        }
     }
     Ok(SweepOptions {
-        a: Span::new("--a", a0, a1, single(a0, a1, na))?,
-        b: Span::new("--b", b0, b1, single(b0, b1, nb))?,
+        a: Span::new("--a", a0, a1, na)?,
+        b: Span::new("--b", b0, b1, nb)?,
         grid: args.grid,
         trials: args.trials,
         seed: args.seed,
-        samples: args.samples,
-        horizon: args.ends.time,
+        samples: super::config::samples(args.samples)?,
+        horizon,
         tolerance: 1e-9,
-        start: Configuration::from_degrees(p0, s1, s2),
-        goal: Configuration::from_degrees(p1, g1, g2),
+        start,
+        goal,
         global: args.global,
     })
 }
@@ -63,8 +59,11 @@ fn sweep(args: &SweepRunArgs) -> anyhow::Result<ExitCode> {
     let options = options(args)?;
     let shard = args.shard.as_deref().map(Shard::parse).transpose()?.unwrap_or(Shard::ALL);
     let picture = args.plot.as_deref().map(PictureFormat::from_path).transpose()?;
+    if let Some(path) = &args.out {
+        freefloat::report::io::check_writable(path)?;
+    }
     let count = shard.indices(options.points()).count() as u64;
-    let bar = if std::io::stderr().is_terminal() {
+    let bar = if std::io::stderr().is_terminal() && !super::output::quiet() {
         indicatif::ProgressBar::new(count)
     } else {
         indicatif::ProgressBar::hidden()
@@ -78,10 +77,10 @@ fn sweep(args: &SweepRunArgs) -> anyhow::Result<ExitCode> {
     let rows = sweep::run(&robot, &options, shard, &|| bar.inc(1))?;
     bar.finish_and_clear();
     let seconds = clock.elapsed().as_secs_f64();
-    let csv = sweep::to_csv(&rows)?;
+    let csv = file::write(&file::run_description(&robot, &options), shard, &rows)?;
     match &args.out {
         Some(path) => write_atomic(path, &csv)?,
-        None => print!("{}", String::from_utf8(csv)?),
+        None => super::emit(&String::from_utf8(csv)?)?,
     }
     if let (Some(path), Some(format)) = (&args.plot, picture) {
         write_atomic(path, &sweep_picture(&rows, format, path)?)?;
@@ -97,10 +96,10 @@ fn sweep(args: &SweepRunArgs) -> anyhow::Result<ExitCode> {
         best_line(&rows, &scope)
     );
     // The CSV may be on stdout: the summary then goes to stderr.
-    if args.out.is_some() {
-        print!("{summary}")
+    if args.out.is_some() && !super::output::quiet() {
+        super::emit(&summary)?
     } else {
-        eprint!("{summary}")
+        super::note(&summary)
     }
     Ok(ExitCode::SUCCESS)
 }
@@ -121,24 +120,27 @@ fn best_line(rows: &[SweepRow], scope: &str) -> String {
     }
 }
 
-fn read_rows(path: &Path) -> anyhow::Result<Vec<SweepRow>> {
-    let bytes = std::fs::read(path).map_err(|source| {
-        freefloat::Error::from(freefloat::model::InputError::Io { path: path.to_path_buf(), source })
-    })?;
-    Ok(sweep::from_csv(&bytes, path)?)
-}
+/// The largest sweep file read \[bytes\] (a million points take about 250 MiB).
+const SWEEP_FILE_LIMIT: u64 = 1 << 30;
 
 fn merge(args: &MergeArgs) -> anyhow::Result<ExitCode> {
     let picture = args.plot.as_deref().map(PictureFormat::from_path).transpose()?;
-    let mut all = Vec::new();
+    freefloat::report::io::check_writable(&args.out)?;
+    let mut files = Vec::new();
     for path in &args.files {
-        all.extend(read_rows(path)?);
+        let bytes = freefloat::model::read_regular_file(path, SWEEP_FILE_LIMIT).map_err(freefloat::Error::from)?;
+        files.push((path.clone(), file::read(&bytes, path)?));
     }
-    let rows = sweep::merge(all)?;
-    write_atomic(&args.out, &sweep::to_csv(&rows)?)?;
+    let merged = file::merge_files(files)?;
+    write_atomic(&args.out, &file::write(&merged.run, merged.shard, &merged.rows)?)?;
     if let (Some(path), Some(format)) = (&args.plot, picture) {
-        write_atomic(path, &sweep_picture(&rows, format, path)?)?;
+        write_atomic(path, &sweep_picture(&merged.rows, format, path)?)?;
     }
-    print!("merged {} files, {} mounting points\n{}", args.files.len(), rows.len(), best_line(&rows, ""));
+    super::emit(&format!(
+        "merged {} files, {} mounting points\n{}",
+        args.files.len(),
+        merged.rows.len(),
+        best_line(&merged.rows, "")
+    ))?;
     Ok(ExitCode::SUCCESS)
 }

@@ -7,7 +7,7 @@ use std::path::PathBuf;
 #[non_exhaustive]
 pub enum InputError {
     /// A parameter is out of range; `name` is the key as the user wrote it.
-    #[error("invalid value {value} for `{name}`: expected {expected}")]
+    #[error("invalid value {} for `{name}`: expected {expected}", fmt_value(*value))]
     InvalidParameter {
         /// The parameter's name, e.g. `robot.m1` or `--time`.
         name: String,
@@ -16,16 +16,29 @@ pub enum InputError {
         /// What is accepted.
         expected: &'static str,
     },
+    /// A parameter given as text does not parse or is out of range; `text` is cut to
+    /// [`ECHO_LIMIT`] characters.
+    #[error("invalid {name} `{}`: expected {expected}", excerpt(text))]
+    InvalidText {
+        /// The parameter's name, e.g. `--shard`.
+        name: String,
+        /// The text given.
+        text: String,
+        /// What is accepted.
+        expected: &'static str,
+    },
     /// A robot file could not be read or parsed.
     #[error("cannot read robot file {}: {reason}", path.display())]
     RobotFile {
         /// The file.
         path: PathBuf,
-        /// What is wrong, e.g. the TOML parser's message naming an unknown key.
+        /// What is wrong, e.g. the TOML parser's message naming an unknown key (cut to a few
+        /// lines of at most [`ECHO_LIMIT`] characters: the input is never echoed whole).
         reason: String,
     },
-    /// A file could not be read or written.
-    #[error("cannot access {}: {source}", path.display())]
+    /// A file could not be read or written. The message names the file; the operating system's
+    /// reason is the error's source (printed once, after it, by a cause chain).
+    #[error("cannot access {}", path.display())]
     Io {
         /// The file.
         path: PathBuf,
@@ -36,4 +49,78 @@ pub enum InputError {
     /// An end-effector goal out of the arm's reach.
     #[error(transparent)]
     Unreachable(#[from] super::kinematics::Unreachable),
+    /// An input file is not a regular file (a directory, a FIFO, a device): reading it could
+    /// block forever or never end.
+    #[error("{} is not a regular file", path.display())]
+    NotAFile {
+        /// The path.
+        path: PathBuf,
+    },
+    /// An input file is larger than what freefloat reads.
+    #[error("{} is {bytes} bytes long; the limit for this file is {limit} bytes", path.display())]
+    TooLarge {
+        /// The file.
+        path: PathBuf,
+        /// Its size \[bytes\].
+        bytes: u64,
+        /// The largest size read \[bytes\].
+        limit: u64,
+    },
+    /// A request would take more memory than freefloat allows itself.
+    #[error(
+        "{what} would need about {} of memory; the limit is {} ({hint})",
+        fmt_bytes(*bytes),
+        fmt_bytes(*limit)
+    )]
+    TooMuchMemory {
+        /// What was asked, e.g. `--samples 100000000`.
+        what: String,
+        /// The estimated need \[bytes\].
+        bytes: u128,
+        /// The limit \[bytes\].
+        limit: u128,
+        /// What is accepted, e.g. `at most 1048576 samples`.
+        hint: String,
+    },
+    /// A mount-sweep file is damaged, from another run, or does not fit with the other shards.
+    #[error("{}{}: {reason}", path.display(), line.map(|l| format!(", line {l}")).unwrap_or_default())]
+    SweepFile {
+        /// The file.
+        path: PathBuf,
+        /// The line (from 1), when one line is at fault.
+        line: Option<usize>,
+        /// What is wrong.
+        reason: String,
+    },
+}
+
+/// The most characters of user input that a message repeats.
+pub const ECHO_LIMIT: usize = 80;
+
+/// `text` cut to [`ECHO_LIMIT`] characters, with its length when cut: messages never echo a
+/// whole (possibly huge) input.
+pub fn excerpt(text: &str) -> String {
+    match text.char_indices().nth(ECHO_LIMIT) {
+        Some((cut, _)) => format!("{}... ({} bytes in all)", &text[..cut], text.len()),
+        None => text.to_string(),
+    }
+}
+
+/// A number as a message shows it: plain when moderate, else in scientific notation (`1e300`,
+/// not 301 digits).
+pub fn fmt_value(x: f64) -> String {
+    let a = x.abs();
+    if x == 0.0 || (1e-4..1e9).contains(&a) || !x.is_finite() { format!("{x}") } else { format!("{x:e}") }
+}
+
+/// A size in bytes in binary units (KiB to EiB).
+pub fn fmt_bytes(bytes: u128) -> String {
+    const UNITS: [&str; 7] = ["bytes", "KiB", "MiB", "GiB", "TiB", "PiB", "EiB"];
+    let mut x = bytes as f64;
+    let mut unit = 0;
+    while x >= 1024.0 && unit + 1 < UNITS.len() {
+        x /= 1024.0;
+        unit += 1;
+    }
+    if unit == 0 { format!("{bytes} bytes") } else { format!("{x:.1} {}", UNITS[unit]) }
 }

@@ -6,7 +6,8 @@ pub mod kinematics;
 mod robot_file;
 pub mod system;
 
-pub use error::InputError;
+pub use error::{ECHO_LIMIT, InputError, excerpt, fmt_bytes, fmt_value};
+pub use robot_file::{ROBOT_FILE_LIMIT, read_regular_file};
 
 use serde::{Deserialize, Serialize};
 
@@ -50,10 +51,10 @@ pub struct Mount {
 }
 
 impl Mount {
-    /// A mounting point; both coordinates must be finite.
+    /// A mounting point; both coordinates finite with `|a|, |b| <=` [`MAX_MOUNT`].
     pub fn new(a: f64, b: f64) -> Result<Self, InputError> {
-        check_finite("mount.a", a)?;
-        check_finite("mount.b", b)?;
+        check_mount("mount.a", a)?;
+        check_mount("mount.b", b)?;
         Ok(Self { a, b })
     }
 
@@ -86,8 +87,9 @@ impl RobotParams {
         }
     }
 
-    /// Validates a full parameter set: every value finite; masses, inertia and lengths
-    /// positive; `0 < d_i <= l_i` (docs/spec.md §1).
+    /// Validates a full parameter set: every value finite and within its physical range
+    /// ([`LENGTH_RANGE`], [`MASS_RANGE`], [`INERTIA_RANGE`], [`MAX_MOUNT`]); `0 < d_i <= l_i`
+    /// (docs/spec.md §1).
     pub fn new(params: RobotParams) -> Result<Self, InputError> {
         params.validate()?;
         Ok(params)
@@ -100,23 +102,31 @@ impl RobotParams {
 
     /// Checks the invariants listed at [`RobotParams::new`], naming the first offending key.
     pub fn validate(&self) -> Result<(), InputError> {
-        let positive = [
-            ("robot.l1", self.l1),
-            ("robot.l2", self.l2),
-            ("robot.d1", self.d1),
-            ("robot.d2", self.d2),
-            ("robot.M", self.base_mass),
-            ("robot.I", self.base_inertia),
-            ("robot.m1", self.m1),
-            ("robot.m2", self.m2),
+        let ranged = [
+            ("robot.l1", self.l1, LENGTH_RANGE),
+            ("robot.l2", self.l2, LENGTH_RANGE),
+            ("robot.d1", self.d1, LENGTH_RANGE),
+            ("robot.d2", self.d2, LENGTH_RANGE),
+            ("robot.M", self.base_mass, MASS_RANGE),
+            ("robot.I", self.base_inertia, INERTIA_RANGE),
+            ("robot.m1", self.m1, MASS_RANGE),
+            ("robot.m2", self.m2, MASS_RANGE),
         ];
-        for (name, value) in positive {
+        for (name, value, (min, max)) in ranged {
             check_finite(name, value)?;
             if value <= 0.0 {
                 return Err(InputError::InvalidParameter {
                     name: name.to_string(),
                     value,
                     expected: "a positive value",
+                });
+            }
+            if !(min..=max).contains(&value) {
+                return Err(InputError::InvalidParameter {
+                    name: name.to_string(),
+                    value,
+                    expected: "a value in the physical range of docs/spec.md §1 (lengths 1e-3 to 1e3 m, \
+                               masses 1e-3 to 1e6 kg, the base's inertia 1e-6 to 1e9 kg m^2)",
                 });
             }
         }
@@ -129,14 +139,35 @@ impl RobotParams {
                 });
             }
         }
-        check_finite("mount.a", self.mount.a)?;
-        check_finite("mount.b", self.mount.b)
+        check_mount("mount.a", self.mount.a)?;
+        check_mount("mount.b", self.mount.b)
     }
 
     /// The lumped constants `m_c, A, B, C, D, E, I_P` of the Lagrangian (3).
     pub fn lumped(&self) -> Lumped {
         Lumped::new(self)
     }
+}
+
+/// Accepted link lengths and centre-of-mass distances `l_i, d_i` \[m\] (docs/spec.md §1).
+pub const LENGTH_RANGE: (f64, f64) = (1e-3, 1e3);
+/// Accepted masses `M, m_i` \[kg\] (docs/spec.md §1).
+pub const MASS_RANGE: (f64, f64) = (1e-3, 1e6);
+/// Accepted moments of inertia of the base `I` [kg m^2] (docs/spec.md §1).
+pub const INERTIA_RANGE: (f64, f64) = (1e-6, 1e9);
+/// Largest accepted `|a|`, `|b|` of a mounting point \[m\] (docs/spec.md §1).
+pub const MAX_MOUNT: f64 = 1e3;
+
+fn check_mount(name: &str, value: f64) -> Result<(), InputError> {
+    check_finite(name, value)?;
+    if value.abs() > MAX_MOUNT {
+        return Err(InputError::InvalidParameter {
+            name: name.to_string(),
+            value,
+            expected: "a mounting coordinate with |a|, |b| <= 1e3 m (docs/spec.md §1)",
+        });
+    }
+    Ok(())
 }
 
 fn check_finite(name: &str, value: f64) -> Result<(), InputError> {

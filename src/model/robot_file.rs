@@ -47,7 +47,7 @@ impl RobotParams {
     /// ```
     pub fn from_toml(text: &str, path: &Path) -> Result<Self, InputError> {
         let file: RobotFile = toml::from_str(text)
-            .map_err(|e| InputError::RobotFile { path: path.to_path_buf(), reason: e.to_string() })?;
+            .map_err(|e| InputError::RobotFile { path: path.to_path_buf(), reason: short_reason(&e.to_string()) })?;
         let r = file.robot;
         let mount = file.mount.map(|m| Mount { a: m.a, b: m.b }).unwrap_or_default();
         RobotParams::new(RobotParams {
@@ -63,12 +63,55 @@ impl RobotParams {
         })
     }
 
-    /// Reads and validates a robot file.
+    /// Reads and validates a robot file: a regular file of at most [`ROBOT_FILE_LIMIT`] bytes
+    /// (a FIFO or a device is refused rather than waited on), UTF-8 TOML.
     pub fn load(path: &Path) -> Result<Self, InputError> {
-        let text =
-            std::fs::read_to_string(path).map_err(|source| InputError::Io { path: path.to_path_buf(), source })?;
+        let bytes = read_regular_file(path, ROBOT_FILE_LIMIT)?;
+        let text = String::from_utf8(bytes).map_err(|e| InputError::RobotFile {
+            path: path.to_path_buf(),
+            reason: format!("not UTF-8 text (invalid byte at offset {})", e.utf8_error().valid_up_to()),
+        })?;
         Self::from_toml(&text, path)
     }
+}
+
+/// The largest robot file read \[bytes\]: a robot file is a dozen lines.
+pub const ROBOT_FILE_LIMIT: u64 = 1 << 20;
+
+/// Reads a whole input file of at most `limit` bytes. Only regular files are read: the type is
+/// checked before the file is opened (opening a FIFO without a writer blocks forever) and again
+/// on the open handle; the size is checked before reading, and the read stops at `limit + 1`.
+pub fn read_regular_file(path: &Path, limit: u64) -> Result<Vec<u8>, InputError> {
+    use std::io::Read;
+    let io = |source| InputError::Io { path: path.to_path_buf(), source };
+    let not_a_file = || InputError::NotAFile { path: path.to_path_buf() };
+    if !std::fs::metadata(path).map_err(io)?.is_file() {
+        return Err(not_a_file());
+    }
+    let file = std::fs::File::open(path).map_err(io)?;
+    let meta = file.metadata().map_err(io)?;
+    if !meta.is_file() {
+        return Err(not_a_file());
+    }
+    if meta.len() > limit {
+        return Err(InputError::TooLarge { path: path.to_path_buf(), bytes: meta.len(), limit });
+    }
+    let mut bytes = Vec::new();
+    file.take(limit + 1).read_to_end(&mut bytes).map_err(io)?;
+    if bytes.len() as u64 > limit {
+        return Err(InputError::TooLarge { path: path.to_path_buf(), bytes: bytes.len() as u64, limit });
+    }
+    Ok(bytes)
+}
+
+/// A parser's message with every line cut to [`super::ECHO_LIMIT`] characters and at most
+/// eight lines: the TOML parser quotes the offending line, which may be megabytes long.
+fn short_reason(reason: &str) -> String {
+    let mut lines: Vec<String> = reason.lines().take(8).map(super::excerpt).collect();
+    if reason.lines().count() > 8 {
+        lines.push("...".into());
+    }
+    lines.join("\n")
 }
 
 #[cfg(test)]

@@ -17,7 +17,7 @@ use serde::Serialize;
 
 pub use certificate::{TorqueCertificate, Verification, certify_torques, verify};
 pub use motion::{Motion, MotionPoint, Trajectory, effort, max_abs_controls, travel};
-pub use problem::PlanningProblem;
+pub use problem::{HORIZON_RANGE, MAX_ANGLE, PlanningProblem, check_horizon};
 pub use torques::{TorqueOptions, TorquePlan, TorqueReport, TorqueSeconds, add_torques, torque_plan, torques_at};
 
 use crate::error::Error;

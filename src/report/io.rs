@@ -4,6 +4,7 @@
 use crate::model::InputError;
 use std::io::Write;
 use std::path::{Path, PathBuf};
+use std::sync::Mutex;
 
 use serde::Serialize;
 
@@ -12,16 +13,73 @@ use crate::plan::Trajectory;
 use crate::planners::optimal::OptimalStats;
 use crate::planners::{Details, Planned};
 
-/// Writes `bytes` to `path` atomically: a temporary file beside it, then a rename, so that a
-/// crash never leaves a half-written result.
-pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), Error> {
-    let io = |source| Error::from(InputError::Io { path: path.to_path_buf(), source });
+/// The temporary files and directories of writes in progress, removed by
+/// [`remove_temporaries`] (the binary's SIGINT/SIGTERM handler).
+static TEMPORARIES: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+fn temporaries() -> std::sync::MutexGuard<'static, Vec<PathBuf>> {
+    // A poisoned list is still a list of paths.
+    TEMPORARIES.lock().unwrap_or_else(std::sync::PoisonError::into_inner)
+}
+
+/// Registers a temporary path until [`forget_temporary`].
+pub fn register_temporary(path: &Path) {
+    temporaries().push(path.to_path_buf());
+}
+
+/// Unregisters a temporary path (renamed into place or removed).
+pub fn forget_temporary(path: &Path) {
+    temporaries().retain(|p| p != path);
+}
+
+/// Removes every registered temporary file or directory: called on SIGINT/SIGTERM, so that an
+/// interrupted run leaves neither a `.NAME.PID.tmp` file nor a half-written directory.
+pub fn remove_temporaries() {
+    for path in temporaries().drain(..) {
+        let _gone = if path.is_dir() { std::fs::remove_dir_all(&path) } else { std::fs::remove_file(&path) };
+    }
+}
+
+/// The directory of `path` (`.` for a bare file name) and its file name.
+pub fn split_path(path: &Path) -> (PathBuf, String) {
     let dir = match path.parent() {
         Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
         _ => PathBuf::from("."),
     };
-    let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    (dir, path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default())
+}
+
+/// Removes `.NAME.PID.tmp` files (and `.NAME.PID.tmpdir` directories) in `dir` left by a
+/// process that no longer runs (killed by SIGKILL, which no handler sees). Only where `/proc`
+/// tells which processes run; only this pattern, never anything else.
+pub fn remove_stale_temporaries(dir: &Path, name: &str) {
+    if !Path::new("/proc/self").exists() {
+        return;
+    }
+    let Ok(entries) = std::fs::read_dir(dir) else { return };
+    let prefix = format!(".{name}.");
+    for entry in entries.flatten() {
+        let file = entry.file_name().to_string_lossy().into_owned();
+        let Some(rest) = file.strip_prefix(&prefix) else { continue };
+        let Some(pid) = rest.strip_suffix(".tmp").or_else(|| rest.strip_suffix(".tmpdir")) else { continue };
+        let Ok(pid) = pid.parse::<u32>() else { continue };
+        if pid != std::process::id() && !Path::new(&format!("/proc/{pid}")).exists() {
+            let path = entry.path();
+            let _gone = if path.is_dir() { std::fs::remove_dir_all(&path) } else { std::fs::remove_file(&path) };
+        }
+    }
+}
+
+/// Writes `bytes` to `path` atomically: a temporary file `.NAME.PID.tmp` beside it, then a
+/// rename, so that a crash never leaves a half-written result. The temporary file is removed
+/// on failure and on SIGINT/SIGTERM (see [`remove_temporaries`]); stale ones of killed runs
+/// are removed first ([`remove_stale_temporaries`]).
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), Error> {
+    let io = |source| Error::from(InputError::Io { path: path.to_path_buf(), source });
+    let (dir, name) = split_path(path);
+    remove_stale_temporaries(&dir, &name);
     let tmp = dir.join(format!(".{name}.{}.tmp", std::process::id()));
+    register_temporary(&tmp);
     let result = (|| {
         let mut f = std::fs::File::create(&tmp)?;
         f.write_all(bytes)?;
@@ -31,7 +89,22 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), Error> {
     if result.is_err() {
         let _cleanup = std::fs::remove_file(&tmp);
     }
+    forget_temporary(&tmp);
     result.map_err(io)
+}
+
+/// Checks before any work that `path` can be written: its directory exists and is a directory.
+/// (The write itself may still fail, e.g. on a full disk; then it is reported as usual.)
+pub fn check_writable(path: &Path) -> Result<(), Error> {
+    let (dir, _) = split_path(path);
+    match std::fs::metadata(&dir) {
+        Ok(meta) if meta.is_dir() => Ok(()),
+        Ok(_) => Err(Error::from(InputError::Io {
+            path: path.to_path_buf(),
+            source: std::io::Error::other(format!("{} is not a directory", dir.display())),
+        })),
+        Err(source) => Err(Error::from(InputError::Io { path: path.to_path_buf(), source })),
+    }
 }
 
 /// The CSV header of docs/spec.md §3.
@@ -280,5 +353,25 @@ mod tests {
         assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
         let e = write_atomic(&dir.path().join("no/such/dir/x.json"), b"x");
         assert!(matches!(e, Err(Error::Input(InputError::Io { .. }))));
+    }
+
+    /// The signal handler's routine removes registered temporaries; stale ones of dead
+    /// processes go at the next write of that name, others' files stay.
+    #[test]
+    fn temporaries_are_removed() {
+        let dir = tempfile::tempdir().unwrap();
+        let tmp = dir.path().join(".x.json.1.tmp");
+        std::fs::write(&tmp, b"half").unwrap();
+        register_temporary(&tmp);
+        remove_temporaries();
+        assert!(!tmp.exists());
+        let stale = dir.path().join(".y.json.999999999.tmp");
+        let other = dir.path().join(".z.json.999999999.tmp");
+        std::fs::write(&stale, b"half").unwrap();
+        std::fs::write(&other, b"keep").unwrap();
+        write_atomic(&dir.path().join("y.json"), b"whole").unwrap();
+        assert!(other.exists());
+        assert_eq!(stale.exists(), !Path::new("/proc/self").exists());
+        assert!(check_writable(&dir.path().join("none/y.json")).is_err());
     }
 }

@@ -89,11 +89,48 @@ pub struct Reproduction {
 }
 
 /// Plans every case, maps the domains, runs the sweep, draws every figure (SVG and PNG) and writes
-/// them with `summary.json`, `summary.md` and `report.html` into `out` (created if missing).
-/// `progress(what, seconds, status)` is called once per finished job ([`job_count`] in all),
-/// from rayon's threads.
+/// them with `summary.json`, `summary.md` and `report.html` into `out` (its parent created if
+/// missing). `progress(what, seconds, status)` is called once per finished job ([`job_count`] in
+/// all), from rayon's threads.
+///
+/// Everything is written into a fresh directory `.OUT.PID.tmpdir` beside `out`, which then
+/// replaces `out` by renames: a killed run leaves the old directory or the new one, never a mix
+/// (an interrupted one removes its temporary directory; a killed one's is removed by the next).
 pub fn reproduce(out: &Path, progress: &(dyn Fn(&str, f64, &str) + Sync)) -> Result<Reproduction, Error> {
-    std::fs::create_dir_all(out).map_err(|source| InputError::Io { path: out.to_path_buf(), source })?;
+    use super::io::{forget_temporary, register_temporary, remove_stale_temporaries, split_path};
+    let io = |path: &Path| {
+        let path = path.to_path_buf();
+        move |source| Error::from(InputError::Io { path, source })
+    };
+    let (parent, name) = split_path(out);
+    std::fs::create_dir_all(&parent).map_err(io(&parent))?;
+    remove_stale_temporaries(&parent, &name);
+    let fresh = parent.join(format!(".{name}.{}.tmpdir", std::process::id()));
+    register_temporary(&fresh);
+    let result = std::fs::create_dir(&fresh).map_err(io(&fresh)).and_then(|()| reproduce_into(&fresh, progress));
+    let result = result.and_then(|r| swap_in(&fresh, out).map(|()| r));
+    if fresh.exists() {
+        let _cleanup = std::fs::remove_dir_all(&fresh);
+    }
+    forget_temporary(&fresh);
+    result
+}
+
+/// Puts the directory `fresh` at `out`, moving an old `out` aside first and removing it after.
+fn swap_in(fresh: &Path, out: &Path) -> Result<(), Error> {
+    let io = |source| Error::from(InputError::Io { path: out.to_path_buf(), source });
+    if out.exists() {
+        let (parent, name) = super::io::split_path(out);
+        let old = parent.join(format!(".{name}.{}.old", std::process::id()));
+        std::fs::rename(out, &old).map_err(io)?;
+        std::fs::rename(fresh, out).map_err(io)?;
+        std::fs::remove_dir_all(&old).map_err(io)
+    } else {
+        std::fs::rename(fresh, out).map_err(io)
+    }
+}
+
+fn reproduce_into(out: &Path, progress: &(dyn Fn(&str, f64, &str) + Sync)) -> Result<Reproduction, Error> {
     let clock = Instant::now();
     let all = cases();
     let sweep_opts = sweep_options();

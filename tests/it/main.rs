@@ -1,6 +1,7 @@
 //! Integration tests: the command line as a user runs it.
 
 mod cli;
+mod hostile;
 mod layout;
 mod properties;
 mod reproduce;

@@ -10,6 +10,8 @@
 //! every mounting point (drawn from a counter-based generator keyed by `(seed, k)`), so that
 //! differences between mounting points are not sampling noise between different pairs.
 
+pub mod file;
+
 use crate::model::InputError;
 use serde::{Deserialize, Serialize};
 
@@ -210,10 +212,10 @@ impl Shard {
     /// Parses `k/n` with `1 <= k <= n`.
     pub fn parse(text: &str) -> Result<Self, Error> {
         let bad = || {
-            Error::from(InputError::InvalidParameter {
-                name: format!("--shard {text}"),
-                value: f64::NAN,
-                expected: "K/N with 1 <= K <= N",
+            Error::from(InputError::InvalidText {
+                name: "--shard".into(),
+                text: text.to_string(),
+                expected: "K/N, two whole numbers with 1 <= K <= N (e.g. 2/8)",
             })
         };
         let (k, n) = text.split_once('/').ok_or_else(bad)?;
@@ -341,11 +343,13 @@ fn csv_error(path: &std::path::Path, e: csv::Error) -> Error {
     Error::from(InputError::Io { path: path.to_path_buf(), source: std::io::Error::other(e.to_string()) })
 }
 
-/// The rows as CSV (header = [`SweepRow`]'s field names; floats in shortest round-trip form, so
-/// that reading and writing again reproduces the bytes).
+/// The rows as plain CSV (header = [`SweepRow`]'s field names, written even without rows; floats
+/// in shortest round-trip form, so that reading and writing again reproduces the bytes). The
+/// command line writes [`file::write`]'s checked file instead.
 pub fn to_csv(rows: &[SweepRow]) -> Result<Vec<u8>, Error> {
     let path = std::path::Path::new("<csv>");
-    let mut w = csv::Writer::from_writer(Vec::new());
+    let mut w = csv::WriterBuilder::new().has_headers(false).from_writer(Vec::new());
+    w.write_record(file::COLUMNS).map_err(|e| csv_error(path, e))?;
     for row in rows {
         w.serialize(row).map_err(|e| csv_error(path, e))?;
     }

@@ -95,3 +95,31 @@ fn shards_and_spans() {
     assert!(Span::new("a", 0.3, -0.3, 3).is_err());
     assert!(Span::new("a", -0.3, 0.3, 1).is_err());
 }
+
+/// The checked file: written and read back equal; a row whose numbers are edited, even with
+/// its check recomputed, is refused for its numbers (non-finite, rate not count / trials).
+#[test]
+fn sweep_file_round_trip_and_row_checks() {
+    let robot = RobotParams::src();
+    let options = SweepOptions { grid: 16, trials: 2, ..small() };
+    let rows = run(&robot, &options, Shard::ALL, &|| {}).unwrap();
+    let run_line = file::run_description(&robot, &options);
+    let p = std::path::Path::new("s.csv");
+    let bytes = file::write(&run_line, Shard::ALL, &rows).unwrap();
+    let back = file::read(&bytes, p).unwrap();
+    assert_eq!((back.rows.clone(), back.shard, back.run.clone()), (rows.clone(), Shard::ALL, run_line.clone()));
+    let merged = file::merge_files(vec![(p.to_path_buf(), back)]).unwrap();
+    assert_eq!(file::write(&merged.run, merged.shard, &merged.rows).unwrap(), bytes);
+    let mut nan = rows.clone();
+    nan[1].start_component_fraction = f64::NAN;
+    let e = file::read(&file::write(&run_line, Shard::ALL, &nan).unwrap(), p).unwrap_err().to_string();
+    assert!(e.contains("line 5") && e.contains("not a finite number"), "{e}");
+    let mut rate = rows.clone();
+    rate[2].eq14_rate = 0.75;
+    let e = file::read(&file::write(&run_line, Shard::ALL, &rate).unwrap(), p).unwrap_err().to_string();
+    assert!(e.contains("line 6") && e.contains("do not give the rate"), "{e}");
+    // An empty shard still has its header lines.
+    let empty = file::write(&run_line, Shard { k: 10, n: 10 }, &[]).unwrap();
+    assert_eq!(String::from_utf8(empty.clone()).unwrap().lines().count(), 3);
+    assert!(file::read(&empty, p).unwrap().rows.is_empty());
+}

@@ -1,0 +1,123 @@
+//! What the binary prints: stdout that tolerates a closed pipe, notes on stderr that `--quiet`
+//! silences, the JSON error object of `--format json`, the signal handler that removes
+//! temporary files, shell completions and the man page.
+
+use std::io::Write;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+use clap::CommandFactory;
+
+use super::args::Cli;
+
+static QUIET: AtomicBool = AtomicBool::new(false);
+
+/// Silences [`note`] (`--quiet`).
+pub fn set_quiet(quiet: bool) {
+    QUIET.store(quiet, Ordering::Relaxed);
+}
+
+/// True under `--quiet`.
+pub fn quiet() -> bool {
+    QUIET.load(Ordering::Relaxed)
+}
+
+/// Prints a note (progress, summaries, hints) on stderr, unless `--quiet`.
+pub fn note(text: &str) {
+    if !quiet() {
+        let mut err = std::io::stderr().lock();
+        let _ignored = err.write_all(text.as_bytes()); // stderr closed: nothing else to tell
+    }
+}
+
+/// Stdout was closed by its reader (`freefloat plan --format csv | head -3`): the run stops
+/// quietly with exit code 0, as Unix tools do.
+#[derive(Debug, thiserror::Error)]
+#[error("stdout was closed")]
+pub struct ClosedPipe;
+
+static WROTE: AtomicBool = AtomicBool::new(false);
+
+/// True once [`emit`] has written something.
+pub fn wrote_stdout() -> bool {
+    WROTE.load(Ordering::Relaxed)
+}
+
+/// Writes `text` to stdout; a closed pipe becomes [`ClosedPipe`], never a panic.
+pub fn emit(text: &str) -> anyhow::Result<()> {
+    WROTE.store(true, Ordering::Relaxed);
+    let mut out = std::io::stdout().lock();
+    match out.write_all(text.as_bytes()).and_then(|()| out.flush()) {
+        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Err(ClosedPipe.into()),
+        result => Ok(result?),
+    }
+}
+
+/// On SIGINT, SIGTERM or SIGHUP: removes the temporary files and directories of writes in
+/// progress, then exits with code 130. (The `ctrlc` crate with its `termination` feature: one
+/// portable handler thread, no unsafe code here.)
+pub fn install_signal_handler() {
+    let installed = ctrlc::set_handler(|| {
+        freefloat::report::io::remove_temporaries();
+        std::process::exit(130);
+    });
+    if let Err(e) = installed {
+        note(&format!("note: no signal handler ({e}): an interrupted run may leave a temporary file\n"));
+    }
+}
+
+/// `freefloat completions SHELL`.
+pub fn completions(shell: clap_complete::Shell) -> anyhow::Result<std::process::ExitCode> {
+    let mut buf = Vec::new();
+    clap_complete::generate(shell, &mut Cli::command(), "freefloat", &mut buf);
+    emit(&String::from_utf8(buf)?)?;
+    Ok(std::process::ExitCode::SUCCESS)
+}
+
+/// `freefloat man`: the man page (roff) on stdout.
+pub fn man() -> anyhow::Result<std::process::ExitCode> {
+    let mut buf = Vec::new();
+    clap_mangen::Man::new(Cli::command()).render(&mut buf)?;
+    emit(&String::from_utf8(buf)?)?;
+    Ok(std::process::ExitCode::SUCCESS)
+}
+
+/// The JSON error object printed on stdout under `--format json` (docs/spec.md §3):
+/// `{"error": {"kind", "exit_code", "message", "numbers"}}`.
+pub fn error_json(err: &anyhow::Error) -> String {
+    use freefloat::Error as E;
+    use freefloat::model::InputError as I;
+    use serde_json::json;
+    let (kind, numbers) = match err.downcast_ref::<E>() {
+        Some(E::Input(I::InvalidParameter { name, value, .. })) => {
+            ("invalid_parameter", json!({"name": name, "value": finite(*value)}))
+        }
+        Some(E::Input(I::TooMuchMemory { bytes, limit, .. })) => {
+            ("too_much_memory", json!({"bytes": *bytes as f64, "limit": *limit as f64}))
+        }
+        Some(E::Input(I::TooLarge { bytes, limit, .. })) => ("too_large", json!({"bytes": bytes, "limit": limit})),
+        Some(E::Input(_)) => ("bad_input", json!({})),
+        Some(E::NotCertified { final_error, tolerance, level }) => (
+            "not_certified",
+            json!({"final_error": finite(*final_error), "tolerance": finite(*tolerance), "level": level}),
+        ),
+        Some(E::Singular { value, t, .. }) => ("singular", json!({"value": finite(*value), "t": t.and_then(finite)})),
+        Some(E::NewtonFailed { iterations, residual, t, .. }) => {
+            ("newton_failed", json!({"iterations": iterations, "residual": finite(*residual), "t": t.and_then(finite)}))
+        }
+        Some(e) if e.is_bad_input() => ("bad_input", json!({})),
+        Some(_) => ("no_certified_plan", json!({})),
+        None => ("bad_input", json!({})),
+    };
+    let object = json!({"error": {
+        "kind": kind,
+        "exit_code": super::exit_code(err),
+        "message": format!("{err:#}"),
+        "numbers": numbers,
+    }});
+    object.to_string()
+}
+
+/// `Some(x)` for a finite number: JSON has no NaN or infinity.
+fn finite(x: f64) -> Option<f64> {
+    x.is_finite().then_some(x)
+}
