@@ -228,9 +228,10 @@ impl OptimalPlanner {
         let nfa =
             if o.nfa_seed && o.initial_velocity.iter().all(|u| u.abs() == 0.0) { self.nfa_path(problem) } else { None };
         let kappa_max = seeds::curvature_bound(&k);
+        let sites = seeds::coil_sites(&k, o.max_loop_radius);
         let mut prepared = Vec::new();
         for targets in self.targets(problem) {
-            prepared.push(self.prepare(problem, targets, kappa_max)?);
+            prepared.push(self.prepare(problem, targets, kappa_max, &sites)?);
         }
         prepared.sort_by(|a, b| a.estimate.total_cmp(&b.estimate));
         let mut seeds = 0;
@@ -243,11 +244,11 @@ impl OptimalPlanner {
         let mut prepared = prepared.into_iter().peekable();
         while prepared.peek().is_some() {
             let mut coarse: Vec<Candidate> = Vec::new();
-            for p in prepared.by_ref().take(batch) {
+            for mut p in prepared.by_ref().take(batch) {
                 if p.bound > best {
                     break;
                 }
-                let starts = self.starts(&p, nfa.as_ref())?;
+                let starts = self.starts(problem, &mut p, nfa.as_ref())?;
                 for x0 in starts {
                     let guess = p.multiplier_guess(&x0);
                     seeds += 1;

@@ -5,7 +5,7 @@ use nalgebra::DVector;
 
 use super::OptimalPlanner;
 use super::discrete::{Discretisation, Targets};
-use super::seeds::{self, Line, Sampled, SeedKind};
+use super::seeds::{self, CoilSite, Line, Sampled, SeedKind};
 use crate::error::Error;
 use crate::model::wrap_angle;
 use crate::plan::{Motion, PlanningProblem};
@@ -103,6 +103,7 @@ impl OptimalPlanner {
         problem: &PlanningProblem,
         targets: Targets,
         kappa_max: f64,
+        sites: &[CoilSite; 2],
     ) -> Result<Prepared, Error> {
         let o = &self.options;
         let k = problem.robot.lumped();
@@ -116,12 +117,13 @@ impl OptimalPlanner {
         let x_line = disc.project(|t| line.at(t))?;
         let needed = -disc.evaluate(&x_line, 0).c;
         let bound = seeds::effort_lower_bound(&line, needed, kappa_max);
-        let coil = line.coil(&k, needed, o.max_loop_radius);
+        let site = if needed >= 0.0 { &sites[0] } else { &sites[1] };
+        let coil = line.coil(site, needed, o.max_loop_radius);
         if let SeedKind::Coil { turns, .. } = coil
             && turns >= 2
         {
+            // The finer basis is built when the representative is solved (see `starts`).
             let spans = o.coarse_spans.max(SPANS_PER_TURN * turns);
-            let disc = self.discretise(problem, targets, spans, o.quadrature_nodes)?;
             let estimate = line.effort_estimate(coil);
             return Ok(Prepared { estimate, bound, disc, spans, line, x_line: None, kinds: vec![coil], needed });
         }
@@ -135,9 +137,14 @@ impl OptimalPlanner {
     /// and the NFA's path where it ends at this representative.
     pub(super) fn starts(
         &self,
-        prepared: &Prepared,
+        problem: &PlanningProblem,
+        prepared: &mut Prepared,
         nfa: Option<&(Sampled, [f64; 2], f64)>,
     ) -> Result<Vec<DVector<f64>>, Error> {
+        if prepared.spans != self.options.coarse_spans {
+            let targets = *prepared.disc.targets();
+            prepared.disc = self.discretise(problem, targets, prepared.spans, self.options.quadrature_nodes)?;
+        }
         let (disc, line) = (&prepared.disc, &prepared.line);
         let max_radius = self.options.max_loop_radius;
         let residual = |kind: SeedKind| disc.project(|t| line.path(kind, t)).map(|x| disc.evaluate(&x, 0).c);

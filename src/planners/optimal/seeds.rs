@@ -171,53 +171,16 @@ impl Line {
         with(best.0)
     }
 
-    /// A coil seed for the extra rotation `needed` \[rad\]: centred at the copy nearest the
-    /// line's midpoint of the grid point where `sign(needed) kappa` is largest, with the radius
-    /// (at most `max_radius`) that turns the base most per length of circle, and as many turns
-    /// as the area needs (at most [`MAX_TURNS`]).
-    pub fn coil(&self, k: &Lumped, needed: f64, max_radius: f64) -> SeedKind {
-        let sign = if needed >= 0.0 { 1.0 } else { -1.0 };
-        let kappa = |t1: f64, t2: f64| {
-            let s = shape(k, t1, t2);
-            sign * 2.0 * s.sigma / (s.F * s.F)
-        };
-        let n = 32;
-        let mut best = (f64::NEG_INFINITY, [0.0; 2]);
-        for i in 0..n {
-            for j in 0..n {
-                let c = [TAU * i as f64 / n as f64, TAU * j as f64 / n as f64];
-                let v = kappa(c[0], c[1]);
-                if v > best.0 {
-                    best = (v, c);
-                }
-            }
-        }
+    /// A coil seed for the extra rotation `needed` \[rad\] about `site` (of the sign of
+    /// `needed`, see [`coil_sites`]), centred at the site's copy nearest the line's midpoint, with
+    /// as many turns as the area needs (at most [`MAX_TURNS`]) and the radius shrunk toward it.
+    pub fn coil(&self, site: &CoilSite, needed: f64, max_radius: f64) -> SeedKind {
         let mid = self.at(self.horizon / 2.0);
         let centre: [f64; 2] = std::array::from_fn(|j| {
-            let c = best.1[j];
+            let c = site.centre[j];
             c + TAU * ((mid[j] - c) / TAU).round()
         });
-        // Cumulative signed area sign * iint kappa over discs of growing radius (rings, midpoint
-        // rule); the radius with the most area per length of its circle.
-        let (rings, angles) = (20, 24);
-        let dr = max_radius / rings as f64;
-        let (mut area, mut chosen) = (0.0, (f64::NEG_INFINITY, dr, 0.0));
-        for i in 0..rings {
-            let r = (i as f64 + 0.5) * dr;
-            let mean = (0..angles)
-                .map(|m| {
-                    let (s, c) = (TAU * m as f64 / angles as f64).sin_cos();
-                    kappa(centre[0] + r * c, centre[1] + r * s)
-                })
-                .sum::<f64>()
-                / angles as f64;
-            area += mean * TAU * r * dr;
-            let outer = (i + 1) as f64 * dr;
-            if area / outer > chosen.0 {
-                chosen = (area / outer, outer, area);
-            }
-        }
-        let (_, radius, area) = chosen;
+        let (radius, area) = (site.radius, site.area);
         let turns = if area > 0.0 { ((needed.abs() / area).ceil() as usize).clamp(1, MAX_TURNS) } else { 1 };
         // Shrink the radius toward the area needed (about quadratically in the radius).
         let radius = if area > 0.0 {
@@ -288,6 +251,61 @@ impl Line {
         let l3 = (self.end[0] - e[0]).hypot(self.end[1] - e[1]);
         Some((e, u, l1, TAU * radius * turns as f64, l3))
     }
+}
+
+/// Where a coil turns the base fastest for one sign of rotation: the grid point where
+/// `sign kappa` is largest, the radius (at most the largest loop radius) of most rotation per
+/// length of circle, and the rotation of one turn there \[rad\].
+#[derive(Debug, Clone, Copy)]
+pub struct CoilSite {
+    /// Centre `(theta1, theta2)` \[rad\] (any copy modulo 2 pi).
+    pub centre: [f64; 2],
+    /// Radius \[rad\].
+    pub radius: f64,
+    /// `sign iint kappa` over the disc \[rad\].
+    pub area: f64,
+}
+
+/// The coil sites of positive and negative rotation (in that order).
+pub fn coil_sites(k: &Lumped, max_radius: f64) -> [CoilSite; 2] {
+    [1.0, -1.0].map(|sign| {
+        let kappa = |t1: f64, t2: f64| {
+            let s = shape(k, t1, t2);
+            sign * 2.0 * s.sigma / (s.F * s.F)
+        };
+        let n = 32;
+        let mut best = (f64::NEG_INFINITY, [0.0; 2]);
+        for i in 0..n {
+            for j in 0..n {
+                let c = [TAU * i as f64 / n as f64, TAU * j as f64 / n as f64];
+                let v = kappa(c[0], c[1]);
+                if v > best.0 {
+                    best = (v, c);
+                }
+            }
+        }
+        let centre = best.1;
+        // Cumulative signed area over discs of growing radius (rings, midpoint rule).
+        let (rings, angles) = (20, 24);
+        let dr = max_radius / rings as f64;
+        let (mut area, mut chosen) = (0.0, (f64::NEG_INFINITY, dr, 0.0));
+        for i in 0..rings {
+            let r = (i as f64 + 0.5) * dr;
+            let mean = (0..angles)
+                .map(|m| {
+                    let (s, c) = (TAU * m as f64 / angles as f64).sin_cos();
+                    kappa(centre[0] + r * c, centre[1] + r * s)
+                })
+                .sum::<f64>()
+                / angles as f64;
+            area += mean * TAU * r * dr;
+            let outer = (i + 1) as f64 * dr;
+            if area / outer > chosen.0 {
+                chosen = (area / outer, outer, area);
+            }
+        }
+        CoilSite { centre, radius: chosen.1, area: chosen.2 }
+    })
 }
 
 /// Cubic Hermite interpolation of sampled `(t, theta, theta')`.

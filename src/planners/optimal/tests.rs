@@ -350,7 +350,7 @@ fn random_pairs_are_certified() {
     assert!(failures.is_empty(), "{} of 60 failed:\n{}", failures.len(), failures.join("\n"));
 }
 
-/// Coverage: all 300 random pairs planned and certified to 1e-9 rad (about 36 s in release on
+/// Coverage: all 300 random pairs planned and certified to 1e-9 rad (about 25 s in release on
 /// two shared cores; run with `cargo test --release -- --ignored random_pairs_are_all_certified`).
 #[test]
 #[ignore = "slow: 300 plans, some of them coils of many turns"]
