@@ -22,27 +22,25 @@ pub mod band;
 pub mod discrete;
 pub mod holonomy;
 pub mod motion;
+pub mod refine;
+pub mod search;
 pub mod seeds;
 pub mod spline;
 pub mod sqp;
 
 use std::time::Instant;
 
-use nalgebra::DVector;
 use serde::Serialize;
 
 use crate::error::Error;
 use crate::model::InputError;
-use crate::model::wrap_angle;
 use crate::numerics::ode::OdeOptions;
 use crate::plan::{Method, Motion, Plan, PlanningProblem};
-use crate::planners::nfa::normal_form::Transform;
-use crate::planners::nfa::{NfaOptions, NormalFormPlanner};
 use crate::planners::{Details, Planned, Planner};
 
 use discrete::{Discretisation, Targets};
+
 pub use motion::{OptimalMotion, OptimalStats};
-use seeds::{Line, Sampled};
 use spline::SplineBasis;
 pub use sqp::{SqpOptions, Termination};
 
@@ -188,7 +186,7 @@ pub struct OptimalPlanner {
 }
 
 /// A solve in progress: a target, its discretisation and the SQP result on it.
-struct Candidate {
+pub(crate) struct Candidate {
     disc: Discretisation,
     result: sqp::SqpResult,
     spans: usize,
@@ -204,36 +202,6 @@ impl OptimalPlanner {
     /// A planner with these options.
     pub fn new(options: OptimalOptions) -> Self {
         Self { options }
-    }
-
-    /// The goal representatives `(theta(T), phi(T))` to try.
-    fn targets(&self, problem: &PlanningProblem) -> Vec<Targets> {
-        let (q0, qd) = (problem.start, problem.goal);
-        let start = [q0.theta1, q0.theta2];
-        let make = |end: [f64; 2], phi_end: f64| Targets {
-            start,
-            initial_velocity: self.options.initial_velocity,
-            end,
-            phi_start: q0.phi,
-            phi_end,
-        };
-        if !self.options.wrap {
-            return vec![make([qd.theta1, qd.theta2], qd.phi)];
-        }
-        let joint = |from: f64, to: f64| {
-            let near = from + wrap_angle(to - from);
-            [near, near - std::f64::consts::TAU, near + std::f64::consts::TAU]
-        };
-        let phi = q0.phi + wrap_angle(qd.phi - q0.phi);
-        let mut out = Vec::new();
-        for t1 in joint(q0.theta1, qd.theta1) {
-            for t2 in joint(q0.theta2, qd.theta2) {
-                for k in [0.0, -1.0, 1.0] {
-                    out.push(make([t1, t2], phi + k * std::f64::consts::TAU));
-                }
-            }
-        }
-        out
     }
 
     fn basis(&self, horizon: f64, spans: usize) -> Result<SplineBasis, Error> {
@@ -252,23 +220,6 @@ impl OptimalPlanner {
         Discretisation::new(problem.robot.lumped(), o.cost, basis, targets, o.smooth_ends, nodes)
     }
 
-    /// The NFA's joint path, sampled, when the NFA plans this problem.
-    fn nfa_path(&self, problem: &PlanningProblem) -> Option<(Sampled, [f64; 2], f64)> {
-        // The paper's transformation only: the global normal form's band steering costs more than
-        // the whole optimisation.
-        let n = 101;
-        let options = NfaOptions { samples: n, transform: Some(Transform::auto(&problem.robot)), ..Default::default() };
-        let motion = NormalFormPlanner::new(options).motion(problem).ok()?;
-        let times: Vec<f64> = (0..n)
-            .map(|i| if i + 1 == n { problem.horizon } else { problem.horizon * i as f64 / (n - 1) as f64 })
-            .collect();
-        let points = motion.points(&times).ok()?;
-        let theta: Vec<[f64; 2]> = points.iter().map(|p| [p.q.theta1, p.q.theta2]).collect();
-        let rate: Vec<[f64; 2]> = points.iter().map(|p| p.u).collect();
-        let last = points.last()?.q;
-        Some((Sampled { t: times, theta, rate }, [last.theta1, last.theta2], last.phi))
-    }
-
     /// All certified-candidate motions, best cost first (at least one), without verification.
     pub fn motions(&self, problem: &PlanningProblem) -> Result<Vec<OptimalMotion>, Error> {
         self.options.validate()?;
@@ -277,33 +228,12 @@ impl OptimalPlanner {
         let nfa =
             if o.nfa_seed && o.initial_velocity.iter().all(|u| u.abs() == 0.0) { self.nfa_path(problem) } else { None };
         let kappa_max = seeds::curvature_bound(&k);
-        // Each goal representative with its straight line, its loop seeds and two cheap numbers:
-        // a lower bound of its effort and the constant-speed effort of its best loop seed.
+        let sites = seeds::coil_sites(&k, o.max_loop_radius);
         let mut prepared = Vec::new();
         for targets in self.targets(problem) {
-            let disc = self.discretise(problem, targets, o.coarse_spans, o.quadrature_nodes)?;
-            let line = Line {
-                start: targets.start,
-                end: targets.end,
-                initial_velocity: targets.initial_velocity,
-                horizon: problem.horizon,
-            };
-            let x_line = disc.project(|t| line.at(t))?;
-            let needed = -disc.evaluate(&x_line, 0).c;
-            let bound = seeds::effort_lower_bound(&line, needed, kappa_max);
-            // Each side's loop as estimated from the curvature at its centre, and re-fitted to
-            // the constraint: they lead to different local minima.
-            let raw = [1, -1].map(|side| line.loop_seed(&k, needed, side, 0, o.max_loop_radius));
-            let fitted = raw.map(|kind| {
-                line.fit_radius(kind, o.max_loop_radius, |kind| {
-                    disc.project(|t| line.path(kind, t)).map(|x| disc.evaluate(&x, 0).c).unwrap_or(f64::NAN)
-                })
-            });
-            let loops = [raw[0], raw[1], fitted[0], fitted[1]];
-            let estimate = raw.iter().map(|kind| line.effort_estimate(*kind)).fold(f64::INFINITY, f64::min);
-            prepared.push((estimate, bound, disc, line, x_line, loops));
+            prepared.push(self.prepare(problem, targets, kappa_max, &sites)?);
         }
-        prepared.sort_by(|a, b| a.0.total_cmp(&b.0));
+        prepared.sort_by(|a, b| a.estimate.total_cmp(&b.estimate));
         let mut seeds = 0;
         let mut total_iterations = 0;
         let mut best = f64::INFINITY;
@@ -314,33 +244,24 @@ impl OptimalPlanner {
         let mut prepared = prepared.into_iter().peekable();
         while prepared.peek().is_some() {
             let mut coarse: Vec<Candidate> = Vec::new();
-            for (_, bound, disc, line, x_line, loops) in prepared.by_ref().take(batch) {
-                if bound > best {
+            for mut p in prepared.by_ref().take(batch) {
+                if p.bound > best {
                     break;
                 }
-                let targets = *disc.targets();
-                let mut starts: Vec<DVector<f64>> = vec![x_line];
-                for kind in loops {
-                    starts.push(disc.project(|t| line.path(kind, t))?);
-                }
-                if let Some((path, end, phi)) = &nfa {
-                    let same_end = (end[0] - targets.end[0]).abs() < 1e-6 && (end[1] - targets.end[1]).abs() < 1e-6;
-                    if same_end && (phi - targets.phi_end).abs() < 1e-6 {
-                        starts.push(disc.project(|t| path.at(t))?);
-                    }
-                }
+                let starts = self.starts(problem, &mut p, nfa.as_ref())?;
                 for x0 in starts {
+                    let guess = p.multiplier_guess(&x0);
                     seeds += 1;
-                    let Ok(result) = sqp::solve(&disc, x0, &COARSE_SQP) else { continue };
+                    let Ok(result) = sqp::solve(&p.disc, x0, &COARSE_SQP, guess) else { continue };
                     total_iterations += result.iterations;
                     if result.c.abs() <= 1e-6 && result.f < best {
                         best = result.f;
                     }
                     coarse.push(Candidate {
-                        disc: disc.clone(),
+                        disc: p.disc.clone(),
                         iterations: result.iterations,
                         result,
-                        spans: o.coarse_spans,
+                        spans: p.spans,
                         nodes: o.quadrature_nodes,
                     });
                 }
@@ -387,62 +308,6 @@ impl OptimalPlanner {
             seeds,
             termination: termination_name(termination),
         })
-    }
-
-    /// Refines a coarse solution: doubles the spans until the cost settles (or `max_spans`),
-    /// then raises the quadrature nodes until the motion's finer quadrature agrees with the
-    /// optimiser's to 1% of the tolerance.
-    fn refine(&self, problem: &PlanningProblem, mut c: Candidate) -> Result<Candidate, Error> {
-        let o = &self.options;
-        let mut levels = Vec::new();
-        let mut s = c.spans;
-        while s < o.max_spans {
-            s = (2 * s).min(o.max_spans);
-            levels.push(s);
-        }
-        if levels.is_empty() {
-            levels.push(c.spans);
-        }
-        let mut previous: Option<f64> = None;
-        for spans in levels {
-            c = self.resolve(problem, &c, spans, c.nodes)?;
-            if !c.result.converged() {
-                return Ok(c);
-            }
-            if previous.is_some_and(|p| (c.result.f - p).abs() <= o.refinement_tolerance * c.result.f.abs()) {
-                break;
-            }
-            previous = Some(c.result.f);
-        }
-        while c.nodes < 32 {
-            let check = Candidate { disc: c.disc.clone(), result: c.result.clone(), ..c };
-            if self.to_motion(problem, check, 0, 0).stats.holonomy_residual <= 0.01 * o.tolerance {
-                break;
-            }
-            c = self.resolve(problem, &c, c.spans, (2 * c.nodes).min(32))?;
-            if !c.result.converged() {
-                break;
-            }
-        }
-        Ok(c)
-    }
-
-    /// Solves on a basis of `spans` uniform spans and `nodes` quadrature nodes, warm-started by
-    /// the projection of `c`'s joint path.
-    fn resolve(
-        &self,
-        problem: &PlanningProblem,
-        c: &Candidate,
-        spans: usize,
-        nodes: usize,
-    ) -> Result<Candidate, Error> {
-        let disc = self.discretise(problem, *c.disc.targets(), spans, nodes)?;
-        let old = c.disc.coefficients(&c.result.x);
-        let old_basis = c.disc.basis();
-        let x0 = disc.project(|t| [old_basis.evaluate(&old[0], t)[0], old_basis.evaluate(&old[1], t)[0]])?;
-        let result = sqp::solve(&disc, x0, &self.options.sqp)?;
-        let iterations = c.iterations + result.iterations;
-        Ok(Candidate { disc, result, spans, nodes, iterations })
     }
 
     fn to_motion(

@@ -31,9 +31,42 @@ pub enum SeedKind {
         /// Number of turns around the loop.
         turns: usize,
     },
+    /// A coil: from the start straight to a circle of radius `radius` \[rad\] around `centre`,
+    /// `turns` times around it counter-clockwise, and straight on to the end, at one smooth-step
+    /// timing of the whole length. Centred where the curvature has the sign of the rotation
+    /// needed and is largest, it turns the base far where a loop on the line cannot.
+    Coil {
+        /// Centre `(theta1, theta2)` \[rad\].
+        centre: [f64; 2],
+        /// Radius \[rad\].
+        radius: f64,
+        /// Number of turns.
+        turns: usize,
+    },
     /// The NFA's joint path.
     Nfa,
 }
+
+impl SeedKind {
+    /// The same seed with another radius (loops and coils; others unchanged).
+    pub fn with_radius(self, r: f64) -> Self {
+        match self {
+            SeedKind::Loop { side, orientation, turns, .. } => SeedKind::Loop { side, orientation, radius: r, turns },
+            SeedKind::Coil { centre, turns, .. } => SeedKind::Coil { centre, radius: r, turns },
+            other => other,
+        }
+    }
+
+    fn radius(self) -> Option<f64> {
+        match self {
+            SeedKind::Loop { radius, .. } | SeedKind::Coil { radius, .. } => Some(radius),
+            _ => None,
+        }
+    }
+}
+
+/// Largest number of turns of a coil seed.
+pub const MAX_TURNS: usize = 64;
 
 /// The ends and timing shared by the seeds.
 #[derive(Debug, Clone, Copy)]
@@ -52,6 +85,23 @@ pub struct Line {
 fn smooth_step(s: f64) -> f64 {
     let s = s.clamp(0.0, 1.0);
     s * s * (3.0 - 2.0 * s)
+}
+
+/// From 0 to 1 on `[0, 1]` at constant speed but for ramps of duration `ramp` at both ends,
+/// where the speed follows the smooth step: zero slope at both ends, nearly the least effort.
+fn ramped(s: f64, ramp: f64) -> f64 {
+    let s = s.clamp(0.0, 1.0);
+    // Speed v = 1 / (1 - ramp) between the ramps; a ramp covers v ramp / 2
+    // (the integral of the smooth step, x^3 - x^4 / 2).
+    let v = 1.0 / (1.0 - ramp);
+    if s < ramp {
+        let x = s / ramp;
+        v * ramp * (x * x * x - 0.5 * x * x * x * x)
+    } else if s > 1.0 - ramp {
+        1.0 - ramped(1.0 - s, ramp)
+    } else {
+        v * (ramp / 2.0 + (s - ramp))
+    }
 }
 
 impl Line {
@@ -99,8 +149,8 @@ impl Line {
     /// `residual`) so that the residual of the holonomy constraint vanishes; the radius stays in
     /// `[0.05, max_radius]` and the best one seen is returned.
     pub fn fit_radius(&self, kind: SeedKind, max_radius: f64, mut residual: impl FnMut(SeedKind) -> f64) -> SeedKind {
-        let SeedKind::Loop { side, orientation, radius, turns } = kind else { return kind };
-        let with = |r: f64| SeedKind::Loop { side, orientation, radius: r, turns };
+        let Some(radius) = kind.radius() else { return kind };
+        let with = |r: f64| kind.with_radius(r);
         let (mut r0, mut r1) = (radius, (radius * 1.2).min(max_radius));
         if (r1 - r0).abs() < 1e-9 {
             r1 = 0.8 * r0;
@@ -121,19 +171,55 @@ impl Line {
         with(best.0)
     }
 
+    /// A coil seed for the extra rotation `needed` \[rad\] about `site` (of the sign of
+    /// `needed`, see [`coil_sites`]), centred at the site's copy nearest the line's midpoint, with
+    /// as many turns as the area needs (at most [`MAX_TURNS`]) and the radius shrunk toward it.
+    pub fn coil(&self, site: &CoilSite, needed: f64, max_radius: f64) -> SeedKind {
+        let mid = self.at(self.horizon / 2.0);
+        let centre: [f64; 2] = std::array::from_fn(|j| {
+            let c = site.centre[j];
+            c + TAU * ((mid[j] - c) / TAU).round()
+        });
+        let (radius, area) = (site.radius, site.area);
+        let turns = if area > 0.0 { ((needed.abs() / area).ceil() as usize).clamp(1, MAX_TURNS) } else { 1 };
+        // Shrink the radius toward the area needed (about quadratically in the radius).
+        let radius = if area > 0.0 {
+            (radius * (needed.abs() / (area * turns as f64)).sqrt()).clamp(0.05, max_radius)
+        } else {
+            radius
+        };
+        SeedKind::Coil { centre, radius, turns }
+    }
+
     /// The effort `L^2 / T` of the seed's path run at constant speed, with its length `L`
     /// estimated as the line's length plus the loop's circumference times its turns.
     pub fn effort_estimate(&self, kind: SeedKind) -> f64 {
         let d = (self.end[0] - self.start[0]).hypot(self.end[1] - self.start[1]);
-        let extra = match kind {
-            SeedKind::Loop { radius, turns, .. } => TAU * radius * turns as f64,
-            _ => 0.0,
+        let length = match kind {
+            SeedKind::Loop { radius, turns, .. } => d + TAU * radius * turns as f64,
+            SeedKind::Coil { .. } => self.coil_legs(kind).map_or(d, |(_, _, l1, l2, l3)| l1 + l2 + l3),
+            _ => d,
         };
-        (d + extra).powi(2) / self.horizon
+        length.powi(2) / self.horizon
     }
 
     /// The seed's joint path at `t` \[s\] (not for [`SeedKind::Nfa`], which is sampled instead).
     pub fn path(&self, kind: SeedKind, t: f64) -> [f64; 2] {
+        if let Some((e, u, l1, l2, l3)) = self.coil_legs(kind) {
+            let SeedKind::Coil { centre, radius, .. } = kind else { return self.at(t) };
+            let h = t * (1.0 - t / self.horizon).powi(2);
+            let s = (l1 + l2 + l3) * ramped(t / self.horizon, 0.05);
+            let p: [f64; 2] = if s < l1 {
+                std::array::from_fn(|j| self.start[j] + (e[j] - self.start[j]) * s / l1.max(1e-300))
+            } else if s < l1 + l2 {
+                let (sp, cp) = ((s - l1) / radius).sin_cos();
+                let v = [u[0] * cp - u[1] * sp, u[0] * sp + u[1] * cp];
+                std::array::from_fn(|j| centre[j] + radius * v[j])
+            } else {
+                std::array::from_fn(|j| e[j] + (self.end[j] - e[j]) * ((s - l1 - l2) / l3.max(1e-300)).min(1.0))
+            };
+            return std::array::from_fn(|j| p[j] + self.initial_velocity[j] * h);
+        }
         let base = self.at(t);
         let SeedKind::Loop { side, orientation, radius, turns } = kind else { return base };
         let n = self.normal();
@@ -146,6 +232,80 @@ impl Line {
         let o = orientation as f64;
         std::array::from_fn(|j| base[j] + radius * ((1.0 - cp) * a[j] - o * sp * b[j]))
     }
+}
+
+/// Entry point, unit vector from the centre to it, and the three legs' lengths of a coil.
+type CoilLegs = ([f64; 2], [f64; 2], f64, f64, f64);
+
+impl Line {
+    /// A coil's entry point on its circle (nearest the line's midpoint), the unit vector from the
+    /// centre to it, and the lengths of its three legs (in, around, out) \[rad\].
+    fn coil_legs(&self, kind: SeedKind) -> Option<CoilLegs> {
+        let SeedKind::Coil { centre, radius, turns } = kind else { return None };
+        let mid = self.at(self.horizon / 2.0);
+        let d = [mid[0] - centre[0], mid[1] - centre[1]];
+        let norm = d[0].hypot(d[1]);
+        let u = if norm < 1e-9 { [1.0, 0.0] } else { [d[0] / norm, d[1] / norm] };
+        let e = [centre[0] + radius * u[0], centre[1] + radius * u[1]];
+        let l1 = (e[0] - self.start[0]).hypot(e[1] - self.start[1]);
+        let l3 = (self.end[0] - e[0]).hypot(self.end[1] - e[1]);
+        Some((e, u, l1, TAU * radius * turns as f64, l3))
+    }
+}
+
+/// Where a coil turns the base fastest for one sign of rotation: the grid point where
+/// `sign kappa` is largest, the radius (at most the largest loop radius) of most rotation per
+/// length of circle, and the rotation of one turn there \[rad\].
+#[derive(Debug, Clone, Copy)]
+pub struct CoilSite {
+    /// Centre `(theta1, theta2)` \[rad\] (any copy modulo 2 pi).
+    pub centre: [f64; 2],
+    /// Radius \[rad\].
+    pub radius: f64,
+    /// `sign iint kappa` over the disc \[rad\].
+    pub area: f64,
+}
+
+/// The coil sites of positive and negative rotation (in that order).
+pub fn coil_sites(k: &Lumped, max_radius: f64) -> [CoilSite; 2] {
+    [1.0, -1.0].map(|sign| {
+        let kappa = |t1: f64, t2: f64| {
+            let s = shape(k, t1, t2);
+            sign * 2.0 * s.sigma / (s.F * s.F)
+        };
+        let n = 32;
+        let mut best = (f64::NEG_INFINITY, [0.0; 2]);
+        for i in 0..n {
+            for j in 0..n {
+                let c = [TAU * i as f64 / n as f64, TAU * j as f64 / n as f64];
+                let v = kappa(c[0], c[1]);
+                if v > best.0 {
+                    best = (v, c);
+                }
+            }
+        }
+        let centre = best.1;
+        // Cumulative signed area over discs of growing radius (rings, midpoint rule).
+        let (rings, angles) = (20, 24);
+        let dr = max_radius / rings as f64;
+        let (mut area, mut chosen) = (0.0, (f64::NEG_INFINITY, dr, 0.0));
+        for i in 0..rings {
+            let r = (i as f64 + 0.5) * dr;
+            let mean = (0..angles)
+                .map(|m| {
+                    let (s, c) = (TAU * m as f64 / angles as f64).sin_cos();
+                    kappa(centre[0] + r * c, centre[1] + r * s)
+                })
+                .sum::<f64>()
+                / angles as f64;
+            area += mean * TAU * r * dr;
+            let outer = (i + 1) as f64 * dr;
+            if area / outer > chosen.0 {
+                chosen = (area / outer, outer, area);
+            }
+        }
+        CoilSite { centre, radius: chosen.1, area: chosen.2 }
+    })
 }
 
 /// Cubic Hermite interpolation of sampled `(t, theta, theta')`.

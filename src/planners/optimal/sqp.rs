@@ -116,7 +116,18 @@ fn multiplier(m: &Metric, e: &Evaluation) -> (f64, f64) {
 }
 
 /// Solves the discretised problem from `x0` (Byrd–Omojokun trust-region SQP).
-pub fn solve(problem: &Discretisation, x0: DVector<f64>, options: &SqpOptions) -> Result<SqpResult, Error> {
+///
+/// `guess`, an estimate of the multiplier at the solution (a coil's, or a warm start's), is a
+/// safeguard where the multiplier is large: the l1 penalty starts at `2 |guess|`, so that the
+/// first steps do not trade feasibility for cost, and the Lagrangian's Hessian keeps `guess`
+/// until the least-squares multiplier is reliable (relative KKT residual below 0.1), instead
+/// of swinging with it far from stationarity.
+pub fn solve(
+    problem: &Discretisation,
+    x0: DVector<f64>,
+    options: &SqpOptions,
+    guess: Option<f64>,
+) -> Result<SqpResult, Error> {
     let s = problem.effort_hessian().clone();
     let hb = problem.half_bandwidth();
     let chol = BandCholesky::new(&s, hb).ok_or(Error::from(InputError::InvalidParameter {
@@ -129,7 +140,9 @@ pub fn solve(problem: &Discretisation, x0: DVector<f64>, options: &SqpOptions) -
     let mut e = problem.evaluate(&x, 2);
     let (mut lambda, mut kkt) = multiplier(&m, &e);
     let mut radius = (m.norm(&x) * 0.5).max(1.0);
-    let mut mu = 1.0_f64;
+    let guess = guess.filter(|g| g.is_finite());
+    let mut mu = guess.map_or(1.0, |g| (2.0 * g.abs()).max(1.0));
+    let mut lambda_w = guess.unwrap_or(lambda);
     let mut iterations = 0;
     let (mut best_kkt, mut since_best) = (kkt, 0);
     let termination = loop {
@@ -154,7 +167,7 @@ pub fn solve(problem: &Discretisation, x0: DVector<f64>, options: &SqpOptions) -
         }
         iterations += 1;
         since_best += 1;
-        let w = &e.hess_f + &e.hess_c * lambda;
+        let w = &e.hess_f + &e.hess_c * lambda_w;
         let a_s = m.chol.solve(&e.grad_c);
         let den = e.grad_c.dot(&a_s);
         if !(den > 0.0) && e.c.abs() > options.constraint_tolerance {
@@ -224,6 +237,9 @@ pub fn solve(problem: &Discretisation, x0: DVector<f64>, options: &SqpOptions) -
             x += &step;
             e = problem.evaluate(&x, 2);
             (lambda, kkt) = multiplier(&m, &e);
+            if guess.is_none() || kkt < 0.1 {
+                lambda_w = lambda;
+            }
             if kkt < 0.5 * best_kkt {
                 (best_kkt, since_best) = (kkt, 0);
             }

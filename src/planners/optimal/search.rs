@@ -1,0 +1,171 @@
+//! The goal representatives modulo 2 pi and the warm starts of each: the straight line, loops
+//! beside it, a coil where the base must turn far, and the NFA's joint path.
+
+use nalgebra::DVector;
+
+use super::OptimalPlanner;
+use super::discrete::{Discretisation, Targets};
+use super::seeds::{self, CoilSite, Line, Sampled, SeedKind};
+use crate::error::Error;
+use crate::model::wrap_angle;
+use crate::plan::{Motion, PlanningProblem};
+use crate::planners::nfa::normal_form::Transform;
+use crate::planners::nfa::{NfaOptions, NormalFormPlanner};
+
+/// Uniform knot spans per turn of a coil seed (cubic B-splines follow a circle to about 1e-3 of
+/// its radius at this resolution; the radius is then re-fitted to the constraint).
+pub const SPANS_PER_TURN: usize = 6;
+
+/// A goal representative with its coarse discretisation and the cheap numbers that rank it.
+pub(super) struct Prepared {
+    /// The constant-speed effort of its best seed \[rad^2/s\] (the ranking).
+    pub estimate: f64,
+    /// A lower bound of its effort \[rad^2/s\] (see [`seeds::effort_lower_bound`]).
+    pub bound: f64,
+    /// The discretisation its seeds are solved on.
+    pub disc: Discretisation,
+    /// Uniform knot spans of `disc`.
+    pub spans: usize,
+    line: Line,
+    /// The line's free coefficients on `disc` (`None` for a coil target).
+    x_line: Option<DVector<f64>>,
+    /// The raw loop seeds (one per side), or the coil.
+    kinds: Vec<SeedKind>,
+    /// The rotation the seeds add to the line's \[rad\].
+    needed: f64,
+}
+
+impl Prepared {
+    /// The multiplier of a coil's solution as estimated at its seed `x0`,
+    /// `lambda ~ -2 f / needed`: the effort grows as the square of the coil's length, the
+    /// rotation linearly, and `df/d phi_end = -lambda`. `None` for the other seeds.
+    pub fn multiplier_guess(&self, x0: &DVector<f64>) -> Option<f64> {
+        if self.x_line.is_some() || !(self.needed.abs() > 0.0) {
+            return None;
+        }
+        Some(-2.0 * self.disc.evaluate(x0, 0).f / self.needed)
+    }
+}
+
+impl OptimalPlanner {
+    /// The goal representatives `(theta(T), phi(T))` to try.
+    pub(super) fn targets(&self, problem: &PlanningProblem) -> Vec<Targets> {
+        let (q0, qd) = (problem.start, problem.goal);
+        let start = [q0.theta1, q0.theta2];
+        let make = |end: [f64; 2], phi_end: f64| Targets {
+            start,
+            initial_velocity: self.options.initial_velocity,
+            end,
+            phi_start: q0.phi,
+            phi_end,
+        };
+        if !self.options.wrap {
+            return vec![make([qd.theta1, qd.theta2], qd.phi)];
+        }
+        let joint = |from: f64, to: f64| {
+            let near = from + wrap_angle(to - from);
+            [near, near - std::f64::consts::TAU, near + std::f64::consts::TAU]
+        };
+        let phi = q0.phi + wrap_angle(qd.phi - q0.phi);
+        let mut out = Vec::new();
+        for t1 in joint(q0.theta1, qd.theta1) {
+            for t2 in joint(q0.theta2, qd.theta2) {
+                for k in [0.0, -1.0, 1.0] {
+                    out.push(make([t1, t2], phi + k * std::f64::consts::TAU));
+                }
+            }
+        }
+        out
+    }
+
+    /// The NFA's joint path, sampled, when the NFA plans this problem.
+    pub(super) fn nfa_path(&self, problem: &PlanningProblem) -> Option<(Sampled, [f64; 2], f64)> {
+        // The paper's transformation only: the global normal form's band steering costs more than
+        // the whole optimisation.
+        let n = 101;
+        let options = NfaOptions { samples: n, transform: Some(Transform::auto(&problem.robot)), ..Default::default() };
+        let motion = NormalFormPlanner::new(options).motion(problem).ok()?;
+        let times: Vec<f64> = (0..n)
+            .map(|i| if i + 1 == n { problem.horizon } else { problem.horizon * i as f64 / (n - 1) as f64 })
+            .collect();
+        let points = motion.points(&times).ok()?;
+        let theta: Vec<[f64; 2]> = points.iter().map(|p| [p.q.theta1, p.q.theta2]).collect();
+        let rate: Vec<[f64; 2]> = points.iter().map(|p| p.u).collect();
+        let last = points.last()?.q;
+        Some((Sampled { t: times, theta, rate }, [last.theta1, last.theta2], last.phi))
+    }
+
+    /// A representative's line, the rotation its seeds must add, and its ranking numbers. Where
+    /// one loop cannot add the rotation (a coil of two or more turns is needed), the coil is its
+    /// only seed, on a basis fine enough for its turns.
+    pub(super) fn prepare(
+        &self,
+        problem: &PlanningProblem,
+        targets: Targets,
+        kappa_max: f64,
+        sites: &[CoilSite; 2],
+    ) -> Result<Prepared, Error> {
+        let o = &self.options;
+        let k = problem.robot.lumped();
+        let disc = self.discretise(problem, targets, o.coarse_spans, o.quadrature_nodes)?;
+        let line = Line {
+            start: targets.start,
+            end: targets.end,
+            initial_velocity: targets.initial_velocity,
+            horizon: problem.horizon,
+        };
+        let x_line = disc.project(|t| line.at(t))?;
+        let needed = -disc.evaluate(&x_line, 0).c;
+        let bound = seeds::effort_lower_bound(&line, needed, kappa_max);
+        let site = if needed >= 0.0 { &sites[0] } else { &sites[1] };
+        let coil = line.coil(site, needed, o.max_loop_radius);
+        if let SeedKind::Coil { turns, .. } = coil
+            && turns >= 2
+        {
+            // The finer basis is built when the representative is solved (see `starts`).
+            let spans = o.coarse_spans.max(SPANS_PER_TURN * turns);
+            let estimate = line.effort_estimate(coil);
+            return Ok(Prepared { estimate, bound, disc, spans, line, x_line: None, kinds: vec![coil], needed });
+        }
+        let kinds: Vec<SeedKind> = [1, -1].map(|side| line.loop_seed(&k, needed, side, 0, o.max_loop_radius)).into();
+        let estimate = kinds.iter().map(|kind| line.effort_estimate(*kind)).fold(f64::INFINITY, f64::min);
+        Ok(Prepared { estimate, bound, disc, spans: o.coarse_spans, line, x_line: Some(x_line), kinds, needed })
+    }
+
+    /// The warm starts of a prepared representative: the line, each loop as estimated and
+    /// re-fitted to the constraint (they lead to different local minima), or the fitted coil;
+    /// and the NFA's path where it ends at this representative.
+    pub(super) fn starts(
+        &self,
+        problem: &PlanningProblem,
+        prepared: &mut Prepared,
+        nfa: Option<&(Sampled, [f64; 2], f64)>,
+    ) -> Result<Vec<DVector<f64>>, Error> {
+        if prepared.spans != self.options.coarse_spans {
+            let targets = *prepared.disc.targets();
+            prepared.disc = self.discretise(problem, targets, prepared.spans, self.options.quadrature_nodes)?;
+        }
+        let (disc, line) = (&prepared.disc, &prepared.line);
+        let max_radius = self.options.max_loop_radius;
+        let residual = |kind: SeedKind| disc.project(|t| line.path(kind, t)).map(|x| disc.evaluate(&x, 0).c);
+        let mut starts = Vec::new();
+        if let Some(x) = &prepared.x_line {
+            starts.push(x.clone());
+            for kind in &prepared.kinds {
+                starts.push(disc.project(|t| line.path(*kind, t))?);
+            }
+        }
+        for kind in &prepared.kinds {
+            let fitted = line.fit_radius(*kind, max_radius, |kind| residual(kind).unwrap_or(f64::NAN));
+            starts.push(disc.project(|t| line.path(fitted, t))?);
+        }
+        let targets = disc.targets();
+        if let Some((path, end, phi)) = nfa {
+            let same_end = (end[0] - targets.end[0]).abs() < 1e-6 && (end[1] - targets.end[1]).abs() < 1e-6;
+            if same_end && (phi - targets.phi_end).abs() < 1e-6 {
+                starts.push(disc.project(|t| path.at(t))?);
+            }
+        }
+        Ok(starts)
+    }
+}
