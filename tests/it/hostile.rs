@@ -420,7 +420,7 @@ fn closed_stdout_is_not_a_panic() {
 /// Each level shows its own verdict: a failed torque level does not mark the velocity line.
 #[test]
 fn each_level_shows_its_own_verdict() {
-    let o = run(&["plan", "--mount", "1,-1", "--torques", "--samples", "201"]);
+    let o = run(&["plan", "--method", "nfa", "--mount", "1,-1", "--torques", "--samples", "201"]);
     assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
     let text = stdout(&o);
     let line = |key: &str| text.lines().find(|l| l.trim_start().starts_with(key)).unwrap_or_default().to_string();
