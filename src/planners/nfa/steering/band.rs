@@ -336,7 +336,7 @@ const BAND_CHECK_INTERVALS: usize = 1024;
 /// normal form as the band steering would, with `lambda(t) = (z2 - L(z1)) / W(z1)` in
 /// `[eps, 1 - eps]` and the same margin `eps` ([`BandSteering`]). Decided on the path itself,
 /// not on the plan's samples: the band's edges exactly (zeros of sigma, tracked from the start),
-/// `lambda` on a fixed grid of [`BAND_CHECK_INTERVALS`] intervals, every local extremum refined
+/// `lambda` on a fixed grid of 1024 intervals, every local extremum refined
 /// by golden-section search. Where sigma has no zero the band has no edge to keep from.
 pub fn keeps_to_band(nf: &NormalForm, start: &Configuration, path: &PolynomialSteering, options: &BandOptions) -> bool {
     use crate::numerics::extremum::refined_max;
