@@ -18,27 +18,22 @@ fn planner_options(args: &ProblemArgs) -> anyhow::Result<PlannerOptions> {
     })
 }
 
-/// Plans with `method`; with `--torques`, adds the torque level (docs/spec.md, Sec. 2): inverse
-/// dynamics at the samples, and the forward-dynamics certificate. Bad flags are the outer error,
-/// a problem without a plan the inner one.
+/// Plans with `method`; with `--max-velocity`, plans again with the horizon stretched when the
+/// velocity plan's peak |u| exceeds the cap (decided on the velocity plan alone, whatever the
+/// torque level gives); then, with `--torques`, adds the torque level (docs/spec.md, Sec. 2) to
+/// the plan kept: inverse dynamics at the samples, and the forward-dynamics certificate. Bad
+/// flags are the outer error, a problem without a plan the inner one.
 fn plan_with(
     method: Method,
     args: &ProblemArgs,
     problem: &PlanningProblem,
 ) -> anyhow::Result<Result<Planned, freefloat::Error>> {
     let planner = planner(method, &planner_options(args)?);
-    let planned = |problem: &PlanningProblem| -> Result<Planned, freefloat::Error> {
-        let mut planned = planner.plan(problem)?;
-        if args.torques {
-            planned.add_torques(&TorqueOptions::default())?;
-        }
-        Ok(planned)
-    };
     let cap = match args.max_velocity {
         Some(v) if !(v.is_finite() && v > 0.0) => bail!("--max-velocity {v}: expected a positive number of rad/s"),
         cap => cap,
     };
-    Ok(match (cap, planned(problem)) {
+    let velocity_plan = match (cap, planner.plan(problem)) {
         (Some(cap), Ok(first)) if first.plan.max_abs_u[0].max(first.plan.max_abs_u[1]) > cap => {
             // Each method's path is fixed in the time scaled by T, so velocities scale as 1/T.
             let peak = first.plan.max_abs_u[0].max(first.plan.max_abs_u[1]);
@@ -47,10 +42,16 @@ fn plan_with(
                 "note: peak |u| = {peak:.4} rad/s exceeds --max-velocity {cap}: horizon stretched from {} s to {:.4} s",
                 problem.horizon, stretched.horizon
             );
-            planned(&stretched)
+            planner.plan(&stretched)
         }
         (_, result) => result,
-    })
+    };
+    Ok(velocity_plan.and_then(|mut planned| {
+        if args.torques {
+            planned.add_torques(&TorqueOptions::default())?;
+        }
+        Ok(planned)
+    }))
 }
 
 /// The method of `plan`: `--method`, else the NFA when `--transform` names a transformation, else

@@ -1,4 +1,4 @@
-//! The largest value of a function known on a uniform grid: each local maximum of the grid is
+//! The largest value of a function known at sample times: each local maximum of the grid is
 //! refined by golden-section search between its neighbours, so that a peak between two grid
 //! points is found too (peak joint velocities, the range of the band steering's `lambda`).
 //!
@@ -47,33 +47,61 @@ pub fn golden_max<E>(
     Ok(best)
 }
 
-/// The maximum of `f` given its `values` at the uniform grid `t0 + i h`: the grid's largest
-/// value, raised by golden-section refinement ([`golden_max`], to `tolerance` in `t`) of every
-/// interior local maximum of the grid within `slack` of it (all of them for `slack = inf`).
-/// Returns `(t, f(t))` of the largest value found.
+/// The maximum of `f` given its `values` at the ascending `times`: the samples' largest value,
+/// raised by golden-section refinement ([`golden_max`], to `tolerance` in `t`) of every interior
+/// local maximum of the samples within `slack` of it (all of them for `slack = inf`), between
+/// its two neighbours. Returns `(t, f(t))` of the largest value found.
 pub fn refined_max<E>(
     mut f: impl FnMut(f64) -> Result<f64, E>,
-    t0: f64,
-    h: f64,
+    times: &[f64],
     values: &[f64],
     slack: f64,
     tolerance: f64,
 ) -> Result<(f64, f64), E> {
     let Some((i_max, &v_max)) = values.iter().enumerate().max_by(|x, y| x.1.total_cmp(y.1)) else {
-        return Ok((t0, f64::NEG_INFINITY));
+        return Ok((f64::NAN, f64::NEG_INFINITY));
     };
-    let mut best = (t0 + i_max as f64 * h, v_max);
-    for i in 1..values.len().saturating_sub(1) {
+    let mut best = (times[i_max], v_max);
+    for i in 1..values.len().min(times.len()).saturating_sub(1) {
         let (l, m, r) = (values[i - 1], values[i], values[i + 1]);
         if m >= l && m >= r && m >= v_max - slack {
-            let a = t0 + (i - 1) as f64 * h;
-            let found = golden_max(&mut f, a, a + 2.0 * h, [l, r], tolerance)?;
+            let found = bracketed_max(&mut f, [times[i - 1], times[i + 1]], [l, r], tolerance)?;
             if found.1 > best.1 {
                 best = found;
             }
         }
     }
     Ok(best)
+}
+
+/// Points scanned between two samples before the golden-section search.
+const SCAN: usize = 16;
+
+/// The maximum of `f` on `[a, b]` (values `ends` there): `f` on [`SCAN`] equal steps first (the
+/// samples may hold more than one peak between them), then [`golden_max`] around the best step.
+fn bracketed_max<E>(
+    f: &mut impl FnMut(f64) -> Result<f64, E>,
+    [a, b]: [f64; 2],
+    ends: [f64; 2],
+    tolerance: f64,
+) -> Result<(f64, f64), E> {
+    let h = (b - a) / SCAN as f64;
+    let mut scan = Vec::with_capacity(SCAN + 1);
+    scan.push(ends[0]);
+    for j in 1..SCAN {
+        scan.push(f(a + j as f64 * h)?);
+    }
+    scan.push(ends[1]);
+    let j = scan.iter().enumerate().max_by(|x, y| x.1.total_cmp(y.1)).map_or(0, |m| m.0);
+    let (lo, hi) = (j.saturating_sub(1), (j + 1).min(SCAN));
+    let at = |k: usize| if k == SCAN { b } else { a + k as f64 * h };
+    golden_max(f, at(lo), at(hi), [scan[lo], scan[hi]], tolerance)
+}
+
+/// `n + 1` equally spaced times from 0 to `horizon`, the last exactly `horizon`.
+pub fn uniform_times(horizon: f64, n: usize) -> Vec<f64> {
+    let h = horizon / n as f64;
+    (0..=n).map(|i| if i == n { horizon } else { i as f64 * h }).collect()
 }
 
 #[cfg(test)]
@@ -89,7 +117,7 @@ mod tests {
         let values: Vec<f64> = (0..=10).map(|i| f(i as f64 * h).unwrap()).collect();
         let grid = values.iter().copied().fold(f64::NEG_INFINITY, f64::max);
         assert!(grid < 1.0 - 1e-3);
-        let (t, v) = refined_max(f, 0.0, h, &values, f64::INFINITY, 1e-9).unwrap();
+        let (t, v) = refined_max(f, &uniform_times(1.0, 10), &values, f64::INFINITY, 1e-9).unwrap();
         assert_relative_eq!(t, 0.537, epsilon = 1e-8);
         assert_relative_eq!(v, 1.0, epsilon = 1e-14);
     }
@@ -100,7 +128,7 @@ mod tests {
         let f = |t: f64| Ok::<_, ()>((-(t - 0.25).powi(2) * 400.0).exp() + 1.02 * (-(t - 0.75).powi(2) * 4e4).exp());
         let h = 0.02;
         let values: Vec<f64> = (0..=50).map(|i| f(i as f64 * h).unwrap()).collect();
-        let (t, v) = refined_max(f, 0.0, h, &values, f64::INFINITY, 1e-10).unwrap();
+        let (t, v) = refined_max(f, &uniform_times(1.0, 50), &values, f64::INFINITY, 1e-10).unwrap();
         assert_relative_eq!(t, 0.75, epsilon = 1e-6);
         assert!(v > 1.01);
     }
@@ -110,7 +138,7 @@ mod tests {
     fn a_maximum_at_the_end() {
         let f = |t: f64| Ok::<_, ()>(t);
         let values: Vec<f64> = (0..=4).map(|i| i as f64 * 0.25).collect();
-        let (t, v) = refined_max(f, 0.0, 0.25, &values, 0.0, 1e-9).unwrap();
+        let (t, v) = refined_max(f, &uniform_times(1.0, 4), &values, 0.0, 1e-9).unwrap();
         assert_relative_eq!(t, 1.0);
         assert_relative_eq!(v, 1.0);
     }

@@ -245,3 +245,31 @@ fn band_or_polynomial_does_not_depend_on_samples() {
         assert!(v["final_error"].as_f64().expect("number") <= 1e-9);
     }
 }
+
+/// Issue 11, item 5.3: the stretch for `--max-velocity` is decided on the velocity plan, before
+/// and whatever the torque level (a failing torque level used to skip it); the torques are those
+/// of the stretched plan.
+#[test]
+fn max_velocity_stretches_before_the_torque_level() {
+    let o = freefloat(&[
+        "plan",
+        "--method",
+        "nfa",
+        "--mount",
+        "1,-1",
+        "--max-velocity",
+        "2",
+        "--samples",
+        "201",
+        "--torques",
+        "--format",
+        "json",
+    ]);
+    assert!(stderr(&o).contains("horizon stretched"), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap_or_else(|_| panic!("json: {}", stderr(&o)));
+    assert!(v["time"].as_f64().expect("time") > 10.0);
+    let peak =
+        v["max_abs_u"].as_array().expect("array").iter().map(|x| x.as_f64().expect("number")).fold(0.0, f64::max);
+    assert!(peak <= 2.0 * (1.0 + 1e-9), "peak |u| {peak}");
+    assert!(v["max_abs_torque"].is_array() && v["torque_final_error"].is_number(), "{v}");
+}

@@ -205,19 +205,17 @@ impl BandSteering {
     /// local extremum refined by golden-section search, so the range is the path's to
     /// `1e-12 T` in time, independent of any sampling of the plan.
     fn lambda_range(&self) -> [f64; 2] {
-        use crate::numerics::extremum::refined_max;
-        let n = 128.max(32 * (self.choice.loops + 1));
-        let h = self.horizon / n as f64;
-        let values: Vec<f64> =
-            (0..=n).map(|i| self.lambda_at(if i == n { self.horizon } else { i as f64 * h })).collect();
+        use crate::numerics::extremum::{refined_max, uniform_times};
+        let times = uniform_times(self.horizon, 128.max(32 * (self.choice.loops + 1)));
+        let values: Vec<f64> = times.iter().map(|&t| self.lambda_at(t)).collect();
         let negated: Vec<f64> = values.iter().map(|v| -v).collect();
         let tolerance = 1e-12 * self.horizon;
         let infallible = |r: Result<(f64, f64), std::convert::Infallible>| match r {
             Ok(found) => found.1,
             Err(never) => match never {},
         };
-        let max = infallible(refined_max(|t| Ok(self.lambda_at(t)), 0.0, h, &values, f64::INFINITY, tolerance));
-        let min = -infallible(refined_max(|t| Ok(-self.lambda_at(t)), 0.0, h, &negated, f64::INFINITY, tolerance));
+        let max = infallible(refined_max(|t| Ok(self.lambda_at(t)), &times, &values, f64::INFINITY, tolerance));
+        let min = -infallible(refined_max(|t| Ok(-self.lambda_at(t)), &times, &negated, f64::INFINITY, tolerance));
         [min, max]
     }
 
@@ -339,10 +337,11 @@ const BAND_CHECK_INTERVALS: usize = 1024;
 /// `lambda` on a fixed grid of 1024 intervals, every local extremum refined
 /// by golden-section search. Where sigma has no zero the band has no edge to keep from.
 pub fn keeps_to_band(nf: &NormalForm, start: &Configuration, path: &PolynomialSteering, options: &BandOptions) -> bool {
-    use crate::numerics::extremum::refined_max;
+    use crate::numerics::extremum::{refined_max, uniform_times};
     let horizon = path.horizon;
     let n = BAND_CHECK_INTERVALS;
     let h = horizon / n as f64;
+    let times = uniform_times(horizon, n);
     // `(lambda, the band's centre)` at `t`, the band nearest `centre`; lambda `None` without edges.
     let lambda_at = |t: f64, centre: f64| -> (Option<f64>, f64) {
         let z = path.at(t).z;
@@ -357,8 +356,8 @@ pub fn keeps_to_band(nf: &NormalForm, start: &Configuration, path: &PolynomialSt
     let mut centre = start.theta2;
     let mut lambdas = Vec::with_capacity(n + 1);
     let mut centres = Vec::with_capacity(n + 1);
-    for i in 0..=n {
-        let (lambda, c) = lambda_at(if i == n { horizon } else { i as f64 * h }, centre);
+    for &t in &times {
+        let (lambda, c) = lambda_at(t, centre);
         centre = c;
         lambdas.push(lambda);
         centres.push(c);
@@ -380,7 +379,7 @@ pub fn keeps_to_band(nf: &NormalForm, start: &Configuration, path: &PolynomialSt
     // Only maxima of the grid that the largest step between grid points could lift past the
     // grid's largest value are refined.
     let slack = values.windows(2).map(|w| (w[1] - w[0]).abs()).fold(0.0, f64::max);
-    match refined_max(refine, 0.0, h, &values, 2.0 * slack, 1e-12 * horizon) {
+    match refined_max(refine, &times, &values, 2.0 * slack, 1e-12 * horizon) {
         Ok((_, worst)) => worst <= 0.0,
         Err(never) => match never {},
     }
