@@ -21,9 +21,11 @@ fn planner_options(args: &ProblemArgs) -> anyhow::Result<PlannerOptions> {
     })
 }
 
-/// Plans with `method`; with `--torques`, adds the torque level (docs/spec.md, Sec. 2): inverse
-/// dynamics at the samples, and the forward-dynamics certificate. Bad flags are the outer error,
-/// a problem without a plan the inner one.
+/// Plans with `method`; with `--max-velocity`, plans again with the horizon stretched when the
+/// velocity plan's peak |u| exceeds the cap (decided on the velocity plan alone, whatever the
+/// torque level gives); then, with `--torques`, adds the torque level (docs/spec.md, Sec. 2) to
+/// the plan kept: inverse dynamics at the samples, and the forward-dynamics certificate. Bad
+/// flags are the outer error, a problem without a plan the inner one.
 fn plan_with(
     method: Method,
     args: &ProblemArgs,
@@ -41,20 +43,17 @@ fn plan_with(
         ElbowArg::Up => Elbow::Up,
         ElbowArg::Down => Elbow::Down,
     });
-    let planned = |problem: &PlanningProblem| -> Result<Planned, freefloat::Error> {
-        let mut planned = match pose {
-            Some(pose) => plan_to_pose(planner.as_ref(), problem, pose, elbow)?.1,
-            None => planner.plan(problem)?,
-        };
-        if args.torques {
-            planned.add_torques(&TorqueOptions::default())?;
+    let plan_velocity = |problem: &PlanningProblem| -> Result<Planned, freefloat::Error> {
+        match pose {
+            Some(pose) => Ok(plan_to_pose(planner.as_ref(), problem, pose, elbow)?.1),
+            None => planner.plan(problem),
         }
-        Ok(planned)
     };
     let cap = super::config::max_velocity(args.max_velocity)?;
-    Ok(match (cap, planned(problem)) {
+    let velocity_plan = match (cap, plan_velocity(problem)) {
         (Some(cap), Ok(first)) if first.plan.max_abs_u[0].max(first.plan.max_abs_u[1]) > cap => {
-            // Each method's path is fixed in the time scaled by T, so velocities scale as 1/T.
+            // Each method's path is fixed in the time scaled by T (the optimal one too: effort and
+            // energy scale as 1/T, the holonomy not at all), so velocities scale as 1/T.
             let peak = first.plan.max_abs_u[0].max(first.plan.max_abs_u[1]);
             let stretched = PlanningProblem { horizon: problem.horizon * peak / cap, ..*problem };
             freefloat::plan::check_horizon("the horizon stretched by --max-velocity", stretched.horizon)?;
@@ -63,10 +62,16 @@ fn plan_with(
                 number(problem.horizon),
                 number(stretched.horizon)
             ));
-            planned(&stretched)
+            plan_velocity(&stretched)
         }
         (_, result) => result,
-    })
+    };
+    Ok(velocity_plan.and_then(|mut planned| {
+        if args.torques {
+            planned.add_torques(&TorqueOptions::default())?;
+        }
+        Ok(planned)
+    }))
 }
 
 /// The method of `plan`: `--method`, else the NFA when `--transform` names a transformation, else

@@ -1,7 +1,9 @@
 //! Numerical building blocks with nothing robot-specific: the adaptive integrator that certifies
-//! every plan, Gauss–Legendre quadrature and Chebyshev interpolation.
+//! every plan, Gauss–Legendre quadrature, Chebyshev interpolation and the refined maximum of
+//! sampled functions.
 
 pub mod chebyshev;
+pub mod extremum;
 pub mod iteration;
 pub mod ode;
 pub mod quadrature;

@@ -16,7 +16,7 @@ use std::time::Instant;
 use serde::Serialize;
 
 pub use certificate::{TorqueCertificate, Verification, certify_torques, verify};
-pub use motion::{Motion, MotionPoint, Trajectory, effort, max_abs_controls, travel};
+pub use motion::{Motion, MotionPoint, Trajectory, effort, max_abs_controls, peak_controls, travel};
 pub use problem::{HORIZON_RANGE, MAX_ANGLE, PlanningProblem, check_horizon};
 pub use torques::{TorqueOptions, TorquePlan, TorqueReport, TorqueSeconds, add_torques, torque_plan, torques_at};
 
@@ -67,7 +67,8 @@ pub struct Plan {
     pub problem: PlanningProblem,
     /// The sampled trajectory.
     pub trajectory: Trajectory,
-    /// `[max |u1|, max |u2|]` over the samples \[rad/s\].
+    /// `[max |u1|, max |u2|]` over `[0, T]` \[rad/s\]: the samples' largest, refined between
+    /// them on the exact motion ([`peak_controls`]).
     pub max_abs_u: [f64; 2],
     /// Smallest `|sigma|` along the samples (domain margin).
     pub min_abs_sigma: f64,
@@ -107,12 +108,13 @@ impl Plan {
         let mut trajectory = trajectory;
         trajectory.add_task_space(&problem.robot);
         let verify_seconds = clock.elapsed().as_secs_f64();
+        let max_abs_u = peak_controls(motion, &trajectory)?;
         Ok(Plan {
             method,
             problem: *problem,
             joint_travel: travel(&trajectory),
             effort: effort(&trajectory),
-            max_abs_u: max_abs_controls(&trajectory),
+            max_abs_u,
             trajectory,
             min_abs_sigma: margins.0,
             min_abs_p: margins.1,

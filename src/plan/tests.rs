@@ -217,3 +217,32 @@ proptest! {
         prop_assert!(tp.report.max_abs_base_residual <= 1e-12, "base row {}", tp.report.max_abs_base_residual);
     }
 }
+
+/// Issue 11, item 5.4: the peak |u| is the motion's, not the samples': for every planner, the
+/// peak from every 10th of 2001 samples, refined on the motion, is the plan's (the band plan at
+/// a = 1, b = -1 too, where 1001 samples gave 9.2623 for 9.2636 rad/s), and at least the
+/// samples' largest value.
+#[test]
+fn peak_controls_do_not_depend_on_the_samples() {
+    use crate::planners::{PlannerOptions, planner};
+    for (a, b) in [(0.2, 0.2), (1.0, -1.0)] {
+        let robot = RobotParams::src().with_mount(Mount::new(a, b).unwrap()).unwrap();
+        let problem = PlanningProblem::paper(robot);
+        for method in [Method::Nfa, Method::Ecsa, Method::Optimal] {
+            let mut options = PlannerOptions::default();
+            (options.nfa.samples, options.ecsa.samples, options.optimal.samples) = (2001, 2001, 2001);
+            let planned = planner(method, &options).plan(&problem).unwrap();
+            let fine = &planned.plan.trajectory;
+            let sampled = max_abs_controls(fine);
+            let peak = planned.plan.max_abs_u;
+            assert!(peak[0] >= sampled[0] && peak[1] >= sampled[1], "{peak:?} vs {sampled:?}");
+            let (t, dq) = (fine.t.iter().step_by(10).copied(), fine.dq.iter().step_by(10).copied());
+            let coarse = Trajectory { t: t.collect(), dq: dq.collect(), ..Default::default() };
+            let coarse_peak = peak_controls(planned.motion.as_ref(), &coarse).unwrap();
+            for k in 0..2 {
+                let (c, f) = (coarse_peak[k], peak[k]);
+                assert!((c - f).abs() <= 1e-9 * f, "({a}, {b}) {method:?} u{}: {c} vs {f}", k + 1);
+            }
+        }
+    }
+}

@@ -229,3 +229,79 @@ fn plans_to_an_end_effector_pose() {
     assert_eq!(far.status.code(), Some(2), "{}", stderr(&far));
     assert!(stderr(&far).contains("out of reach"), "{}", stderr(&far));
 }
+
+/// Issue 11, item 5.1: a band plan whose `kappa` came from a coarse quadrature left the band
+/// ("leaves the band", exit 3); now it is certified and `band.lambda_range` is the final path's.
+#[test]
+fn band_plan_with_a_fine_kappa_is_certified() {
+    let o = freefloat(&[
+        "plan",
+        "--method",
+        "nfa",
+        "--mount=-0.6806,-0.0684",
+        "--from=-161.452,-132.37,122.396",
+        "--to=130.052,-72.462,82.138",
+        "--format",
+        "json",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("json");
+    let band = &v["band"];
+    let (margin, range) = (band["margin"].as_f64().expect("margin"), &band["lambda_range"]);
+    let (lo, hi) = (range[0].as_f64().expect("number"), range[1].as_f64().expect("number"));
+    assert!(margin <= lo && lo < hi && hi <= 1.0 - margin, "{band}");
+    assert!(v["final_error"].as_f64().expect("number") <= 1e-9);
+}
+
+/// Issue 11, item 5.2: whether the global normal form takes the polynomial path or the band
+/// steering does not depend on `--samples` (at 20001 samples it was a polynomial plan with
+/// peak |u2| 1676 rad/s, not certified; at 1001 a band plan).
+#[test]
+fn band_or_polynomial_does_not_depend_on_samples() {
+    for samples in ["1001", "20001"] {
+        let o = freefloat(&[
+            "plan",
+            "--method",
+            "nfa",
+            "--mount=-0.3022,-0.3933",
+            "--from=-116.871,-144.801,-25.144",
+            "--to=160.882,171.748,-23.402",
+            "--samples",
+            samples,
+            "--format",
+            "json",
+        ]);
+        assert!(o.status.success(), "{samples}: {}", stderr(&o));
+        let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("json");
+        assert_eq!(v["steering"], "band", "{samples}");
+        assert!(v["final_error"].as_f64().expect("number") <= 1e-9);
+    }
+}
+
+/// Issue 11, item 5.3: the stretch for `--max-velocity` is decided on the velocity plan, before
+/// and whatever the torque level (a failing torque level used to skip it); the torques are those
+/// of the stretched plan.
+#[test]
+fn max_velocity_stretches_before_the_torque_level() {
+    let o = freefloat(&[
+        "plan",
+        "--method",
+        "nfa",
+        "--mount",
+        "1,-1",
+        "--max-velocity",
+        "2",
+        "--samples",
+        "201",
+        "--torques",
+        "--format",
+        "json",
+    ]);
+    assert!(stderr(&o).contains("horizon stretched"), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap_or_else(|_| panic!("json: {}", stderr(&o)));
+    assert!(v["time"].as_f64().expect("time") > 10.0);
+    let peak =
+        v["max_abs_u"].as_array().expect("array").iter().map(|x| x.as_f64().expect("number")).fold(0.0, f64::max);
+    assert!(peak <= 2.0 * (1.0 + 1e-9), "peak |u| {peak}");
+    assert!(v["max_abs_torque"].is_array() && v["torque_final_error"].is_number(), "{v}");
+}

@@ -4,7 +4,7 @@ use std::time::Instant;
 
 use super::motion::NfaMotion;
 use super::normal_form::{NewtonOptions, NormalForm, Transform};
-use super::steering::{BandOptions, BandSteering, PolynomialSteering, Steering};
+use super::steering::{BandOptions, BandSteering, PolynomialSteering, Steering, keeps_to_band};
 use crate::error::Error;
 use crate::model::InputError;
 use crate::numerics::ode::OdeOptions;
@@ -103,20 +103,31 @@ impl NormalFormPlanner {
         nf.check(&problem.goal, "goal", None)?;
         let z0 = nf.h(problem.start.to_array());
         let zd = nf.h(problem.goal.to_array());
-        let polynomial = PolynomialSteering::new(z0, zd, problem.horizon).map(Steering::Polynomial);
-        let attempt = polynomial.and_then(|steering| {
+        let polynomial = PolynomialSteering::new(z0, zd, problem.horizon);
+        let sampled = |steering: Steering| -> Result<NfaMotion, Error> {
             let mut motion = NfaMotion::new(nf.clone(), steering);
             motion.sample(problem, self.options.samples)?;
             Ok(motion)
-        });
-        let motion = match attempt {
-            Err(Error::LeavesBand { .. } | Error::DegenerateSteering { .. }) if transform == Transform::Global => {
-                let band = BandSteering::new(&nf, &problem.start, z0, zd, problem.horizon, &self.options.band)?;
-                let mut motion = NfaMotion::new(nf, Steering::Band(band));
-                motion.sample(problem, self.options.samples)?;
-                motion
+        };
+        let band = |nf: &NormalForm| -> Result<NfaMotion, Error> {
+            let band = BandSteering::new(nf, &problem.start, z0, zd, problem.horizon, &self.options.band)?;
+            sampled(Steering::Band(band))
+        };
+        let motion = match polynomial {
+            // The global normal form keeps the polynomial path only where it keeps to the band
+            // as the band steering would: decided on the path, whatever the number of samples.
+            Ok(path)
+                if transform == Transform::Global && !keeps_to_band(&nf, &problem.start, &path, &self.options.band) =>
+            {
+                // When no band steering is found, the polynomial path may still be followed.
+                band(&nf).or_else(|e| sampled(Steering::Polynomial(path)).map_err(|_| e))?
             }
-            result => result?,
+            Ok(path) => match sampled(Steering::Polynomial(path)) {
+                Err(Error::LeavesBand { .. }) if transform == Transform::Global => band(&nf)?,
+                result => result?,
+            },
+            Err(Error::DegenerateSteering { .. }) if transform == Transform::Global => band(&nf)?,
+            Err(e) => return Err(e),
         };
         // The path's last sample inverts zd on the start's piece of the domain: if that is not
         // the goal, the goal lies on another piece with the same z (e.g. theta2 whole turns away

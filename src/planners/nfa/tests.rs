@@ -152,3 +152,48 @@ fn band_steering_starts_and_ends_at_rest() {
         assert!((dz3 - p.z[1] * p.v[0]).abs() < 1e-6 * (1.0 + dz3.abs()), "t = {t}: {dz3} vs {}", p.z[1] * p.v[0]);
     }
 }
+
+/// Issue 11, item 5.1: the band steering's `kappa` is the final path's, and `lambda_range` (in
+/// the report) describes that path: here a coarse quadrature's `kappa` was accepted and the
+/// re-solved path left the band at t = 3.59 s.
+#[test]
+fn band_kappa_and_lambda_range_are_the_final_paths() {
+    let robot = RobotParams::src().with_mount(Mount::new(-0.6806, -0.0684).unwrap()).unwrap();
+    let start = Configuration::from_degrees(-161.452, -132.37, 122.396);
+    let goal = Configuration::from_degrees(130.052, -72.462, 82.138);
+    let problem = PlanningProblem::new(robot, start, goal, 10.0).unwrap();
+    let options = NfaOptions { transform: Some(Transform::Global), ..Default::default() };
+    let (plan, motion) = NormalFormPlanner::new(options).plan_with_motion(&problem).unwrap();
+    assert!(plan.verification.certified, "{:?}", plan.verification);
+    let super::steering::Steering::Band(band) = &motion.steering else { panic!("a band plan") };
+    let choice = band.choice;
+    let n = 100_000;
+    let (lo, hi) = (0..=n)
+        .map(|i| band.lambda_at(problem.horizon * i as f64 / n as f64))
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |r, l| (r.0.min(l), r.1.max(l)));
+    assert!(choice.lambda_range[0] >= choice.margin && choice.lambda_range[1] <= 1.0 - choice.margin, "{choice:?}");
+    // The reported range holds the path's lambda and is reached by it.
+    assert!(lo >= choice.lambda_range[0] - 1e-12 && hi <= choice.lambda_range[1] + 1e-12, "{lo}, {hi}: {choice:?}");
+    assert!(lo - choice.lambda_range[0] < 1e-6 && choice.lambda_range[1] - hi < 1e-6, "{lo}, {hi}: {choice:?}");
+}
+
+/// Issue 11, item 5.2: polynomial path or band steering is decided on the path, not on the
+/// samples: here the polynomial path came within 2.4 % of the band's edge (peak |u2| 1676
+/// rad/s, not certified) and was taken at 20001 samples but not at 1001.
+#[test]
+fn polynomial_or_band_does_not_depend_on_the_samples() {
+    let robot = RobotParams::src().with_mount(Mount::new(-0.3022, -0.3933).unwrap()).unwrap();
+    let start = Configuration::from_degrees(-116.871, -144.801, -25.144);
+    let goal = Configuration::from_degrees(160.882, 171.748, -23.402);
+    let problem = PlanningProblem::new(robot, start, goal, 10.0).unwrap();
+    let choices: Vec<_> = [101, 1001, 20001]
+        .into_iter()
+        .map(|samples| {
+            let options = NfaOptions { transform: Some(Transform::Global), samples, ..Default::default() };
+            let (plan, motion) = NormalFormPlanner::new(options).plan_with_motion(&problem).unwrap();
+            assert!(plan.verification.certified, "{samples} samples: {:?}", plan.verification);
+            motion.steering.band_choice().unwrap_or_else(|| panic!("{samples} samples: a band plan"))
+        })
+        .collect();
+    assert!(choices.iter().all(|c| c == &choices[0]), "{choices:?}");
+}

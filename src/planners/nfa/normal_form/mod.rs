@@ -350,6 +350,12 @@ impl NormalForm {
             .unwrap_or((theta2_ref - std::f64::consts::PI, theta2_ref + std::f64::consts::PI))
     }
 
+    /// The band `{sign(sigma) = start's}` at `theta1` that holds (or is nearest to) `theta2_ref`,
+    /// `None` when sigma has no zero at this `theta1` (the band has no edges there).
+    pub fn band_edges(&self, theta1: f64, theta2_ref: f64) -> Option<(f64, f64)> {
+        global::band(&self.lumped, self.sigma_sign, theta1, theta2_ref)
+    }
+
     /// `theta2` with `h3(theta1, theta2) = z2` inside the band near `guess` (global form): the
     /// joint part of [`NormalForm::invert`], without `phi`.
     pub fn band_theta2(&self, theta1: f64, z2: f64, guess: f64, t: Option<f64>) -> Result<f64, Error> {

@@ -1,7 +1,7 @@
 //! Beyond the paper: band steering of the chained form (10) inside the domain of the global
 //! normal form (Sec. 6, item 3), with its options, its choice and the Chebyshev fit of the band.
 
-use super::ChainedPoint;
+use super::{ChainedPoint, PolynomialSteering};
 use crate::Scalar;
 use crate::error::Error;
 use crate::model::Configuration;
@@ -74,7 +74,7 @@ pub struct BandSteering {
     knots: Vec<f64>,
 }
 
-/// Number of quadrature intervals of `z3` for the final path.
+/// Number of quadrature intervals of `z3`, for every candidate path and so for the final one.
 const Z3_KNOTS: usize = 1000;
 
 impl BandSteering {
@@ -95,8 +95,7 @@ impl BandSteering {
         let lower_integral = lower.integral();
         let lambda_of = |z: [f64; 3]| (z[1] - lower.eval(z[0])) / width.eval(z[0]);
         let lambda = [lambda_of(z0), lambda_of(zd)];
-        let edge = |l: f64| l.min(1.0 - l);
-        let margin = options.margin.min(edge(lambda[0]) / 2.0).min(edge(lambda[1]) / 2.0);
+        let margin = band_margin(options, lambda);
         let fixed = lower_integral.eval(zd[0]) - lower_integral.eval(z0[0]);
         let rule = GaussLegendre::new(5);
         let template = Self {
@@ -112,18 +111,16 @@ impl BandSteering {
             knots: Vec::new(),
         };
         let w3 = zd[2] - z0[2] - fixed;
+        // Each candidate's kappa comes from the same fine quadrature of z3 that the final path
+        // uses, and its lambda range is checked at that kappa: the accepted path is the path.
         let try_candidate = |(loops, amplitude): (usize, f64)| -> Option<Self> {
             let mut path = template.clone();
             path.choice.loops = loops;
             path.choice.amplitude = amplitude;
-            let [base, unit] = path.area_integrals(4 * (loops + 1));
-            if unit.abs() < 1e-12 || !w1.is_finite() {
+            if !w1.is_finite() || !path.tabulate_z3(w3) {
                 return None;
             }
-            path.choice.kappa = (w3 - base) / unit;
-            let range = (0..=128)
-                .map(|i| path.lambda_at(horizon * i as f64 / 128.0))
-                .fold([f64::INFINITY, f64::NEG_INFINITY], |r, l| [r[0].min(l), r[1].max(l)]);
+            let range = path.lambda_range();
             path.choice.lambda_range = range;
             (range[0] >= margin && range[1] <= 1.0 - margin).then_some(path)
         };
@@ -153,11 +150,9 @@ impl BandSteering {
             .map(|p| (p.peak_velocity_estimate(nf, start), p))
             .filter(|(peak, _)| peak.is_finite())
             .min_by(|x, y| x.0.total_cmp(&y.0));
-        let Some((_, mut path)) = best else {
+        let Some((_, path)) = best else {
             return Err(Error::NoBandSteering { loops: options.max_loops, amplitude: reach - 0.1 });
         };
-        // The exact kappa from the fine quadrature of z3, which is tabulated on the way.
-        path.tabulate_z3(w3);
         Ok(path)
     }
 
@@ -182,15 +177,8 @@ impl BandSteering {
         peak
     }
 
-    /// `(integral_0^T lambda W z1' dt at kappa = 0, its derivative in kappa)` on `pieces` panels.
-    fn area_integrals(&self, pieces: usize) -> [f64; 2] {
-        let h = self.horizon / pieces as f64;
-        (0..pieces)
-            .map(|i| self.area_panel(i as f64 * h, (i + 1) as f64 * h))
-            .fold([0.0; 2], |s, p| [s[0] + p[0], s[1] + p[1]])
-    }
-
-    /// [`Self::area_integrals`] over one panel `[a, b]`, with the Gauss–Legendre rule.
+    /// `(integral_a^b lambda W z1' dt at kappa = 0, its derivative in kappa)` over one panel
+    /// `[a, b]`, with the Gauss–Legendre rule.
     fn area_panel(&self, a: f64, b: f64) -> [f64; 2] {
         let (mid, half) = ((a + b) / 2.0, (b - a) / 2.0);
         let mut out = [0.0; 2];
@@ -205,10 +193,30 @@ impl BandSteering {
         out
     }
 
-    /// `lambda(t)`.
-    fn lambda_at(&self, t: f64) -> f64 {
+    /// `lambda(t)`: where the path is across the band at `t` \[s\], 0 at its lower edge `L`, 1
+    /// at its upper edge `L + W`.
+    pub fn lambda_at(&self, t: f64) -> f64 {
         let s = smoothstep(t / self.horizon);
         self.lambda_parts(s, self.choice.kappa)
+    }
+
+    /// `[min lambda, max lambda]` over `[0, T]` at the path's `kappa`: a grid of
+    /// `max(128, 32 (N + 1))` intervals (at least 32 per loop of `cos(2 pi N s)`) with every
+    /// local extremum refined by golden-section search, so the range is the path's to
+    /// `1e-12 T` in time, independent of any sampling of the plan.
+    fn lambda_range(&self) -> [f64; 2] {
+        use crate::numerics::extremum::{refined_max, uniform_times};
+        let times = uniform_times(self.horizon, 128.max(32 * (self.choice.loops + 1)));
+        let values: Vec<f64> = times.iter().map(|&t| self.lambda_at(t)).collect();
+        let negated: Vec<f64> = values.iter().map(|v| -v).collect();
+        let tolerance = 1e-12 * self.horizon;
+        let infallible = |r: Result<(f64, f64), std::convert::Infallible>| match r {
+            Ok(found) => found.1,
+            Err(never) => match never {},
+        };
+        let max = infallible(refined_max(|t| Ok(self.lambda_at(t)), &times, &values, f64::INFINITY, tolerance));
+        let min = -infallible(refined_max(|t| Ok(-self.lambda_at(t)), &times, &negated, f64::INFINITY, tolerance));
+        [min, max]
     }
 
     /// `lambda(s) = (1 - e) (lambda0 + (lambdad - lambda0) s) + e/2 + kappa e cos(2 pi N s)` with
@@ -242,20 +250,26 @@ impl BandSteering {
     }
 
     /// Tabulates `integral_0^t lambda W z1' dt` at the knots, solving on the way for the `kappa`
-    /// that makes `z3(T) - z03 - (FL(zd1) - FL(z01)) = w3`.
-    fn tabulate_z3(&mut self, w3: f64) {
-        let h = self.horizon / Z3_KNOTS as f64;
-        let mut parts = Vec::with_capacity(Z3_KNOTS + 1);
+    /// that makes `z3(T) - z03 - (FL(zd1) - FL(z01)) = w3`; false when `kappa` does not move
+    /// `z3(T)` (no such `kappa`).
+    fn tabulate_z3(&mut self, w3: f64) -> bool {
+        let panels = Z3_KNOTS;
+        let h = self.horizon / panels as f64;
+        let mut parts = Vec::with_capacity(panels + 1);
         let mut acc = [0.0; 2];
         parts.push(acc);
-        for i in 0..Z3_KNOTS {
+        for i in 0..panels {
             let p = self.area_panel(i as f64 * h, (i + 1) as f64 * h);
             acc = [acc[0] + p[0], acc[1] + p[1]];
             parts.push(acc);
         }
+        if !(acc[1].abs() >= 1e-12) {
+            return false;
+        }
         let kappa = (w3 - acc[0]) / acc[1];
         self.choice.kappa = kappa;
         self.knots = parts.iter().map(|p| p[0] + kappa * p[1]).collect();
+        kappa.is_finite()
     }
 
     /// The path at `t` \[s\] with exact first and second time derivatives: `z` carries `z'` and `v`
@@ -291,8 +305,9 @@ impl BandSteering {
 
     /// `z3(t) = z03 + (FL(z1(t)) - FL(z01)) + integral_0^t lambda W z1' dt`.
     fn z3_at(&self, t: f64) -> f64 {
-        let h = self.horizon / Z3_KNOTS as f64;
-        let i = ((t / h).round().max(0.0) as usize).min(Z3_KNOTS);
+        let panels = self.knots.len() - 1;
+        let h = self.horizon / panels as f64;
+        let i = ((t / h).round().max(0.0) as usize).min(panels);
         let kappa = self.choice.kappa;
         let knot = i as f64 * h;
         let partial = if (t - knot).abs() <= 1e-13 * self.horizon {
@@ -302,6 +317,71 @@ impl BandSteering {
         };
         let z1 = self.z1_of(smoothstep(t / self.horizon));
         self.z0[2] + self.lower_integral.eval(z1) - self.lower_integral.eval(self.z0[0]) + partial
+    }
+}
+
+/// The margin `eps` kept by the band steering: [`BandOptions::margin`], less when an end is
+/// nearer the band's edge (half its distance, so that the ends themselves are inside).
+fn band_margin(options: &BandOptions, lambda: [f64; 2]) -> f64 {
+    let edge = |l: f64| l.min(1.0 - l);
+    options.margin.min(edge(lambda[0]) / 2.0).min(edge(lambda[1]) / 2.0)
+}
+
+/// Number of equal intervals of `[0, T]` on which [`keeps_to_band`] starts (then refined).
+const BAND_CHECK_INTERVALS: usize = 1024;
+
+/// Beyond the paper: whether the polynomial path of Sec. 5 keeps to the band of the global
+/// normal form as the band steering would, with `lambda(t) = (z2 - L(z1)) / W(z1)` in
+/// `[eps, 1 - eps]` and the same margin `eps` ([`BandSteering`]). Decided on the path itself,
+/// not on the plan's samples: the band's edges exactly (zeros of sigma, tracked from the start),
+/// `lambda` on a fixed grid of 1024 intervals, every local extremum refined
+/// by golden-section search. Where sigma has no zero the band has no edge to keep from.
+pub fn keeps_to_band(nf: &NormalForm, start: &Configuration, path: &PolynomialSteering, options: &BandOptions) -> bool {
+    use crate::numerics::extremum::{refined_max, uniform_times};
+    let horizon = path.horizon;
+    let n = BAND_CHECK_INTERVALS;
+    let h = horizon / n as f64;
+    let times = uniform_times(horizon, n);
+    // `(lambda, the band's centre)` at `t`, the band nearest `centre`; lambda `None` without edges.
+    let lambda_at = |t: f64, centre: f64| -> (Option<f64>, f64) {
+        let z = path.at(t).z;
+        match nf.band_edges(z[0], centre) {
+            Some((a, b)) => {
+                let (ha, hb) = (nf.h([0.0, z[0], a])[1], nf.h([0.0, z[0], b])[1]);
+                (Some((z[1] - ha.min(hb)) / (ha - hb).abs()), 0.5 * (a + b))
+            }
+            None => (None, centre),
+        }
+    };
+    let mut centre = start.theta2;
+    let mut lambdas = Vec::with_capacity(n + 1);
+    let mut centres = Vec::with_capacity(n + 1);
+    for &t in &times {
+        let (lambda, c) = lambda_at(t, centre);
+        centre = c;
+        lambdas.push(lambda);
+        centres.push(c);
+    }
+    let margin = match (lambdas[0], lambdas[n]) {
+        (Some(l0), Some(ld)) => band_margin(options, [l0, ld]),
+        _ => options.margin,
+    };
+    // How far lambda is outside [eps, 1 - eps] (negative inside), largest nearest an edge.
+    let excess = |lambda: Option<f64>| lambda.map_or(-1.0, |l| (margin - l).max(l - (1.0 - margin)));
+    let values: Vec<f64> = lambdas.iter().map(|&l| excess(l)).collect();
+    if values.iter().any(|v| !v.is_finite()) {
+        return false;
+    }
+    let refine = |t: f64| {
+        let i = ((t / h).round().max(0.0) as usize).min(n);
+        Ok::<_, std::convert::Infallible>(excess(lambda_at(t, centres[i]).0))
+    };
+    // Only maxima of the grid that the largest step between grid points could lift past the
+    // grid's largest value are refined.
+    let slack = values.windows(2).map(|w| (w[1] - w[0]).abs()).fold(0.0, f64::max);
+    match refined_max(refine, &times, &values, 2.0 * slack, 1e-12 * horizon) {
+        Ok((_, worst)) => worst <= 0.0,
+        Err(never) => match never {},
     }
 }
 

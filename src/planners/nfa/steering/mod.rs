@@ -10,7 +10,7 @@ mod polynomial;
 #[cfg(test)]
 mod tests;
 
-pub use band::{BandChoice, BandOptions, BandSteering};
+pub use band::{BandChoice, BandOptions, BandSteering, keeps_to_band};
 pub use polynomial::{Polynomial, PolynomialSteering};
 
 /// A point of a chained-form path: state `z`, controls `v` and their time derivatives `dv`.
