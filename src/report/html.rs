@@ -2,7 +2,8 @@
 //! table, every figure (PNG as data URIs) and an animation of the robot for each plan (canvas and
 //! inline JavaScript, `page.js`).
 
-use super::{Animation, DomainRow, SummaryRow, SweepSummary};
+use super::methods::methods_html;
+use super::{Animation, DomainRow, MethodRow, SummaryRow, SweepSummary};
 
 /// A figure of the page: its picture and, for a plan, its animation.
 #[derive(Debug, Clone)]
@@ -28,6 +29,8 @@ pub struct Page<'a> {
     pub domains: &'a [DomainRow],
     /// Fig. 16's summary.
     pub sweep: Option<&'a SweepSummary>,
+    /// The three methods side by side (Fig. 17).
+    pub methods: &'a [MethodRow],
     /// The figures, in order.
     pub figures: &'a [FigureEmbed],
     /// Wall time of the whole computation \[s\].
@@ -206,6 +209,13 @@ pub fn page(p: &Page) -> Result<String, serde_json::Error> {
             100.0 * w.connected_share,
             w.seconds
         );
+    }
+    if !p.methods.is_empty() {
+        s += "<h2>Three methods (<a href=\"#fig17\">Fig. 17</a>)</h2>\n";
+        s += "<p>The paper's problem by the minimum-effort planner, the NFA (auto: Eq. (12) or (14), else the \
+              global normal form) and the ECSA (plain series), each with its default options. Peaks are the \
+              motion's (refined between samples); effort is ∫|u|² dt.</p>\n";
+        s += &methods_html(p.methods);
     }
     s += "<h2>Figures</h2>\n";
     s += "<p class=\"note\">Animations: the base (grey rectangle, 0.6 m × 0.5 m, illustrative) at its \

@@ -1,4 +1,4 @@
-//! The paper's results of Sec. 5 (Figs. 4-14), and two beyond it (Figs. 15-16), as plans,
+//! The paper's results of Sec. 5 (Figs. 4-14), and three beyond it (Figs. 15-17), as plans,
 //! figures, a summary and a self-contained report page: what `freefloat reproduce` writes.
 //!
 //! Every number here is computed by the planners on the paper's problem
@@ -18,12 +18,14 @@ pub mod cases;
 pub mod figures;
 pub mod html;
 pub mod io;
+pub mod methods;
 pub mod plot;
 pub mod reproduce;
 pub mod summary;
 
 pub use cases::{Case, CaseMethod, CaseOutcome, PaperSeconds, cases};
 pub use figures::{Animation, BASE_SIZE, animation, plan_figure};
+pub use methods::{COMPARED_METHODS, METHOD_MOUNTS, MethodRow, methods_markdown};
 pub use summary::{
     DOMAIN_FIGURES, DOMAIN_GRID, DomainPanel, DomainRow, StageSeconds, SummaryRow, SweepSummary, domain_panel,
     summary_markdown, sweep_options,

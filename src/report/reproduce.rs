@@ -1,5 +1,5 @@
-//! The reproduction of the paper's results of Sec. 5 (Figs. 4-14) and two beyond it
-//! (Figs. 15-16) on the built-in defaults, as figures (SVG and PNG), `summary.md`,
+//! The reproduction of the paper's results of Sec. 5 (Figs. 4-14) and three beyond it
+//! (Figs. 15-17) on the built-in defaults, as figures (SVG and PNG), `summary.md`,
 //! `summary.json` and a self-contained `report.html` with an animation of every plan: what
 //! `freefloat reproduce` writes.
 
@@ -13,7 +13,8 @@ use super::cases::{Case, CaseMethod, CaseOutcome, cases};
 use super::figures::{animation, plan_figure};
 use super::html::{FigureEmbed, Page, page};
 use super::io::write_atomic;
-use super::plot::{PictureFormat, domain_pair_picture, plan_picture, sweep_picture};
+use super::methods::{MethodRow, method_jobs, methods_markdown};
+use super::plot::{PictureFormat, domain_pair_picture, methods_picture, plan_picture, sweep_picture};
 use super::summary::{
     DOMAIN_FIGURES, DomainPanel, DomainRow, SummaryRow, SweepSummary, domain_panel, summary_markdown, sweep_options,
 };
@@ -29,6 +30,8 @@ struct Summary<'a> {
     cases: &'a [SummaryRow],
     domains: &'a [DomainRow],
     sweep: &'a SweepSummary,
+    /// The three methods side by side (Fig. 17).
+    methods: &'a [MethodRow],
     /// Wall time of the computation and the pictures (before the page and the summary) \[s\].
     seconds: f64,
 }
@@ -71,7 +74,7 @@ fn description(outcome: &CaseOutcome) -> String {
 
 /// The number of jobs that [`reproduce`] reports to its progress callback.
 pub fn job_count() -> usize {
-    cases().len() + 2 * DOMAIN_FIGURES.len() + 1
+    cases().len() + 2 * DOMAIN_FIGURES.len() + 1 + method_jobs().len()
 }
 
 /// What [`reproduce`] wrote and found.
@@ -169,12 +172,29 @@ fn reproduce_into(out: &Path, progress: &(dyn Fn(&str, f64, &str) + Sync)) -> Re
     };
     let domain_jobs: Vec<(&str, f64, f64)> =
         DOMAIN_FIGURES.iter().flat_map(|(f, mounts)| mounts.iter().map(move |&(a, b)| (*f, a, b))).collect();
+    let run_method = |&(method, mount): &(crate::plan::Method, (f64, f64))| {
+        let clock = Instant::now();
+        let row = MethodRow::run(method, mount);
+        let status = match (row.final_error, row.torque_final_error) {
+            (Some(v), Some(c)) => format!("{v:.1e} rad, torques {c:.1e} rad"),
+            _ => "no plan".into(),
+        };
+        let what = format!("{:<14} {:<7} a, b = {}, {} m", "fig17", method.name(), mount.0, mount.1);
+        progress(&what, clock.elapsed().as_secs_f64(), &status);
+        row
+    };
+    let method_jobs = method_jobs();
     let robot = RobotParams::src();
-    let ((outcomes, panels), sweep) = rayon::join(
+    let (((outcomes, panels), method_rows), sweep) = rayon::join(
         || {
             rayon::join(
-                || all.par_iter().map(run_case).collect::<Vec<_>>(),
-                || domain_jobs.par_iter().map(|&j| run_domain(j)).collect::<Vec<_>>(),
+                || {
+                    rayon::join(
+                        || all.par_iter().map(run_case).collect::<Vec<_>>(),
+                        || domain_jobs.par_iter().map(|&j| run_domain(j)).collect::<Vec<_>>(),
+                    )
+                },
+                || method_jobs.par_iter().map(run_method).collect::<Vec<_>>(),
             )
         },
         || {
@@ -199,6 +219,7 @@ fn reproduce_into(out: &Path, progress: &(dyn Fn(&str, f64, &str) + Sync)) -> Re
         Plan(&'a CaseOutcome),
         Domains(&'static str, [&'a DomainPanel; 2]),
         Sweep,
+        Methods,
     }
     let mut pictures: Vec<(String, Picture)> = Vec::new();
     for (case, outcome) in all.iter().zip(&outcomes) {
@@ -210,6 +231,7 @@ fn reproduce_into(out: &Path, progress: &(dyn Fn(&str, f64, &str) + Sync)) -> Re
         pictures.push((figure.to_string(), Picture::Domains(figure, [&panels[2 * k], &panels[2 * k + 1]])));
     }
     pictures.push(("fig16".into(), Picture::Sweep));
+    pictures.push(("fig17".into(), Picture::Methods));
     pictures.sort_by(|a, b| a.0.cmp(&b.0));
     let rendered: Vec<(String, Vec<u8>, Vec<u8>)> = pictures
         .par_iter()
@@ -223,6 +245,7 @@ fn reproduce_into(out: &Path, progress: &(dyn Fn(&str, f64, &str) + Sync)) -> Re
                         domain_pair_picture([(&p.map, &p.overlay), (&q.map, &q.overlay)], format, &path)
                     }
                     Picture::Sweep => sweep_picture(&sweep_rows, format, &path),
+                    Picture::Methods => methods_picture(&method_rows, format, &path),
                 }
             };
             let (svg, png) = rayon::join(|| draw(PictureFormat::Svg), || draw(PictureFormat::Png));
@@ -266,6 +289,15 @@ fn reproduce_into(out: &Path, progress: &(dyn Fn(&str, f64, &str) + Sync)) -> Re
                         .to_string(),
                     None,
                 ),
+                Picture::Methods => (
+                    "Fig. 17 (beyond the paper): three methods, effort and peak joint velocity".to_string(),
+                    "The paper's problem at a = b = 0, 0.1, 0.2, 0.3 m and at a = 1 m, b = -1 m by the \
+                     minimum-effort planner, the NFA and the ECSA (default options): left the effort ∫|u|² dt, \
+                     right the peak |u|, on logarithmic axes. The numbers, with peak torques, both certificates \
+                     and times, are in the table above."
+                        .to_string(),
+                    None,
+                ),
             };
             FigureEmbed { name: name.clone(), title, description, png: Some(png.clone()), animation: anim }
         })
@@ -284,9 +316,15 @@ fn reproduce_into(out: &Path, progress: &(dyn Fn(&str, f64, &str) + Sync)) -> Re
         }))
         .collect();
     let domain_rows: Vec<DomainRow> = panels.iter().map(|p| p.row.clone()).collect();
-    let html =
-        page(&Page { rows: &rows, domains: &domain_rows, sweep: Some(&sweep_summary), figures: &figures, seconds })
-            .map_err(|e| InputError::Io { path: out.join("report.html"), source: std::io::Error::other(e) })?;
+    let html = page(&Page {
+        rows: &rows,
+        domains: &domain_rows,
+        sweep: Some(&sweep_summary),
+        methods: &method_rows,
+        figures: &figures,
+        seconds,
+    })
+    .map_err(|e| InputError::Io { path: out.join("report.html"), source: std::io::Error::other(e) })?;
     write_atomic(&out.join("report.html"), html.as_bytes())?;
     let (q0, qd, horizon) = paper_problem();
     let deg = |q: Configuration| q.to_array().map(f64::to_degrees);
@@ -295,12 +333,13 @@ fn reproduce_into(out: &Path, progress: &(dyn Fn(&str, f64, &str) + Sync)) -> Re
         cases: &rows,
         domains: &domain_rows,
         sweep: &sweep_summary,
+        methods: &method_rows,
         seconds,
     };
     let json = serde_json::to_vec_pretty(&summary)
         .map_err(|e| InputError::Io { path: out.join("summary.json"), source: std::io::Error::other(e) })?;
     write_atomic(&out.join("summary.json"), &json)?;
-    let md = summary_markdown(&rows, &domain_rows, Some(&sweep_summary));
+    let md = summary_markdown(&rows, &domain_rows, Some(&sweep_summary)) + &methods_markdown(&method_rows);
     write_atomic(&out.join("summary.md"), md.as_bytes())?;
     let files = 2 * rendered.len() + 3;
     let mut failures = Vec::new();

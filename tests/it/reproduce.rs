@@ -7,7 +7,7 @@ use std::time::{Duration, Instant};
 
 use approx::assert_relative_eq;
 use freefloat::plan::{TorqueOptions, torque_plan};
-use freefloat::report::plot::{DOMAIN_PAIR_SIZE, PLAN_FIGURE_SIZE, SWEEP_SIZE};
+use freefloat::report::plot::{DOMAIN_PAIR_SIZE, METHODS_SIZE, PLAN_FIGURE_SIZE, SWEEP_SIZE};
 use freefloat::{
     EcsaOptions, EcsaPlanner, Mount, NfaOptions, NormalFormPlanner, Planned, Planner, PlanningProblem, RobotParams,
     Transform,
@@ -33,6 +33,7 @@ fn figures() -> Vec<(String, (u32, u32))> {
         }
     }
     figures.push(("fig16".into(), SWEEP_SIZE));
+    figures.push(("fig17".into(), METHODS_SIZE));
     figures
 }
 
@@ -67,6 +68,10 @@ fn close(a: f64, b: f64) {
     assert_relative_eq!(a, b, max_relative = 1e-9, epsilon = 1e-300);
 }
 
+fn robot_at(a: f64, b: f64) -> RobotParams {
+    RobotParams::src().with_mount(Mount::new(a, b).expect("mount")).expect("robot")
+}
+
 #[test]
 fn reproduce_writes_every_file_whole_and_the_planners_numbers() {
     let dir = tempfile::tempdir().expect("temp dir");
@@ -74,7 +79,7 @@ fn reproduce_writes_every_file_whole_and_the_planners_numbers() {
     let o = reproduce(dir.path());
     let seconds = clock.elapsed().as_secs_f64();
     let stdout = String::from_utf8_lossy(&o.stdout);
-    assert!(stdout.contains("wrote 29 files"), "{stdout}");
+    assert!(stdout.contains("wrote 31 files"), "{stdout}");
     assert!(seconds < 60.0, "reproduce took {seconds} s");
 
     // Every file exists and is not empty; nothing else (no temporary files) is left.
@@ -120,7 +125,7 @@ fn reproduce_writes_every_file_whole_and_the_planners_numbers() {
     }
     // Self-contained: no external resources.
     assert!(!html.contains("http://") && !html.contains("https://") && !html.contains("src=\"/"));
-    assert_eq!(html.matches("data:image/png;base64,").count(), 13);
+    assert_eq!(html.matches("data:image/png;base64,").count(), 14);
     let summary: Value = serde_json::from_str(&json).expect("summary.json parses");
     let rows = summary["cases"].as_array().expect("cases");
     assert_eq!(rows.len(), 14);
@@ -140,6 +145,28 @@ fn reproduce_writes_every_file_whole_and_the_planners_numbers() {
     }
     assert_eq!(summary["domains"].as_array().expect("domains").len(), 4);
     assert_eq!(summary["sweep"]["points"], 121);
+
+    // The three methods (Fig. 17): five mounting points by three methods, every one planned and
+    // certified at the velocity level, in summary.md and on the page; one row recomputed here.
+    let methods = summary["methods"].as_array().expect("methods");
+    assert_eq!(methods.len(), 15);
+    assert!(md.contains("## Three methods") && html.contains("Three methods"));
+    for r in methods {
+        assert!(r["error"].is_null(), "{r}");
+        assert_eq!(r["certified"], true, "{r}");
+        for key in ["effort", "final_error", "torque_final_error"] {
+            assert!(f64_at(r, key).is_finite(), "{key}: {r}");
+        }
+    }
+    let options = freefloat::planners::PlannerOptions::default();
+    for (method, name) in [(freefloat::Method::Optimal, "optimal"), (freefloat::Method::Nfa, "nfa")] {
+        let planned = freefloat::planners::planner(method, &options).plan(&PlanningProblem::paper(robot_at(1.0, -1.0)));
+        let plan = planned.expect("a plan").plan;
+        let r = methods.iter().find(|r| r["method"] == name && r["mount"][0] == 1.0).expect("the row");
+        close(f64_at(r, "effort"), plan.effort);
+        close(pair_at(r, "max_abs_u")[0], plan.max_abs_u[0]);
+        close(pair_at(r, "max_abs_u")[1], plan.max_abs_u[1]);
+    }
 
     // The values are the planners': recompute an NFA case, an ECSA case and Fig. 15 here.
     let robot = |a: f64, b: f64| RobotParams::src().with_mount(Mount::new(a, b).expect("mount")).expect("robot");

@@ -1,5 +1,5 @@
-//! Pictures (SVG or PNG) of plans (Figs. 4-12), domain maps (Figs. 13-14) and of mount sweeps,
-//! drawn with plotters.
+//! Pictures (SVG or PNG) of plans (Figs. 4-12), domain maps (Figs. 13-14), mount sweeps and the
+//! three methods side by side (Fig. 17), drawn with plotters.
 //!
 //! Text is laid out with DejaVu Sans, embedded in the binary (the `dejavu` crate; Bitstream Vera
 //! license), and registered with plotters' `ab_glyph` renderer: pictures render the same on a
@@ -15,12 +15,14 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 mod domain;
+mod methods;
 mod plan;
 mod sweep;
 #[cfg(test)]
 mod tests;
 
 pub use domain::{DOMAIN_PAIR_SIZE, DomainOverlay, domain_pair_picture, domain_picture};
+pub use methods::{METHODS_SIZE, methods_picture};
 pub use plan::{PLAN_FIGURE_SIZE, Panel, PlanFigure, Series, plan_picture};
 pub use sweep::{SWEEP_SIZE, sweep_picture};
 
