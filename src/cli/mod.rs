@@ -5,6 +5,7 @@ mod domain;
 mod plan;
 mod reproduce;
 mod sweep;
+mod track;
 
 use std::process::ExitCode;
 
@@ -23,6 +24,7 @@ pub fn run() -> anyhow::Result<ExitCode> {
         Command::Reproduce(args) => reproduce::run(&args),
         Command::Domain(args) => domain::run(&args),
         Command::MountSweep(args) => sweep::run(&args),
+        Command::Track(args) => track::run(&args),
     }
 }
 

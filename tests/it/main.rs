@@ -4,3 +4,4 @@ mod cli;
 mod layout;
 mod properties;
 mod reproduce;
+mod track;
