@@ -367,10 +367,10 @@ pub struct TrackArgs {
     #[arg(long, value_name = "S", default_value_t = 0.3, allow_hyphen_values = true)]
     pub final_window: f64,
     /// Proportional gain of the joint loop in 1/s^2.
-    #[arg(long, default_value_t = 400.0, allow_hyphen_values = true)]
+    #[arg(long, default_value_t = 2500.0, allow_hyphen_values = true)]
     pub kp: f64,
     /// Derivative gain of the joint loop in 1/s.
-    #[arg(long, default_value_t = 40.0, allow_hyphen_values = true)]
+    #[arg(long, default_value_t = 100.0, allow_hyphen_values = true)]
     pub kd: f64,
     /// Forgetting time of the identification in s.
     #[arg(long, value_name = "S", default_value_t = 5.0, allow_hyphen_values = true)]

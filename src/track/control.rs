@@ -59,7 +59,7 @@ pub struct Gains {
 
 impl Default for Gains {
     fn default() -> Self {
-        Self { kp: 400.0, kd: 40.0 }
+        Self { kp: 2500.0, kd: 100.0 }
     }
 }
 
