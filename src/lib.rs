@@ -31,6 +31,7 @@ pub mod plan;
 pub mod planners;
 pub mod report;
 pub mod scalar;
+pub mod track;
 
 pub use error::{Error, Singularity};
 pub use model::{Configuration, Lumped, Mount, RobotParams, paper_problem};

@@ -27,6 +27,8 @@ pub enum Command {
     Domain(DomainArgs),
     /// Sweep mounting points (a, b): domain of Eq. (14) and NFA success rate; shardable.
     MountSweep(SweepArgs),
+    /// Track a plan in closed loop on a robot that is not the model (one run, or Monte Carlo).
+    Track(TrackArgs),
     /// Print a shell completion script (e.g. `freefloat completions bash > /etc/bash_completion.d/freefloat`).
     Completions(CompletionsArgs),
     /// Print the man page (roff; e.g. `freefloat man > freefloat.1`).
@@ -343,4 +345,86 @@ pub struct SweepRunArgs {
     /// milliseconds more each: use fewer points or trials).
     #[arg(long)]
     pub global: bool,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum ControllerArg {
+    /// The planned torques alone.
+    Open,
+    /// Computed torque with PD on the joint angles around the plan.
+    Ct,
+    /// ct plus re-planning on the nominal model from the measured state.
+    Replan,
+    /// replan on a model whose momentum map is identified on line.
+    Adaptive,
+}
+
+/// Flags of `freefloat track`.
+#[derive(Debug, Args)]
+pub struct TrackArgs {
+    /// The nominal robot (the planning model).
+    #[command(flatten)]
+    pub robot: RobotArgs,
+    #[command(flatten)]
+    pub ends: EndsArgs,
+    /// Controllers, comma-separated; several run side by side on the same robot and noise.
+    #[arg(long, value_enum, value_delimiter = ',', default_value = "adaptive")]
+    pub controller: Vec<ControllerArg>,
+    /// The true robot (TOML, docs/spec.md §1) [default: the nominal robot, or --perturb].
+    #[arg(long, value_name = "FILE", conflicts_with = "perturb")]
+    pub true_robot: Option<PathBuf>,
+    /// Perturb each mass, inertia, length and CoM distance by up to this fraction (seeded).
+    #[arg(long, value_name = "P", default_value_t = 0.0, allow_hyphen_values = true)]
+    pub perturb: f64,
+    /// Move the mounting point by up to this many metres in a and in b (seeded).
+    #[arg(long, value_name = "M", default_value_t = 0.0, allow_hyphen_values = true)]
+    pub perturb_mount: f64,
+    /// Seed of the true robot and of the noise.
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+    /// Relative torque noise (standard deviation).
+    #[arg(long, value_name = "REL", default_value_t = 0.0, allow_hyphen_values = true)]
+    pub torque_noise: f64,
+    /// Torque bias TAU1,TAU2 in N m.
+    #[arg(long, value_name = "TAU1,TAU2", default_value = "0,0", allow_hyphen_values = true)]
+    pub torque_bias: String,
+    /// Torque limit in N m (saturation) [default: none].
+    #[arg(long, value_name = "NM", allow_hyphen_values = true)]
+    pub torque_limit: Option<f64>,
+    /// Measurement noise on each angle, standard deviation in rad.
+    #[arg(long, value_name = "RAD", default_value_t = 0.0, allow_hyphen_values = true)]
+    pub noise_q: f64,
+    /// Measurement noise on each velocity, standard deviation in rad/s.
+    #[arg(long, value_name = "RAD_PER_S", default_value_t = 0.0, allow_hyphen_values = true)]
+    pub noise_dq: f64,
+    /// Control rate in Hz (zero-order hold).
+    #[arg(long, value_name = "HZ", default_value_t = 1000.0, allow_hyphen_values = true)]
+    pub rate: f64,
+    /// Re-planning rate in Hz.
+    #[arg(long, value_name = "HZ", default_value_t = 50.0, allow_hyphen_values = true)]
+    pub replan_rate: f64,
+    /// No re-plan starts in the last S seconds (the last one is the final correction).
+    #[arg(long, value_name = "S", default_value_t = 0.3, allow_hyphen_values = true)]
+    pub final_window: f64,
+    /// Proportional gain of the joint loop in 1/s^2.
+    #[arg(long, default_value_t = 2500.0, allow_hyphen_values = true)]
+    pub kp: f64,
+    /// Derivative gain of the joint loop in 1/s.
+    #[arg(long, default_value_t = 100.0, allow_hyphen_values = true)]
+    pub kd: f64,
+    /// Forgetting time of the identification in s.
+    #[arg(long, value_name = "S", default_value_t = 5.0, allow_hyphen_values = true)]
+    pub forgetting: f64,
+    /// Monte Carlo: run N seeded trials in parallel and print success rates.
+    #[arg(long, value_name = "N")]
+    pub trials: Option<usize>,
+    /// Output format on stdout.
+    #[arg(long, value_enum, default_value_t = DomainFormat::Table)]
+    pub format: DomainFormat,
+    /// Write reference vs actual (and torques) to FILE.csv (single run, first controller).
+    #[arg(long, value_name = "FILE.csv")]
+    pub out: Option<PathBuf>,
+    /// Draw reference vs actual angles, torques and errors to FILE (.svg or .png).
+    #[arg(long, value_name = "FILE")]
+    pub plot: Option<PathBuf>,
 }

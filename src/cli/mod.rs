@@ -7,6 +7,7 @@ mod output;
 mod plan;
 mod reproduce;
 mod sweep;
+mod track;
 
 use std::process::ExitCode;
 
@@ -36,6 +37,7 @@ pub fn run() -> anyhow::Result<ExitCode> {
         Command::Reproduce(args) => reproduce::run(&args),
         Command::Domain(args) => domain::run(&args),
         Command::MountSweep(args) => sweep::run(&args),
+        Command::Track(args) => track::run(&args),
         Command::Completions(args) => output::completions(args.shell),
         Command::Man => output::man(),
     };

@@ -7,8 +7,8 @@ use std::path::{Path, PathBuf};
 
 /// The layers of the library from the bottom up: a module may import only modules of a lower
 /// layer (or its own).
-const LAYERS: [&str; 10] =
-    ["scalar", "numerics", "model", "dynamics", "error", "plan", "planners", "analysis", "report", "cli"];
+const LAYERS: [&str; 11] =
+    ["scalar", "numerics", "model", "dynamics", "error", "plan", "planners", "analysis", "track", "report", "cli"];
 
 /// Concrete planners and their own entry points: the CLI and the report use planners only
 /// through `planners::planner` and the `Planner` trait.

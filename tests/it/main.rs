@@ -5,3 +5,4 @@ mod hostile;
 mod layout;
 mod properties;
 mod reproduce;
+mod track;

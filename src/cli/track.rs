@@ -1,0 +1,251 @@
+//! `freefloat track`: a plan tracked in closed loop on a robot that is not the model, once per
+//! controller side by side, or as a Monte Carlo run (docs/spec.md §3).
+
+use std::io::IsTerminal;
+use std::process::ExitCode;
+
+use anyhow::Context;
+use freefloat::planners::{PlannerOptions, planner};
+use freefloat::report::io::write_atomic;
+use freefloat::report::plot::{Panel, PictureFormat, PlanFigure, Series, plan_picture};
+use freefloat::track::{
+    Controller, Disturbances, Gains, IdentifyOptions, MonteCarloOptions, Perturbation, ReplanOptions, TrackOptions,
+    Tracked, monte_carlo, track,
+};
+use freefloat::{Method, PlanningProblem, RobotParams};
+
+use super::args::{ControllerArg, DomainFormat, TrackArgs};
+
+fn controller(c: ControllerArg) -> Controller {
+    match c {
+        ControllerArg::Open => Controller::Open,
+        ControllerArg::Ct => Controller::Ct,
+        ControllerArg::Replan => Controller::Replan,
+        ControllerArg::Adaptive => Controller::Adaptive,
+    }
+}
+
+/// The validated options of the flags (exit 2 on any bad value).
+fn options(args: &TrackArgs) -> anyhow::Result<TrackOptions> {
+    let torque_bias = super::parse_list::<2>("--torque-bias", &args.torque_bias)?;
+    let options = TrackOptions {
+        controller: Controller::Adaptive,
+        rate: args.rate,
+        substeps: 1,
+        gains: Gains { kp: args.kp, kd: args.kd },
+        replan: ReplanOptions { rate: args.replan_rate, final_window: args.final_window, ..Default::default() },
+        identify: IdentifyOptions { forgetting_time: args.forgetting, ..Default::default() },
+        disturbances: Disturbances {
+            torque_noise: args.torque_noise,
+            torque_bias,
+            torque_limit: args.torque_limit.unwrap_or(f64::INFINITY),
+            q_noise: args.noise_q,
+            dq_noise: args.noise_dq,
+        },
+        record: args.out.is_some() || args.plot.is_some(),
+    };
+    options.validate()?;
+    Ok(options)
+}
+
+/// Runs `freefloat track`.
+pub fn run(args: &TrackArgs) -> anyhow::Result<ExitCode> {
+    let robot = super::robot(&args.robot)?;
+    let [p0, a0, b0] = super::parse_list::<3>("--from", &args.ends.from)?;
+    let [p1, a1, b1] = super::parse_list::<3>("--to", &args.ends.to)?;
+    let problem = PlanningProblem::new(
+        robot,
+        freefloat::Configuration::from_degrees(p0, a0, b0),
+        freefloat::Configuration::from_degrees(p1, a1, b1),
+        args.ends.time,
+    )?;
+    let options = options(args)?;
+    let perturbation = Perturbation { relative: args.perturb, mount: args.perturb_mount };
+    perturbation.validate()?;
+    let truth = args.true_robot.as_deref().map(RobotParams::load).transpose()?;
+    let picture = args.plot.as_deref().map(PictureFormat::from_path).transpose()?;
+    let controllers: Vec<Controller> = args.controller.iter().map(|&c| controller(c)).collect();
+    let planned = planner(Method::Optimal, &PlannerOptions::default()).plan(&problem)?;
+    planned.certified()?;
+    if let Some(trials) = args.trials {
+        let mc = MonteCarloOptions { trials, seed: args.seed, truth, perturbation, controllers, ..Default::default() };
+        return monte(args, &problem, planned.motion.as_ref(), &options, &mc);
+    }
+    let truth = match truth {
+        Some(t) => t,
+        None => perturbation.apply(&robot, args.seed)?,
+    };
+    let runs = controllers
+        .iter()
+        .map(|&controller| {
+            let o = TrackOptions { controller, ..options.clone() };
+            track(&problem, planned.motion.as_ref(), &truth, &o, args.seed)
+        })
+        .collect::<Result<Vec<Tracked>, _>>()?;
+    match args.format {
+        DomainFormat::Json => println!("{}", serde_json::to_string_pretty(&runs)?),
+        DomainFormat::Table => print!("{}", table(&runs, &truth, &robot)),
+    }
+    if let Some(path) = &args.out {
+        write_atomic(path, &history_csv(&runs[0])?)?;
+    }
+    if let (Some(path), Some(format)) = (&args.plot, picture) {
+        write_atomic(path, &plan_picture(&figure(&runs[0]), format, path)?)?;
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+fn monte(
+    args: &TrackArgs,
+    problem: &PlanningProblem,
+    plan: &(dyn freefloat::Motion + Sync),
+    options: &TrackOptions,
+    mc: &MonteCarloOptions,
+) -> anyhow::Result<ExitCode> {
+    let bar = if std::io::stderr().is_terminal() {
+        indicatif::ProgressBar::new(mc.trials as u64)
+    } else {
+        indicatif::ProgressBar::hidden()
+    };
+    if let Ok(style) =
+        indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} trials, {elapsed} elapsed, eta {eta}")
+    {
+        bar.set_style(style);
+    }
+    let clock = std::time::Instant::now();
+    let (_, summaries) = monte_carlo(problem, plan, options, mc, &|| bar.inc(1))?;
+    bar.finish_and_clear();
+    if args.format == DomainFormat::Json {
+        println!("{}", serde_json::to_string_pretty(&summaries)?);
+        return Ok(ExitCode::SUCCESS);
+    }
+    println!(
+        "{} trials (seed {}), success = final error <= {:.0e} rad, {:.1} s on {} threads",
+        mc.trials,
+        mc.seed,
+        mc.success_tolerance,
+        clock.elapsed().as_secs_f64(),
+        rayon::current_num_threads()
+    );
+    println!("controller  success        median     p95        max        replan failures  s/run");
+    for s in &summaries {
+        println!(
+            "{:<10}  {:>5.1} % {:>5}  {:<9.2e}  {:<9.2e}  {:<9.2e}  {:>15}  {:.3}",
+            s.controller.name(),
+            100.0 * s.success_rate,
+            s.successes,
+            s.median_error,
+            s.p95_error,
+            s.max_error,
+            s.replan_failures,
+            s.mean_seconds
+        );
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+fn table(runs: &[Tracked], truth: &RobotParams, nominal: &RobotParams) -> String {
+    use std::fmt::Write;
+    let mut out = String::new();
+    let same = truth == nominal;
+    let _ = writeln!(out, "true robot: {}", if same { "the model" } else { "differs from the model" });
+    let mut row = |name: &str, f: &dyn Fn(&Tracked) -> String| {
+        let _ = write!(out, "{name:<26}");
+        for r in runs {
+            let _ = write!(out, "{:>16}", f(r));
+        }
+        out.push('\n');
+    };
+    row("controller", &|r| r.controller.name().to_string());
+    row("final error [rad]", &|r| format!("{:.3e}", r.final_error));
+    for (i, axis) in ["phi", "theta1", "theta2"].iter().enumerate() {
+        row(&format!("  {axis} [rad]"), &|r| format!("{:+.3e}", r.final_errors[i]));
+    }
+    row("peak |tau1| [N m]", &|r| format!("{:.4}", r.peak_torque[0]));
+    row("peak |tau2| [N m]", &|r| format!("{:.4}", r.peak_torque[1]));
+    row("saturated ticks", &|r| format!("{:.1} %", 100.0 * r.saturated_fraction));
+    row("re-plans (failed)", &|r| format!("{} ({})", r.replans, r.replan_failures));
+    row("re-plan time [s]", &|r| format!("{:.3}", r.replan_seconds));
+    row("slowest re-plan [ms]", &|r| format!("{:.2}", 1e3 * r.replan_max_seconds));
+    row("wall time [s]", &|r| format!("{:.3}", r.seconds));
+    for r in runs {
+        if let Some(id) = &r.identification {
+            let _ = writeln!(out, "identified constants ({}), kg m^2:", r.controller.name());
+            let _ = writeln!(out, "  {:<8}{:>12}{:>12}{:>12}", "", "nominal", "identified", "true");
+            for (i, name) in ["A", "B", "C", "D a", "D b", "E a", "E b", "I_P"].iter().enumerate() {
+                let _ =
+                    writeln!(out, "  {name:<8}{:>12.6}{:>12.6}{:>12.6}", id.nominal[i], id.identified[i], id.truth[i]);
+            }
+            let _ = writeln!(
+                out,
+                "  momentum-map error (G/F, H/F) against the truth: nominal {:.3e}, identified {:.3e}",
+                id.nominal_map_error, id.identified_map_error
+            );
+        }
+    }
+    out
+}
+
+fn history_csv(run: &Tracked) -> anyhow::Result<Vec<u8>> {
+    let h = run.history.as_ref().context("the run was not recorded")?;
+    let mut w = csv::Writer::from_writer(Vec::new());
+    w.write_record(["t_s", "phi_ref", "theta1_ref", "theta2_ref", "phi", "theta1", "theta2", "tau1_Nm", "tau2_Nm"])?;
+    for i in 0..h.t.len() {
+        let mut rec = vec![h.t[i]];
+        rec.extend(h.reference[i]);
+        rec.extend(h.actual[i]);
+        rec.extend(h.tau[i]);
+        w.write_record(rec.iter().map(|x| format!("{x:.12e}")))?;
+    }
+    Ok(w.into_inner()?)
+}
+
+fn figure(run: &Tracked) -> PlanFigure {
+    let Some(h) = run.history.as_ref() else { return PlanFigure::default() };
+    let series = |label: &str, f: &dyn Fn(usize) -> f64| Series {
+        label: label.into(),
+        points: (0..h.t.len()).map(|i| (h.t[i], f(i))).collect(),
+    };
+    let deg = f64::to_degrees;
+    let panel = |title: &str, y: &str, series: Vec<Series>| Panel {
+        title: title.into(),
+        x_label: "t [s]".into(),
+        y_label: y.into(),
+        series,
+        text: Vec::new(),
+    };
+    PlanFigure {
+        title: format!("closed loop: {}", run.controller.name()),
+        panels: vec![
+            panel(
+                "base angle",
+                "phi [deg]",
+                vec![series("reference", &|i| deg(h.reference[i][0])), series("actual", &|i| deg(h.actual[i][0]))],
+            ),
+            panel(
+                "joint angles",
+                "[deg]",
+                vec![
+                    series("theta1 ref", &|i| deg(h.reference[i][1])),
+                    series("theta1", &|i| deg(h.actual[i][1])),
+                    series("theta2 ref", &|i| deg(h.reference[i][2])),
+                    series("theta2", &|i| deg(h.actual[i][2])),
+                ],
+            ),
+            panel("torques", "[N m]", vec![series("tau1", &|i| h.tau[i][0]), series("tau2", &|i| h.tau[i][1])]),
+            panel(
+                "tracking error (actual - reference)",
+                "[deg]",
+                vec![
+                    series("phi", &|i| deg(h.actual[i][0] - h.reference[i][0])),
+                    series("theta1", &|i| deg(h.actual[i][1] - h.reference[i][1])),
+                    series("theta2", &|i| deg(h.actual[i][2] - h.reference[i][2])),
+                ],
+            ),
+        ],
+        caption: vec![format!(
+            "final error {:.3e} rad; {} re-plans ({} failed); peak torque {:.3}, {:.3} N m",
+            run.final_error, run.replans, run.replan_failures, run.peak_torque[0], run.peak_torque[1]
+        )],
+    }
+}

@@ -1,0 +1,128 @@
+//! The control laws, all on a model of the robot (the nominal one, or the identified one): the
+//! planned torques alone, and computed torque with PD feedback on the joint angles.
+
+use serde::Serialize;
+
+use super::plant::State;
+use crate::dynamics::{coriolis, inertia_matrix, joint_torques};
+use crate::error::Error;
+use crate::model::{Configuration, InputError, Lumped};
+use crate::plan::MotionPoint;
+
+/// The controller of a closed-loop run.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Controller {
+    /// Open loop: the planned torques (inverse dynamics of the plan on the model, Eq. 6).
+    Open,
+    /// Computed torque with PD feedback on the joint angles around the plan
+    /// ([`computed_torque`]).
+    Ct,
+    /// [`Controller::Ct`] plus receding-horizon re-planning on the nominal model from the measured
+    /// state to the goal in the remaining time.
+    Replan,
+    /// [`Controller::Replan`] on a model whose momentum map is identified on line (default).
+    #[default]
+    Adaptive,
+}
+
+impl Controller {
+    /// All controllers, weakest first.
+    pub const ALL: [Controller; 4] = [Controller::Open, Controller::Ct, Controller::Replan, Controller::Adaptive];
+
+    /// `open`, `ct`, `replan` or `adaptive`, as on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            Controller::Open => "open",
+            Controller::Ct => "ct",
+            Controller::Replan => "replan",
+            Controller::Adaptive => "adaptive",
+        }
+    }
+
+    /// True for the controllers that re-plan.
+    pub fn replans(self) -> bool {
+        matches!(self, Controller::Replan | Controller::Adaptive)
+    }
+}
+
+/// PD gains of the joint loop: `theta''_cmd = theta''_ref + kd e' + kp e`, `e = theta_ref -
+/// theta`. The defaults, `kp = 400 1/s^2`, `kd = 40 1/s`, make each joint's error a critically
+/// damped second-order system with natural frequency 20 rad/s, well below the 1 kHz control rate.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Gains {
+    /// Proportional gain [1/s^2].
+    pub kp: f64,
+    /// Derivative gain [1/s].
+    pub kd: f64,
+}
+
+impl Default for Gains {
+    fn default() -> Self {
+        Self { kp: 2500.0, kd: 100.0 }
+    }
+}
+
+impl Gains {
+    /// Checks the gains: finite, `kp >= 0`, `kd >= 0`.
+    pub fn validate(&self) -> Result<(), Error> {
+        for (name, value) in [("kp", self.kp), ("kd", self.kd)] {
+            if !(value.is_finite() && value >= 0.0) {
+                return Err(
+                    InputError::InvalidParameter { name: name.into(), value, expected: "a finite gain >= 0" }.into()
+                );
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Computed torque on the model `k` with PD feedback on the joint angles, for a torque held
+/// over a control tick.
+///
+/// The joints get the acceleration `a = theta''_ref + kd (theta'_ref - theta') + kp (theta_ref -
+/// theta)`; the base, unactuated, takes the acceleration that conserves the angular momentum
+/// (the first row of `M q'' + c = (0, tau)`: `phi'' = -(G a1 + H a2 + c_phi)/F`), and the
+/// torques are the last two rows of `M q'' + c` (Eqs. 3, 6). On the model, with exact
+/// measurements and a continuous loop, the joint errors obey `e'' + kd e' + kp e = 0`.
+///
+/// The law is evaluated at the centre of the tick, `half_tick` \[s\] after the measurement
+/// `from`: the state there is predicted from the measurement by the planned acceleration, and
+/// `centre` is the plan at that time. The held torque is then the midpoint value of the
+/// continuous law, so that the hold costs `O(dt^3)` per tick instead of `O(dt^2)`.
+///
+/// The base angle is not fed back: no joint loop can correct it (only the holonomy of the joint
+/// path moves it), which re-planning does.
+pub fn computed_torque(k: &Lumped, from: &State, centre: &MotionPoint, half_tick: f64, gains: &Gains) -> [f64; 2] {
+    // The prediction uses the planned acceleration alone: feedback against a plan half a tick
+    // ahead would bias it by `kp u dt / 2`.
+    let planned = accelerations(k, from, centre.du);
+    let (q, dq, h) = (from.q.to_array(), from.dq, half_tick);
+    let mid = State {
+        q: Configuration::from_array(std::array::from_fn(|i| q[i] + h * dq[i] + 0.5 * h * h * planned[i])),
+        dq: std::array::from_fn(|i| dq[i] + h * planned[i]),
+    };
+    let (mq, mdq) = (mid.q.to_array(), mid.dq);
+    let a: [f64; 2] = std::array::from_fn(|i| {
+        centre.du[i] + gains.kd * (centre.u[i] - mdq[i + 1]) + gains.kp * (centre.q.to_array()[i + 1] - mq[i + 1])
+    });
+    let ddq = accelerations(k, &mid, a);
+    let m = inertia_matrix(k, mid.q.theta1, mid.q.theta2);
+    let c = coriolis(k, &mid.q, mid.dq);
+    let row = |r: usize| m[(r, 0)] * ddq[0] + m[(r, 1)] * ddq[1] + m[(r, 2)] * ddq[2] + c[r];
+    [row(1), row(2)]
+}
+
+/// The planned torques held over a tick: the inverse dynamics on the model `k` (Eq. 6) at
+/// `centre`, the plan at the centre of the tick (open loop).
+pub fn feedforward(k: &Lumped, centre: &MotionPoint) -> [f64; 2] {
+    joint_torques(k, centre)
+}
+
+/// `q'' = (phi'', a1, a2)` at `state` on the model when the joints accelerate by `a`: the base
+/// takes `phi'' = -(G a1 + H a2 + c_phi)/F`, the first row of `M q'' + c = (0, tau)`.
+fn accelerations(k: &Lumped, state: &State, a: [f64; 2]) -> [f64; 3] {
+    let m = inertia_matrix(k, state.q.theta1, state.q.theta2);
+    let c = coriolis(k, &state.q, state.dq);
+    [-(m[(0, 1)] * a[0] + m[(0, 2)] * a[1] + c[0]) / m[(0, 0)], a[0], a[1]]
+}

@@ -1,0 +1,162 @@
+//! Monte Carlo runs: many seeded true robots and noise sequences, each tracked by every
+//! controller asked for, in parallel; success rates by controller.
+
+use rayon::prelude::*;
+use serde::Serialize;
+
+use super::control::Controller;
+use super::noise::Noise;
+use super::perturb::Perturbation;
+use super::run::{TrackOptions, track};
+use crate::error::Error;
+use crate::model::{InputError, RobotParams};
+use crate::plan::{Motion, PlanningProblem};
+
+/// Options of a Monte Carlo run.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MonteCarloOptions {
+    /// Number of trials; at least 1.
+    pub trials: usize,
+    /// Seed of the trials: trial `i` draws its robot and noise from [`trial_seed`]`(seed, i)`.
+    pub seed: u64,
+    /// The true robot of every trial: `None` draws one per trial by [`MonteCarloOptions::perturbation`].
+    pub truth: Option<RobotParams>,
+    /// The model error drawn per trial when `truth` is `None`.
+    pub perturbation: Perturbation,
+    /// The controllers run on each trial (on the same robot and noise).
+    pub controllers: Vec<Controller>,
+    /// A trial succeeds when its final error is at most this \[rad\]; default 1e-3.
+    pub success_tolerance: f64,
+}
+
+impl Default for MonteCarloOptions {
+    fn default() -> Self {
+        Self {
+            trials: 100,
+            seed: 0,
+            truth: None,
+            perturbation: Perturbation::default(),
+            controllers: vec![Controller::Adaptive],
+            success_tolerance: 1e-3,
+        }
+    }
+}
+
+/// The seed of trial `trial` of a run seeded `seed`.
+pub fn trial_seed(seed: u64, trial: u64) -> u64 {
+    let mut n = Noise::new(seed, u64::MAX - trial);
+    (n.uniform() * (1u64 << 53) as f64) as u64
+}
+
+/// One controller on one trial.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Trial {
+    /// Trial number, from 0.
+    pub trial: usize,
+    /// The controller.
+    pub controller: Controller,
+    /// Final error \[rad\] (infinite if the motion diverged).
+    pub final_error: f64,
+    /// Re-plans used.
+    pub replans: usize,
+    /// Re-plans failed.
+    pub replan_failures: usize,
+    /// Wall time of the run \[s\].
+    pub seconds: f64,
+}
+
+/// Success rate and error quantiles of one controller.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Summary {
+    /// The controller.
+    pub controller: Controller,
+    /// Trials run.
+    pub trials: usize,
+    /// Trials with final error within the tolerance.
+    pub successes: usize,
+    /// `successes / trials`.
+    pub success_rate: f64,
+    /// Median final error \[rad\].
+    pub median_error: f64,
+    /// 95th percentile of the final error \[rad\].
+    pub p95_error: f64,
+    /// Largest final error \[rad\].
+    pub max_error: f64,
+    /// Re-plans that failed, over all trials.
+    pub replan_failures: usize,
+    /// Mean wall time of a run \[s\].
+    pub mean_seconds: f64,
+}
+
+/// Runs the trials in parallel (rayon), calling `progress` after each; returns every trial and
+/// the summary by controller.
+pub fn monte_carlo(
+    problem: &PlanningProblem,
+    plan: &(dyn Motion + Sync),
+    options: &TrackOptions,
+    mc: &MonteCarloOptions,
+    progress: &(dyn Fn() + Sync),
+) -> Result<(Vec<Trial>, Vec<Summary>), Error> {
+    if mc.trials == 0 || mc.controllers.is_empty() {
+        return Err(InputError::InvalidParameter {
+            name: "trials".into(),
+            value: mc.trials as f64,
+            expected: "at least one trial of at least one controller",
+        }
+        .into());
+    }
+    mc.perturbation.validate()?;
+    options.validate()?;
+    let per_trial: Vec<Vec<Trial>> = (0..mc.trials)
+        .into_par_iter()
+        .map(|i| {
+            let seed = trial_seed(mc.seed, i as u64);
+            let truth = match mc.truth {
+                Some(r) => r,
+                None => mc.perturbation.apply(&problem.robot, seed)?,
+            };
+            let trials = mc
+                .controllers
+                .iter()
+                .map(|&controller| {
+                    let o = TrackOptions { controller, record: false, ..options.clone() };
+                    let r = track(problem, plan, &truth, &o, seed)?;
+                    Ok(Trial {
+                        trial: i,
+                        controller,
+                        final_error: r.final_error,
+                        replans: r.replans,
+                        replan_failures: r.replan_failures,
+                        seconds: r.seconds,
+                    })
+                })
+                .collect::<Result<Vec<_>, Error>>();
+            progress();
+            trials
+        })
+        .collect::<Result<_, Error>>()?;
+    let trials: Vec<Trial> = per_trial.into_iter().flatten().collect();
+    let summaries = mc.controllers.iter().map(|&c| summarise(c, &trials, mc.success_tolerance)).collect();
+    Ok((trials, summaries))
+}
+
+fn summarise(controller: Controller, trials: &[Trial], tolerance: f64) -> Summary {
+    let mine: Vec<&Trial> = trials.iter().filter(|t| t.controller == controller).collect();
+    let mut errors: Vec<f64> =
+        mine.iter().map(|t| if t.final_error.is_nan() { f64::INFINITY } else { t.final_error }).collect();
+    errors.sort_by(f64::total_cmp);
+    let n = errors.len();
+    let quantile = |p: f64| errors.get(((n as f64 - 1.0) * p).round() as usize).copied().unwrap_or(f64::NAN);
+    let successes = errors.iter().filter(|&&e| e <= tolerance).count();
+    Summary {
+        controller,
+        trials: n,
+        successes,
+        success_rate: successes as f64 / n.max(1) as f64,
+        median_error: quantile(0.5),
+        p95_error: quantile(0.95),
+        max_error: errors.last().copied().unwrap_or(f64::NAN),
+        replan_failures: mine.iter().map(|t| t.replan_failures).sum(),
+        mean_seconds: mine.iter().map(|t| t.seconds).sum::<f64>() / n.max(1) as f64,
+    }
+}

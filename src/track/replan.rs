@@ -1,0 +1,133 @@
+//! Receding-horizon re-planning: from the measured state, with its joint velocity, to the goal
+//! in the remaining time, with the minimum-effort planner on cheap settings; and the reference
+//! that the joint loop follows between re-plans.
+
+use super::plant::State;
+use crate::error::Error;
+use crate::model::{Configuration, InputError, RobotParams};
+use crate::numerics::ode::OdeOptions;
+use crate::plan::{Method, Motion, MotionPoint, PlanningProblem};
+use crate::planners::optimal::OptimalOptions;
+use crate::planners::{PlannerOptions, planner};
+
+/// Options of the re-planning.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ReplanOptions {
+    /// Re-plans per second \[Hz\]; default 50. At most the control rate.
+    pub rate: f64,
+    /// No re-plan starts in the last `final_window` seconds \[s\]: the last one, this long before
+    /// the end, is the final correction, tracked to the end by the joint loop (shorter horizons
+    /// ask for accelerations that amplify the noise); default 0.3 s.
+    pub final_window: f64,
+    /// A re-plan is used only when its velocity-level certificate (on the model, from the
+    /// measured state) ends within this of the goal \[rad\]; otherwise it counts as a failure and
+    /// the last plan stays; default 1e-6.
+    pub accept: f64,
+    /// The planner's options: few samples, a coarse basis, one target, no NFA seed, the goal
+    /// taken literally (the representative of the first plan); `initial_velocity` is set from
+    /// the measurement at each re-plan.
+    pub planner: OptimalOptions,
+}
+
+impl Default for ReplanOptions {
+    fn default() -> Self {
+        Self {
+            rate: 50.0,
+            final_window: 0.3,
+            accept: 1e-6,
+            planner: OptimalOptions {
+                samples: 2,
+                coarse_spans: 6,
+                max_spans: 6,
+                nfa_seed: false,
+                targets_solved: 1,
+                finalists: 1,
+                wrap: false,
+                tolerance: 1e-6,
+                ode: OdeOptions { rtol: 1e-10, atol: 1e-10, max_steps: 100_000 },
+                ..OptimalOptions::default()
+            },
+        }
+    }
+}
+
+impl ReplanOptions {
+    /// Checks the options against the control rate \[Hz\].
+    pub fn validate(&self, control_rate: f64) -> Result<(), Error> {
+        let bad = |name: &str, value: f64, expected: &'static str| {
+            Err(Error::from(InputError::InvalidParameter { name: name.into(), value, expected }))
+        };
+        if !(self.rate > 0.0 && self.rate <= control_rate) {
+            return bad("replan-rate", self.rate, "a positive rate [Hz] no faster than the control rate");
+        }
+        if !(self.final_window.is_finite() && self.final_window >= 0.0) {
+            return bad("final-window", self.final_window, "a duration >= 0 [s]");
+        }
+        if !(self.accept > 0.0) {
+            return bad("replan accept tolerance", self.accept, "a positive number [rad]");
+        }
+        self.planner.validate()
+    }
+}
+
+/// The motion the joint loop follows: a plan and the time it started \[s\].
+pub enum Reference<'a> {
+    /// The initial plan, starting at `t = 0`.
+    Initial(&'a (dyn Motion + Sync)),
+    /// A re-plan started at `t0`.
+    Replanned {
+        /// The re-planned motion (its own time starts at 0).
+        motion: Box<dyn Motion + Send + Sync>,
+        /// When it started \[s\].
+        t0: f64,
+    },
+}
+
+impl Reference<'_> {
+    /// The reference at time `t` of the run \[s\], held at the plan's end after it.
+    pub fn at(&self, t: f64) -> Result<MotionPoint, Error> {
+        let (motion, t0): (&dyn Motion, f64) = match self {
+            Reference::Initial(m) => (*m, 0.0),
+            Reference::Replanned { motion, t0 } => (motion.as_ref(), *t0),
+        };
+        let s = (t - t0).clamp(0.0, motion.horizon());
+        let mut p = motion.at(s)?;
+        if t - t0 > motion.horizon() {
+            // Past the end: at rest at the goal.
+            (p.u, p.du) = ([0.0; 2], [0.0; 2]);
+        }
+        Ok(p)
+    }
+}
+
+/// The re-planner of a run: the goal's representative and the planner.
+pub struct Replanner {
+    goal: Configuration,
+    options: ReplanOptions,
+}
+
+impl Replanner {
+    /// Re-plans toward `goal`, taken literally (the end of the first plan).
+    pub fn new(goal: Configuration, options: ReplanOptions) -> Self {
+        Self { goal, options }
+    }
+
+    /// A plan on `model` from the measured state at time `t` to the goal at `horizon` \[s\]:
+    /// `Ok(None)` when the planner fails or its plan is not accepted (see
+    /// [`ReplanOptions::accept`]).
+    pub fn replan(
+        &self,
+        model: &RobotParams,
+        measured: &State,
+        t: f64,
+        horizon: f64,
+    ) -> Option<Box<dyn Motion + Send + Sync>> {
+        let problem = PlanningProblem::new(*model, measured.q, self.goal, horizon - t).ok()?;
+        let optimal =
+            OptimalOptions { initial_velocity: [measured.dq[1], measured.dq[2]], ..self.options.planner.clone() };
+        let planner = planner(Method::Optimal, &PlannerOptions { optimal, ..Default::default() });
+        let planned = planner.plan(&problem).ok()?;
+        let e = planned.plan.verification.final_error;
+        (e.is_finite() && e <= self.options.accept).then_some(planned.motion)
+    }
+}

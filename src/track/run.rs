@@ -1,0 +1,257 @@
+//! One closed-loop run: the plant driven by a controller at a fixed rate with zero-order hold,
+//! from the start of a plan to its horizon.
+
+use std::time::Instant;
+
+use serde::Serialize;
+
+use super::control::{Controller, Gains, computed_torque, feedforward};
+use super::identify::{Constants, Identifier, IdentifyOptions, constants, fit_robot, momentum_map_error};
+use super::plant::{Disturbances, Plant};
+use super::replan::{Reference, ReplanOptions, Replanner};
+use crate::error::Error;
+use crate::model::{InputError, RobotParams, wrap_angle};
+use crate::plan::{Motion, PlanningProblem};
+
+/// Options of a closed-loop run.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TrackOptions {
+    /// The controller; default [`Controller::Adaptive`].
+    pub controller: Controller,
+    /// Control rate \[Hz\]: the measurement is read and the torque set this often, and held
+    /// in between (zero-order hold); default 1000. From 1 to 1e6.
+    pub rate: f64,
+    /// Runge–Kutta steps of the plant per control tick; default 1.
+    pub substeps: usize,
+    /// Joint-loop gains.
+    pub gains: Gains,
+    /// Re-planning (for `replan` and `adaptive`).
+    pub replan: ReplanOptions,
+    /// Identification (for `adaptive`).
+    pub identify: IdentifyOptions,
+    /// Actuator and sensor imperfections.
+    pub disturbances: Disturbances,
+    /// Keep the reference and the actual motion at every tick ([`Tracked::history`]); default
+    /// false.
+    pub record: bool,
+}
+
+impl Default for TrackOptions {
+    fn default() -> Self {
+        Self {
+            controller: Controller::default(),
+            rate: 1000.0,
+            substeps: 1,
+            gains: Gains::default(),
+            replan: ReplanOptions::default(),
+            identify: IdentifyOptions::default(),
+            disturbances: Disturbances::default(),
+            record: false,
+        }
+    }
+}
+
+impl TrackOptions {
+    /// Checks every option.
+    pub fn validate(&self) -> Result<(), Error> {
+        if !(self.rate >= 1.0 && self.rate <= 1e6) {
+            return Err(InputError::InvalidParameter {
+                name: "rate".into(),
+                value: self.rate,
+                expected: "a control rate from 1 to 1e6 Hz",
+            }
+            .into());
+        }
+        if !(1..=1000).contains(&self.substeps) {
+            return Err(InputError::InvalidParameter {
+                name: "substeps".into(),
+                value: self.substeps as f64,
+                expected: "1 to 1000 integration steps per tick",
+            }
+            .into());
+        }
+        self.gains.validate()?;
+        self.replan.validate(self.rate)?;
+        self.identify.validate()?;
+        self.disturbances.validate()
+    }
+}
+
+/// The motion of a run, tick by tick (when [`TrackOptions::record`] is set).
+#[derive(Debug, Clone, Default, PartialEq, Serialize)]
+pub struct History {
+    /// Times \[s\].
+    pub t: Vec<f64>,
+    /// The reference `q` followed at each time (the current plan) \[rad\].
+    pub reference: Vec<[f64; 3]>,
+    /// The true `q` \[rad\].
+    pub actual: Vec<[f64; 3]>,
+    /// The torque applied over the tick that starts there [N m].
+    pub tau: Vec<[f64; 2]>,
+}
+
+/// The identified model against the true robot, at the end of an `adaptive` run.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Identification {
+    /// `(A, B, C, D a, D b, E a, E b, I_P)` of the true robot [kg m^2].
+    pub truth: Constants,
+    /// The same constants of the identified model.
+    pub identified: Constants,
+    /// The same constants of the nominal model.
+    pub nominal: Constants,
+    /// [`momentum_map_error`] of the nominal model against the truth.
+    pub nominal_map_error: f64,
+    /// [`momentum_map_error`] of the identified model against the truth.
+    pub identified_map_error: f64,
+}
+
+/// The result of a closed-loop run.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Tracked {
+    /// The controller.
+    pub controller: Controller,
+    /// `max_i |wrap(q_i(T) - qd_i)|` \[rad\]; infinite when the motion diverged.
+    pub final_error: f64,
+    /// `wrap(q_i(T) - qd_i)` per coordinate `(phi, theta1, theta2)` \[rad\].
+    pub final_errors: [f64; 3],
+    /// `q'(T)` [rad/s].
+    pub final_velocity: [f64; 3],
+    /// `[max |tau1|, max |tau2|]` applied [N m].
+    pub peak_torque: [f64; 2],
+    /// Fraction of the ticks whose command exceeded the torque limit.
+    pub saturated_fraction: f64,
+    /// Re-plans used.
+    pub replans: usize,
+    /// Re-plans that failed or were not accepted (the last plan stayed).
+    pub replan_failures: usize,
+    /// Wall time of all re-plans, identification fits included \[s\].
+    pub replan_seconds: f64,
+    /// Wall time of the slowest re-plan \[s\].
+    pub replan_max_seconds: f64,
+    /// Wall time of the run \[s\].
+    pub seconds: f64,
+    /// Time at which the simulated motion diverged \[s\], if it did.
+    pub diverged_at: Option<f64>,
+    /// The identified model (`adaptive` only).
+    pub identification: Option<Identification>,
+    /// The motion tick by tick, when recorded.
+    #[serde(skip)]
+    pub history: Option<History>,
+}
+
+/// Runs `plan` (planned for `problem`, on the nominal robot `problem.robot`) on the true robot
+/// `truth` under the controller of `options`, from `problem.start` at rest to the horizon.
+/// `seed` keys the plant's noise. Re-planning failures are counted, never fatal; a diverging
+/// motion ends the run with an infinite error.
+pub fn track(
+    problem: &PlanningProblem,
+    plan: &(dyn Motion + Sync),
+    truth: &RobotParams,
+    options: &TrackOptions,
+    seed: u64,
+) -> Result<Tracked, Error> {
+    options.validate()?;
+    truth.validate()?;
+    let clock = Instant::now();
+    let horizon = problem.horizon;
+    let ticks = (horizon * options.rate).round().max(1.0) as usize;
+    let dt = horizon / ticks as f64;
+    let every = (options.rate / options.replan.rate).round().max(1.0) as usize;
+    let controller = options.controller;
+    let goal = plan.at(horizon)?.q;
+    let replanner = Replanner::new(goal, options.replan.clone());
+    let mut identifier = Identifier::new(&problem.robot, options.identify);
+    let mut model = problem.robot;
+    let mut k = model.lumped();
+    let mut reference = Reference::Initial(plan);
+    let mut plant = Plant::new(truth, problem.start, options.disturbances, seed);
+    let mut history = options.record.then(History::default);
+    let (mut peak, mut saturated, mut replans, mut failures) = ([0.0_f64; 2], 0usize, 0usize, 0usize);
+    let (mut replan_seconds, mut replan_max) = (0.0_f64, 0.0_f64);
+    let mut diverged_at = None;
+    for i in 0..ticks {
+        let t = i as f64 * dt;
+        let measured = plant.measure();
+        if controller == Controller::Adaptive {
+            identifier.update(&measured, dt);
+        }
+        if controller.replans() && i > 0 && i % every == 0 && horizon - t >= options.replan.final_window - 0.5 * dt {
+            let started = Instant::now();
+            if controller == Controller::Adaptive
+                && let Ok((fitted, _)) = fit_robot(&identifier.estimate(), &model)
+            {
+                model = fitted;
+                k = model.lumped();
+            }
+            match replanner.replan(&model, &measured, t, horizon) {
+                Some(motion) => {
+                    reference = Reference::Replanned { motion, t0: t };
+                    replans += 1;
+                }
+                None => failures += 1,
+            }
+            let s = started.elapsed().as_secs_f64();
+            (replan_seconds, replan_max) = (replan_seconds + s, replan_max.max(s));
+        }
+        // The law is evaluated at the centre of the tick (see `computed_torque`).
+        // The law is evaluated at the centre of the tick (see `computed_torque`).
+        let centre = reference.at(t + 0.5 * dt)?;
+        let command = match controller {
+            Controller::Open => feedforward(&k, &centre),
+            _ => computed_torque(&k, &measured, &centre, 0.5 * dt, &options.gains),
+        };
+        let before = plant.state().q.to_array();
+        let applied = plant.step(command, dt, options.substeps);
+        peak = [peak[0].max(applied.tau[0].abs()), peak[1].max(applied.tau[1].abs())];
+        saturated += usize::from(applied.saturated);
+        if let Some(h) = history.as_mut() {
+            h.t.push(t);
+            h.reference.push(reference.at(t)?.q.to_array());
+            h.actual.push(before);
+            h.tau.push(applied.tau);
+        }
+        if !plant.is_finite() {
+            diverged_at = Some(t + dt);
+            break;
+        }
+    }
+    let end = plant.state();
+    let final_errors: [f64; 3] = if diverged_at.is_some() {
+        [f64::INFINITY; 3]
+    } else {
+        std::array::from_fn(|i| wrap_angle(end.q.to_array()[i] - problem.goal.to_array()[i]))
+    };
+    if let Some(h) = history.as_mut() {
+        h.t.push(horizon);
+        h.reference.push(reference.at(horizon)?.q.to_array());
+        h.actual.push(end.q.to_array());
+        h.tau.push(*h.tau.last().unwrap_or(&[0.0; 2]));
+    }
+    let identification = (controller == Controller::Adaptive).then(|| {
+        let kt = truth.lumped();
+        let kn = problem.robot.lumped();
+        Identification {
+            truth: constants(&kt),
+            identified: constants(&k),
+            nominal: constants(&kn),
+            nominal_map_error: momentum_map_error(&kn, &kt),
+            identified_map_error: momentum_map_error(&k, &kt),
+        }
+    });
+    Ok(Tracked {
+        controller,
+        final_error: final_errors.iter().fold(0.0_f64, |m, e| m.max(e.abs())),
+        final_errors,
+        final_velocity: end.dq,
+        peak_torque: peak,
+        saturated_fraction: saturated as f64 / ticks as f64,
+        replans,
+        replan_failures: failures,
+        replan_seconds,
+        replan_max_seconds: replan_max,
+        seconds: clock.elapsed().as_secs_f64(),
+        diverged_at,
+        identification,
+        history,
+    })
+}

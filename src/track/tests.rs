@@ -1,0 +1,148 @@
+//! The closed loop against the planners' certificates and against each other.
+
+use super::*;
+use crate::model::{Mount, RobotParams};
+use crate::plan::{PlanningProblem, TorqueOptions};
+use crate::planners::{Planned, PlannerOptions, planner};
+use crate::{Method, Motion};
+
+fn paper(a: f64, b: f64) -> (PlanningProblem, Planned) {
+    let robot = RobotParams::src().with_mount(Mount::new(a, b).unwrap()).unwrap();
+    let problem = PlanningProblem::paper(robot);
+    let planned = planner(Method::Optimal, &PlannerOptions::default()).plan(&problem).unwrap();
+    (problem, planned)
+}
+
+fn motion(p: &Planned) -> &(dyn Motion + Sync) {
+    p.motion.as_ref()
+}
+
+/// The perturbed setting of issue 12: 5 % parameters, 1 cm mount, 1 % torque noise, 1e-5
+/// measurement noise.
+fn noisy(controller: Controller) -> TrackOptions {
+    let disturbances = Disturbances { torque_noise: 0.01, q_noise: 1e-5, dq_noise: 1e-5, ..Default::default() };
+    TrackOptions { controller, disturbances, ..Default::default() }
+}
+
+#[test]
+fn open_loop_on_the_model_reproduces_the_torque_certificate() {
+    let (problem, mut planned) = paper(0.1, 0.1);
+    let report = planned.add_torques(&TorqueOptions::default()).unwrap();
+    // The zero-order hold costs O(dt^2): at 16 kHz it is below 1e-8 rad.
+    let options = TrackOptions { controller: Controller::Open, rate: 16_000.0, ..Default::default() };
+    let run = track(&problem, motion(&planned), &problem.robot, &options, 0).unwrap();
+    let gap = run_reached(&run, &problem).distance(&report.certificate.reached);
+    assert!(gap < 1e-8, "open loop ends {gap:.3e} rad from the certificate's q(T)");
+    assert!((run.final_error - report.certificate.final_error).abs() < 1e-8);
+}
+
+fn run_reached(run: &Tracked, problem: &PlanningProblem) -> crate::Configuration {
+    let g = problem.goal.to_array();
+    crate::Configuration::from_array(std::array::from_fn(|i| g[i] + run.final_errors[i]))
+}
+
+#[test]
+fn computed_torque_on_the_model_reaches_the_goal() {
+    let (problem, planned) = paper(0.1, 0.1);
+    let options = TrackOptions { controller: Controller::Ct, ..Default::default() };
+    let run = track(&problem, motion(&planned), &problem.robot, &options, 0).unwrap();
+    assert!(run.final_error < 1e-7, "ct on the model ends {:.3e} rad off", run.final_error);
+}
+
+#[test]
+fn replan_beats_ct_and_adaptive_beats_replan_on_a_perturbed_robot() {
+    let (problem, planned) = paper(0.1, 0.1);
+    let truth = Perturbation { relative: 0.05, mount: 0.01 }.apply(&problem.robot, 3).unwrap();
+    let error = |c| track(&problem, motion(&planned), &truth, &noisy(c), 3).unwrap().final_error;
+    let (ct, replan, adaptive) = (error(Controller::Ct), error(Controller::Replan), error(Controller::Adaptive));
+    assert!(replan < ct && adaptive < replan, "ct {ct:.3e}, replan {replan:.3e}, adaptive {adaptive:.3e}");
+    assert!(adaptive < 1e-3);
+}
+
+/// Noise-free measurements of the true robot moving with zero momentum along a joint path
+/// that excites every constant: the estimate, and the robot fitted to it, recover the true
+/// constants up to their common factor.
+#[test]
+fn identification_recovers_the_true_constants_without_noise() {
+    use crate::model::system::velocity;
+    let nominal = RobotParams::src().with_mount(Mount::new(0.1, 0.1).unwrap()).unwrap();
+    let truth = Perturbation { relative: 0.05, mount: 0.01 }.apply(&nominal, 5).unwrap();
+    let kt = truth.lumped();
+    let mut id = identify::Identifier::new(&nominal, IdentifyOptions::default());
+    let dt = 1e-3;
+    for i in 0..20_000 {
+        let t = i as f64 * dt;
+        let (th1, th2) = (2.0 * (0.7 * t).sin(), 1.0 + 1.5 * (1.3 * t).cos());
+        let u = [1.4 * (0.7 * t).cos(), -1.95 * (1.3 * t).sin()];
+        let dq = velocity(&kt, [0.0, th1, th2], u);
+        id.update(&plant::State { q: crate::Configuration::new(0.0, th1, th2), dq }, dt);
+    }
+    let unit = |c: &identify::Constants| {
+        let n = c.iter().map(|x| x * x).sum::<f64>().sqrt();
+        c.map(|x| x / n)
+    };
+    let gap = |a: &identify::Constants, b: &identify::Constants| {
+        unit(a).iter().zip(unit(b)).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max)
+    };
+    let estimate = id.estimate();
+    let truth_c = identify::constants(&kt);
+    let nominal_gap = gap(&truth_c, &identify::constants(&nominal.lumped()));
+    assert!(gap(&truth_c, &estimate) < 1e-5, "estimate {:.2e} (nominal {nominal_gap:.2e})", gap(&truth_c, &estimate));
+    let (fitted, residual) = identify::fit_robot(&estimate, &nominal).unwrap();
+    let fitted_c = identify::constants(&fitted.lumped());
+    assert!(
+        residual < 1e-4 && gap(&truth_c, &fitted_c) < 1e-5,
+        "fit {:.2e}, residual {residual:.2e}",
+        gap(&truth_c, &fitted_c)
+    );
+    assert!(identify::momentum_map_error(&fitted.lumped(), &kt) < 1e-5);
+}
+
+/// In an `adaptive` run the identified model's momentum map is closer to the truth than the
+/// nominal one.
+#[test]
+fn adaptive_run_improves_the_momentum_map() {
+    let (problem, planned) = paper(0.1, 0.1);
+    let truth = Perturbation { relative: 0.05, mount: 0.01 }.apply(&problem.robot, 5).unwrap();
+    let options = TrackOptions { controller: Controller::Adaptive, ..Default::default() };
+    let id = track(&problem, motion(&planned), &truth, &options, 5).unwrap().identification.unwrap();
+    assert!(id.identified_map_error < 0.7 * id.nominal_map_error, "{id:?}");
+}
+
+#[test]
+fn a_replanning_failure_is_counted_not_fatal() {
+    let (problem, planned) = paper(0.1, 0.1);
+    let mut options = TrackOptions { controller: Controller::Replan, rate: 200.0, ..Default::default() };
+    options.replan.rate = 10.0;
+    // No plan meets this acceptance tolerance: every re-plan fails, the first plan stays.
+    options.replan.accept = 1e-300;
+    let run = track(&problem, motion(&planned), &problem.robot, &options, 0).unwrap();
+    assert_eq!(run.replans, 0);
+    assert!(run.replan_failures > 90, "{} failures", run.replan_failures);
+    assert!(run.final_error < 1e-4);
+}
+
+#[test]
+fn invalid_options_are_input_errors() {
+    let bad = [
+        TrackOptions { rate: 0.0, ..Default::default() },
+        TrackOptions { rate: f64::NAN, ..Default::default() },
+        TrackOptions { gains: Gains { kp: -1.0, kd: 1.0 }, ..Default::default() },
+        TrackOptions { disturbances: Disturbances { torque_noise: -0.1, ..Default::default() }, ..Default::default() },
+        TrackOptions { disturbances: Disturbances { torque_limit: 0.0, ..Default::default() }, ..Default::default() },
+        TrackOptions { replan: ReplanOptions { rate: 2000.0, ..Default::default() }, ..Default::default() },
+    ];
+    for options in bad {
+        assert!(options.validate().is_err_and(|e| e.is_bad_input()), "{options:?}");
+    }
+    assert!(Perturbation { relative: 0.7, mount: 0.0 }.validate().is_err());
+}
+
+#[test]
+fn saturation_is_counted() {
+    let (problem, planned) = paper(0.1, 0.1);
+    let disturbances = Disturbances { torque_limit: 0.2, ..Default::default() };
+    let options = TrackOptions { controller: Controller::Ct, rate: 200.0, disturbances, ..Default::default() };
+    let run = track(&problem, motion(&planned), &problem.robot, &options, 0).unwrap();
+    assert!(run.saturated_fraction > 0.0 && run.peak_torque.iter().all(|t| *t <= 0.2 + 1e-12));
+}
