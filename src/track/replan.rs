@@ -23,6 +23,11 @@ pub struct ReplanOptions {
     /// measured state) ends within this of the goal \[rad\]; otherwise it counts as a failure and
     /// the last plan stays; default 1e-6.
     pub accept: f64,
+    /// A re-plan is due only when the measured configuration is farther than this from the
+    /// current plan (`max_i |q_i - q_plan_i|`) \[rad\]: on a robot that follows its plan there
+    /// is nothing to correct, and each re-plan costs the hold's discretisation error of a
+    /// fresh, shorter plan; default 1e-7.
+    pub threshold: f64,
     /// The planner's options: few samples, a coarse basis, one target, no NFA seed, the goal
     /// taken literally (the representative of the first plan); `initial_velocity` is set from
     /// the measurement at each re-plan.
@@ -35,6 +40,7 @@ impl Default for ReplanOptions {
             rate: 50.0,
             final_window: 0.3,
             accept: 1e-6,
+            threshold: 1e-7,
             planner: OptimalOptions {
                 samples: 2,
                 coarse_spans: 6,
@@ -62,6 +68,9 @@ impl ReplanOptions {
         }
         if !(self.final_window.is_finite() && self.final_window >= 0.0) {
             return bad("final-window", self.final_window, "a duration >= 0 [s]");
+        }
+        if !(self.threshold.is_finite() && self.threshold >= 0.0) {
+            return bad("replan threshold", self.threshold, "a deviation >= 0 [rad]");
         }
         if !(self.accept > 0.0) {
             return bad("replan accept tolerance", self.accept, "a positive number [rad]");

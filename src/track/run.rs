@@ -175,7 +175,9 @@ pub fn track(
         if controller == Controller::Adaptive {
             identifier.update(&measured, dt);
         }
-        if controller.replans() && i > 0 && i % every == 0 && horizon - t >= options.replan.final_window - 0.5 * dt {
+        let due =
+            controller.replans() && i > 0 && i % every == 0 && horizon - t >= options.replan.final_window - 0.5 * dt;
+        if due && measured.q.distance(&reference.at(t)?.q) > options.replan.threshold {
             let started = Instant::now();
             if controller == Controller::Adaptive
                 && let Ok((fitted, _)) = fit_robot(&identifier.estimate(), &model)

@@ -13,6 +13,14 @@ fn paper(a: f64, b: f64) -> (PlanningProblem, Planned) {
     (problem, planned)
 }
 
+/// The paper's case of Fig. 6: the NFA with Eq. (14) at a = b = 0.1.
+fn fig06() -> (PlanningProblem, Planned) {
+    let robot = RobotParams::src().with_mount(Mount::new(0.1, 0.1).unwrap()).unwrap();
+    let problem = PlanningProblem::paper(robot);
+    let planned = planner(Method::Nfa, &PlannerOptions::default()).plan(&problem).unwrap();
+    (problem, planned)
+}
+
 fn motion(p: &Planned) -> &(dyn Motion + Sync) {
     p.motion.as_ref()
 }
@@ -43,10 +51,10 @@ fn run_reached(run: &Tracked, problem: &PlanningProblem) -> crate::Configuration
 
 #[test]
 fn computed_torque_on_the_model_reaches_the_goal() {
-    let (problem, planned) = paper(0.1, 0.1);
+    let (problem, planned) = fig06();
     let options = TrackOptions { controller: Controller::Ct, ..Default::default() };
     let run = track(&problem, motion(&planned), &problem.robot, &options, 0).unwrap();
-    assert!(run.final_error < 1e-7, "ct on the model ends {:.3e} rad off", run.final_error);
+    assert!(run.final_error < 1e-8, "ct on the model ends {:.3e} rad off", run.final_error);
 }
 
 #[test]
@@ -116,10 +124,24 @@ fn a_replanning_failure_is_counted_not_fatal() {
     options.replan.rate = 10.0;
     // No plan meets this acceptance tolerance: every re-plan fails, the first plan stays.
     options.replan.accept = 1e-300;
-    let run = track(&problem, motion(&planned), &problem.robot, &options, 0).unwrap();
+    let truth = Perturbation { relative: 0.05, mount: 0.01 }.apply(&problem.robot, 3).unwrap();
+    let run = track(&problem, motion(&planned), &truth, &options, 0).unwrap();
     assert_eq!(run.replans, 0);
     assert!(run.replan_failures > 90, "{} failures", run.replan_failures);
-    assert!(run.final_error < 1e-4);
+    // The run goes on as `ct` on the first plan.
+    let ct = TrackOptions { controller: Controller::Ct, ..options };
+    let ct = track(&problem, motion(&planned), &truth, &ct, 0).unwrap();
+    assert!((run.final_error - ct.final_error).abs() < 1e-12);
+}
+
+/// On the model, without noise, the plan is followed to within the threshold: no re-plan is
+/// due, and `replan` ends where `ct` does.
+#[test]
+fn replan_on_the_model_reaches_the_goal() {
+    let (problem, planned) = fig06();
+    let options = TrackOptions { controller: Controller::Replan, ..Default::default() };
+    let run = track(&problem, motion(&planned), &problem.robot, &options, 0).unwrap();
+    assert!(run.final_error < 1e-8, "replan on the model ends {:.3e} rad off", run.final_error);
 }
 
 #[test]
