@@ -28,6 +28,8 @@ pub mod seeds;
 pub mod spline;
 pub mod sqp;
 
+use std::cell::RefCell;
+use std::sync::Arc;
 use std::time::Instant;
 
 use serde::Serialize;
@@ -38,7 +40,7 @@ use crate::numerics::ode::OdeOptions;
 use crate::plan::{Method, Motion, Plan, PlanningProblem};
 use crate::planners::{Details, Planned, Planner};
 
-use discrete::{Discretisation, Targets};
+use discrete::{Discretisation, Table, Targets};
 
 pub use motion::{OptimalMotion, OptimalStats};
 use spline::SplineBasis;
@@ -194,6 +196,13 @@ pub(crate) struct Candidate {
     iterations: usize,
 }
 
+/// The discretisation tables built in one planning call, by (uniform spans, quadrature nodes).
+#[derive(Default)]
+pub(crate) struct Tables(RefCell<Vec<TableEntry>>);
+
+/// A cached table with its (uniform spans, quadrature nodes).
+type TableEntry = ((usize, usize), Arc<Table>);
+
 /// SQP options of the coarse ranking solves.
 const COARSE_SQP: SqpOptions =
     SqpOptions { max_iterations: 40, constraint_tolerance: 1e-10, kkt_tolerance: 1e-6, stall_iterations: 6 };
@@ -208,16 +217,27 @@ impl OptimalPlanner {
         SplineBasis::graded(self.options.degree(), horizon, spans, self.options.grading)
     }
 
+    /// The problem of `targets` on `spans` uniform spans and `nodes` quadrature nodes, its
+    /// tables built once per planning call.
     fn discretise(
         &self,
         problem: &PlanningProblem,
         targets: Targets,
         spans: usize,
         nodes: usize,
+        tables: &Tables,
     ) -> Result<Discretisation, Error> {
-        let basis = self.basis(problem.horizon, spans)?;
         let o = &self.options;
-        Discretisation::new(problem.robot.lumped(), o.cost, basis, targets, o.smooth_ends, nodes)
+        let cached = tables.0.borrow().iter().find(|(key, _)| *key == (spans, nodes)).map(|(_, t)| t.clone());
+        let table = match cached {
+            Some(t) => t,
+            None => {
+                let t = Arc::new(Table::new(self.basis(problem.horizon, spans)?, o.smooth_ends, nodes)?);
+                tables.0.borrow_mut().push(((spans, nodes), t.clone()));
+                t
+            }
+        };
+        Ok(Discretisation::on(problem.robot.lumped(), o.cost, table, targets))
     }
 
     /// All certified-candidate motions, best cost first (at least one), without verification.
@@ -229,9 +249,10 @@ impl OptimalPlanner {
             if o.nfa_seed && o.initial_velocity.iter().all(|u| u.abs() == 0.0) { self.nfa_path(problem) } else { None };
         let kappa_max = seeds::curvature_bound(&k);
         let sites = seeds::coil_sites(&k, o.max_loop_radius);
+        let tables = Tables::default();
         let mut prepared = Vec::new();
         for targets in self.targets(problem) {
-            prepared.push(self.prepare(problem, targets, kappa_max, &sites)?);
+            prepared.push(self.prepare(problem, targets, kappa_max, &sites, &tables)?);
         }
         prepared.sort_by(|a, b| a.estimate.total_cmp(&b.estimate));
         let mut seeds = 0;
@@ -248,7 +269,7 @@ impl OptimalPlanner {
                 if p.bound > best {
                     break;
                 }
-                let starts = self.starts(problem, &mut p, nfa.as_ref())?;
+                let starts = self.starts(problem, &mut p, nfa.as_ref(), &tables)?;
                 for x0 in starts {
                     let guess = p.multiplier_guess(&x0);
                     seeds += 1;
@@ -282,7 +303,7 @@ impl OptimalPlanner {
             }
             let mut done = Vec::new();
             for c in finalists {
-                let c = self.refine(problem, c)?;
+                let c = self.refine(problem, c, &tables)?;
                 total_iterations += c.iterations;
                 if c.result.converged() {
                     done.push(c);

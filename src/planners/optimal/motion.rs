@@ -98,11 +98,16 @@ impl OptimalMotion {
 
     /// `[theta, theta', theta'']` (joints) at `t` in knot span `span`, up to derivative `order`.
     fn joints_in<const K: usize>(&self, span: usize, t: f64, order: usize) -> [[f64; 2]; K] {
-        let d = self.basis.ders(span, t);
+        let d = if order <= 1 {
+            let [v, r] = self.basis.values_and_rates(span, t);
+            [v, r, Default::default()]
+        } else {
+            self.basis.ders(span, t)
+        };
         let p = self.basis.degree();
         let first = span - p;
         let mut out = [[0.0; 2]; K];
-        for (k, o) in out.iter_mut().enumerate().take(order + 1) {
+        for (k, o) in out.iter_mut().enumerate().take(order.min(2) + 1) {
             for (j, oj) in o.iter_mut().enumerate() {
                 *oj = (0..=p).map(|l| d[k][l] * self.coefficients[j][first + l]).sum();
             }

@@ -3,9 +3,9 @@
 
 use nalgebra::DVector;
 
-use super::OptimalPlanner;
 use super::discrete::{Discretisation, Targets};
 use super::seeds::{self, CoilSite, Line, Sampled, SeedKind};
+use super::{OptimalPlanner, Tables};
 use crate::error::Error;
 use crate::model::wrap_angle;
 use crate::plan::{Motion, PlanningProblem};
@@ -104,10 +104,11 @@ impl OptimalPlanner {
         targets: Targets,
         kappa_max: f64,
         sites: &[CoilSite; 2],
+        tables: &Tables,
     ) -> Result<Prepared, Error> {
         let o = &self.options;
         let k = problem.robot.lumped();
-        let disc = self.discretise(problem, targets, o.coarse_spans, o.quadrature_nodes)?;
+        let disc = self.discretise(problem, targets, o.coarse_spans, o.quadrature_nodes, tables)?;
         let line = Line {
             start: targets.start,
             end: targets.end,
@@ -140,10 +141,11 @@ impl OptimalPlanner {
         problem: &PlanningProblem,
         prepared: &mut Prepared,
         nfa: Option<&(Sampled, [f64; 2], f64)>,
+        tables: &Tables,
     ) -> Result<Vec<DVector<f64>>, Error> {
         if prepared.spans != self.options.coarse_spans {
             let targets = *prepared.disc.targets();
-            prepared.disc = self.discretise(problem, targets, prepared.spans, self.options.quadrature_nodes)?;
+            prepared.disc = self.discretise(problem, targets, prepared.spans, self.options.quadrature_nodes, tables)?;
         }
         let (disc, line) = (&prepared.disc, &prepared.line);
         let max_radius = self.options.max_loop_radius;
