@@ -247,8 +247,9 @@ impl OptimalPlanner {
         let k = problem.robot.lumped();
         let nfa =
             if o.nfa_seed && o.initial_velocity.iter().all(|u| u.abs() == 0.0) { self.nfa_path(problem) } else { None };
-        let kappa_max = seeds::curvature_bound(&k);
-        let sites = seeds::coil_sites(&k, o.max_loop_radius);
+        let grid = seeds::curvature_grid(&k);
+        let kappa_max = seeds::curvature_bound_on(&grid);
+        let sites = seeds::coil_sites_on(&k, o.max_loop_radius, &grid);
         let tables = Tables::default();
         let mut prepared = Vec::new();
         for targets in self.targets(problem) {
