@@ -66,7 +66,8 @@ impl Block {
     }
 
     /// Adds `scale * weight *` (gradient, and Hessian when `hessian`) of a local function at
-    /// `node` (chain rule through the linear map coefficients -> `(theta, theta')`).
+    /// `node` (chain rule through the linear map coefficients -> `(theta, theta')`). Only the
+    /// Hessian's blocks `(l, ll)` with `ll >= l` are summed (see [`Block::symmetrise`]).
     fn add(&mut self, p: usize, node: &Node, local: &Local, scale: f64, hessian: bool) {
         let w = scale * node.weight;
         let lg = &local.gradient;
@@ -86,11 +87,20 @@ impl Block {
                 // The local Hessian's row pair of this coefficient, contracted with its factors.
                 let row: [f64; 4] = std::array::from_fn(|a| lh[j][a] * v + lh[2 + j][a] * r);
                 let out = &mut self.hessian[2 * l + j];
-                for ll in 0..=p {
+                for ll in l..=p {
                     let (vv, rr) = (node.value[ll] * w, node.rate[ll] * w);
                     out[2 * ll] += row[0] * vv + row[2] * rr;
                     out[2 * ll + 1] += row[1] * vv + row[3] * rr;
                 }
+            }
+        }
+    }
+
+    /// Fills the Hessian's blocks `(l, ll)`, `ll < l`, from their transposes.
+    fn symmetrise(&mut self, p: usize) {
+        for m in 2..2 * (p + 1) {
+            for mm in 0..2 * (m / 2) {
+                self.hessian[m][mm] = self.hessian[mm][m];
             }
         }
     }
@@ -175,6 +185,7 @@ impl Table {
             for node in chunk {
                 block.add(p, node, &effort, 1.0, true);
             }
+            block.symmetrise(p);
             me.scatter(chunk[0].first, &block, &mut g, Some(&mut h));
         }
         me.metric = BandCholesky::new(&h, me.half_bandwidth());
@@ -397,6 +408,12 @@ impl Discretisation {
                 };
                 f += node.weight * local.value;
                 bf.add(p, node, &local, 1.0, second && energy);
+            }
+            if second {
+                bc.symmetrise(p);
+                if energy {
+                    bf.symmetrise(p);
+                }
             }
             let first = chunk[0].first;
             table.scatter(first, &bc, &mut grad_c, second.then_some(&mut hess_c));
