@@ -194,6 +194,8 @@ pub(crate) struct Candidate {
     spans: usize,
     nodes: usize,
     iterations: usize,
+    /// The motion of `result`, where the refinement built it to check its quadrature.
+    motion: Option<OptimalMotion>,
 }
 
 /// The discretisation tables built in one planning call, by (uniform spans, quadrature nodes).
@@ -285,6 +287,7 @@ impl OptimalPlanner {
                         result,
                         spans: p.spans,
                         nodes: o.quadrature_nodes,
+                        motion: None,
                     });
                 }
             }
@@ -332,16 +335,28 @@ impl OptimalPlanner {
         })
     }
 
+    /// The exact motion of a candidate with the plan's statistics (the motion the refinement
+    /// built to check its quadrature, where it did).
     fn to_motion(
         &self,
         problem: &PlanningProblem,
-        c: Candidate,
+        mut c: Candidate,
         seeds: usize,
         total_iterations: usize,
     ) -> OptimalMotion {
+        if let Some(mut motion) = c.motion.take() {
+            let holonomy_residual = motion.stats.holonomy_residual;
+            motion.stats = Self::stats(&c, seeds, total_iterations);
+            motion.stats.holonomy_residual = holonomy_residual;
+            return motion;
+        }
+        self.motion_of(problem, &c, seeds, total_iterations)
+    }
+
+    /// The statistics of a candidate (`holonomy_residual` NaN: the motion measures it).
+    fn stats(c: &Candidate, seeds: usize, total_iterations: usize) -> OptimalStats {
         let targets = *c.disc.targets();
-        let coefficients = c.disc.coefficients(&c.result.x);
-        let stats = OptimalStats {
+        OptimalStats {
             iterations: total_iterations,
             final_iterations: c.result.iterations,
             cost: c.result.f,
@@ -357,7 +372,20 @@ impl OptimalPlanner {
             seeds,
             theta_end: targets.end,
             phi_end: targets.phi_end,
-        };
+        }
+    }
+
+    /// The exact motion of a candidate, its holonomy residual measured by the motion's quadrature.
+    fn motion_of(
+        &self,
+        problem: &PlanningProblem,
+        c: &Candidate,
+        seeds: usize,
+        total_iterations: usize,
+    ) -> OptimalMotion {
+        let targets = *c.disc.targets();
+        let coefficients = c.disc.coefficients(&c.result.x);
+        let stats = Self::stats(c, seeds, total_iterations);
         let mut motion =
             OptimalMotion::new(problem.robot.lumped(), c.disc.basis().clone(), coefficients, problem.start.phi, stats);
         let phi_t = motion.at(problem.horizon).map(|p| p.q.phi).unwrap_or(f64::NAN);

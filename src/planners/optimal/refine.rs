@@ -37,8 +37,9 @@ impl OptimalPlanner {
             previous = Some(c.result.f);
         }
         while c.nodes < 32 {
-            let check = Candidate { disc: c.disc.clone(), result: c.result.clone(), ..c };
-            if self.to_motion(problem, check, 0, 0).stats.holonomy_residual <= 0.01 * o.tolerance {
+            let motion = self.motion_of(problem, &c, 0, 0);
+            if motion.stats.holonomy_residual <= 0.01 * o.tolerance {
+                c.motion = Some(motion);
                 break;
             }
             c = self.resolve(problem, &c, c.spans, (2 * c.nodes).min(32), tables)?;
@@ -65,6 +66,6 @@ impl OptimalPlanner {
         let x0 = disc.project(|t| [old_basis.evaluate(&old[0], t)[0], old_basis.evaluate(&old[1], t)[0]])?;
         let result = sqp::solve(&disc, x0, &self.options.sqp, Some(c.result.lambda))?;
         let iterations = c.iterations + result.iterations;
-        Ok(Candidate { disc, result, spans, nodes, iterations })
+        Ok(Candidate { disc, result, spans, nodes, iterations, motion: None })
     }
 }
