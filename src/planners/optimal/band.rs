@@ -12,12 +12,11 @@ use nalgebra::{DMatrix, DVector};
 pub fn matvec(a: &DMatrix<f64>, hb: usize, x: &DVector<f64>) -> DVector<f64> {
     let n = x.len();
     let mut y = DVector::zeros(n);
-    for j in 0..n {
+    let (data, out) = (a.as_slice(), y.as_mut_slice());
+    for (j, &xj) in x.iter().enumerate() {
         let (lo, hi) = (j.saturating_sub(hb), (j + hb + 1).min(n));
-        let column = a.column(j);
-        let xj = x[j];
-        for i in lo..hi {
-            y[i] += column[i] * xj;
+        for (yi, aij) in out[lo..hi].iter_mut().zip(&data[j * n + lo..j * n + hi]) {
+            *yi += aij * xj;
         }
     }
     y
@@ -68,22 +67,28 @@ impl BandCholesky {
     pub fn solve(&self, b: &DVector<f64>) -> DVector<f64> {
         let (n, hb, w) = (self.n, self.hb, self.hb + 1);
         let l = &self.l;
-        let mut y = b.clone();
+        let mut out = b.clone();
+        let y = out.as_mut_slice();
         for i in 0..n {
-            let row = i * w + hb - i;
+            let (row, lo) = (i * w + hb - i, i.saturating_sub(hb));
             let mut s = y[i];
-            for k in i.saturating_sub(hb)..i {
-                s -= l[row + k] * y[k];
+            for (lik, yk) in l[row + lo..row + i].iter().zip(&y[lo..i]) {
+                s -= lik * yk;
             }
             y[i] = s / l[row + i];
         }
         for i in (0..n).rev() {
+            // L[k, i] for k = i + 1 .. is l[k * w + hb - k + i] = l[(k + 1) hb + i]: stride hb.
+            let hi = (i + hb + 1).min(n);
             let mut s = y[i];
-            for k in i + 1..(i + hb + 1).min(n) {
-                s -= l[k * w + hb - k + i] * y[k];
+            if i + 1 < hi {
+                let column = l[(i + 2) * hb + i..].iter().step_by(hb);
+                for (lki, yk) in column.zip(&y[i + 1..hi]) {
+                    s -= lki * yk;
+                }
             }
             y[i] = s / l[i * w + hb];
         }
-        y
+        out
     }
 }

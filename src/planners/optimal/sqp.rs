@@ -298,16 +298,16 @@ fn steihaug(
         if tt >= radius * radius {
             return to_boundary(t, &st, &p, &sp, pp, radius);
         }
-        t += &p * alpha;
-        st += &sp * alpha;
-        r += &wp * alpha;
+        t.axpy(alpha, &p, 1.0);
+        st.axpy(alpha, &sp, 1.0);
+        r.axpy(alpha, &wp, 1.0);
         z = project(&r);
         let rz_new = r.dot(&z);
         if !(rz_new > 0.0) || rz_new.sqrt() <= tol {
             break;
         }
         let beta = rz_new / rz;
-        p = -&z + &p * beta;
+        p.axpy(-1.0, &z, beta);
         rz = rz_new;
     }
     t
