@@ -423,6 +423,18 @@ impl Discretisation {
         Evaluation { f, c: residual, grad_f, grad_c, hess_f, hess_c }
     }
 
+    /// The quadrature of the holonomy integral `integral_0^T g dt` \[rad\] at `x`, summed as in
+    /// [`Self::evaluate`] (so `c = phi(0) - integral - phi_end` to the last bit).
+    pub fn holonomy_integral(&self, x: &DVector<f64>) -> f64 {
+        let c = self.coefficients(x);
+        let mut integral = 0.0;
+        for node in &self.table.nodes {
+            let (theta, rate) = self.point(&c, node);
+            integral += node.weight * holonomy_value(&self.k, theta, rate);
+        }
+        integral
+    }
+
     fn cost_value(&self, theta: [f64; 2], rate: [f64; 2]) -> f64 {
         match self.cost {
             Cost::Effort => rate[0] * rate[0] + rate[1] * rate[1],

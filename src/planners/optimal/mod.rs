@@ -253,9 +253,10 @@ impl OptimalPlanner {
         let kappa_max = seeds::curvature_bound_on(&grid);
         let sites = seeds::coil_sites_on(&k, o.max_loop_radius, &grid);
         let tables = Tables::default();
+        let mut lines = Vec::new();
         let mut prepared = Vec::new();
         for targets in self.targets(problem) {
-            prepared.push(self.prepare(problem, targets, kappa_max, &sites, &tables)?);
+            prepared.push(self.prepare(problem, targets, kappa_max, &sites, &tables, &mut lines)?);
         }
         prepared.sort_by(|a, b| a.estimate.total_cmp(&b.estimate));
         let mut seeds = 0;

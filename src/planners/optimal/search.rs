@@ -16,6 +16,10 @@ use crate::planners::nfa::{NfaOptions, NormalFormPlanner};
 /// its radius at this resolution; the radius is then re-fitted to the constraint).
 pub const SPANS_PER_TURN: usize = 6;
 
+/// A joint goal (the bits of `theta(T)`) with its line's free coefficients on the coarse basis
+/// and the line's holonomy integral \[rad\].
+pub(super) type LineEntry = ([u64; 2], DVector<f64>, f64);
+
 /// A goal representative with its coarse discretisation and the cheap numbers that rank it.
 pub(super) struct Prepared {
     /// The constant-speed effort of its best seed \[rad^2/s\] (the ranking).
@@ -105,6 +109,7 @@ impl OptimalPlanner {
         kappa_max: f64,
         sites: &[CoilSite; 2],
         tables: &Tables,
+        lines: &mut Vec<LineEntry>,
     ) -> Result<Prepared, Error> {
         let o = &self.options;
         let k = problem.robot.lumped();
@@ -115,8 +120,18 @@ impl OptimalPlanner {
             initial_velocity: targets.initial_velocity,
             horizon: problem.horizon,
         };
-        let x_line = disc.project(|t| line.at(t))?;
-        let needed = -disc.evaluate(&x_line, 0).c;
+        // The representatives of one joint goal share the line and its holonomy integral.
+        let key = targets.end.map(f64::to_bits);
+        let (x_line, integral) = match lines.iter().find(|(k, ..)| *k == key) {
+            Some((_, x, integral)) => (x.clone(), *integral),
+            None => {
+                let x = disc.project(|t| line.at(t))?;
+                let integral = disc.holonomy_integral(&x);
+                lines.push((key, x.clone(), integral));
+                (x, integral)
+            }
+        };
+        let needed = -(targets.phi_start - integral - targets.phi_end);
         let bound = seeds::effort_lower_bound(&line, needed, kappa_max);
         let site = if needed >= 0.0 { &sites[0] } else { &sites[1] };
         let coil = line.coil(site, needed, o.max_loop_radius);
