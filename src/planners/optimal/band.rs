@@ -12,22 +12,23 @@ use nalgebra::{DMatrix, DVector};
 pub fn matvec(a: &DMatrix<f64>, hb: usize, x: &DVector<f64>) -> DVector<f64> {
     let n = x.len();
     let mut y = DVector::zeros(n);
-    for j in 0..n {
+    let (data, out) = (a.as_slice(), y.as_mut_slice());
+    for (j, &xj) in x.iter().enumerate() {
         let (lo, hi) = (j.saturating_sub(hb), (j + hb + 1).min(n));
-        let column = a.column(j);
-        let xj = x[j];
-        for i in lo..hi {
-            y[i] += column[i] * xj;
+        for (yi, aij) in out[lo..hi].iter_mut().zip(&data[j * n + lo..j * n + hi]) {
+            *yi += aij * xj;
         }
     }
     y
 }
 
 /// The band Cholesky factor `L` (`A = L L^T`, lower, half-bandwidth `hb`) of a symmetric
-/// matrix, or `None` when `A` is not positive definite.
+/// matrix, or `None` when `A` is not positive definite. `L` is stored by rows in band form:
+/// row `i` holds `L[i, i - hb ..= i]` (entries left of column 0 are zero).
 #[derive(Debug, Clone)]
 pub struct BandCholesky {
-    l: DMatrix<f64>,
+    l: Vec<f64>,
+    n: usize,
     hb: usize,
 }
 
@@ -35,48 +36,59 @@ impl BandCholesky {
     /// Factors `a` (only its lower band is read).
     pub fn new(a: &DMatrix<f64>, hb: usize) -> Option<Self> {
         let n = a.nrows();
-        let mut l = DMatrix::zeros(n, n);
+        let w = hb + 1;
+        let mut l = vec![0.0; n * w];
+        // L[i, k] is l[i * w + k + hb - i].
         for j in 0..n {
             let lo = j.saturating_sub(hb);
+            let row_j = j * w + hb - j;
             let mut d = a[(j, j)];
             for k in lo..j {
-                d -= l[(j, k)] * l[(j, k)];
+                d -= l[row_j + k] * l[row_j + k];
             }
             if !(d > 0.0) || !d.is_finite() {
                 return None;
             }
             let d = d.sqrt();
-            l[(j, j)] = d;
+            l[row_j + j] = d;
             for i in j + 1..(j + hb + 1).min(n) {
+                let row_i = i * w + hb - i;
                 let mut s = a[(i, j)];
                 for k in i.saturating_sub(hb).max(lo)..j {
-                    s -= l[(i, k)] * l[(j, k)];
+                    s -= l[row_i + k] * l[row_j + k];
                 }
-                l[(i, j)] = s / d;
+                l[row_i + j] = s / d;
             }
         }
-        Some(Self { l, hb })
+        Some(Self { l, n, hb })
     }
 
     /// `A^-1 b`.
     pub fn solve(&self, b: &DVector<f64>) -> DVector<f64> {
-        let n = b.len();
+        let (n, hb, w) = (self.n, self.hb, self.hb + 1);
         let l = &self.l;
-        let mut y = b.clone();
+        let mut out = b.clone();
+        let y = out.as_mut_slice();
         for i in 0..n {
+            let (row, lo) = (i * w + hb - i, i.saturating_sub(hb));
             let mut s = y[i];
-            for k in i.saturating_sub(self.hb)..i {
-                s -= l[(i, k)] * y[k];
+            for (lik, yk) in l[row + lo..row + i].iter().zip(&y[lo..i]) {
+                s -= lik * yk;
             }
-            y[i] = s / l[(i, i)];
+            y[i] = s / l[row + i];
         }
         for i in (0..n).rev() {
+            // L[k, i] for k = i + 1 .. is l[k * w + hb - k + i] = l[(k + 1) hb + i]: stride hb.
+            let hi = (i + hb + 1).min(n);
             let mut s = y[i];
-            for k in i + 1..(i + self.hb + 1).min(n) {
-                s -= l[(k, i)] * y[k];
+            if i + 1 < hi {
+                let column = l[(i + 2) * hb + i..].iter().step_by(hb);
+                for (lki, yk) in column.zip(&y[i + 1..hi]) {
+                    s -= lki * yk;
+                }
             }
-            y[i] = s / l[(i, i)];
+            y[i] = s / l[i * w + hb];
         }
-        y
+        out
     }
 }

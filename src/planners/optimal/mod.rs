@@ -28,6 +28,8 @@ pub mod seeds;
 pub mod spline;
 pub mod sqp;
 
+use std::cell::RefCell;
+use std::sync::Arc;
 use std::time::Instant;
 
 use serde::Serialize;
@@ -38,7 +40,7 @@ use crate::numerics::ode::OdeOptions;
 use crate::plan::{Method, Motion, Plan, PlanningProblem};
 use crate::planners::{Details, Planned, Planner};
 
-use discrete::{Discretisation, Targets};
+use discrete::{Discretisation, Table, Targets};
 
 pub use motion::{OptimalMotion, OptimalStats};
 use spline::SplineBasis;
@@ -192,7 +194,16 @@ pub(crate) struct Candidate {
     spans: usize,
     nodes: usize,
     iterations: usize,
+    /// The motion of `result`, where the refinement built it to check its quadrature.
+    motion: Option<OptimalMotion>,
 }
+
+/// The discretisation tables built in one planning call, by (uniform spans, quadrature nodes).
+#[derive(Default)]
+pub(crate) struct Tables(RefCell<Vec<TableEntry>>);
+
+/// A cached table with its (uniform spans, quadrature nodes).
+type TableEntry = ((usize, usize), Arc<Table>);
 
 /// SQP options of the coarse ranking solves.
 const COARSE_SQP: SqpOptions =
@@ -208,16 +219,27 @@ impl OptimalPlanner {
         SplineBasis::graded(self.options.degree(), horizon, spans, self.options.grading)
     }
 
+    /// The problem of `targets` on `spans` uniform spans and `nodes` quadrature nodes, its
+    /// tables built once per planning call.
     fn discretise(
         &self,
         problem: &PlanningProblem,
         targets: Targets,
         spans: usize,
         nodes: usize,
+        tables: &Tables,
     ) -> Result<Discretisation, Error> {
-        let basis = self.basis(problem.horizon, spans)?;
         let o = &self.options;
-        Discretisation::new(problem.robot.lumped(), o.cost, basis, targets, o.smooth_ends, nodes)
+        let cached = tables.0.borrow().iter().find(|(key, _)| *key == (spans, nodes)).map(|(_, t)| t.clone());
+        let table = match cached {
+            Some(t) => t,
+            None => {
+                let t = Arc::new(Table::new(self.basis(problem.horizon, spans)?, o.smooth_ends, nodes)?);
+                tables.0.borrow_mut().push(((spans, nodes), t.clone()));
+                t
+            }
+        };
+        Ok(Discretisation::on(problem.robot.lumped(), o.cost, table, targets))
     }
 
     /// All certified-candidate motions, best cost first (at least one), without verification.
@@ -227,11 +249,14 @@ impl OptimalPlanner {
         let k = problem.robot.lumped();
         let nfa =
             if o.nfa_seed && o.initial_velocity.iter().all(|u| u.abs() == 0.0) { self.nfa_path(problem) } else { None };
-        let kappa_max = seeds::curvature_bound(&k);
-        let sites = seeds::coil_sites(&k, o.max_loop_radius);
+        let grid = seeds::curvature_grid(&k);
+        let kappa_max = seeds::curvature_bound_on(&grid);
+        let sites = seeds::coil_sites_on(&k, o.max_loop_radius, &grid);
+        let tables = Tables::default();
+        let mut lines = Vec::new();
         let mut prepared = Vec::new();
         for targets in self.targets(problem) {
-            prepared.push(self.prepare(problem, targets, kappa_max, &sites)?);
+            prepared.push(self.prepare(problem, targets, kappa_max, &sites, &tables, &mut lines)?);
         }
         prepared.sort_by(|a, b| a.estimate.total_cmp(&b.estimate));
         let mut seeds = 0;
@@ -248,7 +273,7 @@ impl OptimalPlanner {
                 if p.bound > best {
                     break;
                 }
-                let starts = self.starts(problem, &mut p, nfa.as_ref())?;
+                let starts = self.starts(problem, &mut p, nfa.as_ref(), &tables)?;
                 for x0 in starts {
                     let guess = p.multiplier_guess(&x0);
                     seeds += 1;
@@ -263,6 +288,7 @@ impl OptimalPlanner {
                         result,
                         spans: p.spans,
                         nodes: o.quadrature_nodes,
+                        motion: None,
                     });
                 }
             }
@@ -282,7 +308,7 @@ impl OptimalPlanner {
             }
             let mut done = Vec::new();
             for c in finalists {
-                let c = self.refine(problem, c)?;
+                let c = self.refine(problem, c, &tables)?;
                 total_iterations += c.iterations;
                 if c.result.converged() {
                     done.push(c);
@@ -310,16 +336,28 @@ impl OptimalPlanner {
         })
     }
 
+    /// The exact motion of a candidate with the plan's statistics (the motion the refinement
+    /// built to check its quadrature, where it did).
     fn to_motion(
         &self,
         problem: &PlanningProblem,
-        c: Candidate,
+        mut c: Candidate,
         seeds: usize,
         total_iterations: usize,
     ) -> OptimalMotion {
+        if let Some(mut motion) = c.motion.take() {
+            let holonomy_residual = motion.stats.holonomy_residual;
+            motion.stats = Self::stats(&c, seeds, total_iterations);
+            motion.stats.holonomy_residual = holonomy_residual;
+            return motion;
+        }
+        self.motion_of(problem, &c, seeds, total_iterations)
+    }
+
+    /// The statistics of a candidate (`holonomy_residual` NaN: the motion measures it).
+    fn stats(c: &Candidate, seeds: usize, total_iterations: usize) -> OptimalStats {
         let targets = *c.disc.targets();
-        let coefficients = c.disc.coefficients(&c.result.x);
-        let stats = OptimalStats {
+        OptimalStats {
             iterations: total_iterations,
             final_iterations: c.result.iterations,
             cost: c.result.f,
@@ -335,7 +373,20 @@ impl OptimalPlanner {
             seeds,
             theta_end: targets.end,
             phi_end: targets.phi_end,
-        };
+        }
+    }
+
+    /// The exact motion of a candidate, its holonomy residual measured by the motion's quadrature.
+    fn motion_of(
+        &self,
+        problem: &PlanningProblem,
+        c: &Candidate,
+        seeds: usize,
+        total_iterations: usize,
+    ) -> OptimalMotion {
+        let targets = *c.disc.targets();
+        let coefficients = c.disc.coefficients(&c.result.x);
+        let stats = Self::stats(c, seeds, total_iterations);
         let mut motion =
             OptimalMotion::new(problem.robot.lumped(), c.disc.basis().clone(), coefficients, problem.start.phi, stats);
         let phi_t = motion.at(problem.horizon).map(|p| p.q.phi).unwrap_or(f64::NAN);

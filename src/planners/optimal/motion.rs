@@ -2,13 +2,15 @@
 //! angle is its holonomy integral (Eq. 5 with zero momentum), by Gauss–Legendre quadrature on
 //! each knot span (and on the partial span up to `t`).
 
+use std::sync::OnceLock;
+
 use serde::Serialize;
 
-use super::holonomy::connection;
+use super::holonomy::{connection, holonomy_local};
 use super::spline::SplineBasis;
 use super::sqp::Termination;
 use crate::error::Error;
-use crate::model::system::{shape, velocity_acceleration};
+use crate::model::system::shape;
 use crate::model::{Configuration, Lumped};
 use crate::numerics::ode::OdeError;
 use crate::numerics::quadrature::GaussLegendre;
@@ -16,6 +18,19 @@ use crate::plan::{Motion, MotionPoint, PlanningProblem, Trajectory};
 
 /// Nodes of the Gauss–Legendre rule of the motion's base angle, per knot span (or part of one).
 pub const MOTION_NODES: usize = 24;
+
+/// The `n`-node Gauss–Legendre rule, `n` one of 4, 8 and [`MOTION_NODES`] (the rules used
+/// here), computed once.
+fn rule(n: usize) -> &'static GaussLegendre {
+    static RULES: [OnceLock<GaussLegendre>; 3] = [OnceLock::new(), OnceLock::new(), OnceLock::new()];
+    debug_assert!(matches!(n, 4 | 8 | MOTION_NODES), "no cached {n}-node rule");
+    let slot = match n {
+        4 => 0,
+        8 => 1,
+        _ => 2,
+    };
+    RULES[slot].get_or_init(|| GaussLegendre::new(if slot == 2 { MOTION_NODES } else { n }))
+}
 
 /// Statistics of an optimal plan.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
@@ -75,7 +90,7 @@ impl OptimalMotion {
         phi0: f64,
         stats: OptimalStats,
     ) -> Self {
-        let rule = GaussLegendre::new(MOTION_NODES);
+        let rule = rule(MOTION_NODES).clone();
         let mut me = Self { k, basis, coefficients, phi_breaks: vec![phi0], rule, stats };
         let b = me.basis.breakpoints().to_vec();
         let mut phi = phi0;
@@ -98,11 +113,16 @@ impl OptimalMotion {
 
     /// `[theta, theta', theta'']` (joints) at `t` in knot span `span`, up to derivative `order`.
     fn joints_in<const K: usize>(&self, span: usize, t: f64, order: usize) -> [[f64; 2]; K] {
-        let d = self.basis.ders(span, t);
+        let d = if order <= 1 {
+            let [v, r] = self.basis.values_and_rates(span, t);
+            [v, r, Default::default()]
+        } else {
+            self.basis.ders(span, t)
+        };
         let p = self.basis.degree();
         let first = span - p;
         let mut out = [[0.0; 2]; K];
-        for (k, o) in out.iter_mut().enumerate().take(order + 1) {
+        for (k, o) in out.iter_mut().enumerate().take(order.min(2) + 1) {
             for (j, oj) in o.iter_mut().enumerate() {
                 *oj = (0..=p).map(|l| d[k][l] * self.coefficients[j][first + l]).sum();
             }
@@ -131,13 +151,15 @@ impl OptimalMotion {
 
     /// The sampled trajectory at `samples` equally spaced times: `q`, `q' = g(q) u` and `q''`
     /// exact; `z` is `None`. `phi` is accumulated from sample to sample (pieces split at the
-    /// breakpoints, an 8-node Gauss–Legendre rule on each: the pieces are short).
+    /// breakpoints, a 4-node Gauss–Legendre rule on pieces at most an eighth of their knot
+    /// interval, as with 1001 samples, else an 8-node rule: the integrand is smooth on a knot
+    /// interval and the pieces are short).
     pub fn trajectory(&self, problem: &PlanningProblem, samples: usize) -> Result<Trajectory, Error> {
         let horizon = self.basis.horizon();
         let n = samples.max(2);
         let dt = horizon / (n - 1) as f64;
         let k = problem.robot.lumped();
-        let short = GaussLegendre::new(8);
+        let (short, long) = (rule(4), rule(8));
         let b = self.basis.breakpoints();
         let mut tr = Trajectory { ddq: Some(Vec::with_capacity(n)), ..Default::default() };
         let (mut phi, mut previous) = (self.phi_breaks[0], 0.0);
@@ -151,7 +173,8 @@ impl OptimalMotion {
                 previous = b[s];
             }
             if t > previous {
-                phi -= short.integrate(previous, t, |x| {
+                let rule = if 8.0 * (t - previous) <= b[s + 1] - b[s] { short } else { long };
+                phi -= rule.integrate(previous, t, |x| {
                     let [th, w] = self.joints_in(span, x, 1);
                     let (a, bb) = connection(&self.k, th[0], th[1]);
                     a * w[0] + bb * w[1]
@@ -160,7 +183,10 @@ impl OptimalMotion {
             previous = t;
             let [th, u, du] = self.joints_in(span, t, 2);
             let q = Configuration::new(phi, th[0], th[1]);
-            let (v, a) = velocity_acceleration(&k, &q, u, du);
+            // phi' = -g(theta, theta') (Eq. 7) and phi'' = -dg/dt by the chain rule.
+            let g = holonomy_local(&k, th, u);
+            let dg = g.gradient[0] * u[0] + g.gradient[1] * u[1] + g.gradient[2] * du[0] + g.gradient[3] * du[1];
+            let (v, a) = ([-g.value, u[0], u[1]], [-dg, du[0], du[1]]);
             tr.t.push(t);
             tr.q.push(q.to_array());
             tr.dq.push(v);

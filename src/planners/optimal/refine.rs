@@ -1,7 +1,7 @@
 //! Refinement of a coarse solution: the basis doubles until the cost settles, then the
 //! optimiser's quadrature is raised until the motion's finer quadrature agrees.
 
-use super::{Candidate, OptimalPlanner, sqp};
+use super::{Candidate, OptimalPlanner, Tables, sqp};
 use crate::error::Error;
 use crate::plan::PlanningProblem;
 
@@ -9,7 +9,12 @@ impl OptimalPlanner {
     /// Refines a coarse solution: doubles the spans until the cost settles (or `max_spans`),
     /// then raises the quadrature nodes until the motion's finer quadrature agrees with the
     /// optimiser's to 1% of the tolerance.
-    pub(super) fn refine(&self, problem: &PlanningProblem, mut c: Candidate) -> Result<Candidate, Error> {
+    pub(super) fn refine(
+        &self,
+        problem: &PlanningProblem,
+        mut c: Candidate,
+        tables: &Tables,
+    ) -> Result<Candidate, Error> {
         let o = &self.options;
         let mut levels = Vec::new();
         let mut s = c.spans;
@@ -22,7 +27,7 @@ impl OptimalPlanner {
         }
         let mut previous: Option<f64> = None;
         for spans in levels {
-            c = self.resolve(problem, &c, spans, c.nodes)?;
+            c = self.resolve(problem, &c, spans, c.nodes, tables)?;
             if !c.result.converged() {
                 return Ok(c);
             }
@@ -32,11 +37,12 @@ impl OptimalPlanner {
             previous = Some(c.result.f);
         }
         while c.nodes < 32 {
-            let check = Candidate { disc: c.disc.clone(), result: c.result.clone(), ..c };
-            if self.to_motion(problem, check, 0, 0).stats.holonomy_residual <= 0.01 * o.tolerance {
+            let motion = self.motion_of(problem, &c, 0, 0);
+            if motion.stats.holonomy_residual <= 0.01 * o.tolerance {
+                c.motion = Some(motion);
                 break;
             }
-            c = self.resolve(problem, &c, c.spans, (2 * c.nodes).min(32))?;
+            c = self.resolve(problem, &c, c.spans, (2 * c.nodes).min(32), tables)?;
             if !c.result.converged() {
                 break;
             }
@@ -52,13 +58,14 @@ impl OptimalPlanner {
         c: &Candidate,
         spans: usize,
         nodes: usize,
+        tables: &Tables,
     ) -> Result<Candidate, Error> {
-        let disc = self.discretise(problem, *c.disc.targets(), spans, nodes)?;
+        let disc = self.discretise(problem, *c.disc.targets(), spans, nodes, tables)?;
         let old = c.disc.coefficients(&c.result.x);
         let old_basis = c.disc.basis();
         let x0 = disc.project(|t| [old_basis.evaluate(&old[0], t)[0], old_basis.evaluate(&old[1], t)[0]])?;
         let result = sqp::solve(&disc, x0, &self.options.sqp, Some(c.result.lambda))?;
         let iterations = c.iterations + result.iterations;
-        Ok(Candidate { disc, result, spans, nodes, iterations })
+        Ok(Candidate { disc, result, spans, nodes, iterations, motion: None })
     }
 }

@@ -3,9 +3,9 @@
 
 use nalgebra::DVector;
 
-use super::OptimalPlanner;
 use super::discrete::{Discretisation, Targets};
 use super::seeds::{self, CoilSite, Line, Sampled, SeedKind};
+use super::{OptimalPlanner, Tables};
 use crate::error::Error;
 use crate::model::wrap_angle;
 use crate::plan::{Motion, PlanningProblem};
@@ -15,6 +15,10 @@ use crate::planners::nfa::{NfaOptions, NormalFormPlanner};
 /// Uniform knot spans per turn of a coil seed (cubic B-splines follow a circle to about 1e-3 of
 /// its radius at this resolution; the radius is then re-fitted to the constraint).
 pub const SPANS_PER_TURN: usize = 6;
+
+/// A joint goal (the bits of `theta(T)`) with its line's free coefficients on the coarse basis
+/// and the line's holonomy integral \[rad\].
+pub(super) type LineEntry = ([u64; 2], DVector<f64>, f64);
 
 /// A goal representative with its coarse discretisation and the cheap numbers that rank it.
 pub(super) struct Prepared {
@@ -104,18 +108,30 @@ impl OptimalPlanner {
         targets: Targets,
         kappa_max: f64,
         sites: &[CoilSite; 2],
+        tables: &Tables,
+        lines: &mut Vec<LineEntry>,
     ) -> Result<Prepared, Error> {
         let o = &self.options;
         let k = problem.robot.lumped();
-        let disc = self.discretise(problem, targets, o.coarse_spans, o.quadrature_nodes)?;
+        let disc = self.discretise(problem, targets, o.coarse_spans, o.quadrature_nodes, tables)?;
         let line = Line {
             start: targets.start,
             end: targets.end,
             initial_velocity: targets.initial_velocity,
             horizon: problem.horizon,
         };
-        let x_line = disc.project(|t| line.at(t))?;
-        let needed = -disc.evaluate(&x_line, 0).c;
+        // The representatives of one joint goal share the line and its holonomy integral.
+        let key = targets.end.map(f64::to_bits);
+        let (x_line, integral) = match lines.iter().find(|(k, ..)| *k == key) {
+            Some((_, x, integral)) => (x.clone(), *integral),
+            None => {
+                let x = disc.project(|t| line.at(t))?;
+                let integral = disc.holonomy_integral(&x);
+                lines.push((key, x.clone(), integral));
+                (x, integral)
+            }
+        };
+        let needed = -(targets.phi_start - integral - targets.phi_end);
         let bound = seeds::effort_lower_bound(&line, needed, kappa_max);
         let site = if needed >= 0.0 { &sites[0] } else { &sites[1] };
         let coil = line.coil(site, needed, o.max_loop_radius);
@@ -140,10 +156,11 @@ impl OptimalPlanner {
         problem: &PlanningProblem,
         prepared: &mut Prepared,
         nfa: Option<&(Sampled, [f64; 2], f64)>,
+        tables: &Tables,
     ) -> Result<Vec<DVector<f64>>, Error> {
         if prepared.spans != self.options.coarse_spans {
             let targets = *prepared.disc.targets();
-            prepared.disc = self.discretise(problem, targets, prepared.spans, self.options.quadrature_nodes)?;
+            prepared.disc = self.discretise(problem, targets, prepared.spans, self.options.quadrature_nodes, tables)?;
         }
         let (disc, line) = (&prepared.disc, &prepared.line);
         let max_radius = self.options.max_loop_radius;

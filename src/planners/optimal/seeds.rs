@@ -266,21 +266,41 @@ pub struct CoilSite {
     pub area: f64,
 }
 
+/// Points per angle of the curvature grid of [`curvature_grid`].
+const GRID: usize = 32;
+
+/// The curvature `kappa = 2 sigma / F^2` (Eqs. 9, 25) on the `32 x 32` grid
+/// `(2 pi i / 32, 2 pi j / 32)`, row `i` first: the table of [`coil_sites_on`] and
+/// [`curvature_bound_on`].
+pub fn curvature_grid(k: &Lumped) -> Vec<f64> {
+    let mut grid = Vec::with_capacity(GRID * GRID);
+    for i in 0..GRID {
+        for j in 0..GRID {
+            let s = shape(k, TAU * i as f64 / GRID as f64, TAU * j as f64 / GRID as f64);
+            grid.push(2.0 * s.sigma / (s.F * s.F));
+        }
+    }
+    grid
+}
+
 /// The coil sites of positive and negative rotation (in that order).
 pub fn coil_sites(k: &Lumped, max_radius: f64) -> [CoilSite; 2] {
+    coil_sites_on(k, max_radius, &curvature_grid(k))
+}
+
+/// [`coil_sites`] from the [`curvature_grid`] `grid`.
+pub fn coil_sites_on(k: &Lumped, max_radius: f64, grid: &[f64]) -> [CoilSite; 2] {
     [1.0, -1.0].map(|sign| {
         let kappa = |t1: f64, t2: f64| {
             let s = shape(k, t1, t2);
             sign * 2.0 * s.sigma / (s.F * s.F)
         };
-        let n = 32;
         let mut best = (f64::NEG_INFINITY, [0.0; 2]);
-        for i in 0..n {
-            for j in 0..n {
-                let c = [TAU * i as f64 / n as f64, TAU * j as f64 / n as f64];
-                let v = kappa(c[0], c[1]);
+        for i in 0..GRID {
+            for j in 0..GRID {
+                let v = sign * grid[i * GRID + j];
                 if v > best.0 {
-                    best = (v, c);
+                    best = (v, [TAU * i as f64 / GRID as f64, TAU * j as f64 / GRID as f64]);
                 }
             }
         }
@@ -346,15 +366,12 @@ impl Sampled {
 /// value on a 32 x 32 grid, times 1.5 (the function is a smooth ratio of low-order trigonometric
 /// polynomials, so the grid misses its maximum by far less).
 pub fn curvature_bound(k: &Lumped) -> f64 {
-    let n = 32;
-    let mut m: f64 = 0.0;
-    for i in 0..n {
-        for j in 0..n {
-            let s = shape(k, TAU * i as f64 / n as f64, TAU * j as f64 / n as f64);
-            m = m.max((2.0 * s.sigma / (s.F * s.F)).abs());
-        }
-    }
-    1.5 * m
+    curvature_bound_on(&curvature_grid(k))
+}
+
+/// [`curvature_bound`] from the [`curvature_grid`] `grid`.
+pub fn curvature_bound_on(grid: &[f64]) -> f64 {
+    1.5 * grid.iter().fold(0.0f64, |m, v| m.max(v.abs()))
 }
 
 /// A lower bound of the effort of any joint path between the line's ends whose holonomy differs

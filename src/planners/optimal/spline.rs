@@ -168,6 +168,41 @@ impl SplineBasis {
         ders
     }
 
+    /// Values and first derivatives of the basis functions of knot span `span` at `t`: the
+    /// first two rows of [`Self::ders`] at about half the work (the derivatives from the
+    /// degree `p - 1` functions, Piegl–Tiller Eq. 2.9).
+    pub fn values_and_rates(&self, span: usize, t: f64) -> [[f64; MAX_DEGREE + 1]; 2] {
+        let p = self.degree;
+        let u = &self.knots;
+        let mut ndu = [[0.0; MAX_DEGREE + 1]; MAX_DEGREE + 1];
+        let mut left = [0.0; MAX_DEGREE + 1];
+        let mut right = [0.0; MAX_DEGREE + 1];
+        ndu[0][0] = 1.0;
+        for j in 1..=p {
+            left[j] = t - u[span + 1 - j];
+            right[j] = u[span + j] - t;
+            let mut saved = 0.0;
+            for r in 0..j {
+                ndu[j][r] = right[r + 1] + left[j - r];
+                let temp = ndu[r][j - 1] / ndu[j][r];
+                ndu[r][j] = saved + right[r + 1] * temp;
+                saved = left[j - r] * temp;
+            }
+            ndu[j][j] = saved;
+        }
+        let mut out = [[0.0; MAX_DEGREE + 1]; 2];
+        // N'_{r} = p (N_{r-1, p-1} / (u_{r+p} - u_r) - N_{r, p-1} / (u_{r+p+1} - u_{r+1})), the
+        // knot differences being ndu[p][.] and the degree p - 1 values ndu[.][p - 1].
+        let mut previous = 0.0;
+        for r in 0..=p {
+            out[0][r] = ndu[r][p];
+            let current = if r < p { ndu[r][p - 1] / ndu[p][r] } else { 0.0 };
+            out[1][r] = p as f64 * (previous - current);
+            previous = current;
+        }
+        out
+    }
+
     /// `(theta, theta', theta'')` of the spline with coefficients `c` at `t` \[rad, rad/s, rad/s^2\].
     pub fn evaluate(&self, c: &[f64], t: f64) -> [f64; 3] {
         let s = self.interval(t);

@@ -88,15 +88,15 @@ impl SqpResult {
 }
 
 /// The metric `S` (Cholesky factor) with the helpers of the composite step.
-struct Metric {
-    s: DMatrix<f64>,
-    chol: BandCholesky,
+struct Metric<'a> {
+    s: &'a DMatrix<f64>,
+    chol: &'a BandCholesky,
     hb: usize,
 }
 
-impl Metric {
+impl Metric<'_> {
     fn times(&self, v: &DVector<f64>) -> DVector<f64> {
-        matvec(&self.s, self.hb, v)
+        matvec(self.s, self.hb, v)
     }
 
     fn norm(&self, v: &DVector<f64>) -> f64 {
@@ -128,9 +128,9 @@ pub fn solve(
     options: &SqpOptions,
     guess: Option<f64>,
 ) -> Result<SqpResult, Error> {
-    let s = problem.effort_hessian().clone();
+    let s = problem.effort_hessian();
     let hb = problem.half_bandwidth();
-    let chol = BandCholesky::new(&s, hb).ok_or(Error::from(InputError::InvalidParameter {
+    let chol = problem.effort_cholesky().ok_or(Error::from(InputError::InvalidParameter {
         name: "spans".into(),
         value: s.nrows() as f64,
         expected: "a basis whose effort Hessian is positive definite",
@@ -298,16 +298,16 @@ fn steihaug(
         if tt >= radius * radius {
             return to_boundary(t, &st, &p, &sp, pp, radius);
         }
-        t += &p * alpha;
-        st += &sp * alpha;
-        r += &wp * alpha;
+        t.axpy(alpha, &p, 1.0);
+        st.axpy(alpha, &sp, 1.0);
+        r.axpy(alpha, &wp, 1.0);
         z = project(&r);
         let rz_new = r.dot(&z);
         if !(rz_new > 0.0) || rz_new.sqrt() <= tol {
             break;
         }
         let beta = rz_new / rz;
-        p = -&z + &p * beta;
+        p.axpy(-1.0, &z, beta);
         rz = rz_new;
     }
     t
