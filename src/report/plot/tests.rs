@@ -70,3 +70,35 @@ fn viridis_ends_and_text_wrap() {
     assert_eq!(viridis(f64::NAN), viridis(0.0));
     assert_eq!(wrap_text("aa bb cc", 5), vec!["aa bb", "cc"]);
 }
+
+/// The PNG is the SVG rasterised with anti-aliasing: a blue curve on white leaves many shades of
+/// blue at its edges (a bitmap without anti-aliasing leaves one or two).
+#[test]
+fn png_curves_are_anti_aliased() {
+    let figure = PlanFigure {
+        title: "aa".into(),
+        panels: vec![Panel {
+            title: "one curve".into(),
+            x_label: "t [s]".into(),
+            y_label: "y".into(),
+            series: vec![Series {
+                label: "s".into(),
+                points: (0..=200).map(|i| (f64::from(i), f64::from(i).sin())).collect(),
+            }],
+            text: vec![],
+        }],
+        caption: vec![],
+    };
+    let png = plan_picture(&figure, PictureFormat::Png, Path::new("x.png")).unwrap();
+    let mut reader = png::Decoder::new(std::io::Cursor::new(png)).read_info().unwrap();
+    let mut buf = vec![0; reader.output_buffer_size()];
+    let info = reader.next_frame(&mut buf).unwrap();
+    let channels = info.color_type.samples();
+    let mut blues = std::collections::BTreeSet::new();
+    for px in buf[..info.buffer_size()].chunks(channels) {
+        if i32::from(px[2]) > i32::from(px[0]) + 30 {
+            blues.insert((px[0], px[1], px[2]));
+        }
+    }
+    assert!(blues.len() > 20, "{} shades of blue: not anti-aliased", blues.len());
+}
