@@ -102,6 +102,17 @@ fn reproduce_writes_every_file_whole_and_the_planners_numbers() {
             }
         }
     }
+    // Labels of issue 15: z's units, the ECSA's residual history, θ in the domain maps, Fig. 16's
+    // title and colour bars.
+    let svg = |name: &str| std::fs::read_to_string(dir.path().join(format!("{name}.svg"))).expect("svg");
+    assert!(svg("fig04").contains("z (rad, mixed units)"));
+    assert!(svg("fig10").contains("log10 of the end-point residual [rad]"));
+    for name in ["fig13", "fig14"] {
+        assert!(svg(name).contains("θ1 [deg]") && !svg(name).contains("theta"), "{name}");
+    }
+    for label in ["Fig. 16", "fraction of the torus", "success rate"] {
+        assert!(svg("fig16").contains(label), "fig16 has no `{label}`");
+    }
     let mut found: Vec<String> = std::fs::read_dir(dir.path())
         .expect("dir")
         .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
