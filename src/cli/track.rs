@@ -213,6 +213,7 @@ fn figure(run: &Tracked) -> PlanFigure {
         y_label: y.into(),
         series,
         text: Vec::new(),
+        include_zero: false,
     };
     PlanFigure {
         title: format!("closed loop: {}", run.controller.name()),

@@ -25,23 +25,35 @@ pub fn plan_figure(o: &CaseOutcome) -> PlanFigure {
             series("θ1", &|i| tr.q[i][1].to_degrees()),
             series("θ2", &|i| tr.q[i][2].to_degrees()),
         ],
-        text: vec![],
+        ..Default::default()
     };
     let second = match (&tr.z, &o.ecsa) {
         (Some(z), _) => Panel {
             title: format!("Normal-form variables z ({})", o.case.variant()),
             x_label: x_label.clone(),
-            y_label: "z".into(),
+            y_label: "z (rad, mixed units)".into(),
             series: (0..3).map(|k| series(&format!("z{}", k + 1), &|i| z[i][k])).collect(),
-            text: vec![],
+            ..Default::default()
         },
         (None, Some(s)) => Panel {
-            title: "ECSA iteration".into(),
-            text: vec![
-                format!("Jacobian pseudo-inverse iterations: {}", s.stats.iterations),
-                format!("end-point residual: {:.2e} rad", s.stats.residual),
-                format!("controls: constant + {} harmonic(s), window {}", s.basis.harmonics(), o.case.variant()),
-                "no normal form: no z variables".into(),
+            title: format!(
+                "ECSA iteration: {} Jacobian pseudo-inverse steps, residual {:.1e} rad",
+                s.stats.iterations, s.stats.residual
+            ),
+            x_label: "iteration".into(),
+            y_label: "log10 of the end-point residual [rad]".into(),
+            series: vec![
+                Series {
+                    label: "max |K(c) - qd| (no z: no normal form)".into(),
+                    points: s.stats.residual_history.iter().enumerate().map(|(k, r)| (k as f64, r.log10())).collect(),
+                },
+                Series {
+                    label: "tolerance".into(),
+                    points: vec![
+                        (0.0, s.stats.tolerance.log10()),
+                        (s.stats.residual_history.len().saturating_sub(1).max(1) as f64, s.stats.tolerance.log10()),
+                    ],
+                },
             ],
             ..Default::default()
         },
@@ -53,6 +65,7 @@ pub fn plan_figure(o: &CaseOutcome) -> PlanFigure {
         y_label: "u [rad/s]".into(),
         series: vec![series("u1 = θ1'", &|i| tr.dq[i][1]), series("u2 = θ2'", &|i| tr.dq[i][2])],
         text: vec![],
+        include_zero: true,
     };
     let torques = match &tr.tau {
         Some(tau) => Panel {
@@ -61,6 +74,7 @@ pub fn plan_figure(o: &CaseOutcome) -> PlanFigure {
             y_label: "τ [N m]".into(),
             series: vec![series("τ1", &|i| tau[i][0]), series("τ2", &|i| tau[i][1])],
             text: vec![],
+            include_zero: true,
         },
         None => Panel { title: "(no torques)".into(), ..Default::default() },
     };

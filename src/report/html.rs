@@ -71,6 +71,32 @@ pub fn base64(bytes: &[u8]) -> String {
     out
 }
 
+/// A table header cell: a word holding a symbol (`|τ1|,`, `≤`) never breaks inside, nor does a
+/// unit in brackets (`[N m]`).
+pub fn head_cell(text: &str) -> String {
+    let mut joined = String::with_capacity(text.len());
+    let mut depth = 0usize;
+    for c in text.chars() {
+        match c {
+            '[' => depth += 1,
+            ']' => depth = depth.saturating_sub(1),
+            _ => {}
+        }
+        joined.push(if c == ' ' && depth > 0 { '\u{a0}' } else { c });
+    }
+    let words: Vec<String> = joined
+        .split(' ')
+        .map(|w| {
+            if w.chars().any(|c| !c.is_ascii_alphanumeric() && !matches!(c, ',' | '.' | ':' | '(' | ')' | '-')) {
+                format!("<span class=\"nb\">{}</span>", escape(w))
+            } else {
+                escape(w)
+            }
+        })
+        .collect();
+    format!("<th>{}</th>", words.join(" "))
+}
+
 fn cell(text: impl AsRef<str>) -> String {
     format!("<td>{}</td>", escape(text.as_ref()))
 }
@@ -98,9 +124,9 @@ fn summary_table(rows: &[SummaryRow]) -> String {
         "torque cert. [ms]",
         "paper: plan / torques [s]",
     ];
-    let mut s = String::from("<table>\n<tr>");
+    let mut s = String::from("<div class=\"scroll\"><table>\n<tr>");
     for h in heads {
-        s += &format!("<th>{}</th>", escape(h));
+        s += &head_cell(h);
     }
     s += "</tr>\n";
     let e = |x: Option<f64>| x.map_or("-".to_string(), |x| format!("{x:.2e}"));
@@ -137,13 +163,13 @@ fn summary_table(rows: &[SummaryRow]) -> String {
             );
         }
     }
-    s += "</table>\n";
+    s += "</table></div>\n";
     s
 }
 
 fn domain_table(domains: &[DomainRow]) -> String {
     let mut s = String::from(
-        "<table>\n<tr><th>figure</th><th>a, b [m]</th><th>components</th><th>start-component fraction</th>\
+        "<div class=\"scroll\"><table>\n<tr><th>figure</th><th>a, b [m]</th><th>components</th><th>start-component fraction</th>\
          <th>q0, qd connected</th><th class=\"left\">Eq. (14) plan q0 → qd</th></tr>\n",
     );
     for d in domains {
@@ -157,7 +183,7 @@ fn domain_table(domains: &[DomainRow]) -> String {
             escape(&d.plan_text())
         );
     }
-    s += "</table>\n";
+    s += "</table></div>\n";
     s
 }
 
@@ -183,6 +209,9 @@ pub fn page(p: &Page) -> Result<String, serde_json::Error> {
          table are this run's; the paper's (Sec. 6, i7-6700HQ) are beside them.</p>\n",
         p.seconds
     );
+    s += "<p class=\"note\">This page needs no other file: its pictures are embedded. <code>freefloat \
+          reproduce</code> also writes each figure as SVG and PNG (e.g. <code>fig06.svg</code>, \
+          <code>fig06.png</code>) beside it.</p>\n";
     s += "<nav>";
     for f in p.figures {
         s += &format!("<a href=\"#{0}\">{0}</a>", escape(&f.name));
@@ -221,7 +250,7 @@ pub fn page(p: &Page) -> Result<String, serde_json::Error> {
     s += "<p class=\"note\">Animations: the base (grey rectangle, 0.6 m × 0.5 m, illustrative) at its \
           orientation φ around its centre of mass, the bar to the mounting point (a, b), link 1 (blue) and link 2 \
           (green), and the end-effector's path (orange: travelled). The system's centre of mass stays at the \
-          origin (+): Eq. (4) with zero linear momentum.</p>\n";
+          origin (+): Eq. (4) with zero linear momentum. Each canvas has this legend and a scale bar.</p>\n";
     for f in p.figures {
         s += &format!("<section class=\"figure\" id=\"{}\">\n", escape(&f.name));
         s += &format!("<h3>{}</h3>\n<p>{}</p>\n", escape(&f.title), escape(&f.description));
@@ -230,11 +259,6 @@ pub fn page(p: &Page) -> Result<String, serde_json::Error> {
                 "<img src=\"data:image/png;base64,{}\" alt=\"{}\">\n",
                 base64(png),
                 escape(&format!("{}: {}", f.name, f.title))
-            );
-            s += &format!(
-                "<p class=\"note\">Files beside this page: <a href=\"{0}.svg\">{0}.svg</a>, \
-                 <a href=\"{0}.png\">{0}.png</a></p>\n",
-                escape(&f.name)
             );
         }
         if let Some(a) = &f.animation {
@@ -258,6 +282,25 @@ mod tests {
             [("", ""), ("f", "Zg=="), ("fo", "Zm8="), ("foo", "Zm9v"), ("foob", "Zm9vYg=="), ("foobar", "Zm9vYmFy")]
         {
             assert_eq!(base64(input.as_bytes()), output);
+        }
+    }
+
+    /// Symbols in table headers do not break: `|τ1|,` is one unbreakable word.
+    #[test]
+    fn header_symbols_do_not_break() {
+        let th = head_cell("peak |τ1|, |τ2| [N m]");
+        let nb = |w: &str| format!("<span class=\"nb\">{w}</span>");
+        assert_eq!(th, format!("<th>peak {} {} {}</th>", nb("|τ1|,"), nb("|τ2|"), nb("[N\u{a0}m]")));
+        assert!(include_str!("page.css").contains(".nb { white-space: nowrap; }"));
+    }
+
+    /// The animation explains its marks: a legend (the "+" is the system's centre of mass, the
+    /// grey bar goes from the base to the mounting point) and a scale bar in metres.
+    #[test]
+    fn animation_has_a_legend_and_a_scale_bar() {
+        let js = include_str!("page.js");
+        for text in ["centre of mass of the system (fixed)", "base to mounting point (a, b)", "barLength + \" m\""] {
+            assert!(js.contains(text), "page.js lacks {text}");
         }
     }
 

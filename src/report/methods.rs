@@ -4,7 +4,7 @@
 
 use serde::Serialize;
 
-use super::html::escape;
+use super::html::{escape, head_cell};
 use crate::error::Error;
 use crate::model::{Mount, RobotParams};
 use crate::plan::{Method, PlanningProblem, TorqueOptions};
@@ -154,9 +154,9 @@ pub fn methods_markdown(rows: &[MethodRow]) -> String {
 
 /// The `methods` table of `report.html`.
 pub fn methods_html(rows: &[MethodRow]) -> String {
-    let mut s = String::from("<table>\n<tr>");
+    let mut s = String::from("<div class=\"scroll\"><table>\n<tr>");
     for h in HEADS {
-        s += &format!("<th>{}</th>", escape(h));
+        s += &head_cell(h);
     }
     s += "</tr>\n";
     for r in rows {
@@ -175,6 +175,6 @@ pub fn methods_html(rows: &[MethodRow]) -> String {
                 &format!("<tr><td class=\"left no\" colspan=\"11\">{}: no plan: {}</td></tr>\n", r.method, escape(err));
         }
     }
-    s += "</table>\n";
+    s += "</table></div>\n";
     s
 }

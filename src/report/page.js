@@ -40,7 +40,7 @@
   function Animation(root, anim) {
     var canvas = document.createElement("canvas");
     canvas.width = 640;
-    canvas.height = 480;
+    canvas.height = 560;
     canvas.setAttribute("aria-label", "animation of " + anim.title);
     var controls = document.createElement("div");
     controls.className = "controls";
@@ -65,14 +65,67 @@
     var ctx = canvas.getContext("2d");
     var b = bounds(anim);
     var margin = 20;
+    // The strip under the drawing for the legend and the scale bar [px].
+    var LEGEND = 72;
     var scale = Math.min(
       (canvas.width - 2 * margin) / (b.x1 - b.x0),
-      (canvas.height - 2 * margin - 24) / (b.y1 - b.y0)
+      (canvas.height - 2 * margin - 24 - LEGEND) / (b.y1 - b.y0)
     );
     var cx = (b.x0 + b.x1) / 2;
     var cy = (b.y0 + b.y1) / 2;
     function sx(x) { return canvas.width / 2 + (x - cx) * scale; }
-    function sy(y) { return canvas.height / 2 + 12 - (y - cy) * scale; }
+    function sy(y) { return (canvas.height - LEGEND) / 2 + 12 - (y - cy) * scale; }
+
+    // A scale bar of a round length (0.1, 0.2, 0.5, 1, 2 ... m) about 120 px long.
+    var BAR_STEPS = [0.1, 0.2, 0.5, 1, 2, 5, 10];
+    var barLength = BAR_STEPS.reduce(function (best, m) {
+      return Math.abs(m * scale - 120) < Math.abs(best * scale - 120) ? m : best;
+    }, BAR_STEPS[0]);
+    function legend() {
+      var top = canvas.height - LEGEND + 8;
+      ctx.strokeStyle = "#ddd";
+      ctx.lineWidth = 1;
+      ctx.beginPath();
+      ctx.moveTo(0, top - 6);
+      ctx.lineTo(canvas.width, top - 6);
+      ctx.stroke();
+      ctx.font = "13px sans-serif";
+      var entries = [
+        ["+", "#999", "centre of mass of the system (fixed)"],
+        ["bar", "#444", "base to mounting point (a, b)"],
+        ["bar", "#0072b2", "link 1"],
+        ["bar", "#009e73", "link 2"],
+        ["line", "#d55e00", "end-effector path"],
+        ["line", "#0072b2", "base's centre of mass path"]
+      ];
+      entries.forEach(function (e, k) {
+        var x = 10 + 230 * (k % 2);
+        var y = top + 20 * Math.floor(k / 2) + 6;
+        ctx.strokeStyle = e[1];
+        ctx.fillStyle = e[1];
+        ctx.lineWidth = e[0] === "bar" ? 4 : 2;
+        ctx.beginPath();
+        if (e[0] === "+") {
+          ctx.moveTo(x + 6, y); ctx.lineTo(x + 18, y); ctx.moveTo(x + 12, y - 6); ctx.lineTo(x + 12, y + 6);
+        } else {
+          ctx.moveTo(x, y); ctx.lineTo(x + 24, y);
+        }
+        ctx.stroke();
+        ctx.fillStyle = "#000";
+        ctx.fillText(e[2], x + 32, y + 4);
+      });
+      // The scale bar, bottom right.
+      var x1 = canvas.width - 20, x0 = x1 - barLength * scale, y = canvas.height - 22;
+      ctx.strokeStyle = "#000";
+      ctx.lineWidth = 2;
+      ctx.beginPath();
+      ctx.moveTo(x0, y - 5); ctx.lineTo(x0, y); ctx.lineTo(x1, y); ctx.lineTo(x1, y - 5);
+      ctx.stroke();
+      ctx.fillStyle = "#000";
+      ctx.textAlign = "center";
+      ctx.fillText(barLength + " m", (x0 + x1) / 2, y - 8);
+      ctx.textAlign = "start";
+    }
 
     function line(points, colour, width) {
       ctx.strokeStyle = colour;
@@ -138,6 +191,7 @@
       ctx.font = "15px sans-serif";
       var text = "t = " + anim.t[i].toFixed(2) + " s   \u03c6 = " + (phi * 180 / Math.PI).toFixed(1) + " deg";
       ctx.fillText(text, 10, 20);
+      legend();
       label.textContent = text;
       slider.value = String(i);
     }
@@ -216,6 +270,8 @@
     if (hash.t) made.forEach(function (a) { a.seek(Number(hash.t)); });
     var counts = made.map(function (a) { return a.painted(); });
     body.setAttribute("data-canvases", String(made.length));
+    // The page's width, to check that a narrow screen does not scroll sideways.
+    body.setAttribute("data-width", String(document.documentElement.scrollWidth));
     body.setAttribute("data-painted", String(counts.length ? Math.min.apply(null, counts) : 0));
     if (!failed) body.setAttribute("data-status", "ok");
   } catch (e) {

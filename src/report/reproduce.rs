@@ -64,6 +64,10 @@ fn description(outcome: &CaseOutcome) -> String {
             "As the paper's {paper}: base orientation and joint positions; normal-form variables z; velocity \
              controls u; torques τ from the inverse dynamics (6). {verdict}"
         ),
+        CaseMethod::Ecsa(_) if case.figure.is_none() => format!(
+            "Beyond the paper, no figure: the ECSA's controls times sin²(πt/T), so that the plan starts and ends at \
+             rest like the NFA's; its torques are then certified from rest. {verdict}"
+        ),
         CaseMethod::Ecsa(_) => format!(
             "As the paper's {paper}: base orientation and joint positions; velocity controls u (constant + first \
              harmonic: not zero at the ends); torques τ. The forward dynamics of the torque certificate starts \
@@ -223,8 +227,9 @@ fn reproduce_into(out: &Path, progress: &(dyn Fn(&str, f64, &str) + Sync)) -> Re
     }
     let mut pictures: Vec<(String, Picture)> = Vec::new();
     for (case, outcome) in all.iter().zip(&outcomes) {
-        if let (Some(figure), Ok(o)) = (case.figure, outcome) {
-            pictures.push((figure.to_string(), Picture::Plan(o)));
+        // The sin²-windowed ECSA has no figure in the paper: its picture is named by its case.
+        if let Ok(o) = outcome {
+            pictures.push((case.figure.unwrap_or(case.id).to_string(), Picture::Plan(o)));
         }
     }
     for (k, (figure, _)) in DOMAIN_FIGURES.iter().enumerate() {
@@ -232,7 +237,8 @@ fn reproduce_into(out: &Path, progress: &(dyn Fn(&str, f64, &str) + Sync)) -> Re
     }
     pictures.push(("fig16".into(), Picture::Sweep));
     pictures.push(("fig17".into(), Picture::Methods));
-    pictures.sort_by(|a, b| a.0.cmp(&b.0));
+    // The paper's figures first, then the cases beyond them.
+    pictures.sort_by_key(|(name, _)| (!name.starts_with("fig"), name.clone()));
     let rendered: Vec<(String, Vec<u8>, Vec<u8>)> = pictures
         .par_iter()
         .map(|(name, picture)| -> Result<_, Error> {
@@ -301,19 +307,6 @@ fn reproduce_into(out: &Path, progress: &(dyn Fn(&str, f64, &str) + Sync)) -> Re
             };
             FigureEmbed { name: name.clone(), title, description, png: Some(png.clone()), animation: anim }
         })
-        .chain(all.iter().zip(&outcomes).filter(|(c, _)| c.figure.is_none()).filter_map(|(c, o)| {
-            let o = o.as_ref().ok()?;
-            Some(FigureEmbed {
-                name: c.id.to_string(),
-                title: c.title(),
-                description: "Beyond the paper, no figure: the ECSA's controls times sin²(πt/T), so that the plan \
-                              starts and ends at rest like the NFA's; its torques are then certified from rest \
-                              (see the summary). The animation shows the plan."
-                    .into(),
-                png: None,
-                animation: Some(animation(o)),
-            })
-        }))
         .collect();
     let domain_rows: Vec<DomainRow> = panels.iter().map(|p| p.row.clone()).collect();
     let html = page(&Page {

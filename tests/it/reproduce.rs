@@ -34,6 +34,10 @@ fn figures() -> Vec<(String, (u32, u32))> {
     }
     figures.push(("fig16".into(), SWEEP_SIZE));
     figures.push(("fig17".into(), METHODS_SIZE));
+    // The sin²-windowed ECSA, beyond the paper: plan pictures named by their case.
+    for a in ["0.0", "0.1", "0.2", "0.3"] {
+        figures.push((format!("ecsa-sin2-{a}"), PLAN_FIGURE_SIZE));
+    }
     figures
 }
 
@@ -79,7 +83,7 @@ fn reproduce_writes_every_file_whole_and_the_planners_numbers() {
     let o = reproduce(dir.path());
     let seconds = clock.elapsed().as_secs_f64();
     let stdout = String::from_utf8_lossy(&o.stdout);
-    assert!(stdout.contains("wrote 31 files"), "{stdout}");
+    assert!(stdout.contains("wrote 39 files"), "{stdout}");
     assert!(seconds < 60.0, "reproduce took {seconds} s");
 
     // Every file exists and is not empty; nothing else (no temporary files) is left.
@@ -101,6 +105,17 @@ fn reproduce_writes_every_file_whole_and_the_planners_numbers() {
                 assert!(text.contains(label), "{name}.svg has no `{label}`");
             }
         }
+    }
+    // Labels of issue 15: z's units, the ECSA's residual history, θ in the domain maps, Fig. 16's
+    // title and colour bars.
+    let svg = |name: &str| std::fs::read_to_string(dir.path().join(format!("{name}.svg"))).expect("svg");
+    assert!(svg("fig04").contains("z (rad, mixed units)"));
+    assert!(svg("fig10").contains("log10 of the end-point residual [rad]"));
+    for name in ["fig13", "fig14"] {
+        assert!(svg(name).contains("θ1 [deg]") && !svg(name).contains("theta"), "{name}");
+    }
+    for label in ["Fig. 16", "fraction of the torus", "success rate"] {
+        assert!(svg("fig16").contains(label), "fig16 has no `{label}`");
     }
     let mut found: Vec<String> = std::fs::read_dir(dir.path())
         .expect("dir")
@@ -125,7 +140,14 @@ fn reproduce_writes_every_file_whole_and_the_planners_numbers() {
     }
     // Self-contained: no external resources.
     assert!(!html.contains("http://") && !html.contains("https://") && !html.contains("src=\"/"));
-    assert_eq!(html.matches("data:image/png;base64,").count(), 14);
+    assert_eq!(html.matches("data:image/png;base64,").count(), 18, "a picture for every plan");
+    // Self-contained: no link to a file beside the page, only to anchors on it.
+    for link in words.split("href=\"").skip(1) {
+        assert!(link.starts_with('#'), "a link off the page: {}", &link[..link.len().min(40)]);
+    }
+    // Narrow screens: every table scrolls inside its own wrapper; symbols in headers do not break.
+    assert_eq!(html.matches("<table>").count(), html.matches("<div class=\"scroll\"><table>").count());
+    assert!(html.contains("<span class=\"nb\">|τ1|,</span>"));
     let summary: Value = serde_json::from_str(&json).expect("summary.json parses");
     let rows = summary["cases"].as_array().expect("cases");
     assert_eq!(rows.len(), 14);
@@ -288,6 +310,21 @@ fn report_page_runs_in_a_headless_browser() {
     assert_eq!(attribute("data-canvases"), "14", "one animation per plan");
     let painted: usize = attribute("data-painted").parse().expect("a pixel count");
     assert!(painted > 2000, "an animation canvas is (nearly) blank: {painted} pixels drawn");
+
+    // A phone's width (390 px): nothing wider than the screen (tables scroll in their wrappers).
+    let (text, log) = headless(
+        &browser,
+        dir.path(),
+        "narrow",
+        &["--window-size=390,800".into(), "--virtual-time-budget=3000".into(), "--dump-dom".into(), url.clone()],
+    );
+    let width: u32 = text
+        .split("data-width=\"")
+        .nth(1)
+        .and_then(|v| v.split('"').next())
+        .and_then(|v| v.parse().ok())
+        .unwrap_or_else(|| panic!("no data-width: {log}"));
+    assert!(width <= 390, "the page is {width} px wide at a 390 px screen");
 
     // A screenshot of Fig. 15 with its animation at t = 4.3 s, kept for a human to look at.
     let shot = Path::new(env!("CARGO_TARGET_TMPDIR")).join("report-fig15.png");

@@ -7,7 +7,7 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use super::{FONT, Painter, PictureFormat, render, wrap_text};
-use crate::analysis::domain::DomainMap;
+use crate::analysis::domain::{DomainMap, Signs};
 use crate::error::{Error, Singularity};
 use crate::model::Configuration;
 
@@ -24,18 +24,26 @@ pub struct DomainOverlay {
     pub plan_note: Option<String>,
 }
 
-const PALETTE: [RGBColor; 10] = [
-    RGBColor(166, 206, 227),
-    RGBColor(251, 154, 153),
-    RGBColor(253, 191, 111),
-    RGBColor(202, 178, 214),
-    RGBColor(255, 255, 153),
-    RGBColor(178, 223, 138),
-    RGBColor(141, 211, 199),
-    RGBColor(252, 205, 229),
-    RGBColor(217, 217, 217),
-    RGBColor(188, 128, 189),
-];
+/// The colour of a component, by its signs alone: a component of branch `+` and `sigma > 0` has
+/// the same colour in every map (the colours of ColorBrewer's Paired and Set3).
+pub(super) fn signs_colour(signs: Signs) -> RGBColor {
+    match (signs.branch > 0, signs.sigma.map(|s| s > 0)) {
+        (true, Some(true) | None) => RGBColor(166, 206, 227),
+        (true, Some(false)) => RGBColor(202, 178, 214),
+        (false, Some(true) | None) => RGBColor(253, 191, 111),
+        (false, Some(false)) => RGBColor(255, 255, 153),
+    }
+}
+
+/// `branch +, σ > 0`: the signs of a component in words.
+fn signs_text(signs: Signs) -> String {
+    let branch = if signs.branch > 0 { "+" } else { "-" };
+    match signs.sigma {
+        Some(s) => format!("branch {branch}, σ {} 0", if s > 0 { ">" } else { "<" }),
+        None => format!("branch {branch}"),
+    }
+}
+
 const START_COLOUR: RGBColor = RGBColor(35, 139, 69);
 const SLIVER_COLOUR: RGBColor = RGBColor(120, 120, 120);
 const UNDEFINED_COLOUR: RGBColor = RGBColor(0, 0, 0);
@@ -50,12 +58,16 @@ fn curve_colour(which: Singularity) -> RGBColor {
 
 fn curve_label(which: Singularity) -> &'static str {
     match which {
-        Singularity::Sigma => "sigma = 0 (Eq. 9)",
+        Singularity::Sigma => "σ = 0 (Eq. 9)",
         Singularity::P => "P = 0 (Eq. 13)",
-        Singularity::SinTheta2 => "sin theta2 = 0",
+        Singularity::SinTheta2 => "sin θ2 = 0",
         _ => "other",
     }
 }
+
+/// The size \[px\] of one domain map ([`domain_picture`]): a square chart and a legend column
+/// just wide enough for its text.
+pub const DOMAIN_SIZE: (u32, u32) = (1050, 800);
 
 /// The picture of a domain map: components coloured (`q0`'s highlighted), the zero curves as the
 /// cell sides they cut, axes in degrees, a legend, `q0`, `qd` and the planned path.
@@ -72,7 +84,7 @@ pub fn domain_picture(
         }
     }
     let start_component = overlay.start.and_then(|q| map.component_at(&q));
-    render(path, format, (1100, 800), &Domain(map, overlay, start_component))
+    render(path, format, DOMAIN_SIZE, &Domain(map, overlay, start_component))
 }
 
 fn draw_domain<DB: DrawingBackend>(
@@ -83,7 +95,7 @@ fn draw_domain<DB: DrawingBackend>(
 ) -> Result<(), String> {
     let e = |x: DrawingAreaErrorKind<DB::ErrorType>| x.to_string();
     root.fill(&WHITE).map_err(e)?;
-    let (left, right) = root.split_horizontally(800);
+    let (left, right) = root.split_horizontally(770);
     let n = map.grid();
     let h = 360.0 / n as f64;
     let mount = map.robot().mount;
@@ -100,8 +112,8 @@ fn draw_domain<DB: DrawingBackend>(
         .disable_mesh()
         .x_labels(9)
         .y_labels(9)
-        .x_desc("theta1 [deg]")
-        .y_desc("theta2 [deg]")
+        .x_desc("θ1 [deg]")
+        .y_desc("θ2 [deg]")
         .label_style((FONT, 15))
         .axis_desc_style((FONT, 17))
         .x_label_formatter(&|x| format!("{x:.0}"))
@@ -112,7 +124,7 @@ fn draw_domain<DB: DrawingBackend>(
         None => UNDEFINED_COLOUR,
         Some(c) if Some(c) == start_component => START_COLOUR,
         Some(c) if !map.components()[c].resolved => SLIVER_COLOUR,
-        Some(c) => PALETTE[c % PALETTE.len()],
+        Some(c) => signs_colour(map.components()[c].signs),
     };
     // Cells, merged into runs of one component along each row.
     let mut rects = Vec::new();
@@ -242,10 +254,9 @@ fn draw_domain_legend<DB: DrawingBackend>(
         }
         shown += 1;
         area.draw(&swatch(colour(Some(c)), y))?;
-        let branch = if comp.signs.branch > 0 { "+" } else { "-" };
-        let tag = if is_start { "  <- q0" } else { "" };
+        let tag = if is_start { "  ← q0" } else { "" };
         area.draw(&Text::new(
-            format!("{:.2} %, branch {branch}{tag}", 100.0 * comp.fraction),
+            format!("{:.2} %, {}{tag}", 100.0 * comp.fraction, signs_text(comp.signs)),
             (42, y),
             (FONT, 15).into_font().color(&BLACK),
         ))?;
@@ -290,7 +301,7 @@ fn draw_domain_legend<DB: DrawingBackend>(
         y += 24;
     }
     if let Some(note) = &overlay.plan_note {
-        for chunk in wrap_text(note, 34) {
+        for chunk in wrap_text(note, 36) {
             area.draw(&text(&chunk, y, 13))?;
             y += 18;
         }
@@ -299,7 +310,7 @@ fn draw_domain_legend<DB: DrawingBackend>(
 }
 
 /// The size \[px\] of a picture of two domain maps side by side ([`domain_pair_picture`]).
-pub const DOMAIN_PAIR_SIZE: (u32, u32) = (2200, 800);
+pub const DOMAIN_PAIR_SIZE: (u32, u32) = (2 * DOMAIN_SIZE.0, DOMAIN_SIZE.1);
 
 /// Two domain maps side by side, as in the paper's Figs. 13 and 14: each as
 /// [`domain_picture`] draws it, on a [`DOMAIN_PAIR_SIZE`] canvas.

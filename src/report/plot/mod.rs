@@ -3,12 +3,13 @@
 //!
 //! Text is laid out with DejaVu Sans, embedded in the binary (the `dejavu` crate; Bitstream Vera
 //! license), and registered with plotters' `ab_glyph` renderer: pictures render the same on a
-//! machine without any system font. Pictures are rendered in memory; the caller writes the bytes
+//! machine without any system font. A PNG is the SVG rasterised by resvg (anti-aliased, with the
+//! same embedded font and no system font), so both formats show the same picture. Pictures are rendered in memory; the caller writes the bytes
 //! (atomically, with [`crate::report::io::write_atomic`]).
 
 use crate::model::InputError;
 use std::path::Path;
-use std::sync::OnceLock;
+use std::sync::{Arc, OnceLock};
 
 use crate::error::Error;
 use plotters::coord::Shift;
@@ -82,25 +83,52 @@ fn render(path: &Path, format: PictureFormat, size: (u32, u32), painter: &impl P
             Ok(text.into_bytes())
         }
         PictureFormat::Png => {
-            let mut rgb = vec![0u8; size.0 as usize * size.1 as usize * 3];
-            {
-                let root = BitMapBackend::with_buffer(&mut rgb, size).into_drawing_area();
-                painter.paint(&root).map_err(fail)?;
-                root.present().map_err(|e| fail(e.to_string()))?;
-            }
-            let mut png_bytes = Vec::new();
-            {
-                let mut encoder = png::Encoder::new(&mut png_bytes, size.0, size.1);
-                encoder.set_color(png::ColorType::Rgb);
-                encoder.set_depth(png::BitDepth::Eight);
-                encoder.set_compression(png::Compression::Best);
-                encoder.set_adaptive_filter(png::AdaptiveFilterType::Adaptive);
-                let mut writer = encoder.write_header().map_err(|e| fail(e.to_string()))?;
-                writer.write_image_data(&rgb).map_err(|e| fail(e.to_string()))?;
-            }
-            Ok(png_bytes)
+            let svg = render(path, PictureFormat::Svg, size, painter)?;
+            rasterise(&String::from_utf8_lossy(&svg), path)
         }
     }
+}
+
+/// The fonts of the rasteriser: the embedded DejaVu Sans only, no system font.
+fn font_database() -> Arc<resvg::usvg::fontdb::Database> {
+    static FONTS: OnceLock<Arc<resvg::usvg::fontdb::Database>> = OnceLock::new();
+    FONTS
+        .get_or_init(|| {
+            let mut db = resvg::usvg::fontdb::Database::new();
+            db.load_font_data(dejavu::sans::regular().to_vec());
+            db.load_font_data(dejavu::sans::bold().to_vec());
+            db.set_sans_serif_family("DejaVu Sans");
+            Arc::new(db)
+        })
+        .clone()
+}
+
+/// Rasterises an SVG picture into an anti-aliased PNG (RGB, 8 bits, on white) with resvg, so
+/// that the PNG shows what the SVG shows.
+fn rasterise(svg: &str, path: &Path) -> Result<Vec<u8>, Error> {
+    use resvg::{tiny_skia, usvg};
+    let fail = |e: &dyn std::fmt::Display| picture_error(path, e);
+    let options =
+        usvg::Options { font_family: "DejaVu Sans".into(), fontdb: font_database(), ..usvg::Options::default() };
+    let tree = usvg::Tree::from_str(svg, &options).map_err(|e| fail(&e))?;
+    let size = tree.size().to_int_size();
+    let mut pixmap =
+        tiny_skia::Pixmap::new(size.width(), size.height()).ok_or_else(|| fail(&"the picture has no pixels"))?;
+    pixmap.fill(tiny_skia::Color::WHITE);
+    resvg::render(&tree, tiny_skia::Transform::default(), &mut pixmap.as_mut());
+    // Opaque (drawn on white): premultiplied RGBA is plain RGBA.
+    let rgb: Vec<u8> = pixmap.data().chunks_exact(4).flat_map(|p| [p[0], p[1], p[2]]).collect();
+    let mut png_bytes = Vec::new();
+    {
+        let mut encoder = png::Encoder::new(&mut png_bytes, size.width(), size.height());
+        encoder.set_color(png::ColorType::Rgb);
+        encoder.set_depth(png::BitDepth::Eight);
+        encoder.set_compression(png::Compression::Best);
+        encoder.set_adaptive_filter(png::AdaptiveFilterType::Adaptive);
+        let mut writer = encoder.write_header().map_err(|e| fail(&e))?;
+        writer.write_image_data(&rgb).map_err(|e| fail(&e))?;
+    }
+    Ok(png_bytes)
 }
 
 /// A tick label without float noise (`0.30000000000000004` is shown as `0.3`).

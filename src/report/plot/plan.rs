@@ -33,6 +33,9 @@ pub struct Panel {
     pub series: Vec<Series>,
     /// Lines of text, drawn in place of the chart when there are no curves.
     pub text: Vec<String>,
+    /// The vertical axis reaches down (or up) to zero, so that a small ripple on a large value
+    /// looks small.
+    pub include_zero: bool,
 }
 
 /// A plan picture: a title, up to four panels in a 2 x 2 grid, and a caption of a few lines
@@ -50,6 +53,11 @@ pub struct PlanFigure {
 /// Colours of a panel's curves, in order (colour-blind safe, after Okabe and Ito).
 const SERIES_COLOURS: [RGBColor; 4] =
     [RGBColor(0, 114, 178), RGBColor(213, 94, 0), RGBColor(0, 158, 115), RGBColor(204, 121, 167)];
+
+/// The height \[px\] of the legend's strip above a panel's chart.
+const LEGEND_HEIGHT: u32 = 26;
+/// Where the legend starts \[px\]: above the chart's left edge.
+const LEGEND_LEFT: i32 = 78;
 
 /// The picture of a plan ([`PlanFigure`]) on a [`PLAN_FIGURE_SIZE`] canvas.
 pub fn plan_picture(figure: &PlanFigure, format: PictureFormat, path: &Path) -> Result<Vec<u8>, Error> {
@@ -95,15 +103,31 @@ fn draw_panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, panel: &Panel) 
     for &(x, y) in points() {
         (x0, x1, y0, y1) = (x0.min(x), x1.max(x), y0.min(y), y1.max(y));
     }
+    if panel.include_zero {
+        (y0, y1) = (y0.min(0.0), y1.max(0.0));
+    }
     if !(x1 > x0) {
         x1 = x0 + 1.0;
     }
     // A flat curve (e.g. a control that is zero) still gets a visible range.
     let pad = ((y1 - y0) * 0.06).max(1e-9 * y0.abs().max(y1.abs())).max(1e-12);
     let (y0, y1) = (y0 - pad, y1 + pad);
-    let mut chart = ChartBuilder::on(area)
-        .caption(&panel.title, (FONT, 19))
-        .margin(14)
+    // The title, then the legend in a strip of its own above the chart: never over a curve.
+    let area = area.margin(14, 0, 14, 14).titled(&panel.title, (FONT, 19)).map_err(e)?;
+    let (strip, area) = area.split_vertically(LEGEND_HEIGHT);
+    let mut x = LEGEND_LEFT;
+    for (k, series) in panel.series.iter().enumerate() {
+        let colour = SERIES_COLOURS[k % SERIES_COLOURS.len()];
+        let y = LEGEND_HEIGHT as i32 / 2;
+        strip.draw(&PathElement::new(vec![(x, y), (x + 22, y)], colour.stroke_width(3))).map_err(e)?;
+        let text = Text::new(series.label.clone(), (x + 28, y - 8), (FONT, 15).into_font().color(&BLACK));
+        strip.draw(&text).map_err(e)?;
+        let (width, _) =
+            strip.estimate_text_size(&series.label, &TextStyle::from((FONT, 15).into_font())).map_err(e)?;
+        x += 28 + width as i32 + 24;
+    }
+    let mut chart = ChartBuilder::on(&area)
+        .margin_right(14)
         .x_label_area_size(48)
         .y_label_area_size(78)
         .build_cartesian_2d(x0..x1, y0..y1)
@@ -123,19 +147,7 @@ fn draw_panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, panel: &Panel) 
     for (k, series) in panel.series.iter().enumerate() {
         let colour = SERIES_COLOURS[k % SERIES_COLOURS.len()];
         let style = ShapeStyle::from(&colour).stroke_width(2);
-        chart
-            .draw_series(LineSeries::new(series.points.iter().copied().filter(|p| finite(&p)), style))
-            .map_err(e)?
-            .label(series.label.as_str())
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 22, y)], colour.stroke_width(3)));
+        chart.draw_series(LineSeries::new(series.points.iter().copied().filter(|p| finite(&p)), style)).map_err(e)?;
     }
-    chart
-        .configure_series_labels()
-        .position(SeriesLabelPosition::UpperRight)
-        .background_style(WHITE.mix(0.85))
-        .border_style(RGBColor(160, 160, 160))
-        .label_font((FONT, 15))
-        .draw()
-        .map_err(e)?;
     Ok(())
 }

@@ -46,7 +46,11 @@ fn draw_sweep<DB: DrawingBackend>(
     let a_range = (a_values[0] - da / 2.0)..(a_values[a_values.len() - 1] + da / 2.0);
     let b_range = (b_values[0] - db / 2.0)..(b_values[b_values.len() - 1] + db / 2.0);
     let trials = rows[0].trials;
+    let root = root
+        .titled("Fig. 16: mounting-point map of the domain of Eq. (14) and of the NFA's success", (FONT, 22))
+        .map_err(e)?;
     let panels = root.split_evenly((1, 2));
+    let bar_titles = ["fraction of the torus", "success rate"];
     let titles = [
         format!("Start-component fraction (grid {})", rows[0].grid),
         format!("Best NFA success rate ({trials} random pairs)"),
@@ -92,7 +96,8 @@ fn draw_sweep<DB: DrawingBackend>(
                 ))
                 .map_err(e)?;
         }
-        // Colour bar from 0 to the panel's largest value.
+        // Colour bar from the panel's smallest to its largest value, with what it measures.
+        bar.draw(&Text::new(bar_titles[k], (4, 24), (FONT, 14).into_font().color(&BLACK))).map_err(e)?;
         let (_, height) = bar.dim_in_pixel();
         let (top, bottom) = (60i32, height as i32 - 60);
         for y in top..bottom {
