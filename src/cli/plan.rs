@@ -7,6 +7,7 @@ use freefloat::model::kinematics::Elbow;
 use freefloat::plan::{Method, Plan, PlanningProblem, TorqueOptions};
 use freefloat::planners::{Planned, PlannerOptions, plan_to_pose, planner};
 use freefloat::report::io::{PlanReport, trajectory_csv, write_atomic};
+use freefloat::track::closed_loop_certificate;
 
 use super::args::{
     CompareArgs, CompareFormat, CostArg, ElbowArg, Format, PlanArgs, ProblemArgs, TransformArg, WindowArg,
@@ -123,18 +124,26 @@ pub fn run(args: &PlanArgs) -> anyhow::Result<ExitCode> {
     let problem = super::problem(&args.problem)?;
     let planned = plan_with(method(args)?, &args.problem, &problem)??;
     let plan = &planned.plan;
-    let r = PlanReport::new(&planned, false);
+    // With torques, the closed-loop certificate too: executable with feedback?
+    let closed_loop = match args.problem.torques {
+        true => Some(closed_loop_certificate(&plan.problem, planned.motion.as_ref())?),
+        false => None,
+    };
+    let report = |with_trajectory| {
+        let r = PlanReport::new(&planned, with_trajectory);
+        match closed_loop {
+            Some(c) => r.with_closed_loop(c),
+            None => r,
+        }
+    };
+    let r = report(false);
     let text = match args.format {
         Format::Table => table(plan, &r),
         Format::Json => format!("{}\n", serde_json::to_string_pretty(&r)?),
         Format::Csv => String::from_utf8(trajectory_csv(&plan.trajectory)?)?,
     };
     if let Some((path, json)) = out {
-        let bytes = if json {
-            serde_json::to_vec_pretty(&PlanReport::new(&planned, true))?
-        } else {
-            trajectory_csv(&plan.trajectory)?
-        };
+        let bytes = if json { serde_json::to_vec_pretty(&report(true))? } else { trajectory_csv(&plan.trajectory)? };
         write_atomic(path, &bytes)?;
     }
     super::emit(&text)?;
@@ -384,6 +393,13 @@ pub fn table(plan: &Plan, r: &PlanReport) -> String {
         );
         s += &format!("  max |angular momentum|   {:.3e} kg m^2/s\n", c.max_abs_momentum);
         s += &format!("  max |base row of (6)|    {:.3e} N m\n", t.max_abs_base_residual);
+    }
+    if let Some(c) = &r.closed_loop {
+        let status = if c.certified { "CERTIFIED: executable with feedback" } else { "NOT CERTIFIED" };
+        s += &format!(
+            "  closed loop (ct, {} Hz)  final error {:.3e} rad (tolerance {:.1e})  {status}\n",
+            c.rate, c.final_error, c.tolerance
+        );
     }
     let torques = r.seconds.torques.map(|t| format!(", torques {:.3} ms", t * 1e3)).unwrap_or_default();
     let torque_verify = r

@@ -12,6 +12,7 @@ use crate::error::Error;
 use crate::plan::Trajectory;
 use crate::planners::optimal::OptimalStats;
 use crate::planners::{Details, Planned};
+use crate::track::ClosedLoopCertificate;
 
 /// The temporary files and directories of writes in progress, removed by
 /// [`remove_temporaries`] (the binary's SIGINT/SIGTERM handler).
@@ -215,6 +216,10 @@ pub struct PlanReport {
     /// iterations, basis and the goal representative reached.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub optimal: Option<OptimalStats>,
+    /// The closed-loop certificate (with torques): the nominal robot tracking the plan with
+    /// computed torque at 1 kHz reaches the goal within 1e-6 rad.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub closed_loop: Option<ClosedLoopCertificate>,
     /// The trajectory (only in `--out FILE.json`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub trajectory: Option<Trajectory>,
@@ -265,6 +270,7 @@ impl PlanReport {
                 Details::Optimal(stats) => Some(*stats),
                 _ => None,
             },
+            closed_loop: None,
             trajectory: with_trajectory.then(|| plan.trajectory.clone()),
         };
         if let Details::Ecsa(solution) = &planned.details {
@@ -327,6 +333,13 @@ impl PlanReport {
 }
 
 impl PlanReport {
+    /// This report with the closed-loop certificate (it does not change `certified`, which
+    /// holds the open-loop levels).
+    pub fn with_closed_loop(mut self, certificate: ClosedLoopCertificate) -> Self {
+        self.closed_loop = Some(certificate);
+        self
+    }
+
     /// The report with the torque level filled in: `max_abs_torque`, `torque_final_error`,
     /// `seconds.torques`, the certificate; `certified` then requires both levels.
     fn with_torques(mut self, torques: &crate::plan::TorqueReport) -> Self {

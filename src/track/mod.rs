@@ -29,6 +29,7 @@
 //! assert!(run.final_error < 1e-4);
 //! ```
 
+pub mod certificate;
 pub mod control;
 pub mod identify;
 pub mod monte_carlo;
@@ -38,6 +39,7 @@ pub mod plant;
 pub mod replan;
 pub mod run;
 
+pub use certificate::{CLOSED_LOOP_TOLERANCE, ClosedLoopCertificate, closed_loop_certificate};
 pub use control::{Controller, Gains};
 pub use identify::IdentifyOptions;
 pub use monte_carlo::{MonteCarloOptions, Summary, Trial, monte_carlo};

@@ -305,3 +305,18 @@ fn max_velocity_stretches_before_the_torque_level() {
     assert!(peak <= 2.0 * (1.0 + 1e-9), "peak |u| {peak}");
     assert!(v["max_abs_torque"].is_array() && v["torque_final_error"].is_number(), "{v}");
 }
+
+/// `--torques` also reports the closed-loop certificate: the nominal robot tracking the plan with
+/// computed torque at 1 kHz reaches the goal within 1e-6 rad (docs/spec.md §2).
+#[test]
+fn torques_report_the_closed_loop_certificate() {
+    let o = freefloat(&["plan", "--method", "nfa", "--mount", "0.2,0.2", "--torques", "--format", "json"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("json");
+    let c = &v["closed_loop"];
+    assert_eq!(c["controller"], "ct", "{c}");
+    assert!(c["final_error"].as_f64().expect("number") <= 1e-6 && c["certified"] == true, "{c}");
+    let plain = freefloat(&["plan", "--method", "nfa", "--mount", "0.2,0.2", "--format", "json"]);
+    let v: serde_json::Value = serde_json::from_slice(&plain.stdout).expect("json");
+    assert!(v.get("closed_loop").is_none(), "only with --torques");
+}
