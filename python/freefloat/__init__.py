@@ -13,7 +13,7 @@ Angles in radians, SI units, results as NumPy arrays::
 """
 
 from ._errors import BadInput, FreefloatError, NoPlan, NotCertified
-from ._freefloat import METHODS, Domain, Plan, Robot, __version__, compare, domain, plan
+from ._freefloat import METHODS, Domain, Plan, Robot, __version__, compare, domain, plan, track
 
 __all__ = [
     "METHODS",
@@ -28,4 +28,5 @@ __all__ = [
     "compare",
     "domain",
     "plan",
+    "track",
 ]

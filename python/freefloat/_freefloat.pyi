@@ -376,3 +376,34 @@ def _time_plan(
 ) -> list[float]:
     """Wall time [s] of the Rust planning call alone (what :func:`plan` runs without the GIL),
     once per repeat: the reference of ``bench/plan_overhead.py``."""
+
+def track(
+    robot: Robot,
+    start: _Angles,
+    goal: _Angles,
+    T: float,
+    *,
+    controller: Literal["open", "ct", "replan", "adaptive"] = "adaptive",
+    true_robot: Optional[Robot] = None,
+    perturb: float = 0.0,
+    perturb_mount: float = 0.0,
+    torque_noise: float = 0.0,
+    q_noise: float = 0.0,
+    dq_noise: float = 0.0,
+    rate: float = 1000.0,
+    replan_rate: float = 50.0,
+    seed: int = 0,
+) -> dict[str, Any]:
+    """Plans ``start -> goal`` [rad] in ``T`` [s] with the optimal planner on ``robot`` (the
+    model), then executes the plan in closed loop, in simulation, on the true robot:
+    ``true_robot``, or ``robot`` with each mass, inertia, length and centre-of-mass distance
+    perturbed by up to ``perturb`` (relative) and the mount by up to ``perturb_mount`` [m],
+    seeded by ``seed``. ``controller``: ``"open"`` (the planned torques), ``"ct"`` (computed
+    torque with joint PD), ``"replan"`` (ct plus re-planning at ``replan_rate`` [Hz] from the
+    measured state), ``"adaptive"`` (replan on a model whose momentum map is identified on
+    line). ``torque_noise`` (relative), ``q_noise`` [rad], ``dq_noise`` [rad/s]: disturbances;
+    ``rate``: control rate [Hz] with zero-order hold. Returns a dict: ``final_error`` [rad],
+    ``final_errors`` per coordinate, ``peak_torque`` [N m], ``replans``, ``replan_failures``,
+    ``saturated_fraction``, ``seconds``, and ``identification`` (adaptive). The GIL is
+    released. Raises :class:`BadInput` for bad options, :class:`NoPlan`/:class:`NotCertified`
+    when the plan itself fails."""

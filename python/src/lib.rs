@@ -1,4 +1,4 @@
-//! Python bindings of freefloat (PyO3): `freefloat.Robot`, `plan`, `compare`, `domain`.
+//! Python bindings of freefloat (PyO3): `freefloat.Robot`, `plan`, `compare`, `domain`, `track`.
 //!
 //! The Python package is `python/freefloat/` (its exceptions in `_errors.py`, the stubs in
 //! `_freefloat.pyi`); this crate is its native module `freefloat._freefloat`. Planning and
@@ -10,6 +10,7 @@ mod domain;
 mod errors;
 mod planning;
 mod robot;
+mod tracking;
 
 use pyo3::prelude::*;
 
@@ -23,6 +24,7 @@ fn _freefloat(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(planning::compare, m)?)?;
     m.add_function(wrap_pyfunction!(planning::_time_plan, m)?)?;
     m.add_function(wrap_pyfunction!(domain::domain, m)?)?;
+    m.add_function(wrap_pyfunction!(tracking::track, m)?)?;
     m.add("METHODS", planning::METHODS.to_vec())?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())

@@ -1,0 +1,82 @@
+//! `freefloat.track`: a plan executed in closed loop on a robot that may differ from the model
+//! (the library's `track` module), results as a dict with NumPy arrays of the motion.
+
+use freefloat::planners::{PlannerOptions, planner};
+use freefloat::track::{Controller, Disturbances, Perturbation, TrackOptions, track as run_track};
+use freefloat::{Configuration, Method, PlanningProblem};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+use crate::convert::json_dict;
+use crate::errors::{BindingError, IntoPyResult};
+use crate::robot::{PyRobot, triple};
+
+/// The controller by its name.
+fn controller(name: &str) -> Result<Controller, BindingError> {
+    Ok(match name {
+        "open" => Controller::Open,
+        "ct" => Controller::Ct,
+        "replan" => Controller::Replan,
+        "adaptive" => Controller::Adaptive,
+        other => {
+            return Err(BindingError::UnknownChoice {
+                name: "controller",
+                value: other.into(),
+                allowed: &["open", "ct", "replan", "adaptive"],
+            });
+        }
+    })
+}
+
+/// Plans `start -> goal` in `T` with the optimal planner on `robot` (the model), then executes
+/// the plan in closed loop on the true robot (`true_robot`, or `robot` perturbed by `perturb`
+/// relative and `perturb_mount` metres, seeded by `seed`) with `controller`; see the stub.
+#[pyfunction]
+#[pyo3(signature = (
+    robot, start, goal, T, *, controller = "adaptive", true_robot = None, perturb = 0.0,
+    perturb_mount = 0.0, torque_noise = 0.0, q_noise = 0.0, dq_noise = 0.0, rate = 1000.0,
+    replan_rate = 50.0, seed = 0
+))]
+#[allow(non_snake_case, clippy::too_many_arguments)]
+pub fn track<'py>(
+    py: Python<'py>,
+    robot: PyRef<'py, PyRobot>,
+    start: Vec<f64>,
+    goal: Vec<f64>,
+    T: f64,
+    controller: &str,
+    true_robot: Option<PyRef<'py, PyRobot>>,
+    perturb: f64,
+    perturb_mount: f64,
+    torque_noise: f64,
+    q_noise: f64,
+    dq_noise: f64,
+    rate: f64,
+    replan_rate: f64,
+    seed: u64,
+) -> PyResult<Bound<'py, PyDict>> {
+    let start = Configuration::from_array(triple(py, "start", &start)?);
+    let goal = Configuration::from_array(triple(py, "goal", &goal)?);
+    let problem = PlanningProblem::new(robot.inner, start, goal, T).py_result(py)?;
+    let controller = self::controller(controller).py_result(py)?;
+    let mut options = TrackOptions { controller, rate, ..Default::default() };
+    options.replan.rate = replan_rate;
+    options.disturbances = Disturbances { torque_noise, q_noise, dq_noise, ..Default::default() };
+    let truth = true_robot.map(|r| r.inner);
+    let perturbation = Perturbation { relative: perturb, mount: perturb_mount };
+    let tracked = py
+        .detach(|| -> Result<_, BindingError> {
+            let truth = match truth {
+                Some(t) => t,
+                None => perturbation.apply(&problem.robot, seed)?,
+            };
+            let planned = planner(Method::Optimal, &PlannerOptions::default()).plan(&problem)?;
+            planned.certified()?;
+            Ok(run_track(&problem, planned.motion.as_ref(), &truth, &options, seed)?)
+        })
+        .py_result(py)?;
+    let value = serde_json::to_value(&tracked).map_err(|e| {
+        pyo3::exceptions::PyRuntimeError::new_err(format!("invariant: the tracking result serialises: {e}"))
+    })?;
+    json_dict(py, &value.as_object().cloned().unwrap_or_default())
+}

@@ -1,0 +1,36 @@
+"""freefloat.track: closed-loop execution on a robot that is not the model (issue 12)."""
+
+import numpy as np
+import pytest
+
+import freefloat as ff
+
+Q0 = np.radians([45.0, 120.0, 80.0])
+QD = np.radians([0.0, 180.0, 140.0])
+
+
+def test_feedback_on_the_model_reaches_the_goal():
+    robot = ff.Robot.src().with_mount(0.1, 0.1)
+    r = ff.track(robot, Q0, QD, 10.0, controller="ct")
+    assert r["final_error"] <= 1e-6
+    assert r["replans"] == 0
+
+
+def test_adaptive_beats_open_loop_on_a_perturbed_robot():
+    robot = ff.Robot.src().with_mount(0.1, 0.1)
+    kw = dict(perturb=0.05, perturb_mount=0.01, torque_noise=0.01, seed=3)
+    open_loop = ff.track(robot, Q0, QD, 10.0, controller="open", **kw)
+    adaptive = ff.track(robot, Q0, QD, 10.0, controller="adaptive", **kw)
+    assert adaptive["final_error"] < open_loop["final_error"]
+    assert adaptive["final_error"] <= 1e-3
+    assert adaptive["identification"] is not None
+
+
+def test_bad_options_are_bad_input():
+    robot = ff.Robot.src()
+    with pytest.raises(ff.BadInput):
+        ff.track(robot, Q0, QD, 10.0, controller="pid")
+    with pytest.raises(ff.BadInput):
+        ff.track(robot, Q0, QD, 10.0, rate=0.0)
+    with pytest.raises(ff.BadInput):
+        ff.track(robot, Q0, QD, 10.0, perturb=2.0)
