@@ -86,7 +86,8 @@ fn method(args: &PlanArgs) -> anyhow::Result<Method> {
         None => Method::Optimal,
     };
     let ecsa = p.harmonics != 1 || p.window != WindowArg::None;
-    let optimal = p.smooth_ends || p.no_wrap || p.cost != CostArg::Effort || p.from_velocity.trim() != "0,0";
+    let moving = super::parse_list::<2>("--from-velocity", &p.from_velocity)?.iter().any(|v| v.abs() > 0.0);
+    let optimal = p.smooth_ends || p.no_wrap || p.cost != CostArg::Effort || moving;
     let misplaced = [
         (transform, Method::Nfa, "--transform"),
         (ecsa, Method::Ecsa, "--harmonics/--window"),
