@@ -272,6 +272,7 @@
     body.setAttribute("data-canvases", String(made.length));
     // The page's width, to check that a narrow screen does not scroll sideways.
     body.setAttribute("data-width", String(document.documentElement.scrollWidth));
+    body.setAttribute("data-viewport", String(document.documentElement.clientWidth));
     body.setAttribute("data-painted", String(counts.length ? Math.min.apply(null, counts) : 0));
     if (!failed) body.setAttribute("data-status", "ok");
   } catch (e) {
