@@ -1,4 +1,5 @@
 //! Criterion benches of the velocity-level NFA plan (docs/spec.md §5): eq14 with 1001 samples <= 1 ms,
+//! with 101 samples <= 0.1 ms (issue 11),
 //! eq11/eq12 <= 0.3 ms; the band-steered global plan <= 5 ms. Verification is benched
 //! separately and does not count.
 
@@ -23,6 +24,14 @@ fn bench_plan(c: &mut Criterion) {
         c.bench_function(&format!("nfa_velocity_plan_1001/{name}"), |b| {
             b.iter(|| {
                 let motion = planner.motion(black_box(&p)).expect("plan");
+                black_box(motion.trajectory(&p, false).expect("trajectory"))
+            })
+        });
+        let coarse =
+            NormalFormPlanner::new(NfaOptions { transform: Some(transform), samples: 101, ..Default::default() });
+        c.bench_function(&format!("nfa_velocity_plan_101/{name}"), |b| {
+            b.iter(|| {
+                let motion = coarse.motion(black_box(&p)).expect("plan");
                 black_box(motion.trajectory(&p, false).expect("trajectory"))
             })
         });
