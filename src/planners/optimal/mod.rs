@@ -396,14 +396,7 @@ impl OptimalPlanner {
 
     /// The best motion, without verification.
     pub fn motion(&self, problem: &PlanningProblem) -> Result<OptimalMotion, Error> {
-        self.motions(problem)?.into_iter().next().ok_or(Error::OptimalFailed {
-            iterations: 0,
-            constraint_residual: f64::INFINITY,
-            kkt_residual: f64::INFINITY,
-            effort: f64::INFINITY,
-            seeds: 0,
-            termination: "no_candidate",
-        })
+        self.motions(problem)?.into_iter().next().ok_or_else(no_candidate)
     }
 
     /// Plans and verifies, returning the exact motion beside the plan: the best candidate whose
@@ -428,14 +421,7 @@ impl OptimalPlanner {
                 first = Some((plan, motion));
             }
         }
-        first.ok_or(Error::OptimalFailed {
-            iterations: 0,
-            constraint_residual: f64::INFINITY,
-            kkt_residual: f64::INFINITY,
-            effort: f64::INFINITY,
-            seeds: 0,
-            termination: "no_candidate",
-        })
+        first.ok_or_else(no_candidate)
     }
 }
 
@@ -458,6 +444,18 @@ impl Planner for OptimalPlanner {
         let (plan, motion) = self.plan_with_motion(problem)?;
         let details = Details::Optimal(motion.stats);
         Ok(Planned::new(plan, Box::new(motion), details))
+    }
+}
+
+/// The error when the search returned no candidate at all.
+fn no_candidate() -> Error {
+    Error::OptimalFailed {
+        iterations: 0,
+        constraint_residual: f64::INFINITY,
+        kkt_residual: f64::INFINITY,
+        effort: f64::INFINITY,
+        seeds: 0,
+        termination: "no_candidate",
     }
 }
 

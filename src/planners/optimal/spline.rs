@@ -104,9 +104,9 @@ impl SplineBasis {
         b.partition_point(|&x| x <= t).saturating_sub(1).min(last)
     }
 
-    /// Values, first and second derivatives of the basis functions of knot span `span` at `t`
-    /// (Piegl–Tiller A2.3, up to the second derivative).
-    pub fn ders(&self, span: usize, t: f64) -> Ders {
+    /// The triangular table `ndu` of Piegl–Tiller A2.3 at `t` in knot span `span`: the basis
+    /// functions of every degree up to `p` (upper triangle) and the knot differences (lower).
+    fn triangle(&self, span: usize, t: f64) -> [[f64; MAX_DEGREE + 1]; MAX_DEGREE + 1] {
         let p = self.degree;
         let u = &self.knots;
         let mut ndu = [[0.0; MAX_DEGREE + 1]; MAX_DEGREE + 1];
@@ -125,6 +125,14 @@ impl SplineBasis {
             }
             ndu[j][j] = saved;
         }
+        ndu
+    }
+
+    /// Values, first and second derivatives of the basis functions of knot span `span` at `t`
+    /// (Piegl–Tiller A2.3, up to the second derivative).
+    pub fn ders(&self, span: usize, t: f64) -> Ders {
+        let p = self.degree;
+        let ndu = self.triangle(span, t);
         let mut ders: Ders = [[0.0; MAX_DEGREE + 1]; 3];
         for (j, d) in ders[0].iter_mut().enumerate().take(p + 1) {
             *d = ndu[j][p];
@@ -173,23 +181,7 @@ impl SplineBasis {
     /// degree `p - 1` functions, Piegl–Tiller Eq. 2.9).
     pub fn values_and_rates(&self, span: usize, t: f64) -> [[f64; MAX_DEGREE + 1]; 2] {
         let p = self.degree;
-        let u = &self.knots;
-        let mut ndu = [[0.0; MAX_DEGREE + 1]; MAX_DEGREE + 1];
-        let mut left = [0.0; MAX_DEGREE + 1];
-        let mut right = [0.0; MAX_DEGREE + 1];
-        ndu[0][0] = 1.0;
-        for j in 1..=p {
-            left[j] = t - u[span + 1 - j];
-            right[j] = u[span + j] - t;
-            let mut saved = 0.0;
-            for r in 0..j {
-                ndu[j][r] = right[r + 1] + left[j - r];
-                let temp = ndu[r][j - 1] / ndu[j][r];
-                ndu[r][j] = saved + right[r + 1] * temp;
-                saved = left[j - r] * temp;
-            }
-            ndu[j][j] = saved;
-        }
+        let ndu = self.triangle(span, t);
         let mut out = [[0.0; MAX_DEGREE + 1]; 2];
         // N'_{r} = p (N_{r-1, p-1} / (u_{r+p} - u_r) - N_{r, p-1} / (u_{r+p+1} - u_{r+1})), the
         // knot differences being ndu[p][.] and the degree p - 1 values ndu[.][p - 1].
