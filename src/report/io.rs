@@ -23,9 +23,18 @@ fn temporaries() -> std::sync::MutexGuard<'static, Vec<PathBuf>> {
     TEMPORARIES.lock().unwrap_or_else(std::sync::PoisonError::into_inner)
 }
 
-/// Registers a temporary path until [`forget_temporary`].
-pub fn register_temporary(path: &Path) {
-    temporaries().push(path.to_path_buf());
+/// Creates a temporary file or directory with `create` and registers it until
+/// [`forget_temporary`], both under the list's lock: the SIGINT/SIGTERM handler
+/// ([`remove_temporaries`]) holds that lock while it removes, so no temporary is created after it
+/// looked, and none once it has run ([`interrupted`]).
+pub fn create_temporary<T>(path: &Path, create: impl FnOnce(&Path) -> std::io::Result<T>) -> std::io::Result<T> {
+    let mut list = temporaries();
+    if interrupted() {
+        return Err(std::io::Error::new(std::io::ErrorKind::Interrupted, "interrupted by a signal"));
+    }
+    let made = create(path)?;
+    list.push(path.to_path_buf());
+    Ok(made)
 }
 
 /// Unregisters a temporary path (renamed into place or removed).
@@ -35,10 +44,35 @@ pub fn forget_temporary(path: &Path) {
 
 /// Removes every registered temporary file or directory: called on SIGINT/SIGTERM, so that an
 /// interrupted run leaves neither a `.NAME.PID.tmp` file nor a half-written directory.
+///
+/// New temporaries are refused from then on ([`create_temporary`]); a file already open may still
+/// be renamed inside a temporary directory while it goes (then `remove_dir_all` fails), so the
+/// removal is retried until the path is gone (at most about a second).
 pub fn remove_temporaries() {
-    for path in temporaries().drain(..) {
-        let _gone = if path.is_dir() { std::fs::remove_dir_all(&path) } else { std::fs::remove_file(&path) };
+    let mut list = temporaries();
+    INTERRUPTED.store(true, std::sync::atomic::Ordering::SeqCst);
+    for path in list.drain(..) {
+        remove_path(&path);
     }
+}
+
+/// Removes a file or a directory with its contents, retrying while entries are renamed inside it.
+fn remove_path(path: &Path) {
+    for _attempt in 0..200 {
+        let _gone = if path.is_dir() { std::fs::remove_dir_all(path) } else { std::fs::remove_file(path) };
+        if std::fs::symlink_metadata(path).is_err() {
+            return;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+}
+
+/// Set by [`remove_temporaries`]: the process is being interrupted and writes no more files.
+static INTERRUPTED: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+/// Whether [`remove_temporaries`] has run (the process is being interrupted).
+pub fn interrupted() -> bool {
+    INTERRUPTED.load(std::sync::atomic::Ordering::SeqCst)
 }
 
 /// The directory of `path` (`.` for a bare file name) and its file name.
@@ -80,9 +114,8 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), Error> {
     let (dir, name) = split_path(path);
     remove_stale_temporaries(&dir, &name);
     let tmp = dir.join(format!(".{name}.{}.tmp", std::process::id()));
-    register_temporary(&tmp);
     let result = (|| {
-        let mut f = std::fs::File::create(&tmp)?;
+        let mut f = create_temporary(&tmp, |p| std::fs::File::create(p))?;
         f.write_all(bytes)?;
         f.sync_all()?;
         std::fs::rename(&tmp, path)
@@ -368,16 +401,25 @@ mod tests {
         assert!(matches!(e, Err(Error::Input(InputError::Io { .. }))));
     }
 
-    /// The signal handler's routine removes registered temporaries; stale ones of dead
+    /// The signal handler's routine removes registered temporaries (files and directories); stale ones of dead
     /// processes go at the next write of that name, others' files stay.
     #[test]
     fn temporaries_are_removed() {
         let dir = tempfile::tempdir().unwrap();
         let tmp = dir.path().join(".x.json.1.tmp");
-        std::fs::write(&tmp, b"half").unwrap();
-        register_temporary(&tmp);
-        remove_temporaries();
-        assert!(!tmp.exists());
+        create_temporary(&tmp, |p| std::fs::write(p, b"half")).unwrap();
+        assert!(temporaries().contains(&tmp));
+        // What the handler does to each registered path (the handler itself would also stop
+        // every later write of this test process).
+        remove_path(&tmp);
+        forget_temporary(&tmp);
+        assert!(!tmp.exists() && !temporaries().contains(&tmp));
+        let dir_tmp = dir.path().join(".d.1.tmpdir");
+        create_temporary(&dir_tmp, |p| std::fs::create_dir(p)).unwrap();
+        std::fs::write(dir_tmp.join("f"), b"x").unwrap();
+        remove_path(&dir_tmp);
+        forget_temporary(&dir_tmp);
+        assert!(!dir_tmp.exists());
         let stale = dir.path().join(".y.json.999999999.tmp");
         let other = dir.path().join(".z.json.999999999.tmp");
         std::fs::write(&stale, b"half").unwrap();

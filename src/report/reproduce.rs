@@ -104,7 +104,7 @@ pub struct Reproduction {
 /// replaces `out` by renames: a killed run leaves the old directory or the new one, never a mix
 /// (an interrupted one removes its temporary directory; a killed one's is removed by the next).
 pub fn reproduce(out: &Path, progress: &(dyn Fn(&str, f64, &str) + Sync)) -> Result<Reproduction, Error> {
-    use super::io::{forget_temporary, register_temporary, remove_stale_temporaries, split_path};
+    use super::io::{create_temporary, forget_temporary, remove_stale_temporaries, split_path};
     let io = |path: &Path| {
         let path = path.to_path_buf();
         move |source| Error::from(InputError::Io { path, source })
@@ -113,8 +113,9 @@ pub fn reproduce(out: &Path, progress: &(dyn Fn(&str, f64, &str) + Sync)) -> Res
     std::fs::create_dir_all(&parent).map_err(io(&parent))?;
     remove_stale_temporaries(&parent, &name);
     let fresh = parent.join(format!(".{name}.{}.tmpdir", std::process::id()));
-    register_temporary(&fresh);
-    let result = std::fs::create_dir(&fresh).map_err(io(&fresh)).and_then(|()| reproduce_into(&fresh, progress));
+    let result = create_temporary(&fresh, |p| std::fs::create_dir(p))
+        .map_err(io(&fresh))
+        .and_then(|()| reproduce_into(&fresh, progress));
     let result = result.and_then(|r| swap_in(&fresh, out).map(|()| r));
     if fresh.exists() {
         let _cleanup = std::fs::remove_dir_all(&fresh);
