@@ -1,6 +1,7 @@
 //! The robot: the SRC space manipulator's parameters and the lumped constants of the
 //! Lagrangian (Sec. 3.1, after Eq. (3)).
 
+pub mod arm;
 mod error;
 pub mod kinematics;
 mod robot_file;

@@ -1,0 +1,233 @@
+//! Any planar serial arm: a free-floating base carrying `n >= 1` revolute links, each with a
+//! length, a centre-of-mass distance along the link, a mass and a moment of inertia about its
+//! centre of mass (the paper's robot, Sec. 3.1 and Fig. 3, is `n = 2` with point-mass links).
+//!
+//! Coordinates `q = (phi, theta_1, ..., theta_n)`: the base angle and the relative joint angles;
+//! link `i` points along `psi_i = phi + theta_1 + ... + theta_i`. With zero linear momentum the
+//! system's centre of mass stays at the origin (as for Eq. 3), so the kinetic energy is
+//! `T = 1/2 q'^T M(theta) q'` with the `(n + 1) x (n + 1)` inertia matrix [`Arm::inertia_matrix`],
+//! which does not depend on `phi` (the system is invariant under rotation). Its first row gives
+//! the angular momentum `F phi' + G . theta'` (Eq. 5 with `G_1, G_2 = G, H` of Eq. 8), so at zero
+//! momentum `phi' = -(G . theta') / F` (Eq. 7).
+//!
+//! Every function is generic over [`Scalar`], so derivatives of any order come from num-dual
+//! exactly.
+
+use nalgebra::DMatrix;
+use serde::{Deserialize, Serialize};
+
+use super::{Mount, RobotParams};
+use crate::Scalar;
+
+/// The base of the robot.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Base {
+    /// Mass `M` \[kg\].
+    pub mass: f64,
+    /// Moment of inertia about its centre of mass, `I` [kg m^2].
+    pub inertia: f64,
+}
+
+/// One link of the arm, from its joint to the next joint (or its tip).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Link {
+    /// Length `l_i`, joint to next joint \[m\].
+    pub length: f64,
+    /// Distance `d_i` from the joint to the link's centre of mass, along the link \[m\].
+    pub com: f64,
+    /// Mass `m_i` \[kg\].
+    pub mass: f64,
+    /// Moment of inertia about the link's centre of mass [kg m^2] (0 for a point mass).
+    pub inertia: f64,
+}
+
+/// A planar free-floating robot with an `n`-link serial arm mounted at `mount` in the base frame
+/// (relative to the base's centre of mass).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Arm {
+    /// The base.
+    pub base: Base,
+    /// The mounting point of joint 1 in the base frame \[m\].
+    pub mount: Mount,
+    /// The links, from the base outwards.
+    pub links: Vec<Link>,
+}
+
+/// Positions of every body's centre of mass relative to the system's centre of mass, with their
+/// Jacobians in `q`.
+#[derive(Debug, Clone)]
+pub struct BodyFrames<D> {
+    /// Position of the base's centre of mass `(x, y)` \[m\].
+    pub base: [D; 2],
+    /// Positions of the links' centres of mass \[m\].
+    pub links: Vec<[D; 2]>,
+    /// `d(x, y)/dq` of the base, one `[dx, dy]` per coordinate of `q`.
+    pub base_jacobian: Vec<[D; 2]>,
+    /// `d(x, y)/dq` of each link's centre of mass.
+    pub link_jacobians: Vec<Vec<[D; 2]>>,
+}
+
+impl Arm {
+    /// The paper's SRC robot as an arm: two point-mass links (zero link inertia).
+    pub fn from_params(robot: &RobotParams) -> Self {
+        Self {
+            base: Base { mass: robot.base_mass, inertia: robot.base_inertia },
+            mount: robot.mount,
+            links: vec![
+                Link { length: robot.l1, com: robot.d1, mass: robot.m1, inertia: 0.0 },
+                Link { length: robot.l2, com: robot.d2, mass: robot.m2, inertia: 0.0 },
+            ],
+        }
+    }
+
+    /// The number `n` of joints.
+    pub fn joints(&self) -> usize {
+        self.links.len()
+    }
+
+    /// Total mass \[kg\].
+    pub fn total_mass(&self) -> f64 {
+        self.base.mass + self.links.iter().map(|l| l.mass).sum::<f64>()
+    }
+
+    /// Positions of the bodies relative to the system's centre of mass, and their Jacobians in
+    /// `q = (phi, theta)`, at the configuration `q` (`n + 1` values).
+    ///
+    /// Relative to the base, link `k`'s centre of mass is at
+    /// `p_k = R(phi) (a, b) + sum_{i<k} l_i e(psi_i) + d_k e(psi_k)` with `e(psi) = (cos, sin)`;
+    /// the base then sits at `-sum m_k p_k / m_total`, which keeps the centre of mass at the origin.
+    pub fn bodies<D: Scalar>(&self, q: &[D]) -> BodyFrames<D> {
+        let n = self.joints();
+        assert_eq!(q.len(), n + 1, "q has n + 1 = {} coordinates", n + 1);
+        let total = self.total_mass();
+        // Absolute link angles psi_i, and e(psi_i), e_perp(psi_i).
+        let mut psi = q[0];
+        let mut e = Vec::with_capacity(n);
+        for &theta in &q[1..] {
+            psi += theta;
+            let (s, c) = psi.sin_cos();
+            e.push(([c, s], [-s, c]));
+        }
+        let (sp, cp) = q[0].sin_cos();
+        let (a, b) = (self.mount.a, self.mount.b);
+        let mount = [cp * a - sp * b, sp * a + cp * b];
+        let mount_rate = [-(sp * a) - cp * b, cp * a - sp * b];
+        // Positions relative to the base's centre of mass and their Jacobians.
+        let zero = D::from(0.0);
+        let mut rel = Vec::with_capacity(n);
+        let mut rel_jac = Vec::with_capacity(n);
+        let mut joint = mount;
+        for (k, link) in self.links.iter().enumerate() {
+            let (ek, pk) = e[k];
+            rel.push([joint[0] + ek[0] * link.com, joint[1] + ek[1] * link.com]);
+            // d p_k / d q_j: q_0 = phi moves everything; theta_j moves links j.. (1-based j).
+            let mut jac = vec![[zero, zero]; n + 1];
+            for (j, column) in jac.iter_mut().enumerate() {
+                let mut v = if j == 0 { mount_rate } else { [zero, zero] };
+                let first = j.saturating_sub(1);
+                for (i, item) in e.iter().enumerate().take(k).skip(first) {
+                    let l = self.links[i].length;
+                    v = [v[0] + item.1[0] * l, v[1] + item.1[1] * l];
+                }
+                if j <= k + 1 {
+                    v = [v[0] + pk[0] * link.com, v[1] + pk[1] * link.com];
+                }
+                *column = v;
+            }
+            rel_jac.push(jac);
+            joint = [joint[0] + ek[0] * link.length, joint[1] + ek[1] * link.length];
+        }
+        // The base's position keeps the centre of mass at the origin.
+        let mut base = [zero, zero];
+        let mut base_jacobian = vec![[zero, zero]; n + 1];
+        for (k, link) in self.links.iter().enumerate() {
+            let w = -link.mass / total;
+            base = [base[0] + rel[k][0] * w, base[1] + rel[k][1] * w];
+            for j in 0..=n {
+                base_jacobian[j] =
+                    [base_jacobian[j][0] + rel_jac[k][j][0] * w, base_jacobian[j][1] + rel_jac[k][j][1] * w];
+            }
+        }
+        let links = rel.iter().map(|p| [p[0] + base[0], p[1] + base[1]]).collect();
+        let link_jacobians = rel_jac
+            .iter()
+            .map(|jac| jac.iter().zip(&base_jacobian).map(|(p, b0)| [p[0] + b0[0], p[1] + b0[1]]).collect())
+            .collect();
+        BodyFrames { base, links, base_jacobian, link_jacobians }
+    }
+
+    /// The inertia matrix `M(theta)` of `T = 1/2 q'^T M q'` (`(n + 1) x (n + 1)`, symmetric,
+    /// positive definite), at the joint angles `theta` (`n` values): `sum_k m_k J_k^T J_k` over
+    /// the bodies' centres of mass plus the rotational terms `I_k w_k w_k^T`, where
+    /// `psi_k' = w_k . q'` (`w_0 = (1, 0, ..)` for the base, `w_k = (1, 1 x k, 0, ..)` for link k).
+    pub fn inertia_matrix<D: Scalar>(&self, theta: &[D]) -> DMatrix<D> {
+        let n = self.joints();
+        let mut q = Vec::with_capacity(n + 1);
+        q.push(D::from(0.0));
+        q.extend_from_slice(theta);
+        let frames = self.bodies(&q);
+        let mut m = DMatrix::from_element(n + 1, n + 1, D::from(0.0));
+        let mut add_body = |mass: f64, jac: &[[D; 2]]| {
+            for i in 0..=n {
+                for j in 0..=i {
+                    let v = (jac[i][0] * jac[j][0] + jac[i][1] * jac[j][1]) * mass;
+                    m[(i, j)] += v;
+                }
+            }
+        };
+        add_body(self.base.mass, &frames.base_jacobian);
+        for (link, jac) in self.links.iter().zip(&frames.link_jacobians) {
+            add_body(link.mass, jac);
+        }
+        // Rotational inertia: the base turns with phi, link k with phi + theta_1 + .. + theta_k.
+        m[(0, 0)] += D::from(self.base.inertia);
+        for (k, link) in self.links.iter().enumerate() {
+            for i in 0..=k + 1 {
+                for j in 0..=i {
+                    m[(i, j)] += D::from(link.inertia);
+                }
+            }
+        }
+        for i in 0..=n {
+            for j in i + 1..=n {
+                m[(i, j)] = m[(j, i)];
+            }
+        }
+        m
+    }
+
+    /// The angular-momentum coefficients `(F, G_1..G_n)`: the first row of
+    /// [`Arm::inertia_matrix`], so that the angular momentum is `F phi' + G . theta'` (Eq. 5; for
+    /// the SRC robot `G_1, G_2` are `G, H` of Eq. 8). `F > 0` at every configuration.
+    pub fn momentum_coefficients<D: Scalar>(&self, theta: &[D]) -> (D, Vec<D>) {
+        let m = self.inertia_matrix(theta);
+        let g = (1..=self.joints()).map(|j| m[(0, j)]).collect();
+        (m[(0, 0)], g)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::system::shape;
+
+    /// At n = 2 with point-mass links the general model's `F, G_1, G_2` are the SRC robot's
+    /// `F, G, H` of Eq. (8), at random configurations and mounts.
+    #[test]
+    fn two_point_mass_links_are_the_src_robot() {
+        for (i, (a, b)) in [(0.0, 0.0), (0.1, 0.1), (1.0, -1.0), (-0.7, 0.3)].into_iter().enumerate() {
+            let robot = RobotParams::src().with_mount(Mount::new(a, b).unwrap()).unwrap();
+            let arm = Arm::from_params(&robot);
+            let k = robot.lumped();
+            for j in 0..20 {
+                let t1 = -3.0 + 0.31 * j as f64 + 0.1 * i as f64;
+                let t2 = 2.9 - 0.27 * j as f64;
+                let s = shape(&k, t1, t2);
+                let (f, g) = arm.momentum_coefficients(&[t1, t2]);
+                for (x, y) in [(f, s.F), (g[0], s.G), (g[1], s.H)] {
+                    assert!((x - y).abs() <= 1e-12 * y.abs().max(1.0), "{x} vs {y}");
+                }
+            }
+        }
+    }
+}
