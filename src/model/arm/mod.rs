@@ -316,7 +316,7 @@ impl Arm {
 }
 
 #[cfg(test)]
-mod tests;
+pub(crate) mod tests;
 
 /// A value that must be finite, positive and in `range`.
 fn check_ranged(name: &str, value: f64, (min, max): (f64, f64)) -> Result<(), InputError> {

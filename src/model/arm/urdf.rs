@@ -196,9 +196,10 @@ impl Arm {
             )
         };
         let joint = |name: &str, kind: &str, parent: &str, child: &str, x: f64, y: f64| {
+            let axis = if kind == "fixed" { "" } else { "    <axis xyz=\"0 0 1\"/>\n" };
             format!(
                 "  <joint name=\"{name}\" type=\"{kind}\">\n    <parent link=\"{parent}\"/>\n    <child link=\"{child}\"/>\n    \
-                 <origin xyz=\"{x:?} {y:?} 0\" rpy=\"0 0 0\"/>\n    <axis xyz=\"0 0 1\"/>\n  </joint>\n"
+                 <origin xyz=\"{x:?} {y:?} 0\" rpy=\"0 0 0\"/>\n{axis}  </joint>\n"
             )
         };
         let mut s = String::from(

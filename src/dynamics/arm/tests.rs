@@ -1,0 +1,3 @@
+//! Tests of the n-link dynamics.
+
+use super::*;
