@@ -1,5 +1,6 @@
 //! Integration tests: the command line as a user runs it.
 
+mod arm;
 mod cli;
 mod hostile;
 mod layout;
