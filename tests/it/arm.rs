@@ -12,7 +12,13 @@ use freefloat::{Mount, NfaOptions, NormalFormPlanner, PlanningProblem, RobotPara
 /// `dynamics::joint_torques` at every sample, to 1e-12 relative to the case's peak torque.
 #[test]
 fn paper_cases_torques_by_the_general_model() {
-    let cases = [(0.0, Transform::Eq11), (0.0, Transform::Eq12), (0.1, Transform::Eq14), (0.2, Transform::Eq14), (0.3, Transform::Eq14)];
+    let cases = [
+        (0.0, Transform::Eq11),
+        (0.0, Transform::Eq12),
+        (0.1, Transform::Eq14),
+        (0.2, Transform::Eq14),
+        (0.3, Transform::Eq14),
+    ];
     for (a, transform) in cases {
         let robot = RobotParams::src().with_mount(Mount::new(a, a).unwrap()).unwrap();
         let options = NfaOptions { transform: Some(transform), accelerations: true, ..Default::default() };
@@ -29,7 +35,11 @@ fn paper_cases_torques_by_the_general_model() {
                 peak = peak.max(src[i].abs());
             }
         }
-        eprintln!("a = b = {a}, {transform:?}: {} samples, torques differ by {:.1e} of the peak", points.len(), worst / peak);
+        eprintln!(
+            "a = b = {a}, {transform:?}: {} samples, torques differ by {:.1e} of the peak",
+            points.len(),
+            worst / peak
+        );
         assert!(worst <= 1e-12 * peak, "a = b = {a}, {transform:?}: torques differ by {worst:e} (peak {peak})");
     }
 }
@@ -51,6 +61,9 @@ fn arm_load_reads_toml_and_urdf_and_names_bad_joints() {
     let e = Arm::load(&bad).unwrap_err();
     assert!(matches!(&e, InputError::Urdf { element, .. } if element == "joint `joint1`"), "{e}");
     let message = e.to_string();
-    assert!(message.contains("bad.urdf") && message.contains("joint `joint1`") && message.contains("Prismatic"), "{message}");
+    assert!(
+        message.contains("bad.urdf") && message.contains("joint `joint1`") && message.contains("Prismatic"),
+        "{message}"
+    );
     assert!(matches!(Arm::load(dir.path()), Err(InputError::NotAFile { .. })));
 }

@@ -153,7 +153,10 @@ fn two_point_mass_links_have_the_src_dynamics() {
             let m = arm.inertia_matrix(&theta);
             let m_src = dynamics::inertia_matrix(&k, t1, t2);
             let scale = m_src.abs().max();
-            assert!((0..3).all(|i| (0..3).all(|j| (m[(i, j)] - m_src[(i, j)]).abs() <= 1e-12 * scale)), "{m} vs {m_src}");
+            assert!(
+                (0..3).all(|i| (0..3).all(|j| (m[(i, j)] - m_src[(i, j)]).abs() <= 1e-12 * scale)),
+                "{m} vs {m_src}"
+            );
             let w = DVector::from_column_slice(&dq);
             let c = coriolis(&arm, &theta, &w);
             let c_src = dynamics::coriolis(&k, &config, dq);

@@ -74,11 +74,8 @@ impl Arm {
         }
         let file: ArmFile = toml::from_str(text).map_err(bad_file)?;
         let mount = file.mount.map(|m| Mount { a: m.a, b: m.b }).unwrap_or_default();
-        let links = file
-            .link
-            .iter()
-            .map(|l| Link { length: l.length, com: l.com, mass: l.mass, inertia: l.inertia })
-            .collect();
+        let links =
+            file.link.iter().map(|l| Link { length: l.length, com: l.com, mass: l.mass, inertia: l.inertia }).collect();
         Arm::new(Base { mass: file.robot.M, inertia: file.robot.I }, mount, links)
     }
 

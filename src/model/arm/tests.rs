@@ -187,8 +187,7 @@ fn as_src_only_for_two_point_masses() {
     assert_eq!(random_arm(1, &mut rng).as_src(), None);
 }
 
-const SRC_FILE: &str =
-    "[robot]\nl1 = 0.619\nl2 = 0.6\nd1 = 0.313\nd2 = 0.287\nM = 12.9\nI = 0.208\nm1 = 4.5\nm2 = 1.5\n[mount]\na = 0.1\nb = -0.2\n";
+const SRC_FILE: &str = "[robot]\nl1 = 0.619\nl2 = 0.6\nd1 = 0.313\nd2 = 0.287\nM = 12.9\nI = 0.208\nm1 = 4.5\nm2 = 1.5\n[mount]\na = 0.1\nb = -0.2\n";
 
 #[test]
 fn robot_file_with_links_round_trips_and_the_old_format_is_point_masses() {
@@ -270,7 +269,11 @@ fn urdf_round_trip() {
     }
     let from_urdf = Arm::load(format!("{path}.urdf").as_ref()).unwrap();
     assert_same_arm(&toml, &from_urdf, 1e-12);
-    assert_eq!(std::fs::read_to_string(format!("{path}.urdf")).unwrap(), toml.to_urdf(), "regenerate the example: FREEFLOAT_REGENERATE=1 cargo test --lib urdf_round_trip");
+    assert_eq!(
+        std::fs::read_to_string(format!("{path}.urdf")).unwrap(),
+        toml.to_urdf(),
+        "regenerate the example: FREEFLOAT_REGENERATE=1 cargo test --lib urdf_round_trip"
+    );
 }
 
 const LINK: &str = r#"<inertial><origin xyz="0.2 0 0"/><mass value="2"/><inertia ixx="0" ixy="0" ixz="0" iyy="0" iyz="0" izz="0.03"/></inertial>"#;
@@ -300,7 +303,14 @@ fn urdf_merges_fixed_joints_and_reads_the_tool_frame() {
 </robot>"#,
         joint("float", "floating", "world", "base", "0 0 0", ""),
         joint("cam", "fixed", "base", "camera", "-0.1 0.3 0", ""),
-        joint("shoulder", "revolute", "base", "upper", "0.3 0.1 0.05", &format!(r#"{z}<limit lower="-3" upper="3" effort="10" velocity="1"/>"#)),
+        joint(
+            "shoulder",
+            "revolute",
+            "base",
+            "upper",
+            "0.3 0.1 0.05",
+            &format!(r#"{z}<limit lower="-3" upper="3" effort="10" velocity="1"/>"#)
+        ),
         joint("elbow", "continuous", "upper", "fore", "0.4 0 0", z),
         joint("wrist", "fixed", "fore", "gripper", "0.3 0 0", ""),
         joint("tip", "fixed", "gripper", "tool", "0.05 0 0", ""),
@@ -308,7 +318,9 @@ fn urdf_merges_fixed_joints_and_reads_the_tool_frame() {
     let arm = urdf(&text).unwrap();
     // Base: 10 kg at (0.05, -0.02), 1 kg at (-0.1, 0.3): 11 kg at (0.5/11 - 0.1/11, -0.2/11 + 0.3/11).
     let com: [f64; 2] = [0.4 / 11.0, 0.1 / 11.0];
-    let izz = 0.5 + 0.01 + 10.0 * ((0.05 - com[0]).powi(2) + (-0.02 - com[1]).powi(2))
+    let izz = 0.5
+        + 0.01
+        + 10.0 * ((0.05 - com[0]).powi(2) + (-0.02 - com[1]).powi(2))
         + ((-0.1 - com[0]).powi(2) + (0.3 - com[1]).powi(2));
     let forearm_com = (0.1 + 0.3) / 2.0;
     let expected = Arm::new(
@@ -341,21 +353,54 @@ fn bad_urdfs_name_the_joint_or_link() {
     assert!(urdf(&good).is_ok());
     let branched = good.replace(
         "</robot>",
-        &format!(r#"<link name="spare">{LINK}</link>{}</robot>"#, joint("extra", "revolute", "link1", "spare", "0.1 0 0", r#"<axis xyz="0 0 1"/>"#)),
+        &format!(
+            r#"<link name="spare">{LINK}</link>{}</robot>"#,
+            joint("extra", "revolute", "link1", "spare", "0.1 0 0", r#"<axis xyz="0 0 1"/>"#)
+        ),
     );
     let cases = [
         (branched, "joint `extra`", "branches"),
-        (good.replacen(r#"name="joint2" type="continuous""#, r#"name="joint2" type="prismatic""#, 1), "joint `joint2`", "Prismatic"),
+        (
+            good.replacen(r#"name="joint2" type="continuous""#, r#"name="joint2" type="prismatic""#, 1),
+            "joint `joint2`",
+            "Prismatic",
+        ),
         (good.replacen(r#"<axis xyz="0 0 1"/>"#, r#"<axis xyz="0 1 0"/>"#, 1), "joint `joint1`", "axis"),
         (good.replacen(r#"<axis xyz="0 0 1"/>"#, r#"<axis xyz="0 0 -1"/>"#, 1), "joint `joint1`", "axis"),
-        (good.replacen(r#"rpy="0 0 0"/>
-    <axis"#, r#"rpy="0 0 0.5"/>
-    <axis"#, 1), "joint `joint1`", "rpy"),
+        (
+            good.replacen(
+                r#"rpy="0 0 0"/>
+    <axis"#,
+                r#"rpy="0 0 0.5"/>
+    <axis"#,
+                1,
+            ),
+            "joint `joint1`",
+            "rpy",
+        ),
         (strip_inertial(&good, "link2"), "link `link2`", "<inertial>"),
-        (good.replacen(r#"<origin xyz="0.313 0 0""#, r#"<origin xyz="0.313 0.01 0""#, 1), "link `link1`", "off the link's x axis"),
-        (good.replacen(r#"<origin xyz="0.619 0.0 0""#, r#"<origin xyz="0.619 0.02 0""#, 1), "joint `joint2`", "off the x axis"),
+        (
+            good.replacen(r#"<origin xyz="0.313 0 0""#, r#"<origin xyz="0.313 0.01 0""#, 1),
+            "link `link1`",
+            "off the link's x axis",
+        ),
+        (
+            good.replacen(r#"<origin xyz="0.619 0.0 0""#, r#"<origin xyz="0.619 0.02 0""#, 1),
+            "joint `joint2`",
+            "off the x axis",
+        ),
         (good.replace("continuous", "fixed"), "robot", "nothing moves"),
         (good.replacen(r#"<parent link="base"/>"#, r#"<parent link="nowhere"/>"#, 1), "joint `joint1`", "`nowhere`"),
+        (
+            good.replacen(r#"<parent link="link1"/>"#, r#"<parent link="base"/>"#, 1).replacen(
+                "</robot>",
+                &format!("{}</robot>", joint("again", "fixed", "link1", "link2", "0 0 0", "")),
+                1,
+            ),
+            "link `link2`",
+            "two joints",
+        ),
+        (good.replacen("</robot>", r#"<link name="loose"/></robot>"#, 1), "robot", "2 root links (`base`, `loose`)"),
     ];
     for (text, element, reason) in cases {
         let (got, message) = urdf_error(&text);

@@ -315,8 +315,11 @@ fn chain(bodies: &[Body]) -> Result<(Base, Mount, Vec<Link>), (String, String)> 
         let length = match body.next {
             Some((joint, p)) => {
                 if !(p[1].abs() <= tol) {
-                    let reason =
-                        format!("origin at y = {} m off the x axis of {}: links run along x", p[1], link_name(body.root));
+                    let reason = format!(
+                        "origin at y = {} m off the x axis of {}: links run along x",
+                        p[1],
+                        link_name(body.root)
+                    );
                     return Err((joint_name(joint), reason));
                 }
                 p[0]
