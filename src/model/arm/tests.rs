@@ -401,6 +401,19 @@ fn bad_urdfs_name_the_joint_or_link() {
             "two joints",
         ),
         (good.replacen("</robot>", r#"<link name="loose"/></robot>"#, 1), "robot", "2 root links (`base`, `loose`)"),
+        (
+            good.replacen(
+                "</robot>",
+                &format!(
+                    r#"<link name="c1"/><link name="c2"/>{}{}</robot>"#,
+                    joint("c12", "fixed", "c1", "c2", "0 0 0", ""),
+                    joint("c21", "fixed", "c2", "c1", "0 0 0", "")
+                ),
+                1,
+            ),
+            "link `c1`",
+            "not connected to the base",
+        ),
     ];
     for (text, element, reason) in cases {
         let (got, message) = urdf_error(&text);

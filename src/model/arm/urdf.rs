@@ -22,7 +22,7 @@
 //!   tool frame, the massless link fixed to it farthest along its `x` axis (it must lie on the axis);
 //!   without one, its length is its `com` (the tip at the centre of mass).
 
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 use std::path::Path;
 
 use urdf_rs::{Joint, JointType};
@@ -120,12 +120,12 @@ impl Arm {
         let mut bodies: Vec<Body> = Vec::new();
         let mut entering = vec![];
         let mut start = Some(root);
-        let mut visited = 0;
+        let mut visited = HashSet::new();
         while let Some(body_root) = start.take() {
             let mut body = Body { root: body_root, parts: vec![], frames: vec![], next: None };
             let mut stack = vec![(body_root, [0.0, 0.0])];
             while let Some((name, at)) = stack.pop() {
-                visited += 1;
+                visited.insert(name);
                 let link = links[name];
                 let (mass, com, izz) = inertial(link).map_err(|reason| fail(link_name(name), reason))?;
                 if mass > 0.0 {
@@ -158,9 +158,8 @@ impl Arm {
             }
             bodies.push(body);
         }
-        let reachable = robot.links.len() - usize::from(root != roots[0]);
-        if visited != reachable
-            && let Some(lost) = robot.links.iter().find(|l| l.name != roots[0] && !reaches(&l.name, root, &parent_of))
+        if visited.len() + usize::from(root != roots[0]) != robot.links.len()
+            && let Some(lost) = robot.links.iter().find(|l| l.name != roots[0] && !visited.contains(l.name.as_str()))
         {
             return Err(fail(link_name(&lost.name), format!("is not connected to the base `{}`", excerpt(root))));
         }
@@ -219,21 +218,6 @@ impl Arm {
         s += &joint("tool_joint", "fixed", &parent, "tool", x, y);
         s + "</robot>\n"
     }
-}
-
-/// True when `link` has `root` among its ancestors (or is it).
-fn reaches(link: &str, root: &str, parent_of: &HashMap<&str, &Joint>) -> bool {
-    let mut at = link;
-    for _ in 0..=parent_of.len() {
-        if at == root {
-            return true;
-        }
-        match parent_of.get(at) {
-            Some(joint) => at = &joint.parent.link,
-            None => return false,
-        }
-    }
-    false
 }
 
 /// A link's mass, centre of mass `(x, y)` in its frame and moment of inertia about the `z` axis
