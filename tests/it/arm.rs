@@ -62,7 +62,7 @@ fn arm_load_reads_toml_and_urdf_and_names_bad_joints() {
     assert!(matches!(&e, InputError::Urdf { element, .. } if element == "joint `joint1`"), "{e}");
     let message = e.to_string();
     assert!(
-        message.contains("bad.urdf") && message.contains("joint `joint1`") && message.contains("Prismatic"),
+        message.contains("bad.urdf") && message.contains("joint `joint1`") && message.contains("type prismatic"),
         "{message}"
     );
     assert!(matches!(Arm::load(dir.path()), Err(InputError::NotAFile { .. })));

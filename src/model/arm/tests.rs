@@ -363,7 +363,7 @@ fn bad_urdfs_name_the_joint_or_link() {
         (
             good.replacen(r#"name="joint2" type="continuous""#, r#"name="joint2" type="prismatic""#, 1),
             "joint `joint2`",
-            "Prismatic",
+            "type prismatic",
         ),
         (good.replacen(r#"<axis xyz="0 0 1"/>"#, r#"<axis xyz="0 1 0"/>"#, 1), "joint `joint1`", "axis"),
         (good.replacen(r#"<axis xyz="0 0 1"/>"#, r#"<axis xyz="0 0 -1"/>"#, 1), "joint `joint1`", "axis"),

@@ -256,8 +256,9 @@ fn check_joint(joint: &Joint) -> Result<(), String> {
             }
         }
         ref other => {
+            let kind = format!("{other:?}").to_lowercase();
             return Err(format!(
-                "type {other:?}: a planar arm has revolute or continuous joints about z, and fixed joints"
+                "type {kind}: a planar arm has revolute or continuous joints about z, and fixed joints"
             ));
         }
     }
