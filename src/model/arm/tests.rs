@@ -424,7 +424,7 @@ fn bad_urdfs_name_the_joint_or_link() {
     assert!(e.contains("not a valid URDF"), "{e}");
     // A bad value names the key and the URDF link.
     let e = urdf(&good.replacen(r#"<origin xyz="0.287 0 0""#, r#"<origin xyz="0.9 0 0""#, 1)).unwrap_err().to_string();
-    assert!(e.contains("link[2].com") && e.contains("`link2`"), "{e}");
+    assert!(e.contains("link[2].com (URDF link \"link2\")"), "{e}");
 }
 
 /// `good` with the `<inertial>` of link `name` removed.

@@ -170,11 +170,16 @@ impl Arm {
         Arm::new(base, mount, arm_links).map_err(|e| match e {
             InputError::InvalidParameter { name, value, expected } => {
                 let owner = match name.strip_prefix("link[").and_then(|s| s.split(']').next()) {
-                    Some(k) => k.parse::<usize>().ok().and_then(|k| bodies.get(k)).map_or(root, |b| b.root),
-                    None if name.starts_with("mount") => &entering[0].name,
-                    None => root,
+                    Some(k) => {
+                        format!(
+                            "link \"{}\"",
+                            k.parse::<usize>().ok().and_then(|k| bodies.get(k)).map_or(root, |b| b.root)
+                        )
+                    }
+                    None if name.starts_with("mount") => format!("joint \"{}\"", entering[0].name),
+                    None => format!("link \"{root}\""),
                 };
-                InputError::InvalidParameter { name: format!("{name} (URDF `{}`)", excerpt(owner)), value, expected }
+                InputError::InvalidParameter { name: format!("{name} (URDF {})", excerpt(&owner)), value, expected }
             }
             other => other,
         })
