@@ -13,8 +13,10 @@
 //! Every function is generic over [`Scalar`], so derivatives of any order come from num-dual
 //! exactly.
 
-mod file;
-mod urdf;
+pub mod file;
+pub mod urdf;
+
+pub use urdf::URDF_PLANAR_TOLERANCE;
 
 use nalgebra::DMatrix;
 use serde::{Deserialize, Serialize};

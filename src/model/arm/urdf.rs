@@ -73,7 +73,7 @@ fn joint_name(joint: &Joint) -> String {
 }
 
 impl Arm {
-    /// Reads an arm from a URDF's text by the rules of the module doc (docs/spec.md §1, URDF);
+    /// Reads an arm from a URDF's text by the rules of [the module doc](crate::model::arm::urdf) (docs/spec.md §1, URDF);
     /// `path` names the file in messages. A tree that is no planar serial arm is an
     /// [`InputError::Urdf`] naming the offending joint or link; a bad value an
     /// [`InputError::InvalidParameter`] naming the key of [`Arm::new`] and the URDF link.
