@@ -59,6 +59,8 @@ impl RobotParams {
             base_inertia: r.I,
             m1: r.m1,
             m2: r.m2,
+            i1: 0.0,
+            i2: 0.0,
             mount,
         })
     }

@@ -134,14 +134,17 @@ fn torque_free_motion_conserves_energy_and_momentum() {
     eprintln!("torque-free 0.5 s, RK4 h = 1 ms, n = 1..7: worst energy drift {:e}, momentum {:e}", worst.0, worst.1);
 }
 
-/// The n = 2 point-mass arm is the SRC robot: the inertia matrix, Coriolis terms and forward
-/// dynamics of [`crate::dynamics`] and the joint torques of its [`dynamics::joint_torques`] at
-/// random motion points (theta relative angles in both), 1e-12 relative, at several mounts.
+/// The n = 2 arm is the SRC robot: the inertia matrix, Coriolis terms and forward dynamics of
+/// [`crate::dynamics`] and the joint torques of its [`dynamics::joint_torques`] at random motion
+/// points (theta relative angles in both), 1e-12 relative, at several mounts, for point-mass links
+/// and for links with inertia (folded into the lumped `A`, `B`).
 #[test]
-fn two_point_mass_links_have_the_src_dynamics() {
+fn two_links_have_the_src_dynamics() {
     let mut rng = Rng::new(2);
-    for (a, b) in [(0.0, 0.0), (0.1, 0.1), (0.3, 0.3), (-0.7, 0.4)] {
-        let robot = RobotParams::src().with_mount(Mount::new(a, b).unwrap()).unwrap();
+    // Point masses (the paper's robot), then links with inertia, which the 2-link model folds
+    // into its lumped constants A and B.
+    for (a, b, i1, i2) in [(0.0, 0.0, 0.0, 0.0), (0.1, 0.1, 0.0, 0.0), (0.3, 0.3, 0.05, 0.02), (-0.7, 0.4, 0.2, 0.01)] {
+        let robot = RobotParams { i1, i2, ..RobotParams::src().with_mount(Mount::new(a, b).unwrap()).unwrap() };
         let arm = Arm::from_params(&robot);
         let k = robot.lumped();
         for _ in 0..50 {

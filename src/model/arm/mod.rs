@@ -144,14 +144,12 @@ impl Arm {
         Ok(())
     }
 
-    /// The paper's SRC robot as [`RobotParams`] when this arm is one: two point-mass links
-    /// (both inertias 0) with their centres of mass off the joints (`com > 0`), so that the
-    /// 2-link pipeline (the NFA among it) serves it. `None` otherwise.
+    /// The arm as the paper's 2-link [`RobotParams`] when it has two links with their centres of
+    /// mass off the joints (`com > 0`), so that the 2-link pipeline (the NFA among it) serves
+    /// it. Link inertias fold into the lumped constants (`A += I_1`, `B += I_2`, see
+    /// [`crate::model::Lumped`]). `None` otherwise.
     pub fn as_src(&self) -> Option<RobotParams> {
         let [l1, l2] = self.links.as_slice() else { return None };
-        if l1.inertia != 0.0 || l2.inertia != 0.0 {
-            return None;
-        }
         RobotParams::new(RobotParams {
             l1: l1.length,
             l2: l2.length,
@@ -161,19 +159,21 @@ impl Arm {
             base_inertia: self.base.inertia,
             m1: l1.mass,
             m2: l2.mass,
+            i1: l1.inertia,
+            i2: l2.inertia,
             mount: self.mount,
         })
         .ok()
     }
 
-    /// The paper's SRC robot as an arm: two point-mass links (zero link inertia).
+    /// A 2-link [`RobotParams`] as an arm (the paper's SRC robot: two point-mass links).
     pub fn from_params(robot: &RobotParams) -> Self {
         Self {
             base: Base { mass: robot.base_mass, inertia: robot.base_inertia },
             mount: robot.mount,
             links: vec![
-                Link { length: robot.l1, com: robot.d1, mass: robot.m1, inertia: 0.0 },
-                Link { length: robot.l2, com: robot.d2, mass: robot.m2, inertia: 0.0 },
+                Link { length: robot.l1, com: robot.d1, mass: robot.m1, inertia: robot.i1 },
+                Link { length: robot.l2, com: robot.d2, mass: robot.m2, inertia: robot.i2 },
             ],
         }
     }

@@ -176,12 +176,15 @@ fn validation_names_the_key() {
 }
 
 #[test]
-fn as_src_only_for_two_point_masses() {
+fn as_src_for_two_links_only() {
     let src = RobotParams::src();
     assert_eq!(Arm::from_params(&src).as_src(), Some(src));
+    // Link inertias fold into the 2-link model's A and B (see the dynamics test
+    // `two_links_have_the_src_dynamics`).
     let mut arm = Arm::from_params(&src);
     arm.links[1].inertia = 1e-3;
-    assert_eq!(arm.as_src(), None);
+    assert_eq!(arm.as_src(), Some(RobotParams { i2: 1e-3, ..src }));
+    assert_eq!(Arm::from_params(&arm.as_src().unwrap()), arm);
     let mut rng = Rng::new(3);
     assert_eq!(random_arm(3, &mut rng).as_src(), None);
     assert_eq!(random_arm(1, &mut rng).as_src(), None);
