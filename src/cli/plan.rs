@@ -8,6 +8,7 @@ use freefloat::plan::{Method, Plan, PlanningProblem, TorqueOptions};
 use freefloat::planners::{Planned, PlannerOptions, plan_to_pose, planner};
 use freefloat::report::io::{PlanReport, trajectory_csv, write_atomic};
 pub use freefloat::report::numbers::{error_number, number, rounded, scientific, significant};
+use freefloat::report::plot::{animation_gif, check_gif_path};
 use freefloat::track::closed_loop_certificate;
 
 use super::args::{
@@ -125,6 +126,14 @@ pub fn run(args: &PlanArgs) -> anyhow::Result<ExitCode> {
         }
         None => None,
     };
+    let gif = match &args.gif {
+        Some(path) => {
+            check_gif_path(path)?;
+            freefloat::report::io::check_writable(path)?;
+            Some((path, super::gif_options(&args.gif_options)?))
+        }
+        None => None,
+    };
     let problem = super::problem(&args.problem)?;
     let planned = plan_with(method(args)?, &args.problem, &problem)??;
     let plan = &planned.plan;
@@ -149,6 +158,10 @@ pub fn run(args: &PlanArgs) -> anyhow::Result<ExitCode> {
     if let Some((path, json)) = out {
         let bytes = if json { serde_json::to_vec_pretty(&report(true))? } else { trajectory_csv(&plan.trajectory)? };
         write_atomic(path, &bytes)?;
+    }
+    if let Some((path, options)) = gif {
+        let title = format!("freefloat plan: {}, T = {} s", plan.method.name(), number(plan.problem.horizon));
+        write_atomic(path, &animation_gif(plan, &title, &options, path)?)?;
     }
     super::emit(&text)?;
     planned.certified()?;
@@ -228,9 +241,7 @@ fn compare_table(problem: &PlanningProblem, reports: &[Result<PlanReport, String
         ("u(0) [rad/s]", |r| pair(r.controls_at_ends[0])),
         ("u(T) [rad/s]", |r| pair(r.controls_at_ends[1])),
         // Filled by `--torques` (inverse dynamics, torque issue): peak |tau1|, |tau2|.
-        ("max |tau1|, |tau2| [N m]", |r| {
-            r.max_abs_torque.map(pair).unwrap_or("- (--torques)".into())
-        }),
+        ("max |tau1|, |tau2| [N m]", |r| r.max_abs_torque.map(pair).unwrap_or("- (--torques)".into())),
         ("min |sigma|, min |P|", |r| pair([r.min_abs_sigma, r.min_abs_p])),
         ("max deviation from plan [rad]", |r| error_number(r.max_path_deviation)),
         ("time: plan [ms]", |r| significant(r.seconds.plan * 1e3, 4)),
@@ -296,7 +307,8 @@ fn deg(q: [f64; 3]) -> String {
 }
 
 fn vec3(z: Option<[f64; 3]>) -> String {
-    z.map(|z| format!("({}, {}, {})", rounded(z[0], 6), rounded(z[1], 6), rounded(z[2], 6))).unwrap_or_else(|| "-".into())
+    z.map(|z| format!("({}, {}, {})", rounded(z[0], 6), rounded(z[1], 6), rounded(z[2], 6)))
+        .unwrap_or_else(|| "-".into())
 }
 
 /// The human-readable report.
@@ -322,8 +334,11 @@ pub fn table(plan: &Plan, r: &PlanReport) -> String {
         error_number(r.final_error),
         number(r.tolerance)
     );
-    s +=
-        &format!("  max deviation from plan  {} rad ({} integrator steps)\n", error_number(r.max_path_deviation), r.verify_steps);
+    s += &format!(
+        "  max deviation from plan  {} rad ({} integrator steps)\n",
+        error_number(r.max_path_deviation),
+        r.verify_steps
+    );
     s += &format!("  effort                   {} rad^2/s (integral of |u|^2 dt)\n", number(r.effort));
     s += &format!("  max |u1|, |u2|           {}, {} rad/s\n", number(r.max_abs_u[0]), number(r.max_abs_u[1]));
     if let Some(o) = &r.optimal {
@@ -368,7 +383,11 @@ pub fn table(plan: &Plan, r: &PlanReport) -> String {
     if let Some(t) = &r.torque_certificate {
         let c = &t.certificate;
         let status = if c.certified { "CERTIFIED" } else { "NOT CERTIFIED" };
-        s += &format!("  max |tau1|, |tau2|       {}, {} N m\n", number(t.max_abs_torque[0]), number(t.max_abs_torque[1]));
+        s += &format!(
+            "  max |tau1|, |tau2|       {}, {} N m\n",
+            number(t.max_abs_torque[0]),
+            number(t.max_abs_torque[1])
+        );
         s += &format!(
             "  torque final error       {} rad (tolerance {})  {status}\n",
             error_number(c.final_error),

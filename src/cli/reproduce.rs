@@ -20,7 +20,8 @@ pub fn run(args: &ReproduceArgs) -> anyhow::Result<ExitCode> {
             eprintln!("[{k:>2}/{total}] {what:<46} {status:<58} {:>7.1} ms", seconds * 1e3);
         }
     };
-    let r = reproduce(&args.out, &progress)?;
+    let gif = if args.gif { Some(super::gif_options(&args.gif_options)?) } else { None };
+    let r = reproduce(&args.out, gif.as_ref(), &progress)?;
     super::emit(&format!("{}\nwrote {} files to {} in {:.2} s\n", r.markdown, r.files, args.out.display(), r.seconds))?;
     for failure in &r.failures {
         eprintln!("{failure}");

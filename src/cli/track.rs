@@ -179,8 +179,7 @@ fn table(runs: &[Tracked], truth: &RobotParams, nominal: &RobotParams) -> String
             let _ = writeln!(out, "identified constants ({}), kg m^2:", r.controller.name());
             let _ = writeln!(out, "  {:<8}{:>12}{:>12}{:>12}", "", "nominal", "identified", "true");
             for (i, name) in ["A", "B", "C", "D a", "D b", "E a", "E b", "I_P"].iter().enumerate() {
-                let _ =
-                    writeln!(
+                let _ = writeln!(
                     out,
                     "  {name:<8}{:>12}{:>12}{:>12}",
                     number(id.nominal[i]),
@@ -259,7 +258,11 @@ fn figure(run: &Tracked) -> PlanFigure {
         ],
         caption: vec![format!(
             "final error {} rad; {} re-plans ({} failed); peak torque {:.3}, {:.3} N m",
-            error_number(run.final_error), run.replans, run.replan_failures, run.peak_torque[0], run.peak_torque[1]
+            error_number(run.final_error),
+            run.replans,
+            run.replan_failures,
+            run.peak_torque[0],
+            run.peak_torque[1]
         )],
     }
 }

@@ -181,7 +181,12 @@ pub fn domain_panel(figure: &str, a: f64, b: f64) -> Result<DomainPanel, Error> 
         Ok(Planned { plan, .. }) => {
             let e = plan.verification.final_error;
             let path = plan.trajectory.q.iter().map(|q| (q[1], q[2])).collect();
-            (Some(e), None, Some(path), format!("Eq. (14) plan q0 -> qd: verified final error {} rad", super::numbers::scientific(e, 1)))
+            (
+                Some(e),
+                None,
+                Some(path),
+                format!("Eq. (14) plan q0 -> qd: verified final error {} rad", super::numbers::scientific(e, 1)),
+            )
         }
         Err(e) => {
             let note = format!(

@@ -1,8 +1,10 @@
 //! Integration tests: the command line as a user runs it.
 
+mod animation;
 mod cli;
 mod hostile;
 mod layout;
+mod precision;
 mod properties;
 mod reproduce;
 mod track;
