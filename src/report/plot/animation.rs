@@ -121,7 +121,7 @@ const QUANTISER_SPEED: i32 = 1;
 pub struct GifView {
     width: f64,
     height: f64,
-    /// Pixels per metre of the layout (`min(width, height) / 480`): fonts and strokes scale with it.
+    /// The layout's unit \[px\]: `min(width, height) / 480`; fonts, strokes and strips scale with it.
     unit: f64,
     /// Pixels per metre.
     scale: f64,
@@ -360,6 +360,22 @@ fn configuration_at(ts: &[f64], qs: &[[f64; 3]], t: f64) -> [f64; 3] {
     }
 }
 
+/// The palette index of each RGBA pixel; a run of one colour (most of a frame is white) is
+/// looked up once.
+fn palette_indices(quantiser: &color_quant::NeuQuant, rgba: &[u8]) -> Vec<u8> {
+    let mut last: Option<(&[u8], u8)> = None;
+    rgba.chunks_exact(4)
+        .map(|p| match last {
+            Some((colour, index)) if colour == p => index,
+            _ => {
+                let index = quantiser.index_of(p) as u8;
+                last = Some((p, index));
+                index
+            }
+        })
+        .collect()
+}
+
 /// The drawing's own colours (RGBA): a swatch of each joins the palette's training pixels, so
 /// that the robot keeps its exact colours however few pixels it covers.
 const SWATCH: [[u8; 4]; 9] = [
@@ -411,7 +427,7 @@ pub fn animation_gif(plan: &Plan, title: &str, options: &GifOptions, path: &Path
         for first in (0..n).step_by(batch) {
             let indexed: Vec<Vec<u8>> = (first..(first + batch).min(n))
                 .into_par_iter()
-                .map(|k| Ok(draw(k)?.chunks_exact(4).map(|p| quantiser.index_of(p) as u8).collect()))
+                .map(|k| Ok(palette_indices(&quantiser, &draw(k)?)))
                 .collect::<Result<_, Error>>()?;
             for (k, indices) in (first..).zip(indexed) {
                 // A pixel as in the previous frame is transparent: the frame is drawn over it.
