@@ -13,7 +13,7 @@ use super::args::ReproduceArgs;
 /// (Figs. 4-8) are certified at both levels; 3 otherwise (everything is still written).
 pub fn run(args: &ReproduceArgs) -> anyhow::Result<ExitCode> {
     let (total, done, on) =
-        (job_count(), AtomicUsize::new(0), std::io::stderr().is_terminal() && !super::output::quiet());
+        (job_count(args.gif), AtomicUsize::new(0), std::io::stderr().is_terminal() && !super::output::quiet());
     let progress = |what: &str, seconds: f64, status: &str| {
         let k = done.fetch_add(1, Ordering::Relaxed) + 1;
         if on {

@@ -78,9 +78,11 @@ fn description(outcome: &CaseOutcome) -> String {
     }
 }
 
-/// The number of jobs that [`reproduce`] reports to its progress callback.
-pub fn job_count() -> usize {
-    cases().len() + 2 * DOMAIN_FIGURES.len() + 1 + method_jobs().len()
+/// The number of jobs that [`reproduce`] reports to its progress callback (with `gif`, one
+/// more per case: its animation).
+pub fn job_count(gif: bool) -> usize {
+    let cases = cases().len();
+    cases + 2 * DOMAIN_FIGURES.len() + 1 + method_jobs().len() + if gif { cases } else { 0 }
 }
 
 /// What [`reproduce`] wrote and found.
@@ -279,9 +281,15 @@ fn reproduce_into(
     let mut gifs = Vec::new();
     for (case, outcome) in all.iter().zip(&outcomes) {
         if let (Some(options), Ok(o)) = (gif, outcome) {
-            let name = format!("anim-{}.gif", case.id);
+            let (name, clock) = (format!("anim-{}.gif", case.id), Instant::now());
             let path = out.join(&name);
-            write_atomic(&path, &animation_gif(&o.plan, &o.case.title(), options, &path)?)?;
+            let bytes = animation_gif(&o.plan, &o.case.title(), options, &path)?;
+            write_atomic(&path, &bytes)?;
+            progress(
+                &format!("{:<14} animation", case.id),
+                clock.elapsed().as_secs_f64(),
+                &format!("{} KiB", bytes.len() / 1024),
+            );
             gifs.push(name);
         }
     }

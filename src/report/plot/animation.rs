@@ -112,8 +112,9 @@ const PATH_POINTS: usize = 500;
 const FINAL_HOLD: u16 = 100;
 /// The palette index of a pixel unchanged since the previous frame (transparent).
 const UNCHANGED: u8 = 255;
-/// NeuQuant's sampling factor (1 best and slowest, 30 fastest): it learns the palette once.
-const QUANTISER_SPEED: i32 = 1;
+/// NeuQuant's sampling factor (1 best and slowest, 30 fastest): it learns the palette once, and the
+/// swatch keeps the drawing's colours exact.
+const QUANTISER_SPEED: i32 = 5;
 
 /// The frames of an animation and where the plane's points fall on them: what [`animation_gif`]
 /// draws, for tests and for callers that want the frames' instants.
