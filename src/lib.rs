@@ -34,6 +34,7 @@ pub mod scalar;
 pub mod track;
 
 pub use error::{Error, Singularity};
+pub use model::arm::{Arm, Base, Link};
 pub use model::{Configuration, Lumped, Mount, RobotParams, paper_problem};
 pub use plan::{Method, Motion, Plan, PlanningProblem, Trajectory};
 pub use plan::{TorqueOptions, TorquePlan, TorqueReport, torque_plan};

@@ -32,7 +32,8 @@ class Robot:
     ``l2``, joint-to-centre-of-mass distances ``d1``, ``d2``, masses ``m1``, ``m2``) whose first
     joint sits at ``(a, b)`` in the base frame, measured from the base's centre of mass.
     Every value must be finite; masses, inertia and lengths positive; ``0 < d_i <= l_i``,
-    else :class:`freefloat.BadInput`.
+    else :class:`freefloat.BadInput`. ``i1``, ``i2`` are the links' moments of inertia about
+    their centres of mass [kg m^2], 0 (the paper's point masses) by default.
     """
 
     def __new__(
@@ -48,6 +49,8 @@ class Robot:
         m2: float,
         a: float = 0.0,
         b: float = 0.0,
+        i1: float = 0.0,
+        i2: float = 0.0,
     ) -> Robot: ...
     @staticmethod
     def src() -> Robot:
@@ -55,8 +58,10 @@ class Robot:
         M = 12.9 kg, I = 0.208 kg m^2, m1 = 4.5, m2 = 1.5 kg, mounted at a = b = 0."""
     @staticmethod
     def from_toml(path: Union[str, PathLike[str]]) -> Robot:
-        """Reads a robot file (``[robot]`` with every key, optional ``[mount]``; unknown keys
-        are errors). Raises :class:`freefloat.BadInput` when unreadable or invalid."""
+        """Reads a 2-link robot file: TOML (``[robot]`` with every key and optional ``[mount]``,
+        or two ``[[link]]`` tables with their inertias; unknown keys are errors) or, for a name
+        ending in ``.urdf``, a URDF. Raises :class:`freefloat.BadInput` when unreadable, invalid
+        or not of 2 links."""
     def with_mount(self, a: float, b: float) -> Robot:
         """The same robot with the arm mounted at ``(a, b)`` [m]."""
     def momentum(self, q: _Angles, dq: _Angles) -> float:

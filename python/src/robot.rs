@@ -2,6 +2,7 @@
 
 use std::path::PathBuf;
 
+use freefloat::model::InputError;
 use freefloat::{Configuration, Mount, RobotParams};
 use pyo3::prelude::*;
 
@@ -47,10 +48,20 @@ impl PyRobot {
         Self { inner: RobotParams::src() }
     }
 
-    /// Reads and validates a robot file (TOML, `[robot]` and optional `[mount]`).
+    /// Reads and validates a 2-link robot file: TOML (`[robot]` and optional `[mount]`, or
+    /// two `[[link]]`s with their inertias) or, for a name ending in `.urdf`, a URDF.
     #[staticmethod]
     fn from_toml(py: Python<'_>, path: PathBuf) -> PyResult<Self> {
-        RobotParams::load(&path).map(|inner| Self { inner }).py_result(py)
+        let arm = freefloat::Arm::load(&path).py_result(py)?;
+        match arm.as_src() {
+            Some(inner) => Ok(Self { inner }),
+            None => Err(BindingError::Library(freefloat::Error::from(InputError::InvalidParameter {
+                name: "link".into(),
+                value: arm.joints() as f64,
+                expected: "a robot of 2 links here; load other arms with freefloat.Arm.from_file",
+            }))
+            .into_pyerr(py)),
+        }
     }
 
     /// The same robot with the arm mounted at `(a, b)` [m].

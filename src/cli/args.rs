@@ -47,11 +47,15 @@ pub struct CompletionsArgs {
 #[derive(Debug, Args, Clone)]
 pub struct RobotArgs {
     /// Built-in robot (the paper's SRC manipulator).
-    #[arg(long, value_enum, default_value_t = Preset::Src, conflicts_with = "robot")]
+    #[arg(long, value_enum, default_value_t = Preset::Src, conflicts_with_all = ["robot", "urdf"])]
     pub preset: Preset,
-    /// Robot file (TOML, docs/spec.md §1); its [mount] is overridden by --mount.
-    #[arg(long, value_name = "FILE")]
+    /// Robot file (TOML, docs/spec.md §1: the 2-link keys, or [[link]] for any planar serial
+    /// arm; a name ending in .urdf is read as URDF); its [mount] is overridden by --mount.
+    #[arg(long, value_name = "FILE", conflicts_with = "urdf")]
     pub robot: Option<PathBuf>,
+    /// Robot as a URDF file: a planar chain of revolute joints about z (docs/spec.md §1).
+    #[arg(long, value_name = "FILE")]
+    pub urdf: Option<PathBuf>,
     /// Mounting point of the arm in the base frame, A,B in m (default: the file's, else 0,0).
     #[arg(long, value_name = "A,B", allow_hyphen_values = true)]
     pub mount: Option<String>,

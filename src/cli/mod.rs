@@ -13,6 +13,7 @@ use std::process::ExitCode;
 
 use anyhow::{Context, bail};
 use clap::Parser;
+use freefloat::model::arm::Arm;
 use freefloat::{Configuration, Mount, RobotParams};
 
 use args::{Cli, Command, CostArg, ProblemArgs, RobotArgs, TransformArg, WindowArg};
@@ -81,10 +82,47 @@ pub fn parse_list<const N: usize>(flag: &str, text: &str) -> anyhow::Result<[f64
     Ok(out)
 }
 
-/// The robot of `--preset`/`--robot`, with `--mount` applied.
+/// The robot of `--preset`/`--robot`/`--urdf`, with `--mount` applied: a 2-link arm (the paper's
+/// model, link inertias included), or any planar serial arm.
+pub enum Robot {
+    /// Two links: every method and command serves it.
+    TwoLink(RobotParams),
+    /// Any other number of links (docs/spec.md §1): `plan` with the optimal planner.
+    Arm(Arm),
+}
+
+/// The robot of the flags (see [`Robot`]).
+pub fn any_robot(args: &RobotArgs) -> anyhow::Result<Robot> {
+    let Some(path) = args.urdf.as_ref().or(args.robot.as_ref()) else { return Ok(Robot::TwoLink(robot(args)?)) };
+    let arm = Arm::load(path)?;
+    if arm.as_src().is_some() {
+        return Ok(Robot::TwoLink(robot(args)?));
+    }
+    let mount = match &args.mount {
+        Some(text) => {
+            let [a, b] = parse_list::<2>("--mount", text)?;
+            Mount::new(a, b)?
+        }
+        None => arm.mount,
+    };
+    Ok(Robot::Arm(Arm::new(arm.base, mount, arm.links)?))
+}
+
+/// The 2-link robot of `--preset`/`--robot`/`--urdf`, with `--mount` applied; an arm of another
+/// number of links is bad input here (only `plan` serves it).
 pub fn robot(args: &RobotArgs) -> anyhow::Result<RobotParams> {
-    let robot = match &args.robot {
-        Some(path) => RobotParams::load(path)?,
+    let robot = match args.urdf.as_ref().or(args.robot.as_ref()) {
+        Some(path) => {
+            let arm = Arm::load(path)?;
+            match arm.as_src() {
+                Some(robot) => robot,
+                None => bail!(
+                    "{}: an arm of {} link(s); this command serves 2-link arms (docs/spec.md §1); `freefloat plan` plans any planar serial arm",
+                    path.display(),
+                    arm.joints()
+                ),
+            }
+        }
         None => RobotParams::src(),
     };
     Ok(match &args.mount {
