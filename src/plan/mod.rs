@@ -7,6 +7,7 @@
 //! ([`torques`]) and its certificate are computed.
 
 pub mod certificate;
+pub mod chain_certificate;
 pub mod motion;
 pub mod problem;
 pub mod torques;
