@@ -19,7 +19,7 @@
 pub mod connection;
 pub mod discrete;
 pub mod motion;
-mod search;
+pub(crate) mod search;
 pub mod seeds;
 
 use std::sync::Arc;
@@ -112,6 +112,8 @@ pub struct ChainOptions {
     /// How many goal representatives (best first by their seeds' estimated effort) are solved
     /// per batch; default 2.
     pub targets_solved: usize,
+    /// How many of the best coarse solutions are refined; default 2.
+    pub finalists: usize,
     /// Loop seeds per representative, in the joint planes of largest curvature; default 2.
     pub loop_planes: usize,
     /// Largest radius of a loop seed \[rad\]; default 2.
@@ -131,6 +133,7 @@ impl Default for ChainOptions {
             refinement_tolerance: 1e-6,
             quadrature_nodes: 8,
             targets_solved: 2,
+            finalists: 2,
             loop_planes: 2,
             max_loop_radius: 2.0,
             sqp: SqpOptions::default(),
@@ -158,6 +161,9 @@ impl ChainOptions {
         }
         if self.targets_solved == 0 {
             return bad("targets_solved", 0.0, "at least 1");
+        }
+        if self.finalists == 0 {
+            return bad("finalists", 0.0, "at least 1");
         }
         if !(self.max_loop_radius > 0.0 && self.max_loop_radius < 10.0) {
             return bad("max_loop_radius", self.max_loop_radius, "a radius in (0, 10) rad");

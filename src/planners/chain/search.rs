@@ -10,7 +10,7 @@ use nalgebra::DVector;
 
 use super::discrete::{Discretisation, Table, Targets};
 use super::motion::{ChainPlan, ChainStats};
-use super::seeds::{Line, Seed};
+use super::seeds::{self, Line, Seed};
 use super::{ChainPlanner, ChainProblem};
 use crate::error::Error;
 use crate::model::wrap_angle;
@@ -24,7 +24,7 @@ const COARSE_SQP: SqpOptions =
 
 /// The tables built in one planning call, by (uniform spans, quadrature nodes).
 #[derive(Default)]
-struct Tables(RefCell<Vec<((usize, usize), Arc<Table>)>>);
+pub(super) struct Tables(RefCell<Vec<((usize, usize), Arc<Table>)>>);
 
 /// A solve: its discretisation and result.
 struct Candidate {
@@ -41,6 +41,7 @@ struct Prepared {
     line: Line,
     seeds: Vec<Seed>,
     estimate: f64,
+    bound: f64,
 }
 
 impl ChainPlanner {
@@ -60,11 +61,20 @@ impl ChainPlanner {
         let (mut seeds, mut iterations) = (0, 0);
         let mut best_failure: Option<Candidate> = None;
         let mut not_certified: Option<Error> = None;
-        let mut batch = o.targets_solved;
+        // Batches of representatives, best estimates first, skipping those whose effort bound
+        // exceeds the best feasible effort found; every converged refinement is kept.
+        let mut best = f64::INFINITY;
+        let mut done: Vec<Candidate> = Vec::new();
         let mut queue = prepared.into_iter().peekable();
         while queue.peek().is_some() {
             let mut coarse = Vec::new();
-            for p in queue.by_ref().take(batch) {
+            let mut taken = 0;
+            while taken < o.targets_solved {
+                let Some(p) = queue.next() else { break };
+                if p.bound > best {
+                    continue;
+                }
+                taken += 1;
                 let disc = self.discretise(problem, p.targets.clone(), o.coarse_spans, o.quadrature_nodes, &tables)?;
                 for x0 in self.starts(&disc, &p)? {
                     seeds += 1;
@@ -76,21 +86,33 @@ impl ChainPlanner {
             }
             let feasible = |c: &Candidate| c.result.c.abs() <= 1e-6 && c.result.f.is_finite();
             coarse.sort_by(|a, b| feasible(b).cmp(&feasible(a)).then(a.result.f.total_cmp(&b.result.f)));
-            for c in coarse.into_iter().take(2) {
-                let c = self.refine(problem, c, &tables)?;
-                iterations += c.iterations;
-                if !c.result.converged() {
-                    if best_failure.as_ref().is_none_or(|b| c.result.c.abs() < b.result.c.abs()) {
-                        best_failure = Some(c);
-                    }
-                    continue;
+            let mut finalists: Vec<Candidate> = Vec::new();
+            for c in coarse {
+                if finalists.len() >= o.finalists || (feasible(&c) && c.result.f > 1.5 * best) {
+                    break;
                 }
-                match self.certified(problem, &c, seeds, iterations, clock) {
-                    Ok(plan) => return Ok(plan),
-                    Err(e) => not_certified = not_certified.or(Some(e)),
+                let f = c.result.f;
+                if !finalists.iter().any(|d| (d.result.f - f).abs() <= 1e-6 * f.abs().max(1e-12)) {
+                    finalists.push(c);
                 }
             }
-            batch *= 2;
+            for c in finalists {
+                let c = self.refine(problem, c, &tables)?;
+                iterations += c.iterations;
+                if c.result.converged() {
+                    best = best.min(c.result.f);
+                    done.push(c);
+                } else if best_failure.as_ref().is_none_or(|b| c.result.c.abs() < b.result.c.abs()) {
+                    best_failure = Some(c);
+                }
+            }
+        }
+        done.sort_by(|a, b| a.result.f.total_cmp(&b.result.f));
+        for c in &done {
+            match self.certified(problem, c, seeds, iterations, clock) {
+                Ok(plan) => return Ok(plan),
+                Err(e) => not_certified = not_certified.or(Some(e)),
+            }
         }
         if let Some(e) = not_certified {
             return Err(e);
@@ -116,7 +138,7 @@ impl ChainPlanner {
     }
 
     /// The discretisation of `targets` on `spans` uniform spans and `nodes` nodes per span.
-    fn discretise(
+    pub(super) fn discretise(
         &self,
         problem: &ChainProblem,
         targets: Targets,
@@ -164,6 +186,7 @@ impl ChainPlanner {
         } else {
             vec![qd[0]]
         };
+        let kappa_max = seeds::curvature_bound(&self.connection);
         let mut out = Vec::new();
         for end in joint_goals {
             let line = Line {
@@ -192,7 +215,8 @@ impl ChainPlanner {
                     phi_start: q0[0],
                     phi_end,
                 };
-                out.push(Prepared { targets, line: line.clone(), seeds, estimate });
+                let bound = seeds::effort_lower_bound(&line, needed, kappa_max);
+                out.push(Prepared { targets, line: line.clone(), seeds, estimate, bound });
             }
         }
         out.sort_by(|a, b| a.estimate.total_cmp(&b.estimate));

@@ -167,3 +167,49 @@ impl Line {
         seed.with_radius(best.0)
     }
 }
+
+/// A bound (sampled, with a safety factor 1.5) of the curvature's comass over the joint space:
+/// `1.5 max_k sqrt(sum_{i<j} kappa_ij(theta_k)^2)` over 64 points of a Kronecker sequence on
+/// the torus; 0 for one joint (no curvature).
+pub fn curvature_bound(connection: &Connection) -> f64 {
+    let n = connection.joints();
+    if n < 2 {
+        return 0.0;
+    }
+    let mut local = Local::new(n);
+    let zero = vec![0.0; n];
+    let mut theta = vec![0.0; n];
+    let mut peak: f64 = 0.0;
+    for k in 1..=64 {
+        for (i, t) in theta.iter_mut().enumerate() {
+            // sqrt of the (i + 1)-th prime's fractional multiples: equidistributed on the torus.
+            let alpha = [2.0f64, 3.0, 5.0, 7.0, 11.0, 13.0, 17.0, 19.0, 23.0, 29.0, 31.0, 37.0, 41.0, 43.0, 47.0]
+                [i % 15]
+                .sqrt();
+            *t = TAU * (k as f64 * alpha).fract();
+        }
+        connection.local(&theta, &zero, &mut local);
+        let mut sum = 0.0;
+        for i in 0..n {
+            for j in i + 1..n {
+                let kappa = local.mixed[i * n + j] - local.mixed[j * n + i];
+                sum += kappa * kappa;
+            }
+        }
+        peak = peak.max(sum.sqrt());
+    }
+    1.5 * peak
+}
+
+/// A lower bound of the effort of any joint path between the line's ends whose holonomy differs
+/// from the line's by `needed` \[rad\] (as the two-joint planner's, with the comass bound
+/// `kappa_max`): closed by the line, the path bounds a surface on which the curvature integrates
+/// to `needed`, of area at least `|needed| / kappa_max`, so by the isoperimetric inequality its
+/// length is at least `sqrt(4 pi |needed| / kappa_max) - d` (`d` the line's length), and at least
+/// `d`; by Cauchy–Schwarz the effort is at least `length^2 / T`.
+pub fn effort_lower_bound(line: &Line, needed: f64, kappa_max: f64) -> f64 {
+    let d = line.length();
+    let loop_length = if kappa_max > 0.0 { (4.0 * PI * needed.abs() / kappa_max).sqrt() - d } else { 0.0 };
+    let length = d.max(loop_length);
+    length * length / line.horizon
+}

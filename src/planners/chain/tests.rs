@@ -7,7 +7,7 @@ use super::discrete::{Discretisation, Table, Targets};
 use super::*;
 use crate::model::arm::{Base, Link};
 use crate::model::{Mount, RobotParams};
-use crate::plan::PlanningProblem;
+use crate::plan::{Motion, PlanningProblem};
 use crate::planners::optimal::OptimalPlanner;
 use crate::planners::optimal::sqp::Discretised;
 
@@ -41,17 +41,46 @@ fn paper_chain_problem() -> ChainProblem {
     ChainProblem::rest_to_rest(q0.to_array().to_vec(), qd.to_array().to_vec(), horizon)
 }
 
-/// At n = 2 with point-mass links the chain planner reaches the two-joint planner's minimum
-/// effort on the paper's problem (same basis, quadrature and refinement), certified.
+/// At n = 2 with point-mass links the chain planner's discretisation is the two-joint planner's:
+/// warm-started from the two-joint plan on the same basis (32 spans, 16 nodes) its SQP converges
+/// to the same effort (relative 1e-6); and its own search finds that effort or a lower one (at
+/// a = b = 0.1 the same optimum; at a = 1, b = -1 a loop seed reaches 91.72 where the two-joint
+/// seeds end at 111.39, both local minima of one discretisation), certified.
 #[test]
 fn chain_matches_the_two_joint_planner() {
-    for (a, b) in [(0.1, 0.1), (1.0, -1.0)] {
+    for (a, b, same) in [(0.1, 0.1, true), (1.0, -1.0, false)] {
         let (robot, arm) = src_arm(a, b);
         let two = OptimalPlanner::default().motion(&PlanningProblem::paper(robot)).unwrap();
-        let plan = ChainPlanner::new(arm, ChainOptions::default()).plan(&paper_chain_problem()).unwrap();
-        let (e1, e2) = (plan.effort(), two.stats.effort);
-        assert!((e1 - e2).abs() <= 1e-6 * e2, "({a}, {b}): chain {e1} vs two-joint {e2}");
+        let e2 = two.stats.effort;
+        let planner = ChainPlanner::new(arm, ChainOptions::default());
+        let problem = paper_chain_problem();
+        let plan = planner.plan(&problem).unwrap();
+        let e1 = plan.effort();
         assert!(plan.verification.certified && plan.verification.final_error <= 1e-9);
+        assert!(e1 <= e2 * (1.0 + 1e-6), "({a}, {b}): chain {e1} above two-joint {e2}");
+        if same {
+            assert!((e1 - e2).abs() <= 1e-6 * e2, "({a}, {b}): chain {e1} vs two-joint {e2}");
+        }
+        // The two-joint optimum is a converged point of the chain discretisation.
+        let targets = Targets {
+            start: problem.start[1..].to_vec(),
+            initial_velocity: vec![0.0; 2],
+            end: two.stats.theta_end.to_vec(),
+            phi_start: problem.start[0],
+            phi_end: two.stats.phi_end,
+        };
+        let tables = search::Tables::default();
+        let disc = planner.discretise(&problem, targets, 32, 16, &tables).unwrap();
+        let x0 = disc
+            .project(|t, out| {
+                let q = two.at(t).unwrap().q;
+                out.copy_from_slice(&[q.theta1, q.theta2]);
+            })
+            .unwrap();
+        let r =
+            crate::planners::optimal::sqp::solve(&disc, x0, &Default::default(), Some(two.stats.multiplier)).unwrap();
+        assert!(r.converged(), "({a}, {b}): {:?}", r.termination);
+        assert!((r.f - e2).abs() <= 1e-6 * e2, "({a}, {b}): warm-started chain {} vs two-joint {e2}", r.f);
     }
 }
 
