@@ -219,7 +219,7 @@ impl Connection {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::model::arm::{Base, Link};
     use crate::model::{Mount, RobotParams};

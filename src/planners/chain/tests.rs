@@ -3,8 +3,9 @@
 
 use nalgebra::DVector;
 
-use super::discrete::{Discretisation, Table, Targets};
+use super::discrete::Targets;
 use super::*;
+use crate::error::Error;
 use crate::model::arm::{Base, Link};
 use crate::model::{Mount, RobotParams};
 use crate::plan::{Motion, PlanningProblem};
@@ -104,4 +105,135 @@ fn chain_three_and_seven_links_are_certified() {
         assert!(end.rate.iter().all(|u| u.abs() < 1e-12), "n = {n}: not at rest");
         assert!(plan.at(0.0).rate.iter().all(|u| u.abs() < 1e-12));
     }
+}
+
+/// One joint: `a(theta) dtheta` is exact, so `phi(T)` is fixed by `theta(T)`. An inconsistent
+/// goal is [`Error::HolonomyFixed`] naming the reachable `phi`, which equals
+/// `phi0 - integral_{theta0}^{thetad} G/F dtheta` of the model (quadrature); that goal plans,
+/// certified, along a path that is not the line (the certificate integrates the spline).
+#[test]
+fn chain_one_joint_phi_is_fixed_by_theta() {
+    let arm = super::connection::tests::arm(1);
+    let (phi0, theta0, thetad) = (0.2, 0.3, 1.7);
+    // The model's holonomy by 64-point Gauss–Legendre along theta.
+    let rule = crate::numerics::quadrature::GaussLegendre::new(64);
+    let expected = phi0
+        - rule.integrate(theta0, thetad, |t| {
+            let (f, g) = arm.momentum_coefficients(&[t]);
+            g[0] / f
+        });
+    let planner = ChainPlanner::new(arm, ChainOptions::default());
+    let problem = ChainProblem::rest_to_rest(vec![phi0, theta0], vec![expected + 0.1, thetad], 4.0);
+    match planner.plan(&problem) {
+        Err(Error::HolonomyFixed { reachable, gap, .. }) => {
+            assert!((reachable - expected).abs() <= 1e-12, "{reachable} vs {expected}");
+            assert!((gap - 0.1).abs() <= 1e-9);
+        }
+        other => panic!("expected HolonomyFixed, got {other:?}"),
+    }
+    let err = planner.plan(&problem).unwrap_err();
+    assert!(err.is_bad_input() && err.to_string().contains("fixed by the joint angle"), "{err}");
+    let plan = planner.plan(&ChainProblem { goal: vec![expected, thetad], ..problem }).unwrap();
+    assert!(plan.verification.certified && plan.verification.final_error <= 1e-9, "{:?}", plan.verification);
+    assert!(plan.verification.max_abs_momentum <= 1e-12);
+}
+
+/// The returned plan is a KKT point of its discretisation: the Lagrangian's gradient vanishes
+/// (relative 1e-5 in the effort's metric: the SQP's acceptance, 100 times its 1e-7 tolerance at
+/// the rounding floor), and small feasible perturbations (tangent step, then back to the constraint
+/// along its gradient) never lower the effort.
+#[test]
+fn chain_plan_is_a_constrained_minimum() {
+    let arm = three_link();
+    let planner = ChainPlanner::new(arm, ChainOptions::default());
+    let problem = ChainProblem::rest_to_rest(vec![0.3, 0.5, -0.4, 0.8], vec![-0.2, 1.4, 0.3, -0.6], 10.0);
+    let plan = planner.plan(&problem).unwrap();
+    let end = plan.at(10.0);
+    let targets = Targets {
+        start: problem.start[1..].to_vec(),
+        initial_velocity: vec![0.0; 3],
+        end: end.theta.clone(),
+        phi_start: problem.start[0],
+        phi_end: end.phi,
+    };
+    let tables = search::Tables::default();
+    let disc = planner.discretise(&problem, targets, plan.stats.spans, plan.stats.quadrature_nodes, &tables).unwrap();
+    let x = disc
+        .project(|t, out| {
+            for (o, c) in out.iter_mut().zip(plan.coefficients()) {
+                *o = plan.basis().evaluate(c, t)[0];
+            }
+        })
+        .unwrap();
+    let e = disc.evaluate(&x, 2);
+    let lambda = plan.stats.multiplier;
+    let r = &e.grad_f + &e.grad_c * lambda;
+    // In the effort's metric S (the SQP's): |r|_{S^-1} relative to |grad f|_{S^-1}.
+    let chol = disc.effort_cholesky().unwrap();
+    let dual = |v: &DVector<f64>| v.dot(&chol.solve(v)).max(0.0).sqrt();
+    let kkt = dual(&r) / dual(&e.grad_f).max(1.0);
+    assert!(kkt <= 1e-5, "relative |grad L| = {kkt:e} (Euclidean {:e})", r.norm());
+    assert!((e.f - plan.effort()).abs() <= 1e-9 * plan.effort());
+    let mut state = 12345u64;
+    let mut uniform = || {
+        state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+    };
+    let g = e.grad_c.clone();
+    for _ in 0..20 {
+        let d = DVector::from_fn(x.len(), |_, _| uniform());
+        let d = &d - &g * (g.dot(&d) / g.dot(&g));
+        let scale = 1e-3 / d.norm().max(1e-300);
+        let mut y = &x + d * scale;
+        for _ in 0..20 {
+            let ey = disc.evaluate(&y, 1);
+            if ey.c.abs() <= 1e-14 {
+                break;
+            }
+            y -= &ey.grad_c * (ey.c / ey.grad_c.dot(&ey.grad_c));
+        }
+        let ey = disc.evaluate(&y, 0);
+        assert!(ey.c.abs() <= 1e-12, "perturbation not restored: c = {:e}", ey.c);
+        assert!(ey.f >= e.f * (1.0 - 1e-12), "feasible perturbation lowers the effort: {} < {}", ey.f, e.f);
+    }
+}
+
+/// Wrong lengths, non-finite values, a zero horizon and a bad initial velocity are input
+/// errors, before any planning.
+#[test]
+fn chain_bad_problems_are_input_errors() {
+    let planner = ChainPlanner::new(three_link(), ChainOptions::default());
+    let good = ChainProblem::rest_to_rest(vec![0.0; 4], vec![0.1; 4], 10.0);
+    let bad = [
+        ChainProblem { start: vec![0.0; 3], ..good.clone() },
+        ChainProblem { goal: vec![0.1; 5], ..good.clone() },
+        ChainProblem { goal: vec![0.1, f64::NAN, 0.1, 0.1], ..good.clone() },
+        ChainProblem { start: vec![0.0, 0.0, f64::INFINITY, 0.0], ..good.clone() },
+        ChainProblem { horizon: 0.0, ..good.clone() },
+        ChainProblem { horizon: f64::NAN, ..good.clone() },
+        ChainProblem { initial_velocity: vec![0.0; 2], ..good.clone() },
+        ChainProblem { initial_velocity: vec![0.0, f64::NAN, 0.0], ..good.clone() },
+    ];
+    for p in bad {
+        let err = planner.plan(&p).unwrap_err();
+        assert!(matches!(err, Error::Input(_)) && err.is_bad_input(), "{p:?}: {err}");
+    }
+    assert!(planner.plan(&good).is_ok());
+}
+
+/// A non-zero initial velocity is honoured: `theta'(0) = u0`, at rest at T, certified.
+#[test]
+fn chain_initial_velocity_is_honoured() {
+    let planner = ChainPlanner::new(three_link(), ChainOptions::default());
+    let u0 = vec![0.2, -0.1, 0.3];
+    let problem = ChainProblem {
+        initial_velocity: u0.clone(),
+        ..ChainProblem::rest_to_rest(vec![0.3, 0.5, -0.4, 0.8], vec![-0.2, 1.4, 0.3, -0.6], 10.0)
+    };
+    let plan = planner.plan(&problem).unwrap();
+    let (start, end) = (plan.at(0.0), plan.at(10.0));
+    for j in 0..3 {
+        assert!((start.rate[j] - u0[j]).abs() <= 1e-12 && end.rate[j].abs() <= 1e-12);
+    }
+    assert!(plan.verification.certified);
 }
