@@ -61,8 +61,8 @@ impl ChainPlanner {
         let (mut seeds, mut iterations) = (0, 0);
         let mut best_failure: Option<Candidate> = None;
         let mut not_certified: Option<Error> = None;
-        // Batches of representatives, best estimates first, skipping those whose effort bound
-        // exceeds the best feasible effort found; every converged refinement is kept.
+        // Batches of representatives, least effort bound first (branch and bound), skipping those
+        // whose bound exceeds the best effort found; every converged refinement is kept.
         let mut best = f64::INFINITY;
         let mut done: Vec<Candidate> = Vec::new();
         let mut queue = prepared.into_iter().peekable();
@@ -76,9 +76,8 @@ impl ChainPlanner {
                 }
                 taken += 1;
                 let disc = self.discretise(problem, p.targets.clone(), o.coarse_spans, o.quadrature_nodes, &tables)?;
-                for x0 in self.starts(&disc, &p)? {
+                for result in self.solve_seeds(&disc, &p)? {
                     seeds += 1;
-                    let Ok(result) = sqp::solve(&disc, x0, &COARSE_SQP, None) else { continue };
                     iterations += result.iterations;
                     let (spans, nodes, its) = (o.coarse_spans, o.quadrature_nodes, result.iterations);
                     coarse.push(Candidate { disc: disc.clone(), result, spans, nodes, iterations: its });
@@ -86,9 +85,13 @@ impl ChainPlanner {
             }
             let feasible = |c: &Candidate| c.result.c.abs() <= 1e-6 && c.result.f.is_finite();
             coarse.sort_by(|a, b| feasible(b).cmp(&feasible(a)).then(a.result.f.total_cmp(&b.result.f)));
+            // Finalists: the best, and the next within 20% of it (a coarse solution further off
+            // rarely overtakes on refinement), not above the best refined effort so far.
+            let first = coarse.first().filter(|c| feasible(c)).map_or(f64::INFINITY, |c| c.result.f);
             let mut finalists: Vec<Candidate> = Vec::new();
             for c in coarse {
-                if finalists.len() >= o.finalists || (feasible(&c) && c.result.f > 1.5 * best) {
+                let too_high = feasible(&c) && (c.result.f > 1.2 * first || c.result.f > best);
+                if finalists.len() >= o.finalists || (!finalists.is_empty() && too_high) {
                     break;
                 }
                 let f = c.result.f;
@@ -159,7 +162,7 @@ impl ChainPlanner {
         Ok(Discretisation::on(self.connection.clone(), table, targets))
     }
 
-    /// The goal representatives with their lines and seeds, best estimate first: `phid` and
+    /// The goal representatives with their lines and seeds, least effort bound first: `phid` and
     /// `phid +- 2 pi` nearest the start, and (with `wrap`) the joint goals nearest the start and
     /// those with one joint a turn further either way.
     fn prepare(&self, problem: &ChainProblem) -> Result<Vec<Prepared>, Error> {
@@ -219,23 +222,37 @@ impl ChainPlanner {
                 out.push(Prepared { targets, line: line.clone(), seeds, estimate, bound });
             }
         }
-        out.sort_by(|a, b| a.estimate.total_cmp(&b.estimate));
+        out.sort_by(|a, b| a.bound.total_cmp(&b.bound).then(a.estimate.total_cmp(&b.estimate)));
         Ok(out)
     }
 
-    /// The warm starts of a representative: the line, each loop as estimated and re-fitted.
-    fn starts(&self, disc: &Discretisation, p: &Prepared) -> Result<Vec<DVector<f64>>, Error> {
+    /// The coarse solutions of a representative: from the line, then from each loop as
+    /// estimated and re-fitted to the constraint, the loops only where the line's solution is
+    /// infeasible or costs more than two thirds of the loop's constant-speed effort estimate (a
+    /// loop longer than that cannot do better).
+    fn solve_seeds(&self, disc: &Discretisation, p: &Prepared) -> Result<Vec<SqpResult>, Error> {
         let line = &p.line;
         let project = |seed: Seed| disc.project(|t, out| line.path(seed, t, out));
-        let mut out = Vec::new();
+        let mut out: Vec<SqpResult> = Vec::new();
+        let mut line_effort = f64::INFINITY;
         for &seed in &p.seeds {
             if seed == Seed::Line {
-                out.push(project(seed)?);
+                if let Ok(r) = sqp::solve(disc, project(seed)?, &COARSE_SQP, None) {
+                    if r.c.abs() <= 1e-6 {
+                        line_effort = r.f;
+                    }
+                    out.push(r);
+                }
+                continue;
+            }
+            if line.effort_estimate(seed) > 1.5 * line_effort {
                 continue;
             }
             let residual = |s: Seed| project(s).map_or(f64::NAN, |x| disc.evaluate(&x, 0).c);
             let fitted = line.fit_radius(seed, self.options.max_loop_radius, residual);
-            out.push(project(fitted)?);
+            if let Ok(r) = sqp::solve(disc, project(fitted)?, &COARSE_SQP, None) {
+                out.push(r);
+            }
         }
         Ok(out)
     }
@@ -295,6 +312,7 @@ impl ChainPlanner {
         })?;
         let guess = if self.arm.joints() == 1 { None } else { Some(c.result.lambda) };
         let result = sqp::solve(&disc, x0, &self.options.sqp, guess)?;
+        if std::env::var("CHAIN_DEBUG").is_ok() { eprintln!("  resolve spans {spans} nodes {nodes}: f {} its {} {:?} kkt {:e}", result.f, result.iterations, result.termination, result.kkt); }
         let iterations = c.iterations + result.iterations;
         Ok(Candidate { disc, result, spans, nodes, iterations })
     }

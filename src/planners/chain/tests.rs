@@ -237,3 +237,56 @@ fn chain_initial_velocity_is_honoured() {
     }
     assert!(plan.verification.certified);
 }
+
+#[test]
+fn debug_timing() {
+    for (arm, start, goal) in [
+        (three_link(), vec![0.3, 0.5, -0.4, 0.8], vec![-0.2, 1.4, 0.3, -0.6]),
+        (seven_link(), vec![0.0, 0.3, -0.2, 0.5, 0.1, -0.4, 0.2, 0.6], vec![0.4, -0.3, 0.5, 0.1, 0.7, 0.2, -0.5, 0.0]),
+    ] {
+        let planner = ChainPlanner::new(arm, ChainOptions::default());
+        let p = ChainProblem::rest_to_rest(start, goal, 10.0);
+        let clock = std::time::Instant::now();
+        let plan = planner.plan(&p).unwrap();
+        eprintln!("total {:?} stats {:?} cert {:?}", clock.elapsed(), plan.stats, plan.verification.stats);
+    }
+}
+
+/// The discretisation's gradients and Hessians equal central differences of its values and
+/// gradients (3-link arm, a curved path).
+#[test]
+fn chain_discretisation_derivatives_match_differences() {
+    let planner = ChainPlanner::new(three_link(), ChainOptions::default());
+    let problem = ChainProblem::rest_to_rest(vec![0.3, 0.5, -0.4, 0.8], vec![-0.2, 1.4, 0.3, -0.6], 10.0);
+    let targets = Targets {
+        start: problem.start[1..].to_vec(),
+        initial_velocity: vec![0.1, 0.0, -0.2],
+        end: problem.goal[1..].to_vec(),
+        phi_start: 0.3,
+        phi_end: -0.2,
+    };
+    let tables = search::Tables::default();
+    let disc = planner.discretise(&problem, targets, 4, 8, &tables).unwrap();
+    let x = disc.project(|t, out| {
+        out.copy_from_slice(&[0.5 + 0.9 * (t / 3.0).sin(), -0.4 + 0.7 * (t / 2.0).cos(), 0.8 - 0.1 * t])
+    });
+    let x = x.unwrap();
+    let e = disc.evaluate(&x, 2);
+    let h = 1e-6;
+    for i in 0..x.len() {
+        let (mut xp, mut xm) = (x.clone(), x.clone());
+        xp[i] += h;
+        xm[i] -= h;
+        let (ep, em) = (disc.evaluate(&xp, 1), disc.evaluate(&xm, 1));
+        let gc = (ep.c - em.c) / (2.0 * h);
+        let gf = (ep.f - em.f) / (2.0 * h);
+        assert!((gc - e.grad_c[i]).abs() <= 1e-7 * (1.0 + gc.abs()), "grad_c[{i}]: {gc} vs {}", e.grad_c[i]);
+        assert!((gf - e.grad_f[i]).abs() <= 1e-7 * (1.0 + gf.abs()), "grad_f[{i}]: {gf} vs {}", e.grad_f[i]);
+        for k in 0..x.len() {
+            let hc = (ep.grad_c[k] - em.grad_c[k]) / (2.0 * h);
+            let hf = (ep.grad_f[k] - em.grad_f[k]) / (2.0 * h);
+            assert!((hc - e.hess_c[(i, k)]).abs() <= 1e-6 * (1.0 + hc.abs()), "hess_c[{i}, {k}]: {hc} vs {}", e.hess_c[(i, k)]);
+            assert!((hf - e.hess_f[(i, k)]).abs() <= 1e-6 * (1.0 + hf.abs()), "hess_f[{i}, {k}]");
+        }
+    }
+}
