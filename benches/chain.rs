@@ -20,10 +20,16 @@ fn bench_chain(c: &mut Criterion) {
         links: links(&[(0.4, 2.0), (0.35, 1.5), (0.25, 0.8)]),
     };
     let seven_spec: Vec<(f64, f64)> = (0..7).map(|i| (0.3 - 0.025 * i as f64, 1.5 - 0.2 * i as f64)).collect();
-    let seven = Arm { base: Base { mass: 20.0, inertia: 0.8 }, mount: Mount { a: 0.2, b: 0.1 }, links: links(&seven_spec) };
+    let seven =
+        Arm { base: Base { mass: 20.0, inertia: 0.8 }, mount: Mount { a: 0.2, b: 0.1 }, links: links(&seven_spec) };
     let cases = [
         ("3link", three, vec![0.3, 0.5, -0.4, 0.8], vec![-0.2, 1.4, 0.3, -0.6]),
-        ("7link", seven, vec![0.0, 0.3, -0.2, 0.5, 0.1, -0.4, 0.2, 0.6], vec![0.4, -0.3, 0.5, 0.1, 0.7, 0.2, -0.5, 0.0]),
+        (
+            "7link",
+            seven,
+            vec![0.0, 0.3, -0.2, 0.5, 0.1, -0.4, 0.2, 0.6],
+            vec![0.4, -0.3, 0.5, 0.1, 0.7, 0.2, -0.5, 0.0],
+        ),
     ];
     for (name, arm, start, goal) in cases {
         let planner = ChainPlanner::new(arm, ChainOptions::default());

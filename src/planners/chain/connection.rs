@@ -54,6 +54,9 @@ pub struct Local {
     psi: Vec<f64>,
     rate_sum: Vec<f64>,
     cs: Vec<(f64, f64)>,
+    pairs: Vec<[f64; 4]>,
+    suffix: Vec<[f64; 4]>,
+    prefix: Vec<[f64; 4]>,
 }
 
 impl Local {
@@ -70,7 +73,10 @@ impl Local {
             g_jac: vec![0.0; n * n],
             psi: vec![0.0; n + 1],
             rate_sum: vec![0.0; n + 1],
-            cs: vec![(0.0, 0.0); (n + 1) * (n + 1)],
+            cs: vec![(0.0, 0.0); n + 1],
+            pairs: vec![[0.0; 4]; (n + 1) * (n + 1)],
+            suffix: vec![[0.0; 4]; (n + 1) * (n + 1)],
+            prefix: vec![[0.0; 4]; (n + 1) * (n + 1)],
         }
     }
 }
@@ -114,19 +120,22 @@ impl Connection {
     /// `(F, N = G . rate)` at `theta` (values only; `n <=` [`MAX_JOINTS`]).
     fn f_and_n(&self, theta: &[f64], rate: &[f64]) -> (f64, f64) {
         let n = self.n;
-        let mut psi = [0.0; MAX_JOINTS + 1];
+        let mut e = [(0.0, 0.0); MAX_JOINTS + 1];
         let mut w = [0.0; MAX_JOINTS + 1];
-        psi[0] = self.beta;
+        let mut psi = self.beta;
+        e[0] = psi.sin_cos();
         for j in 0..n {
-            psi[j + 1] = if j == 0 { theta[0] } else { psi[j] + theta[j] };
+            psi = if j == 0 { theta[0] } else { psi + theta[j] };
+            e[j + 1] = psi.sin_cos();
             w[j + 1] = w[j] + rate[j];
         }
         let mut f = self.f0;
         let mut nn: f64 = self.g0.iter().zip(rate).map(|(g, r)| g * r).sum();
         for s in 0..n {
+            let (ss, cs) = e[s];
             for t in s + 1..=n {
                 let kk = 2.0 * self.k[s * (n + 1) + t];
-                let c = (psi[s] - psi[t]).cos();
+                let c = cs * e[t].1 + ss * e[t].0;
                 f += kk * c;
                 nn += 0.5 * kk * c * (w[s] + w[t]);
             }
@@ -148,6 +157,12 @@ impl Connection {
     }
 
     /// `g`, its gradient and Hessian in `(theta, rate)` into `out`.
+    ///
+    /// Every pair `s < t` of segments contributes `2 K_st cos(Psi_s - Psi_t)` to `F` (and with
+    /// the weights of `G_j` and `N = G . rate`), and its derivatives act on the joints
+    /// `s <= m < t` (0-based) alone, so the sums over pairs of the gradients and Hessians are
+    /// two-dimensional prefix sums `Q[a][b] = sum_{s <= a} sum_{t > b} X_st`: `O(n^2)` work after
+    /// `n + 1` sines and cosines.
     #[allow(non_snake_case)]
     pub fn local(&self, theta: &[f64], rate: &[f64], out: &mut Local) {
         let n = self.n;
@@ -158,41 +173,73 @@ impl Connection {
             out.psi[j + 1] = if j == 0 { theta[0] } else { out.psi[j] + theta[j] };
             out.rate_sum[j + 1] = out.rate_sum[j] + rate[j];
         }
+        for s in 0..n1 {
+            out.cs[s] = out.psi[s].sin_cos();
+        }
+        // X_st for s < t: [2K C, h C, 2K S, h S] with h = K (W_s + W_t).
         let mut F = self.f0;
         let mut N: f64 = self.g0.iter().zip(rate).map(|(g, r)| g * r).sum();
-        out.a.copy_from_slice(&self.g0);
-        for v in [&mut out.f_grad, &mut out.gradient, &mut out.f_hess, &mut out.hessian, &mut out.g_jac] {
-            v.iter_mut().for_each(|x| *x = 0.0);
+        for x in out.pairs.iter_mut() {
+            *x = [0.0; 4];
         }
         for s in 0..n {
+            let (ss, cs) = out.cs[s];
             for t in s + 1..=n {
-                out.cs[s * n1 + t] = (out.psi[s] - out.psi[t]).sin_cos();
-            }
-        }
-        // `out.a` holds G, `out.gradient` N's gradient and `out.hessian` N's Hessian until the end.
-        for s in 0..n {
-            for t in s + 1..=n {
+                let (st, ct) = out.cs[t];
+                let (C, S) = (cs * ct + ss * st, ss * ct - cs * st);
                 let kk = 2.0 * self.k[s * n1 + t];
-                let (S, C) = out.cs[s * n1 + t];
                 let h = 0.5 * kk * (out.rate_sum[s] + out.rate_sum[t]);
                 F += kk * C;
                 N += h * C;
-                // The joints m = s + 1 ..= t (0-based s .. t) move Psi_t but not Psi_s.
-                for m in s..t {
-                    out.f_grad[m] += kk * S;
-                    out.gradient[m] += h * S;
-                    for p in s..t {
-                        out.f_hess[m * n + p] -= kk * C;
-                        out.hessian[m * n + p] -= h * C;
-                    }
+                out.pairs[s * n1 + t] = [kk * C, h * C, kk * S, h * S];
+            }
+        }
+        // E[s][b] = sum_{t > b} X_st (suffix over t), then Q[a][b] = sum_{s <= a} E[s][b].
+        for s in 0..n1 {
+            let mut acc = [0.0; 4];
+            for b in (0..n1).rev() {
+                out.suffix[s * n1 + b] = acc;
+                let x = out.pairs[s * n1 + b];
+                for (a, v) in acc.iter_mut().zip(x) {
+                    *a += v;
                 }
-                // G_j gains K C ([j <= s] + [j <= t]) (1-based j).
-                for j in 0..t {
-                    let coefficient = if j < s { kk } else { 0.5 * kk };
-                    out.a[j] += coefficient * C;
-                    for m in s..t {
-                        out.g_jac[j * n + m] += coefficient * S;
-                    }
+            }
+        }
+        for b in 0..n1 {
+            let mut acc = [0.0; 4];
+            for a in 0..n1 {
+                let e = out.suffix[a * n1 + b];
+                for (c, v) in acc.iter_mut().zip(e) {
+                    *c += v;
+                }
+                out.prefix[a * n1 + b] = acc;
+            }
+        }
+        let q = |a: usize, b: usize, k: usize| {
+            let (lo, hi) = if a <= b { (a, b) } else { (b, a) };
+            out.prefix[lo * n1 + hi][k]
+        };
+        // G_j = g0_j + sum_{j < s < t} 2K C + 1/2 sum_{s <= j < t} 2K C.
+        let mut tail = 0.0;
+        for j in (0..n).rev() {
+            out.a[j] = self.g0[j] + tail + 0.5 * q(j, j, 0);
+            tail += out.suffix[j * n1 + j][0];
+        }
+        for m in 0..n {
+            out.f_grad[m] = q(m, m, 2);
+            out.gradient[m] = q(m, m, 3);
+            for p in 0..n {
+                out.f_hess[m * n + p] = -q(m, p, 0);
+                out.hessian[m * n + p] = -q(m, p, 1);
+            }
+        }
+        // dG_j/dtheta_m = sum_{j < s <= m} E_2K S[s][m] + 1/2 Q_2K S[min(j, m)][max(j, m)].
+        for m in 0..n {
+            let mut first = 0.0;
+            for j in (0..n).rev() {
+                out.g_jac[j * n + m] = first + 0.5 * q(j, m, 2);
+                if j >= 1 && j <= m {
+                    first += out.suffix[j * n1 + m][2];
                 }
             }
         }

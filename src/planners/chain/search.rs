@@ -6,8 +6,6 @@ use std::f64::consts::TAU;
 use std::sync::Arc;
 use std::time::Instant;
 
-use nalgebra::DVector;
-
 use super::discrete::{Discretisation, Table, Targets};
 use super::motion::{ChainPlan, ChainStats};
 use super::seeds::{self, Line, Seed};
@@ -312,7 +310,12 @@ impl ChainPlanner {
         })?;
         let guess = if self.arm.joints() == 1 { None } else { Some(c.result.lambda) };
         let result = sqp::solve(&disc, x0, &self.options.sqp, guess)?;
-        if std::env::var("CHAIN_DEBUG").is_ok() { eprintln!("  resolve spans {spans} nodes {nodes}: f {} its {} {:?} kkt {:e}", result.f, result.iterations, result.termination, result.kkt); }
+        if std::env::var("CHAIN_DEBUG").is_ok() {
+            eprintln!(
+                "  resolve spans {spans} nodes {nodes}: f {} its {} {:?} kkt {:e}",
+                result.f, result.iterations, result.termination, result.kkt
+            );
+        }
         let iterations = c.iterations + result.iterations;
         Ok(Candidate { disc, result, spans, nodes, iterations })
     }

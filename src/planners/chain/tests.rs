@@ -285,7 +285,11 @@ fn chain_discretisation_derivatives_match_differences() {
         for k in 0..x.len() {
             let hc = (ep.grad_c[k] - em.grad_c[k]) / (2.0 * h);
             let hf = (ep.grad_f[k] - em.grad_f[k]) / (2.0 * h);
-            assert!((hc - e.hess_c[(i, k)]).abs() <= 1e-6 * (1.0 + hc.abs()), "hess_c[{i}, {k}]: {hc} vs {}", e.hess_c[(i, k)]);
+            assert!(
+                (hc - e.hess_c[(i, k)]).abs() <= 1e-6 * (1.0 + hc.abs()),
+                "hess_c[{i}, {k}]: {hc} vs {}",
+                e.hess_c[(i, k)]
+            );
             assert!((hf - e.hess_f[(i, k)]).abs() <= 1e-6 * (1.0 + hf.abs()), "hess_f[{i}, {k}]");
         }
     }
