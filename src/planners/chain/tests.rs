@@ -238,20 +238,6 @@ fn chain_initial_velocity_is_honoured() {
     assert!(plan.verification.certified);
 }
 
-#[test]
-fn debug_timing() {
-    for (arm, start, goal) in [
-        (three_link(), vec![0.3, 0.5, -0.4, 0.8], vec![-0.2, 1.4, 0.3, -0.6]),
-        (seven_link(), vec![0.0, 0.3, -0.2, 0.5, 0.1, -0.4, 0.2, 0.6], vec![0.4, -0.3, 0.5, 0.1, 0.7, 0.2, -0.5, 0.0]),
-    ] {
-        let planner = ChainPlanner::new(arm, ChainOptions::default());
-        let p = ChainProblem::rest_to_rest(start, goal, 10.0);
-        let clock = std::time::Instant::now();
-        let plan = planner.plan(&p).unwrap();
-        eprintln!("total {:?} stats {:?} cert {:?}", clock.elapsed(), plan.stats, plan.verification.stats);
-    }
-}
-
 /// The discretisation's gradients and Hessians equal central differences of its values and
 /// gradients (3-link arm, a curved path).
 #[test]
