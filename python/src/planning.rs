@@ -187,7 +187,6 @@ impl Options {
             optimal: OptimalOptions {
                 cost: self.cost,
                 smooth_ends: self.smooth_ends,
-                initial_velocity: self.initial_velocity,
                 wrap: self.wrap,
                 samples: self.samples,
                 tolerance: self.tolerance,
@@ -261,6 +260,8 @@ pub fn plan_core(
     options: &Options,
 ) -> Result<Planned, BindingError> {
     let planner = planner(method, &options.planner_options()?);
+    // `initial_velocity` is the problem's start velocity: the torque certificate starts there.
+    let problem = &problem.with_start_velocity(options.initial_velocity)?;
     let (elbow, mut planned) = match target {
         Target::Joints => (None, planner.plan(problem)?),
         Target::Pose { pose, elbow } => {

@@ -83,3 +83,11 @@ def test_energy_cost(src):
     # Each plan is the better one by its own cost; `effort` is always integral |u|^2 dt.
     assert energy.effort >= effort.effort
     assert energy.certificate["optimal"]["cost"] != pytest.approx(energy.effort)
+
+
+def test_a_moving_start_is_certified_with_torques(src):
+    # The torque certificate integrates the dynamics from the moving start (it used to start
+    # from rest and fail).
+    p = ff.plan(src.with_mount(0.1, 0.1), START, GOAL, HORIZON, initial_velocity=(0.1, -0.2), torques=True)
+    assert p.certificate["torque_certificate"]["certificate"]["certified"]
+    assert p.certificate["torque_final_error"] <= 1e-6

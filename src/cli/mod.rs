@@ -108,7 +108,9 @@ pub fn robot(args: &RobotArgs) -> anyhow::Result<RobotParams> {
 pub fn problem(args: &ProblemArgs) -> anyhow::Result<freefloat::PlanningProblem> {
     let robot = robot(&args.robot)?;
     let (start, goal, time) = ends(&args.ends)?;
-    Ok(freefloat::PlanningProblem::new(robot, start, goal, time)?)
+    let [v1, v2] = parse_list::<2>("--from-velocity", &args.from_velocity)?;
+    let problem = freefloat::PlanningProblem::new(robot, start, goal, time)?;
+    Ok(problem.with_start_velocity([v1.to_radians(), v2.to_radians()])?)
 }
 
 /// `--from`, `--to` and `--time`, checked.
@@ -137,14 +139,12 @@ pub fn nfa_options(args: &ProblemArgs) -> anyhow::Result<freefloat::NfaOptions> 
 /// The optimal planner's options of the flags.
 pub fn optimal_options(args: &ProblemArgs) -> anyhow::Result<freefloat::planners::optimal::OptimalOptions> {
     use freefloat::planners::optimal::{Cost, OptimalOptions};
-    let [v1, v2] = parse_list::<2>("--from-velocity", &args.from_velocity)?;
     Ok(OptimalOptions {
         cost: match args.cost {
             CostArg::Effort => Cost::Effort,
             CostArg::Energy => Cost::Energy,
         },
         smooth_ends: args.smooth_ends,
-        initial_velocity: [v1.to_radians(), v2.to_radians()],
         wrap: !args.no_wrap,
         samples: config::samples(args.samples)?,
         tolerance: config::tolerance(args.tolerance)?,

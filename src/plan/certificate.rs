@@ -137,14 +137,15 @@ pub struct TorqueCertificate {
 }
 
 /// The forward-dynamics certificate: integrates `M q'' + c = (0, tau1(t), tau2(t))` (base
-/// unactuated) from `q0` at rest, with the torques of `motion` evaluated exactly at every stage
+/// unactuated) from `q0` with the problem's start velocity (at rest unless set; the base at
+/// zero angular momentum, Eq. 7), with the torques of `motion` evaluated exactly at every stage
 /// time ([`joint_torques`] of [`Motion::at`]), and measures the final error against the goal,
 /// the deviation from the planned path and the angular momentum along the way.
 ///
-/// The start is at rest, as the problem demands (docs/spec.md, Sec. 2), whatever the motion's
-/// `u(0)`: a motion whose joint velocities do not vanish at `t = 0` (ECSA's trigonometric
-/// controls, docs/spec.md, Sec. 6, item 8) cannot be followed from rest, and the certificate
-/// shows it.
+/// The start velocity is the problem's (docs/spec.md, Sec. 2), whatever the motion's `u(0)`: a
+/// motion whose joint velocities do not vanish at `t = 0` on a rest-to-rest problem (ECSA's
+/// trigonometric controls, docs/spec.md, Sec. 6, item 8) cannot be followed from rest, and the
+/// certificate shows it.
 pub fn certify_torques(
     motion: &dyn Motion,
     problem: &PlanningProblem,
@@ -153,7 +154,9 @@ pub fn certify_torques(
     options.validate()?;
     let k = problem.robot.lumped();
     let q0 = problem.start.to_array();
-    let y0 = Vector6::new(q0[0], q0[1], q0[2], 0.0, 0.0, 0.0);
+    let [w1, w2] = problem.start_velocity;
+    let base = velocity(&k, q0, [w1, w2])[0];
+    let y0 = Vector6::new(q0[0], q0[1], q0[2], base, w1, w2);
     let split = |y: &Vector6<f64>| (Configuration::new(y[0], y[1], y[2]), [y[3], y[4], y[5]]);
     let mut max_momentum: f64 = 0.0;
     let rhs = |t, y: &Vector6<f64>| {

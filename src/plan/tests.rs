@@ -246,3 +246,24 @@ fn peak_controls_do_not_depend_on_the_samples() {
         }
     }
 }
+
+/// A moving start is part of the problem: validated (finite, bounded), and refused by the
+/// planners that plan from rest only, naming the start velocity.
+#[test]
+fn moving_start_is_validated_and_refused_by_rest_planners() {
+    use crate::plan::Method;
+    use crate::planners::{PlannerOptions, planner};
+    let problem = PlanningProblem::paper(RobotParams::src());
+    assert!(problem.starts_at_rest());
+    for bad in [f64::NAN, f64::INFINITY, 2e4] {
+        assert!(problem.with_start_velocity([0.0, bad]).is_err(), "{bad}");
+    }
+    let moving = problem.with_start_velocity([0.1, 0.0]).unwrap();
+    for method in [Method::Nfa, Method::Ecsa] {
+        match planner(method, &PlannerOptions::default()).plan(&moving) {
+            Ok(_) => panic!("{method:?} planned from a moving start"),
+            Err(e) => assert!(e.to_string().contains("start velocity"), "{e}"),
+        }
+    }
+    assert!(planner(Method::Optimal, &PlannerOptions::default()).plan(&moving).is_ok());
+}

@@ -47,8 +47,8 @@ impl Controller {
 }
 
 /// PD gains of the joint loop: `theta''_cmd = theta''_ref + kd e' + kp e`, `e = theta_ref -
-/// theta`. The defaults, `kp = 400 1/s^2`, `kd = 40 1/s`, make each joint's error a critically
-/// damped second-order system with natural frequency 20 rad/s, well below the 1 kHz control rate.
+/// theta`. The defaults, `kp = 2500 1/s^2`, `kd = 100 1/s`, make each joint's error a critically
+/// damped second-order system with natural frequency 50 rad/s, well below the 1 kHz control rate.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Gains {
     /// Proportional gain [1/s^2].

@@ -99,6 +99,15 @@ impl Plant {
         }
     }
 
+    /// The same plant with the joints moving at `velocity` \[rad/s\] and the base at zero angular
+    /// momentum (Eq. 7), for a problem with a moving start.
+    pub fn moving(mut self, velocity: [f64; 2]) -> Self {
+        let q = [self.state[0], self.state[1], self.state[2]];
+        let dq = crate::model::system::velocity(&self.k, q, velocity);
+        self.state[3..].copy_from_slice(&dq);
+        self
+    }
+
     /// The true state.
     pub fn state(&self) -> State {
         let s = self.state;

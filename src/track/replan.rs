@@ -29,8 +29,8 @@ pub struct ReplanOptions {
     /// fresh, shorter plan; default 1e-7.
     pub threshold: f64,
     /// The planner's options: few samples, a coarse basis, one target, no NFA seed, the goal
-    /// taken literally (the representative of the first plan); `initial_velocity` is set from
-    /// the measurement at each re-plan.
+    /// taken literally (the representative of the first plan). Each re-plan starts from the
+    /// measured joint velocity (the problem's `start_velocity`).
     pub planner: OptimalOptions,
 }
 
@@ -131,9 +131,10 @@ impl Replanner {
         t: f64,
         horizon: f64,
     ) -> Option<Box<dyn Motion + Send + Sync>> {
-        let problem = PlanningProblem::new(*model, measured.q, self.goal, horizon - t).ok()?;
-        let optimal =
-            OptimalOptions { initial_velocity: [measured.dq[1], measured.dq[2]], ..self.options.planner.clone() };
+        let problem = PlanningProblem::new(*model, measured.q, self.goal, horizon - t)
+            .and_then(|p| p.with_start_velocity([measured.dq[1], measured.dq[2]]))
+            .ok()?;
+        let optimal = self.options.planner.clone();
         let planner = planner(Method::Optimal, &PlannerOptions { optimal, ..Default::default() });
         let planned = planner.plan(&problem).ok()?;
         let e = planned.plan.verification.final_error;

@@ -164,7 +164,7 @@ pub fn track(
     let mut model = problem.robot;
     let mut k = model.lumped();
     let mut reference = Reference::Initial(plan);
-    let mut plant = Plant::new(truth, problem.start, options.disturbances, seed);
+    let mut plant = Plant::new(truth, problem.start, options.disturbances, seed).moving(problem.start_velocity);
     let mut history = options.record.then(History::default);
     let (mut peak, mut saturated, mut replans, mut failures) = ([0.0_f64; 2], 0usize, 0usize, 0usize);
     let (mut replan_seconds, mut replan_max) = (0.0_f64, 0.0_f64);

@@ -320,3 +320,16 @@ fn torques_report_the_closed_loop_certificate() {
     let v: serde_json::Value = serde_json::from_slice(&plain.stdout).expect("json");
     assert!(v.get("closed_loop").is_none(), "only with --torques");
 }
+
+/// `--from-velocity` starts the torque certificate and the closed-loop one from that velocity
+/// (both used to start from rest and fail), and a method that plans from rest refuses it.
+#[test]
+fn a_moving_start_is_certified_at_the_torque_level() {
+    let o = freefloat(&["plan", "--from-velocity", "5,-5", "--torques", "--format", "json"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let report: serde_json::Value = serde_json::from_slice(&o.stdout).expect("json");
+    assert_eq!(report["torque_certificate"]["certificate"]["certified"], serde_json::Value::Bool(true), "{report}");
+    assert_eq!(report["closed_loop"]["certified"], serde_json::Value::Bool(true), "{report}");
+    let o = freefloat(&["plan", "--from-velocity", "5,-5", "--method", "nfa"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+}

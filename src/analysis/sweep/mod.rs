@@ -275,7 +275,8 @@ fn successes(robot: &RobotParams, transform: Transform, options: &SweepOptions) 
     (0..options.trials as u64)
         .filter(|&trial| {
             let (start, goal) = trial_pair(options.seed, trial);
-            let problem = PlanningProblem { robot: *robot, start, goal, horizon: options.horizon };
+            let problem =
+                PlanningProblem { robot: *robot, start, goal, horizon: options.horizon, start_velocity: [0.0; 2] };
             planner.plan(&problem).is_ok_and(|planned| planned.plan.verification.certified)
         })
         .count()

@@ -349,6 +349,7 @@ impl Planner for EcsaPlanner {
     }
 
     fn plan(&self, problem: &PlanningProblem) -> Result<Planned, Error> {
+        problem.require_rest("ecsa")?;
         let (plan, solution, motion) = self.plan_with_solution(problem)?;
         Ok(Planned::new(plan, Box::new(motion), Details::Ecsa(solution)))
     }

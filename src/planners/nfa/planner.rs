@@ -147,6 +147,7 @@ impl Planner for NormalFormPlanner {
     }
 
     fn plan(&self, problem: &PlanningProblem) -> Result<Planned, Error> {
+        problem.require_rest("nfa")?;
         let (plan, motion) = self.plan_with_motion(problem)?;
         let (z0, zd) = motion.steering.ends();
         let details = NfaDetails { transform: motion.nf.transform(), z0, zd, band: motion.steering.band_choice() };

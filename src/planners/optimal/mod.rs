@@ -66,8 +66,6 @@ pub struct OptimalOptions {
     /// Also `theta''(0) = theta''(T) = 0` (quintic splines), so that the torques start and end at
     /// zero; default false (cubic splines).
     pub smooth_ends: bool,
-    /// `theta'(0)` \[rad/s\], for re-planning while moving; default zero.
-    pub initial_velocity: [f64; 2],
     /// Count the goal's `phi` and joint angles modulo 2 pi: try nearby representatives and keep
     /// the best certified plan; default true. False: the goal's angles literally.
     pub wrap: bool,
@@ -115,7 +113,6 @@ impl Default for OptimalOptions {
         Self {
             cost: Cost::Effort,
             smooth_ends: false,
-            initial_velocity: [0.0; 2],
             wrap: true,
             samples: 1001,
             tolerance: 1e-9,
@@ -145,11 +142,6 @@ impl OptimalOptions {
         }
         if !(self.tolerance > 0.0) {
             return bad("tolerance", self.tolerance, "a positive number [rad]");
-        }
-        for u in self.initial_velocity {
-            if !u.is_finite() {
-                return bad("initial_velocity", u, "a finite joint velocity [rad/s]");
-            }
         }
         if self.coarse_spans < 2 || self.max_spans < self.coarse_spans || self.max_spans > 4096 {
             return bad("max_spans", self.max_spans as f64, "2 <= coarse_spans <= max_spans <= 4096");
@@ -247,8 +239,7 @@ impl OptimalPlanner {
         self.options.validate()?;
         let o = &self.options;
         let k = problem.robot.lumped();
-        let nfa =
-            if o.nfa_seed && o.initial_velocity.iter().all(|u| u.abs() == 0.0) { self.nfa_path(problem) } else { None };
+        let nfa = if o.nfa_seed && problem.starts_at_rest() { self.nfa_path(problem) } else { None };
         let grid = seeds::curvature_grid(&k);
         let kappa_max = seeds::curvature_bound_on(&grid);
         let sites = seeds::coil_sites_on(&k, o.max_loop_radius, &grid);

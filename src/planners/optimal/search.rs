@@ -58,7 +58,7 @@ impl OptimalPlanner {
         let start = [q0.theta1, q0.theta2];
         let make = |end: [f64; 2], phi_end: f64| Targets {
             start,
-            initial_velocity: self.options.initial_velocity,
+            initial_velocity: problem.start_velocity,
             end,
             phi_start: q0.phi,
             phi_end,

@@ -43,7 +43,7 @@ fn discretisation_of(
 ) -> (Discretisation, DVector<f64>) {
     let targets = Targets {
         start: [problem.start.theta1, problem.start.theta2],
-        initial_velocity: planner.options.initial_velocity,
+        initial_velocity: problem.start_velocity,
         end: m.stats.theta_end,
         phi_start: problem.start.phi,
         phi_end: m.stats.phi_end,
@@ -232,13 +232,18 @@ fn holonomy_equals_the_ode_integration() {
     }
 }
 
-/// `initial_velocity` is honoured exactly, and the plan is certified.
+/// The problem's start velocity is honoured exactly, and the plan is certified at both levels:
+/// the torque certificate starts from that velocity (it used to start from rest, and failed).
 #[test]
 fn initial_velocity_is_honoured() {
     let u0 = [0.3, -0.2];
-    let options = OptimalOptions { initial_velocity: u0, ..Default::default() };
-    let (plan, m) = OptimalPlanner::new(options).plan_with_motion(&paper(0.2, 0.2)).unwrap();
+    let problem = paper(0.2, 0.2).with_start_velocity(u0).unwrap();
+    let planner = OptimalPlanner::new(OptimalOptions::default());
+    let (plan, m) = planner.plan_with_motion(&problem).unwrap();
     assert!(plan.certified().is_ok(), "{:?}", plan.verification);
+    let mut planned = crate::planners::Planner::plan(&planner, &problem).unwrap();
+    let torques = planned.add_torques(&crate::plan::TorqueOptions::default()).unwrap();
+    assert!(torques.certificate.certified, "{:?}", torques.certificate);
     let (p0, p1) = (m.at(0.0).unwrap(), m.at(10.0).unwrap());
     for ((got, want), end) in p0.u.iter().zip(u0).zip(p1.u) {
         assert!((got - want).abs() < 1e-10, "{:?}", p0.u);
@@ -394,8 +399,9 @@ proptest! {
         q0 in proptest::array::uniform3(-7.0..7.0f64), qd in proptest::array::uniform3(-7.0..7.0f64),
         horizon in 2.0..20.0f64, u0 in proptest::array::uniform2(-0.5..0.5f64),
     ) {
-        let problem = PlanningProblem::new(robot(a, b), Configuration::from_array(q0), Configuration::from_array(qd), horizon).unwrap();
-        let options = OptimalOptions { samples: 11, initial_velocity: u0, ..Default::default() };
+        let problem = PlanningProblem::new(robot(a, b), Configuration::from_array(q0), Configuration::from_array(qd), horizon)
+            .and_then(|p| p.with_start_velocity(u0)).unwrap();
+        let options = OptimalOptions { samples: 11, ..Default::default() };
         match OptimalPlanner::new(options).plan_with_motion(&problem) {
             Ok((plan, m)) => {
                 prop_assert!(plan.verification.final_error.is_finite());
