@@ -321,8 +321,8 @@ pub(crate) mod tests {
                 let expected: f64 = g.iter().zip(&rate).map(|(g, r)| g * r).sum::<f64>() / f;
                 assert!((local.value - expected).abs() <= 1e-12 * expected.abs().max(1.0), "n = {n}");
                 assert!((c.value(&theta, &rate) - expected).abs() <= 1e-12 * expected.abs().max(1.0));
-                for j in 0..n {
-                    assert!((local.a[j] - g[j] / f).abs() <= 1e-12, "n = {n}: a_{j}");
+                for (j, gj) in g.iter().enumerate() {
+                    assert!((local.a[j] - gj / f).abs() <= 1e-12, "n = {n}: a_{j}");
                 }
                 let x: Vec<f64> = theta.iter().chain(&rate).copied().collect();
                 let (v, grad, hess) = match n {

@@ -180,9 +180,9 @@ impl Discretisation {
         for (j, cj) in c.iter().enumerate() {
             let cj = &cj[node.first..=node.first + p];
             let (mut v, mut r) = (0.0, 0.0);
-            for l in 0..=p {
-                v += node.value[l] * cj[l];
-                r += node.rate[l] * cj[l];
+            for ((value, rate), c) in node.value.iter().zip(&node.rate).zip(cj) {
+                v += value * c;
+                r += rate * c;
             }
             theta[j] = v;
             rate[j] = r;
@@ -320,12 +320,12 @@ impl Discretised for Discretisation {
                         *out = local.hessian[j * n + jj] * v + local.mixed[jj * n + j] * dr;
                     }
                     let col = (idx[l] + j) * dim;
-                    for ll in 0..=p {
-                        if idx[ll] == usize::MAX {
+                    for (ll, &index) in idx.iter().enumerate().take(p + 1) {
+                        if index == usize::MAX {
                             continue;
                         }
                         let (vv, rr) = (node.value[ll], node.rate[ll]);
-                        let base = col + idx[ll];
+                        let base = col + index;
                         for jj in 0..n {
                             // The mixed term of (l, j) as theta and (ll, jj) as theta'.
                             data[base + jj] -= row[jj] * vv + local.mixed[j * n + jj] * v * rr;

@@ -15,6 +15,12 @@ use crate::planners::optimal::sqp::Termination;
 /// Nodes of the Gauss–Legendre rule of the base angle, per knot span (or part of one).
 pub const PHI_NODES: usize = 24;
 
+/// The [`PHI_NODES`]-node Gauss–Legendre rule, computed once.
+fn phi_rule() -> &'static GaussLegendre {
+    static RULE: std::sync::OnceLock<GaussLegendre> = std::sync::OnceLock::new();
+    RULE.get_or_init(|| GaussLegendre::new(PHI_NODES))
+}
+
 /// Statistics of a chain plan.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct ChainStats {
@@ -97,12 +103,11 @@ impl ChainPlan {
                 stats: Default::default(),
             },
         };
-        let rule = GaussLegendre::new(PHI_NODES);
         let b = me.basis.breakpoints().to_vec();
         let mut phi = vec![phi0];
         for w in b.windows(2) {
             let last = phi[phi.len() - 1];
-            phi.push(last - me.holonomy(&rule, w[0], w[1]));
+            phi.push(last - me.holonomy(phi_rule(), w[0], w[1]));
         }
         me.phi_at_breakpoints = phi;
         me
@@ -154,7 +159,7 @@ impl ChainPlan {
         if t <= b {
             return self.phi_at_breakpoints[s];
         }
-        self.phi_at_breakpoints[s] - self.holonomy(&GaussLegendre::new(PHI_NODES), b, t)
+        self.phi_at_breakpoints[s] - self.holonomy(phi_rule(), b, t)
     }
 
     /// `(phi, theta, theta', theta'')` at `t` \[s\] (clamped to `[0, T]`).

@@ -22,7 +22,10 @@ const COARSE_SQP: SqpOptions =
 
 /// The tables built in one planning call, by (uniform spans, quadrature nodes).
 #[derive(Default)]
-pub(super) struct Tables(RefCell<Vec<((usize, usize), Arc<Table>)>>);
+pub(super) struct Tables(RefCell<Vec<TableEntry>>);
+
+/// A cached table with its (uniform spans, quadrature nodes).
+type TableEntry = ((usize, usize), Arc<Table>);
 
 /// A solve: its discretisation and result.
 struct Candidate {

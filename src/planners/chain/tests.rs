@@ -232,8 +232,8 @@ fn chain_initial_velocity_is_honoured() {
     };
     let plan = planner.plan(&problem).unwrap();
     let (start, end) = (plan.at(0.0), plan.at(10.0));
-    for j in 0..3 {
-        assert!((start.rate[j] - u0[j]).abs() <= 1e-12 && end.rate[j].abs() <= 1e-12);
+    for (j, u) in u0.iter().enumerate() {
+        assert!((start.rate[j] - u).abs() <= 1e-12 && end.rate[j].abs() <= 1e-12);
     }
     assert!(plan.verification.certified);
 }
