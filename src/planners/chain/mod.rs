@@ -178,8 +178,8 @@ impl ChainOptions {
 /// The minimum-effort planner for an `n`-joint arm (see the [module docs](self)).
 #[derive(Debug, Clone, PartialEq)]
 pub struct ChainPlanner {
-    /// The arm.
-    pub arm: Arm,
+    /// The arm (private: its momentum coefficients' constants are computed from it once).
+    arm: Arm,
     /// Options.
     pub options: ChainOptions,
     connection: Arc<connection::Connection>,
@@ -190,6 +190,11 @@ impl ChainPlanner {
     pub fn new(arm: Arm, options: ChainOptions) -> Self {
         let connection = Arc::new(connection::Connection::new(&arm));
         Self { arm, options, connection }
+    }
+
+    /// The arm.
+    pub fn arm(&self) -> &Arm {
+        &self.arm
     }
 }
 
