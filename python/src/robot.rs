@@ -20,7 +20,7 @@ pub struct PyRobot {
 impl PyRobot {
     /// Every parameter by keyword; `a`, `b` default to 0 (centred mounting).
     #[new]
-    #[pyo3(signature = (*, l1, l2, d1, d2, M, I, m1, m2, a = 0.0, b = 0.0))]
+    #[pyo3(signature = (*, l1, l2, d1, d2, M, I, m1, m2, a = 0.0, b = 0.0, i1 = 0.0, i2 = 0.0))]
     #[allow(non_snake_case, clippy::too_many_arguments)]
     fn new(
         py: Python<'_>,
@@ -34,8 +34,10 @@ impl PyRobot {
         m2: f64,
         a: f64,
         b: f64,
+        i1: f64,
+        i2: f64,
     ) -> PyResult<Self> {
-        let params = RobotParams { l1, l2, d1, d2, base_mass: M, base_inertia: I, m1, m2, mount: Mount { a, b } };
+        let params = RobotParams { l1, l2, d1, d2, base_mass: M, base_inertia: I, m1, m2, i1, i2, mount: Mount { a, b } };
         RobotParams::new(params).map(|inner| Self { inner }).py_result(py)
     }
 

@@ -106,7 +106,7 @@ pub struct ProblemArgs {
     pub tolerance: f64,
     /// Cap on the peak joint velocity |u| in rad/s: a plan that exceeds it is planned again with
     /// the horizon stretched (velocities scale as 1/T along the same path); the report's `time`
-    /// says which horizon was used. From 1e-3 to 1e3.
+    /// says which horizon was used. From 1e-3 to 1000.
     #[arg(long, value_name = "RAD_PER_S", allow_hyphen_values = true)]
     pub max_velocity: Option<f64>,
     /// Optimal: joint velocities at t = 0, DTH1,DTH2 in deg/s (for re-planning while moving;
@@ -214,6 +214,26 @@ pub struct PlanArgs {
     /// Also write the result to FILE: .json (report with trajectory) or .csv (trajectory).
     #[arg(long, value_name = "FILE")]
     pub out: Option<PathBuf>,
+    /// Also write an animated GIF of the motion to FILE.gif: the robot as the report page draws
+    /// it, the horizon played in 5 to 8 s (T clamped to that range), looping.
+    #[arg(long, value_name = "FILE.gif")]
+    pub gif: Option<PathBuf>,
+    #[command(flatten)]
+    pub gif_options: GifArgs,
+}
+
+/// Size and frame rate of `--gif` animations.
+#[derive(Debug, Args, Clone)]
+pub struct GifArgs {
+    /// Width of the GIF in pixels, 240 to 1920.
+    #[arg(long, value_name = "PX", default_value_t = 480, requires = "gif")]
+    pub gif_width: u64,
+    /// Height of the GIF in pixels, 240 to 1920.
+    #[arg(long, value_name = "PX", default_value_t = 480, requires = "gif")]
+    pub gif_height: u64,
+    /// Frames per second of the GIF, 1 to 50.
+    #[arg(long, value_name = "FPS", default_value_t = 25, requires = "gif")]
+    pub gif_fps: u64,
 }
 
 #[derive(Debug, Args)]
@@ -238,6 +258,11 @@ pub struct ReproduceArgs {
     /// Output directory.
     #[arg(long, value_name = "DIR", default_value = "out")]
     pub out: PathBuf,
+    /// Also write an animated GIF of every plan, `anim-CASE.gif` (e.g. `anim-fig06.gif`), into DIR.
+    #[arg(long)]
+    pub gif: bool,
+    #[command(flatten)]
+    pub gif_options: GifArgs,
 }
 
 /// Flags of `freefloat domain`.

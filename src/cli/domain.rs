@@ -61,8 +61,9 @@ pub fn run(args: &DomainArgs) -> anyhow::Result<ExitCode> {
     if let (Some(path_file), Some(format)) = (&args.plot, format) {
         let note = match (&plan.final_error, &plan.error) {
             (Some(err), _) => format!(
-                "NFA plan q0 -> qd: {}, verified final error {err:.1e} rad",
-                if plan.certified { "certified" } else { "NOT certified" }
+                "NFA plan q0 -> qd: {}, verified final error {} rad",
+                if plan.certified { "certified" } else { "NOT certified" },
+                super::plan::scientific(*err, 1)
             ),
             (None, Some(e)) => format!("no NFA plan q0 -> qd: {e}"),
             _ => String::new(),
@@ -98,8 +99,9 @@ fn table(r: &Report) -> String {
     t += &format!("  components               {}", s.components);
     if s.slivers > 0 {
         t += &format!(
-            " (+{} slivers: pieces thinner than 3 grid cells, {:.1e} of the torus, not counted; a finer --grid may resolve them)",
-            s.slivers, s.sliver_fraction
+            " (+{} slivers: pieces thinner than 3 grid cells, {} of the torus, not counted; a finer --grid may resolve them)",
+            s.slivers,
+            super::plan::scientific(s.sliver_fraction, 1)
         );
     }
     t += "\n";
@@ -112,8 +114,9 @@ fn table(r: &Report) -> String {
     t += &format!("  q0, qd connected         {}\n", if s.start_goal_connected { "yes" } else { "no" });
     let plan = match (&r.plan.final_error, &r.plan.error) {
         (Some(e), _) => format!(
-            "{}, verified final error {e:.3e} rad",
-            if r.plan.certified { "certified" } else { "NOT certified" }
+            "{}, verified final error {} rad",
+            if r.plan.certified { "certified" } else { "NOT certified" },
+            super::plan::error_number(*e)
         ),
         (None, Some(e)) => format!("none: {e}"),
         _ => "-".into(),

@@ -168,3 +168,8 @@ pub fn ecsa_options(args: &ProblemArgs) -> anyhow::Result<freefloat::EcsaOptions
     .with_harmonics(args.harmonics)?;
     Ok(options)
 }
+
+/// The validated size and frame rate of `--gif` (bad input, exit 2, out of range).
+pub fn gif_options(args: &args::GifArgs) -> anyhow::Result<freefloat::report::plot::GifOptions> {
+    Ok(freefloat::report::plot::GifOptions::new(args.gif_width, args.gif_height, args.gif_fps)?)
+}

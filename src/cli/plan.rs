@@ -7,6 +7,8 @@ use freefloat::model::kinematics::Elbow;
 use freefloat::plan::{Method, Plan, PlanningProblem, TorqueOptions};
 use freefloat::planners::{Planned, PlannerOptions, plan_to_pose, planner};
 use freefloat::report::io::{PlanReport, trajectory_csv, write_atomic};
+pub use freefloat::report::numbers::{error_number, number, rounded, scientific, significant};
+use freefloat::report::plot::{animation_gif, check_gif_path};
 use freefloat::track::closed_loop_certificate;
 
 use super::args::{
@@ -59,7 +61,9 @@ fn plan_with(
             let stretched = PlanningProblem { horizon: problem.horizon * peak / cap, ..*problem };
             freefloat::plan::check_horizon("the horizon stretched by --max-velocity", stretched.horizon)?;
             super::note(&format!(
-                "note: peak |u| = {peak:.4} rad/s exceeds --max-velocity {cap}: horizon stretched from {} s to {} s\n",
+                "note: peak |u| = {} rad/s exceeds --max-velocity {}: horizon stretched from {} s to {} s\n",
+                rounded(peak, 4),
+                number(cap),
                 number(problem.horizon),
                 number(stretched.horizon)
             ));
@@ -122,6 +126,14 @@ pub fn run(args: &PlanArgs) -> anyhow::Result<ExitCode> {
         }
         None => None,
     };
+    let gif = match &args.gif {
+        Some(path) => {
+            check_gif_path(path)?;
+            freefloat::report::io::check_writable(path)?;
+            Some((path, super::gif_options(&args.gif_options)?))
+        }
+        None => None,
+    };
     let problem = super::problem(&args.problem)?;
     let planned = plan_with(method(args)?, &args.problem, &problem)??;
     let plan = &planned.plan;
@@ -146,6 +158,10 @@ pub fn run(args: &PlanArgs) -> anyhow::Result<ExitCode> {
     if let Some((path, json)) = out {
         let bytes = if json { serde_json::to_vec_pretty(&report(true))? } else { trajectory_csv(&plan.trajectory)? };
         write_atomic(path, &bytes)?;
+    }
+    if let Some((path, options)) = gif {
+        let title = format!("freefloat plan: {}, T = {} s", plan.method.name(), number(plan.problem.horizon));
+        write_atomic(path, &animation_gif(plan, &title, &options, path)?)?;
     }
     super::emit(&text)?;
     planned.certified()?;
@@ -215,27 +231,25 @@ fn compare_json(reports: &[Result<PlanReport, String>]) -> anyhow::Result<serde_
 fn compare_table(problem: &PlanningProblem, reports: &[Result<PlanReport, String>]) -> String {
     type Row = (&'static str, fn(&PlanReport) -> String);
     let rows: [Row; 16] = [
-        ("effort [rad^2/s]", |r| format!("{:.6}", r.effort)),
-        ("verified final error [rad]", |r| format!("{:.3e}", r.final_error)),
+        ("effort [rad^2/s]", |r| number(r.effort)),
+        ("verified final error [rad]", |r| error_number(r.final_error)),
         ("certified", |r| if r.certified { "yes".into() } else { "NO".into() }),
         ("iterations", |r| r.iterations.map(|i| i.to_string()).unwrap_or_else(|| "- (closed form)".into())),
-        ("iteration residual [rad]", |r| r.ecsa.as_ref().map(|x| format!("{:.3e}", x.residual)).unwrap_or("-".into())),
-        ("max |u1| [rad/s]", |r| format!("{:.6}", r.max_abs_u[0])),
-        ("max |u2| [rad/s]", |r| format!("{:.6}", r.max_abs_u[1])),
-        ("u(0) [rad/s]", |r| format!("{:.4}, {:.4}", r.controls_at_ends[0][0], r.controls_at_ends[0][1])),
-        ("u(T) [rad/s]", |r| format!("{:.4}, {:.4}", r.controls_at_ends[1][0], r.controls_at_ends[1][1])),
+        ("iteration residual [rad]", |r| r.ecsa.as_ref().map(|x| error_number(x.residual)).unwrap_or("-".into())),
+        ("max |u1| [rad/s]", |r| number(r.max_abs_u[0])),
+        ("max |u2| [rad/s]", |r| number(r.max_abs_u[1])),
+        ("u(0) [rad/s]", |r| pair(r.controls_at_ends[0])),
+        ("u(T) [rad/s]", |r| pair(r.controls_at_ends[1])),
         // Filled by `--torques` (inverse dynamics, torque issue): peak |tau1|, |tau2|.
-        ("max |tau1|, |tau2| [N m]", |r| {
-            r.max_abs_torque.map(|t| format!("{:.4}, {:.4}", t[0], t[1])).unwrap_or("- (--torques)".into())
-        }),
-        ("min |sigma|, min |P|", |r| format!("{:.4}, {:.4}", r.min_abs_sigma, r.min_abs_p)),
-        ("max deviation from plan [rad]", |r| format!("{:.3e}", r.max_path_deviation)),
-        ("time: plan [ms]", |r| format!("{:.3}", r.seconds.plan * 1e3)),
-        ("time: torques [ms]", |r| r.seconds.torques.map(|t| format!("{:.3}", t * 1e3)).unwrap_or("-".into())),
-        ("time: verify [ms]", |r| format!("{:.3}", r.seconds.verify * 1e3)),
+        ("max |tau1|, |tau2| [N m]", |r| r.max_abs_torque.map(pair).unwrap_or("- (--torques)".into())),
+        ("min |sigma|, min |P|", |r| pair([r.min_abs_sigma, r.min_abs_p])),
+        ("max deviation from plan [rad]", |r| error_number(r.max_path_deviation)),
+        ("time: plan [ms]", |r| significant(r.seconds.plan * 1e3, 4)),
+        ("time: torques [ms]", |r| r.seconds.torques.map(|t| significant(t * 1e3, 4)).unwrap_or("-".into())),
+        ("time: verify [ms]", |r| significant(r.seconds.verify * 1e3, 4)),
         ("time: total [ms]", |r| {
             let s = &r.seconds;
-            format!("{:.3}", (s.plan + s.verify + s.torques.unwrap_or(0.0)) * 1e3)
+            significant((s.plan + s.verify + s.torques.unwrap_or(0.0)) * 1e3, 4)
         }),
     ];
     let header = |r: &Result<PlanReport, String>, name: &str| match r {
@@ -283,37 +297,18 @@ fn compare_table(problem: &PlanningProblem, reports: &[Result<PlanReport, String
     s
 }
 
-/// A number as a table shows it: at most 6 significant digits, no trailing zeros, scientific
-/// notation for the very small and the very large (`53.5817`, `0.2`, `1e-9`).
-pub fn number(x: f64) -> String {
-    let a = x.abs();
-    if x == 0.0 {
-        return "0".into();
-    }
-    if !(1e-4..1e6).contains(&a) {
-        let s = format!("{x:.5e}");
-        let (mantissa, exponent) = s.split_once('e').unwrap_or((&s, "0"));
-        let mantissa =
-            if mantissa.contains('.') { mantissa.trim_end_matches('0').trim_end_matches('.') } else { mantissa };
-        return format!("{mantissa}e{exponent}");
-    }
-    let decimals = (5 - a.log10().floor() as i32).clamp(0, 10) as usize;
-    let s = format!("{x:.decimals$}");
-    if s.contains('.') { s.trim_end_matches('0').trim_end_matches('.').to_string() } else { s }
-}
-
-/// An error or residual: [`number`] between 1e-3 and 1e4 (`1.21`, not `1.210e0`), else
-/// scientific with four digits (`9.290e-13`).
-pub fn error_number(x: f64) -> String {
-    if (1e-3..1e4).contains(&x.abs()) { number(x) } else { format!("{x:.3e}") }
+/// A pair rounded to 4 decimals (`0.1235, 0.0955`).
+fn pair(x: [f64; 2]) -> String {
+    format!("{}, {}", rounded(x[0], 4), rounded(x[1], 4))
 }
 
 fn deg(q: [f64; 3]) -> String {
-    format!("({:.4}, {:.4}, {:.4})", q[0].to_degrees(), q[1].to_degrees(), q[2].to_degrees())
+    format!("({}, {}, {})", rounded(q[0].to_degrees(), 4), rounded(q[1].to_degrees(), 4), rounded(q[2].to_degrees(), 4))
 }
 
 fn vec3(z: Option<[f64; 3]>) -> String {
-    z.map(|z| format!("({:.6}, {:.6}, {:.6})", z[0], z[1], z[2])).unwrap_or_else(|| "-".into())
+    z.map(|z| format!("({}, {}, {})", rounded(z[0], 6), rounded(z[1], 6), rounded(z[2], 6)))
+        .unwrap_or_else(|| "-".into())
 }
 
 /// The human-readable report.
@@ -335,35 +330,41 @@ pub fn table(plan: &Plan, r: &PlanReport) -> String {
     }
     s += &format!("  reached q(T) [deg]       {}\n", deg(r.reached));
     s += &format!(
-        "  verified final error     {} rad (tolerance {:.1e})  {status}\n",
+        "  verified final error     {} rad (tolerance {})  {status}\n",
         error_number(r.final_error),
-        r.tolerance
+        number(r.tolerance)
     );
-    s +=
-        &format!("  max deviation from plan  {:.3e} rad ({} integrator steps)\n", r.max_path_deviation, r.verify_steps);
-    s += &format!("  effort                   {:.6} rad^2/s (integral of |u|^2 dt)\n", r.effort);
-    s += &format!("  max |u1|, |u2|           {:.6}, {:.6} rad/s\n", r.max_abs_u[0], r.max_abs_u[1]);
+    s += &format!(
+        "  max deviation from plan  {} rad ({} integrator steps)\n",
+        error_number(r.max_path_deviation),
+        r.verify_steps
+    );
+    s += &format!("  effort                   {} rad^2/s (integral of |u|^2 dt)\n", number(r.effort));
+    s += &format!("  max |u1|, |u2|           {}, {} rad/s\n", number(r.max_abs_u[0]), number(r.max_abs_u[1]));
     if let Some(o) = &r.optimal {
         s += &format!(
-            "  optimality               KKT residual {:.1e}, holonomy residual {:.1e} rad, {} spline spans (degree {})\n",
-            o.kkt_residual, o.holonomy_residual, o.spans, o.degree
+            "  optimality               KKT residual {}, holonomy residual {} rad, {} spline spans (degree {})\n",
+            scientific(o.kkt_residual, 1),
+            scientific(o.holonomy_residual, 1),
+            o.spans,
+            o.degree
         );
     }
-    s += &format!("  min |sigma|, |P|         {:.6}, {:.6}\n", r.min_abs_sigma, r.min_abs_p);
+    s += &format!("  min |sigma|, |P|         {}, {}\n", rounded(r.min_abs_sigma, 6), rounded(r.min_abs_p, 6));
     if let Some(x) = &r.ecsa {
         let [u0, u1] = r.controls_at_ends;
         s += &format!("  controls                 {} harmonic(s), window {}\n", x.harmonics, x.window.name());
         s += &format!(
             "  iteration residuals      {} rad ({})\n",
-            x.residual_history.iter().map(|r| format!("{r:.1e}")).collect::<Vec<_>>().join(", "),
+            x.residual_history.iter().map(|&r| scientific(r, 1)).collect::<Vec<_>>().join(", "),
             x.termination_name()
         );
         s += &format!(
-            "  u(0), u(T)               ({:.6}, {:.6}), ({:.6}, {:.6}) rad/s{}\n",
-            u0[0],
-            u0[1],
-            u1[0],
-            u1[1],
+            "  u(0), u(T)               ({}, {}), ({}, {}) rad/s{}\n",
+            rounded(u0[0], 6),
+            rounded(u0[1], 6),
+            rounded(u1[0], 6),
+            rounded(u1[1], 6),
             if x.window == freefloat::Window::None { "  (plain series: not at rest)" } else { "" }
         );
     }
@@ -382,35 +383,42 @@ pub fn table(plan: &Plan, r: &PlanReport) -> String {
     if let Some(t) = &r.torque_certificate {
         let c = &t.certificate;
         let status = if c.certified { "CERTIFIED" } else { "NOT CERTIFIED" };
-        s += &format!("  max |tau1|, |tau2|       {:.6}, {:.6} N m\n", t.max_abs_torque[0], t.max_abs_torque[1]);
         s += &format!(
-            "  torque final error       {} rad (tolerance {:.1e})  {status}\n",
+            "  max |tau1|, |tau2|       {}, {} N m\n",
+            number(t.max_abs_torque[0]),
+            number(t.max_abs_torque[1])
+        );
+        s += &format!(
+            "  torque final error       {} rad (tolerance {})  {status}\n",
             error_number(c.final_error),
-            c.tolerance
+            number(c.tolerance)
         );
         s += &format!(
-            "  torque path deviation    {:.3e} rad ({} integrator steps)\n",
-            c.max_path_deviation, c.stats.accepted
+            "  torque path deviation    {} rad ({} integrator steps)\n",
+            error_number(c.max_path_deviation),
+            c.stats.accepted
         );
-        s += &format!("  max |angular momentum|   {:.3e} kg m^2/s\n", c.max_abs_momentum);
-        s += &format!("  max |base row of (6)|    {:.3e} N m\n", t.max_abs_base_residual);
+        s += &format!("  max |angular momentum|   {} kg m^2/s\n", error_number(c.max_abs_momentum));
+        s += &format!("  max |base row of (6)|    {} N m\n", error_number(t.max_abs_base_residual));
     }
     if let Some(c) = &r.closed_loop {
         let status = if c.certified { "CERTIFIED: executable with feedback" } else { "NOT CERTIFIED" };
         s += &format!(
-            "  closed loop (ct, {} Hz)  final error {:.3e} rad (tolerance {:.1e})  {status}\n",
-            c.rate, c.final_error, c.tolerance
+            "  closed loop (ct, {} Hz)  final error {} rad (tolerance {})  {status}\n",
+            number(c.rate),
+            error_number(c.final_error),
+            number(c.tolerance)
         );
     }
-    let torques = r.seconds.torques.map(|t| format!(", torques {:.3} ms", t * 1e3)).unwrap_or_default();
+    let torques = r.seconds.torques.map(|t| format!(", torques {} ms", significant(t * 1e3, 4))).unwrap_or_default();
     let torque_verify = r
         .torque_certificate
-        .map(|t| format!(", torque certificate {:.3} ms", t.seconds.verify * 1e3))
+        .map(|t| format!(", torque certificate {} ms", significant(t.seconds.verify * 1e3, 4)))
         .unwrap_or_default();
     s += &format!(
-        "  time                     plan {:.3} ms{torques}, verify {:.3} ms{torque_verify}\n",
-        r.seconds.plan * 1e3,
-        r.seconds.verify * 1e3
+        "  time                     plan {} ms{torques}, verify {} ms{torque_verify}\n",
+        significant(r.seconds.plan * 1e3, 4),
+        significant(r.seconds.verify * 1e3, 4)
     );
     s
 }

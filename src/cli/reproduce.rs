@@ -13,14 +13,15 @@ use super::args::ReproduceArgs;
 /// (Figs. 4-8) are certified at both levels; 3 otherwise (everything is still written).
 pub fn run(args: &ReproduceArgs) -> anyhow::Result<ExitCode> {
     let (total, done, on) =
-        (job_count(), AtomicUsize::new(0), std::io::stderr().is_terminal() && !super::output::quiet());
+        (job_count(args.gif), AtomicUsize::new(0), std::io::stderr().is_terminal() && !super::output::quiet());
     let progress = |what: &str, seconds: f64, status: &str| {
         let k = done.fetch_add(1, Ordering::Relaxed) + 1;
         if on {
             eprintln!("[{k:>2}/{total}] {what:<46} {status:<58} {:>7.1} ms", seconds * 1e3);
         }
     };
-    let r = reproduce(&args.out, &progress)?;
+    let gif = if args.gif { Some(super::gif_options(&args.gif_options)?) } else { None };
+    let r = reproduce(&args.out, gif.as_ref(), &progress)?;
     super::emit(&format!("{}\nwrote {} files to {} in {:.2} s\n", r.markdown, r.files, args.out.display(), r.seconds))?;
     for failure in &r.failures {
         eprintln!("{failure}");

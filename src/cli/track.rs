@@ -7,6 +7,7 @@ use std::process::ExitCode;
 use anyhow::Context;
 use freefloat::planners::{PlannerOptions, planner};
 use freefloat::report::io::write_atomic;
+use freefloat::report::numbers::{error_number, number, scientific};
 use freefloat::report::plot::{Panel, PictureFormat, PlanFigure, Series, plan_picture};
 use freefloat::track::{
     Controller, Disturbances, Gains, IdentifyOptions, MonteCarloOptions, Perturbation, ReplanOptions, TrackOptions,
@@ -120,28 +121,33 @@ fn monte(
         return Ok(ExitCode::SUCCESS);
     }
     println!(
-        "{} trials (seed {}), success = final error <= {:.0e} rad, {:.1} s on {} threads",
+        "{} trials (seed {}), success = final error <= {} rad, {:.1} s on {} threads",
         mc.trials,
         mc.seed,
-        mc.success_tolerance,
+        number(mc.success_tolerance),
         clock.elapsed().as_secs_f64(),
         rayon::current_num_threads()
     );
     println!("controller  success        median     p95        max        replan failures  s/run");
     for s in &summaries {
         println!(
-            "{:<10}  {:>5.1} % {:>5}  {:<9.2e}  {:<9.2e}  {:<9.2e}  {:>15}  {:.3}",
+            "{:<10}  {:>5.1} % {:>5}  {:<9}  {:<9}  {:<9}  {:>15}  {:.3}",
             s.controller.name(),
             100.0 * s.success_rate,
             s.successes,
-            s.median_error,
-            s.p95_error,
-            s.max_error,
+            scientific(s.median_error, 2),
+            scientific(s.p95_error, 2),
+            scientific(s.max_error, 2),
             s.replan_failures,
             s.mean_seconds
         );
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// An error with its sign (`+4.349e-9`, `-0.0121`).
+fn signed(x: f64) -> String {
+    if x >= 0.0 { format!("+{}", error_number(x)) } else { error_number(x) }
 }
 
 fn table(runs: &[Tracked], truth: &RobotParams, nominal: &RobotParams) -> String {
@@ -157,9 +163,9 @@ fn table(runs: &[Tracked], truth: &RobotParams, nominal: &RobotParams) -> String
         out.push('\n');
     };
     row("controller", &|r| r.controller.name().to_string());
-    row("final error [rad]", &|r| format!("{:.3e}", r.final_error));
+    row("final error [rad]", &|r| error_number(r.final_error));
     for (i, axis) in ["phi", "theta1", "theta2"].iter().enumerate() {
-        row(&format!("  {axis} [rad]"), &|r| format!("{:+.3e}", r.final_errors[i]));
+        row(&format!("  {axis} [rad]"), &|r| signed(r.final_errors[i]));
     }
     row("peak |tau1| [N m]", &|r| format!("{:.4}", r.peak_torque[0]));
     row("peak |tau2| [N m]", &|r| format!("{:.4}", r.peak_torque[1]));
@@ -173,13 +179,19 @@ fn table(runs: &[Tracked], truth: &RobotParams, nominal: &RobotParams) -> String
             let _ = writeln!(out, "identified constants ({}), kg m^2:", r.controller.name());
             let _ = writeln!(out, "  {:<8}{:>12}{:>12}{:>12}", "", "nominal", "identified", "true");
             for (i, name) in ["A", "B", "C", "D a", "D b", "E a", "E b", "I_P"].iter().enumerate() {
-                let _ =
-                    writeln!(out, "  {name:<8}{:>12.6}{:>12.6}{:>12.6}", id.nominal[i], id.identified[i], id.truth[i]);
+                let _ = writeln!(
+                    out,
+                    "  {name:<8}{:>12}{:>12}{:>12}",
+                    number(id.nominal[i]),
+                    number(id.identified[i]),
+                    number(id.truth[i])
+                );
             }
             let _ = writeln!(
                 out,
-                "  momentum-map error (G/F, H/F) against the truth: nominal {:.3e}, identified {:.3e}",
-                id.nominal_map_error, id.identified_map_error
+                "  momentum-map error (G/F, H/F) against the truth: nominal {}, identified {}",
+                error_number(id.nominal_map_error),
+                error_number(id.identified_map_error)
             );
         }
     }
@@ -245,8 +257,12 @@ fn figure(run: &Tracked) -> PlanFigure {
             ),
         ],
         caption: vec![format!(
-            "final error {:.3e} rad; {} re-plans ({} failed); peak torque {:.3}, {:.3} N m",
-            run.final_error, run.replans, run.replan_failures, run.peak_torque[0], run.peak_torque[1]
+            "final error {} rad; {} re-plans ({} failed); peak torque {:.3}, {:.3} N m",
+            error_number(run.final_error),
+            run.replans,
+            run.replan_failures,
+            run.peak_torque[0],
+            run.peak_torque[1]
         )],
     }
 }

@@ -11,6 +11,8 @@
 //! whose first row is `d/dt (F phi' + G theta1' + H theta2') = 0`, the conservation of angular
 //! momentum (5) (the base is not actuated), and whose last two rows are Eq. (6).
 
+pub mod arm;
+
 use nalgebra::{Matrix3, Vector3};
 use serde::Serialize;
 

@@ -36,6 +36,17 @@ pub enum InputError {
         /// lines of at most [`ECHO_LIMIT`] characters: the input is never echoed whole).
         reason: String,
     },
+    /// A URDF file that parses but describes no planar serial arm (docs/spec.md §1, URDF):
+    /// `element` names the offending joint or link.
+    #[error("URDF {}: {element}: {reason}", path.display())]
+    Urdf {
+        /// The file.
+        path: PathBuf,
+        /// The offending element, e.g. ``joint `elbow` `` or ``link `forearm` ``.
+        element: String,
+        /// What is wrong and what is accepted.
+        reason: String,
+    },
     /// A file could not be read or written. The message names the file; the operating system's
     /// reason is the error's source (printed once, after it, by a cause chain).
     #[error("cannot access {}", path.display())]

@@ -36,6 +36,13 @@ pub struct RobotParams {
     pub m1: f64,
     /// Mass of link 2 \[kg\].
     pub m2: f64,
+    /// Moment of inertia of link 1 about its centre of mass [kg m^2]; 0, the paper's point
+    /// mass, by default.
+    #[serde(default)]
+    pub i1: f64,
+    /// Moment of inertia of link 2 about its centre of mass [kg m^2]; 0 by default.
+    #[serde(default)]
+    pub i2: f64,
     /// Mounting point of the arm in the base frame, `(a, b)` \[m\].
     pub mount: Mount,
 }
@@ -84,6 +91,8 @@ impl RobotParams {
             base_inertia: 0.208,
             m1: 4.5,
             m2: 1.5,
+            i1: 0.0,
+            i2: 0.0,
             mount: Mount::default(),
         }
     }
@@ -140,6 +149,16 @@ impl RobotParams {
                 });
             }
         }
+        for (name, value) in [("link[1].inertia", self.i1), ("link[2].inertia", self.i2)] {
+            check_finite(name, value)?;
+            if !(0.0..=INERTIA_RANGE.1).contains(&value) {
+                return Err(InputError::InvalidParameter {
+                    name: name.to_string(),
+                    value,
+                    expected: "a moment of inertia about the link's centre of mass from 0 (a point mass) to 1e9 kg m^2",
+                });
+            }
+        }
         check_mount("mount.a", self.mount.a)?;
         check_mount("mount.b", self.mount.b)
     }
@@ -188,9 +207,14 @@ fn check_finite(name: &str, value: f64) -> Result<(), InputError> {
 pub struct Lumped {
     /// Total mass `m_c = M + m1 + m2` \[kg\].
     pub mc: f64,
-    /// `A = (m1 m2 (l1 - d1)^2 + M (m1 d1^2 + m2 l1^2)) / m_c` [kg m^2].
+    /// `A = (m1 m2 (l1 - d1)^2 + M (m1 d1^2 + m2 l1^2)) / m_c + I_1` [kg m^2]. The link
+    /// inertias `I_1, I_2` (zero for the paper's point masses) enter the Lagrangian (3) only
+    /// through `A` and `B`: link 1 turns at `phi' + theta1'`, link 2 at
+    /// `phi' + theta1' + theta2'`, which adds `I_1` where `A` stands and `I_2` where `B` stands
+    /// in every entry of the inertia matrix (the test `two_links_have_the_src_dynamics`
+    /// holds this against the general model of [`crate::model::arm`]).
     pub A: f64,
-    /// `B = (M + m1) m2 d2^2 / m_c` [kg m^2].
+    /// `B = (M + m1) m2 d2^2 / m_c + I_2` [kg m^2].
     pub B: f64,
     /// `C = (m1 m2 (l1 - d1) d2 + M m2 l1 d2) / m_c` [kg m^2].
     pub C: f64,
@@ -210,13 +234,13 @@ impl Lumped {
     /// Computes the constants from the robot's parameters (Sec. 3.1).
     #[allow(non_snake_case)]
     pub fn new(robot: &RobotParams) -> Self {
-        let RobotParams { l1, d1, d2, base_mass: M, base_inertia: I, m1, m2, mount, .. } = *robot;
+        let RobotParams { l1, d1, d2, base_mass: M, base_inertia: I, m1, m2, i1, i2, mount, .. } = *robot;
         let Mount { a, b } = mount;
         let mc = M + m1 + m2;
         Self {
             mc,
-            A: (m1 * m2 * (l1 - d1).powi(2) + M * (m1 * d1 * d1 + m2 * l1 * l1)) / mc,
-            B: (M + m1) * m2 * d2 * d2 / mc,
+            A: (m1 * m2 * (l1 - d1).powi(2) + M * (m1 * d1 * d1 + m2 * l1 * l1)) / mc + i1,
+            B: (M + m1) * m2 * d2 * d2 / mc + i2,
             C: (m1 * m2 * (l1 - d1) * d2 + M * m2 * l1 * d2) / mc,
             D: M * (m1 * d1 + m2 * l1) / mc,
             E: M * m2 * d2 / mc,

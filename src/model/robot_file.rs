@@ -25,9 +25,9 @@ struct RobotTable {
 /// The `[mount]` table: optional, default `a = b = 0`.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
-struct MountTable {
-    a: f64,
-    b: f64,
+pub(super) struct MountTable {
+    pub(super) a: f64,
+    pub(super) b: f64,
 }
 
 #[derive(Debug, Deserialize)]
@@ -59,6 +59,8 @@ impl RobotParams {
             base_inertia: r.I,
             m1: r.m1,
             m2: r.m2,
+            i1: 0.0,
+            i2: 0.0,
             mount,
         })
     }
@@ -106,7 +108,7 @@ pub fn read_regular_file(path: &Path, limit: u64) -> Result<Vec<u8>, InputError>
 
 /// A parser's message with every line cut to [`super::ECHO_LIMIT`] characters and at most
 /// eight lines: the TOML parser quotes the offending line, which may be megabytes long.
-fn short_reason(reason: &str) -> String {
+pub(super) fn short_reason(reason: &str) -> String {
     let mut lines: Vec<String> = reason.lines().take(8).map(super::excerpt).collect();
     if reason.lines().count() > 8 {
         lines.push("...".into());

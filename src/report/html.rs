@@ -129,7 +129,7 @@ fn summary_table(rows: &[SummaryRow]) -> String {
         s += &head_cell(h);
     }
     s += "</tr>\n";
-    let e = |x: Option<f64>| x.map_or("-".to_string(), |x| format!("{x:.2e}"));
+    let e = |x: Option<f64>| x.map_or("-".to_string(), |x| super::numbers::scientific(x, 2));
     let p = |x: Option<[f64; 2]>| x.map_or("-".to_string(), |x| format!("{:.4}, {:.4}", x[0], x[1]));
     for r in rows {
         let ms = |f: fn(&super::StageSeconds) -> f64| {

@@ -103,7 +103,7 @@ pub fn method_jobs() -> Vec<(Method, (f64, f64))> {
 }
 
 fn cells(r: &MethodRow) -> [String; 9] {
-    let e = |x: Option<f64>| x.map_or("-".to_string(), |x| format!("{x:.2e}"));
+    let e = |x: Option<f64>| x.map_or("-".to_string(), |x| super::numbers::scientific(x, 2));
     let g = |x: Option<f64>| x.map_or("-".to_string(), |x| format!("{x:.4}"));
     let yes = |ok: bool| if ok { "yes" } else { "NO" }.to_string();
     let ms = |k: usize| r.seconds.map_or("-".to_string(), |s| format!("{:.1}", s[k] * 1e3));

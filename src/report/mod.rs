@@ -19,6 +19,7 @@ pub mod figures;
 pub mod html;
 pub mod io;
 pub mod methods;
+pub mod numbers;
 pub mod plot;
 pub mod reproduce;
 pub mod summary;

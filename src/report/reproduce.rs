@@ -14,7 +14,9 @@ use super::figures::{animation, plan_figure};
 use super::html::{FigureEmbed, Page, page};
 use super::io::write_atomic;
 use super::methods::{MethodRow, method_jobs, methods_markdown};
-use super::plot::{PictureFormat, domain_pair_picture, methods_picture, plan_picture, sweep_picture};
+use super::plot::{
+    GifOptions, PictureFormat, animation_gif, domain_pair_picture, methods_picture, plan_picture, sweep_picture,
+};
 use super::summary::{
     DOMAIN_FIGURES, DomainPanel, DomainRow, SummaryRow, SweepSummary, domain_panel, summary_markdown, sweep_options,
 };
@@ -76,9 +78,11 @@ fn description(outcome: &CaseOutcome) -> String {
     }
 }
 
-/// The number of jobs that [`reproduce`] reports to its progress callback.
-pub fn job_count() -> usize {
-    cases().len() + 2 * DOMAIN_FIGURES.len() + 1 + method_jobs().len()
+/// The number of jobs that [`reproduce`] reports to its progress callback (with `gif`, one
+/// more per case: its animation).
+pub fn job_count(gif: bool) -> usize {
+    let cases = cases().len();
+    cases + 2 * DOMAIN_FIGURES.len() + 1 + method_jobs().len() + if gif { cases } else { 0 }
 }
 
 /// What [`reproduce`] wrote and found.
@@ -103,7 +107,14 @@ pub struct Reproduction {
 /// Everything is written into a fresh directory `.OUT.PID.tmpdir` beside `out`, which then
 /// replaces `out` by renames: a killed run leaves the old directory or the new one, never a mix
 /// (an interrupted one removes its temporary directory; a killed one's is removed by the next).
-pub fn reproduce(out: &Path, progress: &(dyn Fn(&str, f64, &str) + Sync)) -> Result<Reproduction, Error> {
+///
+/// With `gif`, also an animated GIF of every plan, `anim-CASE.gif` ([`animation_gif`]); the page
+/// stays self-contained (it does not link them), `summary.md` lists them.
+pub fn reproduce(
+    out: &Path,
+    gif: Option<&GifOptions>,
+    progress: &(dyn Fn(&str, f64, &str) + Sync),
+) -> Result<Reproduction, Error> {
     use super::io::{create_temporary, forget_temporary, remove_stale_temporaries, split_path};
     let io = |path: &Path| {
         let path = path.to_path_buf();
@@ -115,7 +126,7 @@ pub fn reproduce(out: &Path, progress: &(dyn Fn(&str, f64, &str) + Sync)) -> Res
     let fresh = parent.join(format!(".{name}.{}.tmpdir", std::process::id()));
     let result = create_temporary(&fresh, |p| std::fs::create_dir(p))
         .map_err(io(&fresh))
-        .and_then(|()| reproduce_into(&fresh, progress));
+        .and_then(|()| reproduce_into(&fresh, gif, progress));
     let result = result.and_then(|r| swap_in(&fresh, out).map(|()| r));
     if fresh.exists() {
         let _cleanup = std::fs::remove_dir_all(&fresh);
@@ -138,7 +149,11 @@ fn swap_in(fresh: &Path, out: &Path) -> Result<(), Error> {
     }
 }
 
-fn reproduce_into(out: &Path, progress: &(dyn Fn(&str, f64, &str) + Sync)) -> Result<Reproduction, Error> {
+fn reproduce_into(
+    out: &Path,
+    gif: Option<&GifOptions>,
+    progress: &(dyn Fn(&str, f64, &str) + Sync),
+) -> Result<Reproduction, Error> {
     let clock = Instant::now();
     let all = cases();
     let sweep_opts = sweep_options();
@@ -262,6 +277,22 @@ fn reproduce_into(out: &Path, progress: &(dyn Fn(&str, f64, &str) + Sync)) -> Re
             Ok((name.clone(), svg, png))
         })
         .collect::<Result<_, Error>>()?;
+    // The animations as GIFs, one case after the other (each draws its frames in parallel).
+    let mut gifs = Vec::new();
+    for (case, outcome) in all.iter().zip(&outcomes) {
+        if let (Some(options), Ok(o)) = (gif, outcome) {
+            let (name, clock) = (format!("anim-{}.gif", case.id), Instant::now());
+            let path = out.join(&name);
+            let bytes = animation_gif(&o.plan, &o.case.title(), options, &path)?;
+            write_atomic(&path, &bytes)?;
+            progress(
+                &format!("{:<14} animation", case.id),
+                clock.elapsed().as_secs_f64(),
+                &format!("{} KiB", bytes.len() / 1024),
+            );
+            gifs.push(name);
+        }
+    }
     let seconds = clock.elapsed().as_secs_f64();
 
     // The page: every figure with its description, and an animation for each plan.
@@ -333,9 +364,16 @@ fn reproduce_into(out: &Path, progress: &(dyn Fn(&str, f64, &str) + Sync)) -> Re
     let json = serde_json::to_vec_pretty(&summary)
         .map_err(|e| InputError::Io { path: out.join("summary.json"), source: std::io::Error::other(e) })?;
     write_atomic(&out.join("summary.json"), &json)?;
-    let md = summary_markdown(&rows, &domain_rows, Some(&sweep_summary)) + &methods_markdown(&method_rows);
+    let mut md = summary_markdown(&rows, &domain_rows, Some(&sweep_summary)) + &methods_markdown(&method_rows);
+    if !gifs.is_empty() {
+        md += &format!(
+            "\n## Animations\n\nEach plan's animation as a GIF, beside this file (the report page shows them \
+             itself and links no file): {}.\n",
+            gifs.join(", ")
+        );
+    }
     write_atomic(&out.join("summary.md"), md.as_bytes())?;
-    let files = 2 * rendered.len() + 3;
+    let files = 2 * rendered.len() + 3 + gifs.len();
     let mut failures = Vec::new();
     for (case, outcome) in all.iter().zip(&outcomes) {
         match outcome {

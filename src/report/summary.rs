@@ -158,7 +158,7 @@ impl DomainRow {
     /// The Eq. (14) plan in words: its final error, or why there is none.
     pub fn plan_text(&self) -> String {
         match (self.eq14_final_error, &self.eq14_error) {
-            (Some(x), _) => format!("final error {x:.2e} rad"),
+            (Some(x), _) => format!("final error {} rad", super::numbers::scientific(x, 2)),
             (None, Some(err)) => format!("none: {err}"),
             _ => "-".into(),
         }
@@ -181,7 +181,12 @@ pub fn domain_panel(figure: &str, a: f64, b: f64) -> Result<DomainPanel, Error> 
         Ok(Planned { plan, .. }) => {
             let e = plan.verification.final_error;
             let path = plan.trajectory.q.iter().map(|q| (q[1], q[2])).collect();
-            (Some(e), None, Some(path), format!("Eq. (14) plan q0 -> qd: verified final error {e:.1e} rad"))
+            (
+                Some(e),
+                None,
+                Some(path),
+                format!("Eq. (14) plan q0 -> qd: verified final error {} rad", super::numbers::scientific(e, 1)),
+            )
         }
         Err(e) => {
             let note = format!(
@@ -270,7 +275,7 @@ pub fn summary_markdown(rows: &[SummaryRow], domains: &[DomainRow], sweep: Optio
           | peak \\|u1\\|, \\|u2\\| [rad/s] | u(0) [rad/s] | peak \\|tau1\\|, \\|tau2\\| [N m] | iterations \
           | plan [ms] | torques [ms] | verify [ms] | torque cert. [ms] | paper: plan / torques [s] |\n";
     s += &format!("|{}\n", "---|".repeat(16));
-    let e = |x: Option<f64>| x.map_or("-".to_string(), |x| format!("{x:.2e}"));
+    let e = |x: Option<f64>| x.map_or("-".to_string(), |x| super::numbers::scientific(x, 2));
     let p = |x: Option<[f64; 2]>, d| x.map_or("-".to_string(), |x| fmt_pair(x, d));
     for r in rows {
         let ms = |f: fn(&StageSeconds) -> f64| r.seconds.as_ref().map_or("-".into(), |t| format!("{:.2}", f(t) * 1e3));

@@ -42,13 +42,17 @@ impl Perturbation {
     pub fn apply(&self, robot: &RobotParams, seed: u64) -> Result<RobotParams, Error> {
         self.validate()?;
         let mut n = Noise::new(seed, 0);
-        let mut scale = |x: f64| x * (1.0 + self.relative * n.symmetric());
-        let (l1, l2) = (scale(robot.l1), scale(robot.l2));
-        let (d1, d2) = (scale(robot.d1).min(l1), scale(robot.d2).min(l2));
-        let (base_mass, base_inertia, m1, m2) =
-            (scale(robot.base_mass), scale(robot.base_inertia), scale(robot.m1), scale(robot.m2));
+        let relative = self.relative;
+        let scale = |n: &mut Noise, x: f64| x * (1.0 + relative * n.symmetric());
+        let (l1, l2) = (scale(&mut n, robot.l1), scale(&mut n, robot.l2));
+        let (d1, d2) = (scale(&mut n, robot.d1).min(l1), scale(&mut n, robot.d2).min(l2));
+        let (base_mass, base_inertia) = (scale(&mut n, robot.base_mass), scale(&mut n, robot.base_inertia));
+        let (m1, m2) = (scale(&mut n, robot.m1), scale(&mut n, robot.m2));
         let a = robot.mount.a + self.mount * n.symmetric();
         let b = robot.mount.b + self.mount * n.symmetric();
-        Ok(RobotParams::new(RobotParams { l1, l2, d1, d2, base_mass, base_inertia, m1, m2, mount: Mount::new(a, b)? })?)
+        let mount = Mount::new(a, b)?;
+        // Drawn last, so that the trials of point-mass robots are those of earlier versions.
+        let (i1, i2) = (scale(&mut n, robot.i1), scale(&mut n, robot.i2));
+        Ok(RobotParams::new(RobotParams { l1, l2, d1, d2, base_mass, base_inertia, m1, m2, i1, i2, mount })?)
     }
 }

@@ -15,6 +15,7 @@ use crate::error::Error;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
+mod animation;
 mod domain;
 mod methods;
 mod plan;
@@ -22,6 +23,7 @@ mod sweep;
 #[cfg(test)]
 mod tests;
 
+pub use animation::{GifOptions, GifView, animation_gif, check_gif_path};
 pub use domain::{DOMAIN_PAIR_SIZE, DomainOverlay, domain_pair_picture, domain_picture};
 pub use methods::{METHODS_SIZE, methods_picture};
 pub use plan::{PLAN_FIGURE_SIZE, Panel, PlanFigure, Series, plan_picture};
@@ -103,9 +105,9 @@ fn font_database() -> Arc<resvg::usvg::fontdb::Database> {
         .clone()
 }
 
-/// Rasterises an SVG picture into an anti-aliased PNG (RGB, 8 bits, on white) with resvg, so
-/// that the PNG shows what the SVG shows.
-fn rasterise(svg: &str, path: &Path) -> Result<Vec<u8>, Error> {
+/// Rasterises an SVG picture on white with resvg (anti-aliased, the embedded font only): opaque
+/// RGBA pixels, row by row, and the size in pixels.
+fn rgba_pixels(svg: &str, path: &Path) -> Result<(Vec<u8>, u32, u32), Error> {
     use resvg::{tiny_skia, usvg};
     let fail = |e: &dyn std::fmt::Display| picture_error(path, e);
     let options =
@@ -117,10 +119,19 @@ fn rasterise(svg: &str, path: &Path) -> Result<Vec<u8>, Error> {
     pixmap.fill(tiny_skia::Color::WHITE);
     resvg::render(&tree, tiny_skia::Transform::default(), &mut pixmap.as_mut());
     // Opaque (drawn on white): premultiplied RGBA is plain RGBA.
-    let rgb: Vec<u8> = pixmap.data().chunks_exact(4).flat_map(|p| [p[0], p[1], p[2]]).collect();
+    Ok((pixmap.take(), size.width(), size.height()))
+}
+
+/// Rasterises an SVG picture into an anti-aliased PNG (RGB, 8 bits, on white) with resvg, so
+/// that the PNG shows what the SVG shows.
+fn rasterise(svg: &str, path: &Path) -> Result<Vec<u8>, Error> {
+    let fail = |e: &dyn std::fmt::Display| picture_error(path, e);
+    let (rgba, width, height) = rgba_pixels(svg, path)?;
+    let size = (width, height);
+    let rgb: Vec<u8> = rgba.chunks_exact(4).flat_map(|p| [p[0], p[1], p[2]]).collect();
     let mut png_bytes = Vec::new();
     {
-        let mut encoder = png::Encoder::new(&mut png_bytes, size.width(), size.height());
+        let mut encoder = png::Encoder::new(&mut png_bytes, size.0, size.1);
         encoder.set_color(png::ColorType::Rgb);
         encoder.set_depth(png::BitDepth::Eight);
         encoder.set_compression(png::Compression::Best);

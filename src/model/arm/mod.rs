@@ -13,11 +13,20 @@
 //! Every function is generic over [`Scalar`], so derivatives of any order come from num-dual
 //! exactly.
 
+pub mod file;
+pub mod urdf;
+
+pub use urdf::URDF_PLANAR_TOLERANCE;
+
 use nalgebra::DMatrix;
 use serde::{Deserialize, Serialize};
 
-use super::{Mount, RobotParams};
+use super::{INERTIA_RANGE, InputError, LENGTH_RANGE, MASS_RANGE, Mount, RobotParams, check_finite};
 use crate::Scalar;
+
+/// The most links an [`Arm`] may have: beyond it the `(n + 1) x (n + 1)` inertia matrix and its
+/// derivatives (`O(n^4)` per evaluation) stop being cheap, and no planar testbed comes near it.
+pub const MAX_LINKS: usize = 16;
 
 /// The base of the robot.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -68,14 +77,103 @@ pub struct BodyFrames<D> {
 }
 
 impl Arm {
-    /// The paper's SRC robot as an arm: two point-mass links (zero link inertia).
+    /// Validates an arm (docs/spec.md §1): `1 <= n <=` [`MAX_LINKS`] links; the base's mass and
+    /// inertia, every link's length and mass finite and within [`MASS_RANGE`], [`INERTIA_RANGE`],
+    /// [`LENGTH_RANGE`]; every link inertia finite with `0 <= inertia <=` the largest of
+    /// [`INERTIA_RANGE`] (0 is a point mass); every centre of mass on its link,
+    /// `0 <= com <= length`; the mount within [`super::MAX_MOUNT`]; and the last link must carry
+    /// some inertia about joint `n` (`com > 0` or `inertia > 0`), else the inertia matrix is
+    /// singular. Errors name the key as the robot file spells it: `robot.M`, `robot.I`,
+    /// `mount.a`, `link[k].mass` with `k` counted from 1 (link `k` turns with joint `k`).
+    ///
+    /// ```
+    /// use freefloat::model::arm::{Arm, Base, Link};
+    /// let link = Link { length: 0.4, com: 0.2, mass: 2.0, inertia: 2.0 * 0.4 * 0.4 / 12.0 };
+    /// let arm = Arm::new(Base { mass: 15.0, inertia: 0.4 }, Default::default(), vec![link; 3]).unwrap();
+    /// assert_eq!(arm.joints(), 3);
+    /// assert!(Arm::new(arm.base, arm.mount, vec![]).is_err());
+    /// ```
+    pub fn new(base: Base, mount: Mount, links: Vec<Link>) -> Result<Self, InputError> {
+        let arm = Self { base, mount, links };
+        arm.validate()?;
+        Ok(arm)
+    }
+
+    /// Checks the invariants listed at [`Arm::new`], naming the first offending key.
+    pub fn validate(&self) -> Result<(), InputError> {
+        let n = self.links.len();
+        if !(1..=MAX_LINKS).contains(&n) {
+            return Err(InputError::InvalidParameter {
+                name: "link".into(),
+                value: n as f64,
+                expected: "an arm of 1 to 16 links (docs/spec.md §1)",
+            });
+        }
+        check_ranged("robot.M", self.base.mass, MASS_RANGE)?;
+        check_ranged("robot.I", self.base.inertia, INERTIA_RANGE)?;
+        Mount::new(self.mount.a, self.mount.b)?;
+        for (i, link) in self.links.iter().enumerate() {
+            let key = |field: &str| format!("link[{}].{field}", i + 1);
+            check_ranged(&key("length"), link.length, LENGTH_RANGE)?;
+            check_ranged(&key("mass"), link.mass, MASS_RANGE)?;
+            check_finite(&key("inertia"), link.inertia)?;
+            if !(0.0..=INERTIA_RANGE.1).contains(&link.inertia) {
+                return Err(InputError::InvalidParameter {
+                    name: key("inertia"),
+                    value: link.inertia,
+                    expected: "a moment of inertia about the link's centre of mass from 0 (a point mass) to 1e9 kg m^2",
+                });
+            }
+            check_finite(&key("com"), link.com)?;
+            if !(0.0..=link.length).contains(&link.com) {
+                return Err(InputError::InvalidParameter {
+                    name: key("com"),
+                    value: link.com,
+                    expected: "a centre of mass on the link: 0 <= com <= length",
+                });
+            }
+        }
+        let last = self.links[n - 1];
+        if last.com == 0.0 && last.inertia == 0.0 {
+            return Err(InputError::InvalidParameter {
+                name: format!("link[{n}].com"),
+                value: last.com,
+                expected: "com > 0 or inertia > 0 on the last link (a point mass on the last joint gives it nothing to turn)",
+            });
+        }
+        Ok(())
+    }
+
+    /// The arm as the paper's 2-link [`RobotParams`] when it has two links with their centres of
+    /// mass off the joints (`com > 0`), so that the 2-link pipeline (the NFA among it) serves
+    /// it. Link inertias fold into the lumped constants (`A += I_1`, `B += I_2`, see
+    /// [`crate::model::Lumped`]). `None` otherwise.
+    pub fn as_src(&self) -> Option<RobotParams> {
+        let [l1, l2] = self.links.as_slice() else { return None };
+        RobotParams::new(RobotParams {
+            l1: l1.length,
+            l2: l2.length,
+            d1: l1.com,
+            d2: l2.com,
+            base_mass: self.base.mass,
+            base_inertia: self.base.inertia,
+            m1: l1.mass,
+            m2: l2.mass,
+            i1: l1.inertia,
+            i2: l2.inertia,
+            mount: self.mount,
+        })
+        .ok()
+    }
+
+    /// A 2-link [`RobotParams`] as an arm (the paper's SRC robot: two point-mass links).
     pub fn from_params(robot: &RobotParams) -> Self {
         Self {
             base: Base { mass: robot.base_mass, inertia: robot.base_inertia },
             mount: robot.mount,
             links: vec![
-                Link { length: robot.l1, com: robot.d1, mass: robot.m1, inertia: 0.0 },
-                Link { length: robot.l2, com: robot.d2, mass: robot.m2, inertia: 0.0 },
+                Link { length: robot.l1, com: robot.d1, mass: robot.m1, inertia: robot.i1 },
+                Link { length: robot.l2, com: robot.d2, mass: robot.m2, inertia: robot.i2 },
             ],
         }
     }
@@ -204,30 +302,34 @@ impl Arm {
         let g = (1..=self.joints()).map(|j| m[(0, j)]).collect();
         (m[(0, 0)], g)
     }
+
+    /// The base's angular velocity at zero angular momentum, `phi' = -(G . theta') / F`
+    /// [rad/s] (Eq. 7 for any `n`), at the joint angles `theta` \[rad\] and joint velocities
+    /// `dtheta` [rad/s] (`n` values each).
+    pub fn base_rate<D: Scalar>(&self, theta: &[D], dtheta: &[D]) -> D {
+        assert_eq!(dtheta.len(), self.joints(), "dtheta has n = {} values", self.joints());
+        let (f, g) = self.momentum_coefficients(theta);
+        let mut p = D::from(0.0);
+        for (gj, w) in g.iter().zip(dtheta) {
+            p += *gj * *w;
+        }
+        -p / f
+    }
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::model::system::shape;
+pub(crate) mod tests;
 
-    /// At n = 2 with point-mass links the general model's `F, G_1, G_2` are the SRC robot's
-    /// `F, G, H` of Eq. (8), at random configurations and mounts.
-    #[test]
-    fn two_point_mass_links_are_the_src_robot() {
-        for (i, (a, b)) in [(0.0, 0.0), (0.1, 0.1), (1.0, -1.0), (-0.7, 0.3)].into_iter().enumerate() {
-            let robot = RobotParams::src().with_mount(Mount::new(a, b).unwrap()).unwrap();
-            let arm = Arm::from_params(&robot);
-            let k = robot.lumped();
-            for j in 0..20 {
-                let t1 = -3.0 + 0.31 * j as f64 + 0.1 * i as f64;
-                let t2 = 2.9 - 0.27 * j as f64;
-                let s = shape(&k, t1, t2);
-                let (f, g) = arm.momentum_coefficients(&[t1, t2]);
-                for (x, y) in [(f, s.F), (g[0], s.G), (g[1], s.H)] {
-                    assert!((x - y).abs() <= 1e-12 * y.abs().max(1.0), "{x} vs {y}");
-                }
-            }
-        }
+/// A value that must be finite, positive and in `range`.
+fn check_ranged(name: &str, value: f64, (min, max): (f64, f64)) -> Result<(), InputError> {
+    check_finite(name, value)?;
+    if !(min..=max).contains(&value) {
+        return Err(InputError::InvalidParameter {
+            name: name.to_string(),
+            value,
+            expected: "a positive value in the physical range of docs/spec.md §1 (lengths 1e-3 to 1e3 m, \
+                       masses 1e-3 to 1e6 kg, the base's inertia 1e-6 to 1e9 kg m^2)",
+        });
     }
+    Ok(())
 }
