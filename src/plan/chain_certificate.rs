@@ -22,6 +22,8 @@ pub trait JointMotion {
     fn joint_state(&self, t: f64, theta: &mut [f64], rate: &mut [f64]);
     /// The plan's own base rate `phi'(t)` \[rad/s\] (for the momentum check).
     fn phi_rate(&self, t: f64) -> f64;
+    /// The joint accelerations \[rad/s^2\] at `t` into `out` (for the torques).
+    fn joint_acceleration(&self, t: f64, out: &mut [f64]);
 }
 
 /// The certificate of an `n`-joint plan.

@@ -210,6 +210,12 @@ impl JointMotion for ChainPlan {
         self.state_into(t, theta, rate);
     }
 
+    fn joint_acceleration(&self, t: f64, out: &mut [f64]) {
+        for (o, c) in out.iter_mut().zip(&self.coefficients) {
+            *o = self.basis.evaluate(c, t.clamp(0.0, self.horizon()))[2];
+        }
+    }
+
     fn phi_rate(&self, t: f64) -> f64 {
         let n = self.joints();
         let (mut theta, mut rate) = (vec![0.0; n], vec![0.0; n]);
