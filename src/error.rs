@@ -254,6 +254,28 @@ pub enum Error {
         /// Why the best attempt stopped (e.g. `max_iterations`).
         termination: &'static str,
     },
+    /// With one joint the base angle is a function of the joint angle (`a(theta) dtheta` is
+    /// exact): the goal's `theta_1` fixes `phi(T)`, and the goal asks for another.
+    #[error(
+        "with {joints} joint the base angle is fixed by the joint angle: the goal's theta1 = \
+         {theta_goal:.6} rad gives phi(T) = {reachable:.9} rad, but the goal asks phi = {goal:.9} rad \
+         (gap {gap:.3e} rad modulo 2 pi > tolerance {tolerance:.1e} rad); choose phi = {reachable:.9} rad \
+         or another goal"
+    )]
+    HolonomyFixed {
+        /// The number of joints (1).
+        joints: usize,
+        /// The goal's joint angle (the representative tried nearest the start) \[rad\].
+        theta_goal: f64,
+        /// The base angle the joint path reaches \[rad\].
+        reachable: f64,
+        /// The goal's base angle \[rad\].
+        goal: f64,
+        /// `min |wrap(reachable - goal)|` over the representatives tried \[rad\].
+        gap: f64,
+        /// The tolerance \[rad\].
+        tolerance: f64,
+    },
 }
 
 fn fmt_history(history: &[f64]) -> String {
@@ -264,6 +286,6 @@ impl Error {
     /// True when the user's input is at fault (exit code 2); otherwise the problem has no
     /// certified plan with this method (exit code 3).
     pub fn is_bad_input(&self) -> bool {
-        matches!(self, Error::Input(_) | Error::TransformUnavailable { .. })
+        matches!(self, Error::Input(_) | Error::TransformUnavailable { .. } | Error::HolonomyFixed { .. })
     }
 }

@@ -7,6 +7,8 @@
 //! ([`torques`]) and its certificate are computed.
 
 pub mod certificate;
+pub mod chain_certificate;
+pub mod chain_torques;
 pub mod motion;
 pub mod problem;
 pub mod torques;

@@ -2,6 +2,7 @@
 //! reference method, and [`optimal`], the minimum-effort planner. A caller picks one by its [`Method`] ([`planner`]) and uses it only
 //! through [`Planner`].
 
+pub mod chain;
 pub mod ecsa;
 pub mod nfa;
 pub mod optimal;

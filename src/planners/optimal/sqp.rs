@@ -20,6 +20,40 @@ use super::discrete::{Discretisation, Evaluation};
 use crate::error::Error;
 use crate::model::InputError;
 
+/// A discretised problem the SQP solves: cost and one equality constraint with exact first and
+/// second derivatives, and the effort's constant Hessian as the trust-region metric (banded).
+pub trait Discretised {
+    /// Number of free variables.
+    fn dim(&self) -> usize;
+    /// Half-bandwidth of every Hessian in the free variables.
+    fn half_bandwidth(&self) -> usize;
+    /// The constant, positive definite metric `S` (the effort's Hessian).
+    fn effort_hessian(&self) -> &DMatrix<f64>;
+    /// Its band Cholesky factor (`None` when not positive definite).
+    fn effort_cholesky(&self) -> Option<&BandCholesky>;
+    /// Cost and constraint at `x`, with first derivatives for `order >= 1` and second
+    /// derivatives for `order >= 2`.
+    fn evaluate(&self, x: &DVector<f64>, order: usize) -> Evaluation;
+}
+
+impl Discretised for Discretisation {
+    fn dim(&self) -> usize {
+        Discretisation::dim(self)
+    }
+    fn half_bandwidth(&self) -> usize {
+        Discretisation::half_bandwidth(self)
+    }
+    fn effort_hessian(&self) -> &DMatrix<f64> {
+        Discretisation::effort_hessian(self)
+    }
+    fn effort_cholesky(&self) -> Option<&BandCholesky> {
+        Discretisation::effort_cholesky(self)
+    }
+    fn evaluate(&self, x: &DVector<f64>, order: usize) -> Evaluation {
+        Discretisation::evaluate(self, x, order)
+    }
+}
+
 /// Options of the SQP iteration.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SqpOptions {
@@ -122,8 +156,8 @@ fn multiplier(m: &Metric, e: &Evaluation) -> (f64, f64) {
 /// first steps do not trade feasibility for cost, and the Lagrangian's Hessian keeps `guess`
 /// until the least-squares multiplier is reliable (relative KKT residual below 0.1), instead
 /// of swinging with it far from stationarity.
-pub fn solve(
-    problem: &Discretisation,
+pub fn solve<P: Discretised>(
+    problem: &P,
     x0: DVector<f64>,
     options: &SqpOptions,
     guess: Option<f64>,

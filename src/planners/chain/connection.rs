@@ -1,0 +1,350 @@
+//! The holonomy integrand of an `n`-link arm, `g = a(theta) . theta'` with `a = G/F`
+//! (`phi' = -g`, Eq. 7 with zero momentum), with its exact gradient and Hessian in
+//! `(theta, theta')`, in closed form.
+//!
+//! Relative to the base's centre of mass every body's centre of mass is a sum of segment vectors
+//! `P_bs e(alpha_s)`: the mount (`s = 0`, length `|(a, b)|`, angle `alpha_0 = phi + beta`) and the
+//! links (`s = i`, angle `alpha_i = phi + Psi_i`, `Psi_i = theta_1 + .. + theta_i`). With the
+//! system's centre of mass fixed, the orbital angular momentum is
+//! `sum_{s,t} K_st cos(alpha_s - alpha_t) alpha_t'` with
+//! `K_st = sum_b m_b P_bs P_bt - (sum_b m_b P_bs)(sum_b m_b P_bt) / m_total`, and the bodies'
+//! spins add `I_0 phi' + sum_k I_k alpha_k'`. Reading off the coefficients of `phi'` and
+//! `theta_j'` gives `F` and `G_j` as sums over segment pairs of `cos(Psi_s - Psi_t)` (with
+//! `Psi_0 = beta`), whose derivatives in `theta` are those of a cosine of a sum of angles. The
+//! test `connection_matches_the_model` holds them to [`Arm::momentum_coefficients`] and to
+//! num-dual's second derivatives.
+
+use crate::model::arm::Arm;
+
+/// Largest number of joints the chain planner takes.
+pub const MAX_JOINTS: usize = 15;
+
+/// The constants of an arm's momentum coefficients (see the [module docs](self)).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Connection {
+    n: usize,
+    /// `K_st`, `(n + 1) x (n + 1)`, row-major.
+    k: Vec<f64>,
+    /// `beta = atan2(b, a)` of the mount \[rad\].
+    beta: f64,
+    /// The constant part of `F`: `sum_t K_tt + I_0 + sum_k I_k`.
+    f0: f64,
+    /// The constant part of `G_j`: `sum_{t >= j} (K_tt + I_t)`.
+    g0: Vec<f64>,
+}
+
+/// The integrand at one point with its derivatives; the buffers are reused from point to point.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Local {
+    /// `g = a . theta'` \[rad/s\].
+    pub value: f64,
+    /// `a = G / F`, which is also `dg/dtheta'`.
+    pub a: Vec<f64>,
+    /// `dg/dtheta`.
+    pub gradient: Vec<f64>,
+    /// `d^2 g / dtheta_m dtheta_p`, row-major `n x n`.
+    pub hessian: Vec<f64>,
+    /// `d^2 g / dtheta_m dtheta'_j = da_j / dtheta_m`, row-major `[m * n + j]`.
+    pub mixed: Vec<f64>,
+    // Work space: F's gradient and Hessian, N = G . theta' with its gradient and Hessian, G's
+    // Jacobian `[j * n + m]`, the angles and the prefix sums of theta'.
+    f_grad: Vec<f64>,
+    f_hess: Vec<f64>,
+    g_jac: Vec<f64>,
+    psi: Vec<f64>,
+    rate_sum: Vec<f64>,
+    cs: Vec<(f64, f64)>,
+    pairs: Vec<[f64; 4]>,
+    suffix: Vec<[f64; 4]>,
+    prefix: Vec<[f64; 4]>,
+}
+
+impl Local {
+    /// Buffers for `n` joints.
+    pub fn new(n: usize) -> Self {
+        Self {
+            value: 0.0,
+            a: vec![0.0; n],
+            gradient: vec![0.0; n],
+            hessian: vec![0.0; n * n],
+            mixed: vec![0.0; n * n],
+            f_grad: vec![0.0; n],
+            f_hess: vec![0.0; n * n],
+            g_jac: vec![0.0; n * n],
+            psi: vec![0.0; n + 1],
+            rate_sum: vec![0.0; n + 1],
+            cs: vec![(0.0, 0.0); n + 1],
+            pairs: vec![[0.0; 4]; (n + 1) * (n + 1)],
+            suffix: vec![[0.0; 4]; (n + 1) * (n + 1)],
+            prefix: vec![[0.0; 4]; (n + 1) * (n + 1)],
+        }
+    }
+}
+
+impl Connection {
+    /// The constants of `arm`.
+    pub fn new(arm: &Arm) -> Self {
+        let n = arm.joints();
+        let total = arm.total_mass();
+        let r_mount = arm.mount.a.hypot(arm.mount.b);
+        let beta = if r_mount > 0.0 { arm.mount.b.atan2(arm.mount.a) } else { 0.0 };
+        // P_bs for the links' bodies (the base's are zero).
+        let p = |body: usize, s: usize| -> f64 {
+            match s {
+                0 => r_mount,
+                s if s < body + 1 => arm.links[s - 1].length,
+                s if s == body + 1 => arm.links[body].com,
+                _ => 0.0,
+            }
+        };
+        let mut k = vec![0.0; (n + 1) * (n + 1)];
+        let moment: Vec<f64> =
+            (0..=n).map(|s| arm.links.iter().enumerate().map(|(b, l)| l.mass * p(b, s)).sum()).collect();
+        for s in 0..=n {
+            for t in 0..=n {
+                let second: f64 = arm.links.iter().enumerate().map(|(b, l)| l.mass * p(b, s) * p(b, t)).sum();
+                k[s * (n + 1) + t] = second - moment[s] * moment[t] / total;
+            }
+        }
+        let spin = |t: usize| if t == 0 { arm.base.inertia } else { arm.links[t - 1].inertia };
+        let f0 = (0..=n).map(|t| k[t * (n + 1) + t] + spin(t)).sum();
+        let g0 = (1..=n).map(|j| (j..=n).map(|t| k[t * (n + 1) + t] + spin(t)).sum()).collect();
+        Self { n, k, beta, f0, g0 }
+    }
+
+    /// The number of joints.
+    pub fn joints(&self) -> usize {
+        self.n
+    }
+
+    /// `(F, N = G . rate)` at `theta` (values only; `n <=` [`MAX_JOINTS`]).
+    fn f_and_n(&self, theta: &[f64], rate: &[f64]) -> (f64, f64) {
+        let n = self.n;
+        let mut e = [(0.0, 0.0); MAX_JOINTS + 1];
+        let mut w = [0.0; MAX_JOINTS + 1];
+        let mut psi = self.beta;
+        e[0] = psi.sin_cos();
+        for j in 0..n {
+            psi = if j == 0 { theta[0] } else { psi + theta[j] };
+            e[j + 1] = psi.sin_cos();
+            w[j + 1] = w[j] + rate[j];
+        }
+        let mut f = self.f0;
+        let mut nn: f64 = self.g0.iter().zip(rate).map(|(g, r)| g * r).sum();
+        for s in 0..n {
+            let (ss, cs) = e[s];
+            for t in s + 1..=n {
+                let kk = 2.0 * self.k[s * (n + 1) + t];
+                let c = cs * e[t].1 + ss * e[t].0;
+                f += kk * c;
+                nn += 0.5 * kk * c * (w[s] + w[t]);
+            }
+        }
+        (f, nn)
+    }
+
+    /// `a = G / F` at `theta`.
+    pub fn a(&self, theta: &[f64]) -> Vec<f64> {
+        let mut local = Local::new(self.n);
+        self.local(theta, &vec![0.0; self.n], &mut local);
+        local.a
+    }
+
+    /// `g = a(theta) . rate` alone \[rad/s\].
+    pub fn value(&self, theta: &[f64], rate: &[f64]) -> f64 {
+        let (f, n) = self.f_and_n(theta, rate);
+        n / f
+    }
+
+    /// `g`, its gradient and Hessian in `(theta, rate)` into `out`.
+    ///
+    /// Every pair `s < t` of segments contributes `2 K_st cos(Psi_s - Psi_t)` to `F` (and with
+    /// the weights of `G_j` and `N = G . rate`), and its derivatives act on the joints
+    /// `s <= m < t` (0-based) alone, so the sums over pairs of the gradients and Hessians are
+    /// two-dimensional prefix sums `Q[a][b] = sum_{s <= a} sum_{t > b} X_st`: `O(n^2)` work after
+    /// `n + 1` sines and cosines.
+    #[allow(non_snake_case)]
+    pub fn local(&self, theta: &[f64], rate: &[f64], out: &mut Local) {
+        let n = self.n;
+        let n1 = n + 1;
+        out.psi[0] = self.beta;
+        out.rate_sum[0] = 0.0;
+        for j in 0..n {
+            out.psi[j + 1] = if j == 0 { theta[0] } else { out.psi[j] + theta[j] };
+            out.rate_sum[j + 1] = out.rate_sum[j] + rate[j];
+        }
+        for s in 0..n1 {
+            out.cs[s] = out.psi[s].sin_cos();
+        }
+        // X_st for s < t: [2K C, h C, 2K S, h S] with h = K (W_s + W_t).
+        let mut F = self.f0;
+        let mut N: f64 = self.g0.iter().zip(rate).map(|(g, r)| g * r).sum();
+        for x in out.pairs.iter_mut() {
+            *x = [0.0; 4];
+        }
+        for s in 0..n {
+            let (ss, cs) = out.cs[s];
+            for t in s + 1..=n {
+                let (st, ct) = out.cs[t];
+                let (C, S) = (cs * ct + ss * st, ss * ct - cs * st);
+                let kk = 2.0 * self.k[s * n1 + t];
+                let h = 0.5 * kk * (out.rate_sum[s] + out.rate_sum[t]);
+                F += kk * C;
+                N += h * C;
+                out.pairs[s * n1 + t] = [kk * C, h * C, kk * S, h * S];
+            }
+        }
+        // E[s][b] = sum_{t > b} X_st (suffix over t), then Q[a][b] = sum_{s <= a} E[s][b].
+        for s in 0..n1 {
+            let mut acc = [0.0; 4];
+            for b in (0..n1).rev() {
+                out.suffix[s * n1 + b] = acc;
+                let x = out.pairs[s * n1 + b];
+                for (a, v) in acc.iter_mut().zip(x) {
+                    *a += v;
+                }
+            }
+        }
+        for b in 0..n1 {
+            let mut acc = [0.0; 4];
+            for a in 0..n1 {
+                let e = out.suffix[a * n1 + b];
+                for (c, v) in acc.iter_mut().zip(e) {
+                    *c += v;
+                }
+                out.prefix[a * n1 + b] = acc;
+            }
+        }
+        let q = |a: usize, b: usize, k: usize| {
+            let (lo, hi) = if a <= b { (a, b) } else { (b, a) };
+            out.prefix[lo * n1 + hi][k]
+        };
+        // G_j = g0_j + sum_{j < s < t} 2K C + 1/2 sum_{s <= j < t} 2K C.
+        let mut tail = 0.0;
+        for j in (0..n).rev() {
+            out.a[j] = self.g0[j] + tail + 0.5 * q(j, j, 0);
+            tail += out.suffix[j * n1 + j][0];
+        }
+        for m in 0..n {
+            out.f_grad[m] = q(m, m, 2);
+            out.gradient[m] = q(m, m, 3);
+            for p in 0..n {
+                out.f_hess[m * n + p] = -q(m, p, 0);
+                out.hessian[m * n + p] = -q(m, p, 1);
+            }
+        }
+        // dG_j/dtheta_m = sum_{j < s <= m} E_2K S[s][m] + 1/2 Q_2K S[min(j, m)][max(j, m)].
+        for m in 0..n {
+            let mut first = 0.0;
+            for j in (0..n).rev() {
+                out.g_jac[j * n + m] = first + 0.5 * q(j, m, 2);
+                if j >= 1 && j <= m {
+                    first += out.suffix[j * n1 + m][2];
+                }
+            }
+        }
+        let g = N / F;
+        out.value = g;
+        for j in 0..n {
+            out.a[j] /= F;
+            out.gradient[j] = (out.gradient[j] - g * out.f_grad[j]) / F;
+        }
+        for m in 0..n {
+            for p in 0..n {
+                let i = m * n + p;
+                out.hessian[i] = (out.hessian[i]
+                    - out.gradient[m] * out.f_grad[p]
+                    - out.gradient[p] * out.f_grad[m]
+                    - g * out.f_hess[i])
+                    / F;
+            }
+            for j in 0..n {
+                out.mixed[m * n + j] = (out.g_jac[j * n + m] - out.a[j] * out.f_grad[m]) / F;
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+pub(crate) mod tests {
+    use super::*;
+    use crate::model::arm::{Base, Link};
+    use crate::model::{Mount, RobotParams};
+    use nalgebra::SVector;
+    use num_dual::{Dual2Vec64, hessian};
+
+    pub(crate) fn arm(n: usize) -> Arm {
+        let links = (0..n)
+            .map(|i| Link {
+                length: 0.3 + 0.05 * i as f64,
+                com: 0.12 + 0.02 * i as f64,
+                mass: 1.0 + 0.3 * i as f64,
+                inertia: 0.01 * (i as f64 + 1.0),
+            })
+            .collect();
+        Arm { base: Base { mass: 12.0, inertia: 0.4 }, mount: Mount { a: 0.2, b: -0.1 }, links }
+    }
+
+    /// num-dual's value, gradient and Hessian of the model's `g` in `(theta, rate)`, `M = 2 n`.
+    fn dual<const M: usize>(arm: &Arm, x: &[f64]) -> (f64, Vec<f64>, Vec<Vec<f64>>) {
+        let n = M / 2;
+        let x = SVector::<f64, M>::from_iterator(x.iter().copied());
+        let (v, g, h) = hessian(
+            |v: SVector<Dual2Vec64<nalgebra::Const<M>>, M>| {
+                let (f, g) = arm.momentum_coefficients(&v.as_slice()[..n]);
+                let mut s = g[0] * v[n];
+                for j in 1..n {
+                    s += g[j] * v[n + j];
+                }
+                s / f
+            },
+            &x,
+        );
+        (v, g.iter().copied().collect(), (0..M).map(|i| (0..M).map(|j| h[(i, j)]).collect()).collect())
+    }
+
+    /// `F, G` of the closed form equal the model's at random configurations, and the gradient and
+    /// Hessian of `g = G . w / F` equal num-dual's on the model, for n = 1..7 and the SRC robot.
+    #[test]
+    fn connection_matches_the_model() {
+        let mut arms: Vec<Arm> = (1..=7).map(arm).collect();
+        arms.push(Arm::from_params(&RobotParams::src().with_mount(Mount::new(1.0, -1.0).unwrap()).unwrap()));
+        for arm in arms {
+            let n = arm.joints();
+            let c = Connection::new(&arm);
+            let mut local = Local::new(n);
+            for trial in 0..5 {
+                let theta: Vec<f64> = (0..n).map(|i| ((i * 7 + trial * 3) as f64 * 0.77).sin() * 3.0).collect();
+                let rate: Vec<f64> = (0..n).map(|i| ((i * 5 + trial) as f64 * 1.3).cos()).collect();
+                c.local(&theta, &rate, &mut local);
+                let (f, g) = arm.momentum_coefficients(&theta);
+                let expected: f64 = g.iter().zip(&rate).map(|(g, r)| g * r).sum::<f64>() / f;
+                assert!((local.value - expected).abs() <= 1e-12 * expected.abs().max(1.0), "n = {n}");
+                assert!((c.value(&theta, &rate) - expected).abs() <= 1e-12 * expected.abs().max(1.0));
+                for (j, gj) in g.iter().enumerate() {
+                    assert!((local.a[j] - gj / f).abs() <= 1e-12, "n = {n}: a_{j}");
+                }
+                let x: Vec<f64> = theta.iter().chain(&rate).copied().collect();
+                let (v, grad, hess) = match n {
+                    1 => dual::<2>(&arm, &x),
+                    2 => dual::<4>(&arm, &x),
+                    3 => dual::<6>(&arm, &x),
+                    4 => dual::<8>(&arm, &x),
+                    5 => dual::<10>(&arm, &x),
+                    6 => dual::<12>(&arm, &x),
+                    _ => dual::<14>(&arm, &x),
+                };
+                assert!((v - local.value).abs() <= 1e-12);
+                for m in 0..n {
+                    assert!((grad[m] - local.gradient[m]).abs() <= 1e-11, "n = {n}: dg/dtheta_{m}");
+                    assert!((grad[n + m] - local.a[m]).abs() <= 1e-11);
+                    for p in 0..n {
+                        assert!((hess[m][p] - local.hessian[m * n + p]).abs() <= 1e-10, "n = {n}: ({m}, {p})");
+                        assert!((hess[m][n + p] - local.mixed[m * n + p]).abs() <= 1e-10, "n = {n}: mixed");
+                        assert!(hess[n + m][n + p].abs() <= 1e-12);
+                    }
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,340 @@
+//! The discretised problem of an `n`-joint arm: each joint path a clamped B-spline on one shared
+//! basis ([`SplineBasis`]) with the end conditions in its first and last coefficients, the effort
+//! and the holonomy constraint as Gauss–Legendre sums over the knot spans, with exact gradients and
+//! Hessians.
+//!
+//! The free variables are the interior coefficients interleaved by coefficient,
+//! `x[(i - r) n + j]` for coefficient `i` of joint `j`, so every Hessian is banded with
+//! half-bandwidth `n (p + 1) - 1`.
+
+use std::sync::Arc;
+
+use nalgebra::{DMatrix, DVector};
+
+use super::connection::{Connection, Local};
+use crate::error::Error;
+use crate::model::InputError;
+use crate::numerics::quadrature::GaussLegendre;
+use crate::planners::optimal::band::BandCholesky;
+use crate::planners::optimal::discrete::Evaluation;
+use crate::planners::optimal::spline::{MAX_DEGREE, SplineBasis};
+use crate::planners::optimal::sqp::Discretised;
+
+/// Ends of the joint paths and the holonomy target.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Targets {
+    /// `theta(0)` \[rad\].
+    pub start: Vec<f64>,
+    /// `theta'(0)` \[rad/s\].
+    pub initial_velocity: Vec<f64>,
+    /// `theta(T)` \[rad\] (a representative of the goal).
+    pub end: Vec<f64>,
+    /// `phi(0)` \[rad\].
+    pub phi_start: f64,
+    /// The `phi(T)` to reach \[rad\].
+    pub phi_end: f64,
+}
+
+/// One quadrature node with the basis functions that do not vanish there.
+#[derive(Debug, Clone, Copy)]
+struct Node {
+    first: usize,
+    t: f64,
+    weight: f64,
+    value: [f64; MAX_DEGREE + 1],
+    rate: [f64; MAX_DEGREE + 1],
+}
+
+/// The tables of one basis, quadrature and joint count: nodes, the effort's constant Hessian
+/// with its band factor, and the mass matrix's factor of one joint (for projections).
+#[derive(Debug)]
+pub struct Table {
+    basis: SplineBasis,
+    joints: usize,
+    fixed: usize,
+    nodes: Vec<Node>,
+    effort_hessian: DMatrix<f64>,
+    metric: Option<BandCholesky>,
+    mass: Option<BandCholesky>,
+}
+
+impl Table {
+    /// The tables for `joints` joints on `basis` with `nodes_per_span` nodes per knot span;
+    /// `fixed` coefficients per joint at each end (2: value and velocity; 3: and acceleration).
+    pub fn new(basis: SplineBasis, joints: usize, fixed: usize, nodes_per_span: usize) -> Result<Self, Error> {
+        let p = basis.degree();
+        let len = basis.len();
+        if len < 2 * fixed + 1 || nodes_per_span < p {
+            return Err(Error::from(InputError::InvalidParameter {
+                name: "spans".into(),
+                value: len as f64,
+                expected: "a basis with a free coefficient and at least p quadrature nodes per span",
+            }));
+        }
+        let rule = GaussLegendre::new(nodes_per_span);
+        let b = basis.breakpoints();
+        let mut nodes = Vec::with_capacity((b.len() - 1) * nodes_per_span);
+        for s in 0..b.len() - 1 {
+            let span = basis.span_of_interval(s);
+            let (mid, half) = ((b[s] + b[s + 1]) / 2.0, (b[s + 1] - b[s]) / 2.0);
+            for (xi, wi) in rule.nodes.iter().zip(&rule.weights) {
+                let t = mid + half * xi;
+                let [value, rate] = basis.values_and_rates(span, t);
+                nodes.push(Node { first: span - p, t, weight: half * wi, value, rate });
+            }
+        }
+        let nf = len - 2 * fixed;
+        let mut mass = DMatrix::zeros(nf, nf);
+        let mut stiffness = DMatrix::zeros(nf, nf);
+        for node in &nodes {
+            for l in 0..=p {
+                let Some(i) = free(node.first + l, fixed, len) else { continue };
+                for ll in 0..=p {
+                    if let Some(ii) = free(node.first + ll, fixed, len) {
+                        mass[(i, ii)] += node.weight * node.value[l] * node.value[ll];
+                        stiffness[(i, ii)] += 2.0 * node.weight * node.rate[l] * node.rate[ll];
+                    }
+                }
+            }
+        }
+        let dim = nf * joints;
+        let mut effort_hessian = DMatrix::zeros(dim, dim);
+        for i in 0..nf {
+            for ii in i.saturating_sub(p)..(i + p + 1).min(nf) {
+                for j in 0..joints {
+                    effort_hessian[(i * joints + j, ii * joints + j)] = stiffness[(i, ii)];
+                }
+            }
+        }
+        let hb = joints * (p + 1) - 1;
+        let metric = BandCholesky::new(&effort_hessian, hb);
+        let mass = BandCholesky::new(&mass, p);
+        Ok(Self { basis, joints, fixed, nodes, effort_hessian, metric, mass })
+    }
+
+    /// The basis.
+    pub fn basis(&self) -> &SplineBasis {
+        &self.basis
+    }
+}
+
+/// The free index of coefficient `i` (of `len`), `None` for the fixed ones.
+fn free(i: usize, fixed: usize, len: usize) -> Option<usize> {
+    (fixed..len - fixed).contains(&i).then(|| i - fixed)
+}
+
+/// The discretised problem on one basis.
+#[derive(Debug, Clone)]
+pub struct Discretisation {
+    connection: Arc<Connection>,
+    table: Arc<Table>,
+    targets: Targets,
+    /// Fixed leading and trailing coefficients, per joint.
+    head: Vec<Vec<f64>>,
+    tail: Vec<Vec<f64>>,
+}
+
+impl Discretisation {
+    /// The problem of `targets` on shared tables.
+    pub fn on(connection: Arc<Connection>, table: Arc<Table>, targets: Targets) -> Self {
+        let r = table.fixed;
+        let (mut head, mut tail) = (Vec::new(), Vec::new());
+        for j in 0..table.joints {
+            let start = [targets.start[j], targets.initial_velocity[j], 0.0];
+            let end = [targets.end[j], 0.0, 0.0];
+            let (h, t) = table.basis.end_coefficients(&start[..r], &end[..r]);
+            head.push(h);
+            tail.push(t);
+        }
+        Self { connection, table, targets, head, tail }
+    }
+
+    /// The ends and the holonomy target.
+    pub fn targets(&self) -> &Targets {
+        &self.targets
+    }
+
+    /// The basis.
+    pub fn basis(&self) -> &SplineBasis {
+        &self.table.basis
+    }
+
+    /// All coefficients per joint from the free ones.
+    pub fn coefficients(&self, x: &DVector<f64>) -> Vec<Vec<f64>> {
+        let n = self.table.joints;
+        let nf = x.len() / n;
+        (0..n)
+            .map(|j| {
+                let mut c = Vec::with_capacity(nf + 2 * self.table.fixed);
+                c.extend_from_slice(&self.head[j]);
+                c.extend((0..nf).map(|m| x[m * n + j]));
+                c.extend_from_slice(&self.tail[j]);
+                c
+            })
+            .collect()
+    }
+
+    /// `(theta, theta')` at a node into the buffers.
+    fn point(&self, c: &[Vec<f64>], node: &Node, theta: &mut [f64], rate: &mut [f64]) {
+        let p = self.table.basis.degree();
+        for (j, cj) in c.iter().enumerate() {
+            let cj = &cj[node.first..=node.first + p];
+            let (mut v, mut r) = (0.0, 0.0);
+            for ((value, rate), c) in node.value.iter().zip(&node.rate).zip(cj) {
+                v += value * c;
+                r += rate * c;
+            }
+            theta[j] = v;
+            rate[j] = r;
+        }
+    }
+
+    /// The quadrature of `integral_0^T g dt` \[rad\] and of the effort \[rad^2/s\] at `x`.
+    pub fn integrals(&self, x: &DVector<f64>) -> (f64, f64) {
+        let n = self.table.joints;
+        let c = self.coefficients(x);
+        let (mut theta, mut rate) = (vec![0.0; n], vec![0.0; n]);
+        let (mut holonomy, mut effort) = (0.0, 0.0);
+        for node in &self.table.nodes {
+            self.point(&c, node, &mut theta, &mut rate);
+            holonomy += node.weight * self.connection.value(&theta, &rate);
+            effort += node.weight * rate.iter().map(|w| w * w).sum::<f64>();
+        }
+        (holonomy, effort)
+    }
+
+    /// The free coefficients of the L2 projection (same nodes) of `path` onto the basis, the end
+    /// conditions kept exact.
+    pub fn project(&self, path: impl Fn(f64, &mut [f64])) -> Result<DVector<f64>, Error> {
+        let table = &*self.table;
+        let (n, p, len, r) = (table.joints, table.basis.degree(), table.basis.len(), table.fixed);
+        let nf = len - 2 * r;
+        let bad = || {
+            Error::from(InputError::InvalidParameter {
+                name: "seed".into(),
+                value: f64::NAN,
+                expected: "a finite joint path on a basis with a positive definite mass matrix",
+            })
+        };
+        let chol = table.mass.as_ref().ok_or_else(bad)?;
+        let fixed = self.coefficients(&DVector::zeros(n * nf));
+        let mut rhs = vec![DVector::<f64>::zeros(nf); n];
+        let (mut target, mut theta, mut rate) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+        for node in &table.nodes {
+            path(node.t, &mut target);
+            self.point(&fixed, node, &mut theta, &mut rate);
+            for l in 0..=p {
+                let Some(i) = free(node.first + l, r, len) else { continue };
+                for j in 0..n {
+                    rhs[j][i] += node.weight * node.value[l] * (target[j] - theta[j]);
+                }
+            }
+        }
+        let mut x = DVector::zeros(n * nf);
+        for (j, rj) in rhs.iter().enumerate() {
+            for (m, v) in chol.solve(rj).iter().enumerate() {
+                x[m * n + j] = *v;
+            }
+        }
+        x.iter().all(|v| v.is_finite()).then_some(x).ok_or_else(bad)
+    }
+}
+
+impl Discretised for Discretisation {
+    fn dim(&self) -> usize {
+        self.table.effort_hessian.nrows()
+    }
+
+    fn half_bandwidth(&self) -> usize {
+        self.table.joints * (self.table.basis.degree() + 1) - 1
+    }
+
+    fn effort_hessian(&self) -> &DMatrix<f64> {
+        &self.table.effort_hessian
+    }
+
+    fn effort_cholesky(&self) -> Option<&BandCholesky> {
+        self.table.metric.as_ref()
+    }
+
+    /// Effort `f` and `c = phi(0) - integral g dt - phi_end` at `x`, with derivatives by `order`.
+    fn evaluate(&self, x: &DVector<f64>, order: usize) -> Evaluation {
+        let table = &*self.table;
+        let (n, p, len, r) = (table.joints, table.basis.degree(), table.basis.len(), table.fixed);
+        let dim = x.len();
+        let residual = |integral: f64| self.targets.phi_start - integral - self.targets.phi_end;
+        if order == 0 {
+            let (integral, f) = self.integrals(x);
+            let (empty, none) = (DVector::zeros(0), DMatrix::zeros(0, 0));
+            return Evaluation {
+                f,
+                c: residual(integral),
+                grad_f: empty.clone(),
+                grad_c: empty,
+                hess_f: none.clone(),
+                hess_c: none,
+            };
+        }
+        let second = order >= 2;
+        let c = self.coefficients(x);
+        let (mut theta, mut rate) = (vec![0.0; n], vec![0.0; n]);
+        let mut local = Local::new(n);
+        let (mut f, mut integral) = (0.0, 0.0);
+        let (mut grad_f, mut grad_c) = (DVector::zeros(dim), DVector::zeros(dim));
+        let mut hess_c = if second { DMatrix::zeros(dim, dim) } else { DMatrix::zeros(0, 0) };
+        // Free index of each local coefficient (usize::MAX when fixed).
+        let mut idx = [usize::MAX; MAX_DEGREE + 1];
+        let mut row = vec![0.0; n];
+        for node in &table.nodes {
+            self.point(&c, node, &mut theta, &mut rate);
+            self.connection.local(&theta, &rate, &mut local);
+            let w = node.weight;
+            integral += w * local.value;
+            f += w * rate.iter().map(|v| v * v).sum::<f64>();
+            for (l, slot) in idx.iter_mut().enumerate().take(p + 1) {
+                *slot = free(node.first + l, r, len).map_or(usize::MAX, |i| i * n);
+            }
+            for l in 0..=p {
+                if idx[l] == usize::MAX {
+                    continue;
+                }
+                let (v, dr) = (node.value[l] * w, node.rate[l] * w);
+                for j in 0..n {
+                    // c = phi0 - integral - phi_end: derivatives with the sign -1.
+                    grad_c[idx[l] + j] -= local.gradient[j] * v + local.a[j] * dr;
+                    grad_f[idx[l] + j] += 2.0 * rate[j] * dr;
+                }
+            }
+            if !second {
+                continue;
+            }
+            let data = hess_c.as_mut_slice();
+            for l in 0..=p {
+                if idx[l] == usize::MAX {
+                    continue;
+                }
+                let (v, dr) = (node.value[l] * w, node.rate[l] * w);
+                for j in 0..n {
+                    // d^2 g / d c_{l j} d(theta_jj, theta'_jj) contracted with c_{l j}'s factors.
+                    for (jj, out) in row.iter_mut().enumerate() {
+                        *out = local.hessian[j * n + jj] * v + local.mixed[jj * n + j] * dr;
+                    }
+                    let col = (idx[l] + j) * dim;
+                    for (ll, &index) in idx.iter().enumerate().take(p + 1) {
+                        if index == usize::MAX {
+                            continue;
+                        }
+                        let (vv, rr) = (node.value[ll], node.rate[ll]);
+                        let base = col + index;
+                        for jj in 0..n {
+                            // The mixed term of (l, j) as theta and (ll, jj) as theta'.
+                            data[base + jj] -= row[jj] * vv + local.mixed[j * n + jj] * v * rr;
+                        }
+                    }
+                }
+            }
+        }
+        let hess_f = if second { table.effort_hessian.clone() } else { DMatrix::zeros(0, 0) };
+        Evaluation { f, c: residual(integral), grad_f, grad_c, hess_f, hess_c }
+    }
+}

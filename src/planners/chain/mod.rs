@@ -1,0 +1,202 @@
+//! Minimum-effort motion planning for any planar serial arm (issues 11 and 14): the joint path
+//! `theta: [0, T] -> R^n` that minimises `J = integral_0^T |theta'|^2 dt` with
+//! `theta(0) = theta0`, `theta'(0) = u0`, `theta(T) = thetad`, `theta'(T) = 0`, subject to the one
+//! scalar holonomy constraint `phi(T) = phid`, where `phi' = -(G(theta) . theta') / F(theta)`
+//! (Eq. 7 with zero momentum, for any `n`).
+//!
+//! The method is that of the two-joint [`optimal`](crate::planners::optimal) planner, for `n`
+//! joints: clamped B-splines on one basis for all joints ([`discrete`]), the holonomy integrand
+//! in closed form with exact derivatives ([`connection`]), its trust-region SQP
+//! ([`crate::planners::optimal::sqp`]) from the straight line and loop seeds in the joint planes
+//! of largest curvature ([`seeds`]), for the nearby goal representatives modulo 2 pi; the best
+//! coarse solution is refined until the effort settles, and the plan is returned only when the
+//! original system integrated with its controls reaches the goal
+//! ([`verify_chain`](crate::plan::chain_certificate::verify_chain)).
+//!
+//! With one joint `a(theta) dtheta` is exact, so `phi(T)` is fixed by `theta(T)`: the planner
+//! checks the goal for consistency ([`Error::HolonomyFixed`]) and then minimises the effort alone.
+
+pub mod connection;
+pub mod discrete;
+pub mod motion;
+pub(crate) mod search;
+pub mod seeds;
+
+use std::sync::Arc;
+
+use crate::error::Error;
+use crate::model::InputError;
+use crate::model::arm::Arm;
+use crate::numerics::ode::OdeOptions;
+use crate::plan::check_horizon;
+use crate::planners::optimal::SqpOptions;
+
+pub use connection::MAX_JOINTS;
+pub use motion::{ChainPlan, ChainPoint, ChainStats};
+
+/// Drive an `n`-joint arm from `start` to `goal` in time `horizon` at zero angular momentum.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ChainProblem {
+    /// `(phi, theta_1, .., theta_n)` at `t = 0` \[rad\].
+    pub start: Vec<f64>,
+    /// `(phi, theta_1, .., theta_n)` at `t = T` \[rad\].
+    pub goal: Vec<f64>,
+    /// `T` \[s\].
+    pub horizon: f64,
+    /// `theta'(0)` \[rad/s\] (`n` values; zeros for rest to rest).
+    pub initial_velocity: Vec<f64>,
+    /// Count the goal's angles modulo 2 pi: try nearby representatives, keep the best certified
+    /// plan. False: the goal's angles literally.
+    pub wrap: bool,
+}
+
+impl ChainProblem {
+    /// Rest to rest, angles modulo 2 pi.
+    pub fn rest_to_rest(start: Vec<f64>, goal: Vec<f64>, horizon: f64) -> Self {
+        let n = start.len().saturating_sub(1);
+        Self { start, goal, horizon, initial_velocity: vec![0.0; n], wrap: true }
+    }
+
+    /// Checks the problem against `arm`: `n + 1` start and goal values, `n` initial velocities,
+    /// all finite (angles within [`crate::plan::MAX_ANGLE`]), the horizon in
+    /// [`crate::plan::HORIZON_RANGE`], `1 <= n <=` [`MAX_JOINTS`].
+    pub fn validate(&self, arm: &Arm) -> Result<(), Error> {
+        let n = arm.joints();
+        let bad = |name: String, value: f64, expected: &'static str| {
+            Err(Error::from(InputError::InvalidParameter { name, value, expected }))
+        };
+        if !(1..=MAX_JOINTS).contains(&n) {
+            return bad("joints".into(), n as f64, "an arm of 1 to 15 joints");
+        }
+        for (name, v) in [("start", &self.start), ("goal", &self.goal)] {
+            if v.len() != n + 1 {
+                return bad(format!("{name}.len"), v.len() as f64, "n + 1 values (phi, theta_1..theta_n)");
+            }
+            for (i, x) in v.iter().enumerate() {
+                if !(x.is_finite() && x.abs() <= crate::plan::MAX_ANGLE) {
+                    return bad(format!("{name}[{i}]"), *x, "a finite angle with |angle| <= 1e4 rad");
+                }
+            }
+        }
+        if self.initial_velocity.len() != n {
+            return bad("initial_velocity.len".into(), self.initial_velocity.len() as f64, "n joint velocities");
+        }
+        for (i, u) in self.initial_velocity.iter().enumerate() {
+            if !u.is_finite() {
+                return bad(format!("initial_velocity[{i}]"), *u, "a finite joint velocity [rad/s]");
+            }
+        }
+        check_horizon("horizon", self.horizon)
+    }
+}
+
+/// Options of the [`ChainPlanner`] (defaults those of the two-joint planner).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ChainOptions {
+    /// Tolerance of the certificate's final error \[rad\]; default 1e-9.
+    pub tolerance: f64,
+    /// Integrator options of the certificate (default rtol = atol = 1e-12).
+    pub ode: OdeOptions,
+    /// Uniform knot spans of the coarse basis on which every seed is solved; default 8.
+    pub coarse_spans: usize,
+    /// Largest number of uniform knot spans of the refinement (doubling); default 32.
+    pub max_spans: usize,
+    /// Graded knots at `h / 4^j`, `j = 1..=grading`, in the first and last spans; default 1
+    /// (see [`crate::planners::optimal::OptimalOptions::grading`]).
+    pub grading: usize,
+    /// The refinement stops when the effort changes by less than this, relative; default 1e-6.
+    pub refinement_tolerance: f64,
+    /// Gauss–Legendre nodes per knot span; default 8 (raised up to 32 until the motion's finer
+    /// quadrature agrees to 1% of the tolerance).
+    pub quadrature_nodes: usize,
+    /// How many goal representatives (best first by their seeds' estimated effort) are solved
+    /// per batch; default 2.
+    pub targets_solved: usize,
+    /// How many of the best coarse solutions are refined; default 2.
+    pub finalists: usize,
+    /// Loop seeds per representative, in the joint planes of largest curvature; default 2.
+    pub loop_planes: usize,
+    /// Largest radius of a loop seed \[rad\]; default 2.
+    pub max_loop_radius: f64,
+    /// SQP options of the refined solves.
+    pub sqp: SqpOptions,
+}
+
+impl Default for ChainOptions {
+    fn default() -> Self {
+        Self {
+            tolerance: 1e-9,
+            ode: OdeOptions::default(),
+            coarse_spans: 8,
+            max_spans: 32,
+            grading: 1,
+            refinement_tolerance: 1e-6,
+            quadrature_nodes: 8,
+            targets_solved: 2,
+            finalists: 2,
+            loop_planes: 2,
+            max_loop_radius: 2.0,
+            sqp: SqpOptions::default(),
+        }
+    }
+}
+
+impl ChainOptions {
+    /// Checks the options.
+    pub fn validate(&self) -> Result<(), Error> {
+        let bad = |name: &str, value: f64, expected: &'static str| {
+            Err(Error::from(InputError::InvalidParameter { name: name.into(), value, expected }))
+        };
+        if !(self.tolerance > 0.0) {
+            return bad("tolerance", self.tolerance, "a positive number [rad]");
+        }
+        if self.coarse_spans < 2 || self.max_spans < self.coarse_spans || self.max_spans > 4096 {
+            return bad("max_spans", self.max_spans as f64, "2 <= coarse_spans <= max_spans <= 4096");
+        }
+        if self.grading > 12 {
+            return bad("grading", self.grading as f64, "at most 12 graded knots per end");
+        }
+        if !(6..=32).contains(&self.quadrature_nodes) {
+            return bad("quadrature_nodes", self.quadrature_nodes as f64, "6 to 32 nodes per knot span");
+        }
+        if self.targets_solved == 0 {
+            return bad("targets_solved", 0.0, "at least 1");
+        }
+        if self.finalists == 0 {
+            return bad("finalists", 0.0, "at least 1");
+        }
+        if !(self.max_loop_radius > 0.0 && self.max_loop_radius < 10.0) {
+            return bad("max_loop_radius", self.max_loop_radius, "a radius in (0, 10) rad");
+        }
+        if !(self.refinement_tolerance > 0.0) {
+            return bad("refinement_tolerance", self.refinement_tolerance, "a positive relative change");
+        }
+        Ok(())
+    }
+}
+
+/// The minimum-effort planner for an `n`-joint arm (see the [module docs](self)).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ChainPlanner {
+    /// The arm (private: its momentum coefficients' constants are computed from it once).
+    arm: Arm,
+    /// Options.
+    pub options: ChainOptions,
+    connection: Arc<connection::Connection>,
+}
+
+impl ChainPlanner {
+    /// A planner for `arm` with `options`.
+    pub fn new(arm: Arm, options: ChainOptions) -> Self {
+        let connection = Arc::new(connection::Connection::new(&arm));
+        Self { arm, options, connection }
+    }
+
+    /// The arm.
+    pub fn arm(&self) -> &Arm {
+        &self.arm
+    }
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,225 @@
+//! The chain planner's motion: the joint paths are splines on one basis, exact at any time, and
+//! the base angle is their holonomy integral (Eq. 7 with zero momentum), by Gauss–Legendre
+//! quadrature on each knot span (and on the partial span up to `t`).
+
+use std::sync::Arc;
+
+use serde::Serialize;
+
+use super::connection::Connection;
+use crate::numerics::quadrature::GaussLegendre;
+use crate::plan::chain_certificate::{ChainVerification, JointMotion};
+use crate::planners::optimal::spline::SplineBasis;
+use crate::planners::optimal::sqp::Termination;
+
+/// Nodes of the Gauss–Legendre rule of the base angle, per knot span (or part of one).
+pub const PHI_NODES: usize = 24;
+
+/// The [`PHI_NODES`]-node Gauss–Legendre rule, computed once.
+fn phi_rule() -> &'static GaussLegendre {
+    static RULE: std::sync::OnceLock<GaussLegendre> = std::sync::OnceLock::new();
+    RULE.get_or_init(|| GaussLegendre::new(PHI_NODES))
+}
+
+/// Statistics of a chain plan.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct ChainStats {
+    /// SQP iterations, summed over every seed and refinement level.
+    pub iterations: usize,
+    /// Seeds solved.
+    pub seeds: usize,
+    /// The effort `integral_0^T |theta'|^2 dt` \[rad^2/s\].
+    pub effort: f64,
+    /// Largest `|theta_j'(t)|` over joints and time (sampled finely) \[rad/s\].
+    pub peak_velocity: f64,
+    /// `|phi(T) - phi_target|` with [`PHI_NODES`] nodes per span \[rad\].
+    pub holonomy_residual: f64,
+    /// Relative KKT residual of the last solve.
+    pub kkt_residual: f64,
+    /// Lagrange multiplier of the holonomy constraint.
+    pub multiplier: f64,
+    /// How the last solve stopped.
+    pub termination: Termination,
+    /// Uniform knot spans of the final basis (before the end grading).
+    pub spans: usize,
+    /// Gauss–Legendre nodes per span of the final solve.
+    pub quadrature_nodes: usize,
+    /// Wall time of the planning (without the certificate) \[s\].
+    pub plan_seconds: f64,
+}
+
+/// One point of a chain motion.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ChainPoint {
+    /// Time \[s\].
+    pub t: f64,
+    /// Base angle \[rad\].
+    pub phi: f64,
+    /// Joint angles \[rad\].
+    pub theta: Vec<f64>,
+    /// Joint velocities (the controls `u`) \[rad/s\].
+    pub rate: Vec<f64>,
+    /// Joint accelerations \[rad/s^2\].
+    pub acceleration: Vec<f64>,
+}
+
+/// A certified minimum-effort plan of an `n`-joint arm.
+#[derive(Debug, Clone)]
+pub struct ChainPlan {
+    pub(super) connection: Arc<Connection>,
+    pub(super) basis: SplineBasis,
+    /// Spline coefficients per joint.
+    pub(super) coefficients: Vec<Vec<f64>>,
+    /// `phi` at each breakpoint \[rad\].
+    pub(super) phi_at_breakpoints: Vec<f64>,
+    /// Statistics.
+    pub stats: ChainStats,
+    /// The velocity-level certificate.
+    pub verification: ChainVerification,
+}
+
+impl ChainPlan {
+    /// The plan of the joint splines `coefficients` on `basis`, `phi(0) = phi0`; statistics and
+    /// certificate to be filled in.
+    pub(super) fn new(
+        connection: Arc<Connection>,
+        basis: SplineBasis,
+        coefficients: Vec<Vec<f64>>,
+        phi0: f64,
+        stats: ChainStats,
+    ) -> Self {
+        let mut me = Self {
+            connection,
+            basis,
+            coefficients,
+            phi_at_breakpoints: Vec::new(),
+            stats,
+            verification: ChainVerification {
+                final_error: f64::NAN,
+                reached: Vec::new(),
+                max_abs_momentum: f64::NAN,
+                tolerance: f64::NAN,
+                certified: false,
+                stats: Default::default(),
+            },
+        };
+        let b = me.basis.breakpoints().to_vec();
+        let mut phi = vec![phi0];
+        for w in b.windows(2) {
+            let last = phi[phi.len() - 1];
+            phi.push(last - me.holonomy(phi_rule(), w[0], w[1]));
+        }
+        me.phi_at_breakpoints = phi;
+        me
+    }
+
+    /// `integral_a^b g dt` by `rule`.
+    fn holonomy(&self, rule: &GaussLegendre, a: f64, b: f64) -> f64 {
+        let n = self.joints();
+        let (mut theta, mut rate) = (vec![0.0; n], vec![0.0; n]);
+        rule.integrate(a, b, |t| {
+            self.state_into(t, &mut theta, &mut rate);
+            self.connection.value(&theta, &rate)
+        })
+    }
+
+    /// The number of joints.
+    pub fn joints(&self) -> usize {
+        self.coefficients.len()
+    }
+
+    /// The horizon `T` \[s\].
+    pub fn horizon(&self) -> f64 {
+        self.basis.horizon()
+    }
+
+    /// The effort `integral_0^T |theta'|^2 dt` \[rad^2/s\].
+    pub fn effort(&self) -> f64 {
+        self.stats.effort
+    }
+
+    /// The joint angles and velocities at `t` into the buffers.
+    fn state_into(&self, t: f64, theta: &mut [f64], rate: &mut [f64]) {
+        let s = self.basis.interval(t);
+        let span = self.basis.span_of_interval(s);
+        let p = self.basis.degree();
+        let [value, d] = self.basis.values_and_rates(span, t.clamp(0.0, self.horizon()));
+        let first = span - p;
+        for (j, c) in self.coefficients.iter().enumerate() {
+            theta[j] = (0..=p).map(|l| value[l] * c[first + l]).sum();
+            rate[j] = (0..=p).map(|l| d[l] * c[first + l]).sum();
+        }
+    }
+
+    /// The base angle at `t` \[rad\]: the holonomy integral from the breakpoint before `t`.
+    pub fn phi(&self, t: f64) -> f64 {
+        let t = t.clamp(0.0, self.horizon());
+        let s = self.basis.interval(t);
+        let b = self.basis.breakpoints()[s];
+        if t <= b {
+            return self.phi_at_breakpoints[s];
+        }
+        self.phi_at_breakpoints[s] - self.holonomy(phi_rule(), b, t)
+    }
+
+    /// `(phi, theta, theta', theta'')` at `t` \[s\] (clamped to `[0, T]`).
+    pub fn at(&self, t: f64) -> ChainPoint {
+        let t = t.clamp(0.0, self.horizon());
+        let mut point =
+            ChainPoint { t, phi: self.phi(t), theta: Vec::new(), rate: Vec::new(), acceleration: Vec::new() };
+        for c in &self.coefficients {
+            let [v, d, a] = self.basis.evaluate(c, t);
+            point.theta.push(v);
+            point.rate.push(d);
+            point.acceleration.push(a);
+        }
+        point
+    }
+
+    /// `samples >= 2` equally spaced points from 0 to T, the last exactly at T.
+    pub fn sample(&self, samples: usize) -> Vec<ChainPoint> {
+        let samples = samples.max(2);
+        let horizon = self.horizon();
+        (0..samples)
+            .map(|i| if i + 1 == samples { horizon } else { horizon * i as f64 / (samples - 1) as f64 })
+            .map(|t| self.at(t))
+            .collect()
+    }
+
+    /// The spline basis of the joint paths.
+    pub fn basis(&self) -> &SplineBasis {
+        &self.basis
+    }
+
+    /// The spline coefficients of each joint's path on [`Self::basis`].
+    pub fn coefficients(&self) -> &[Vec<f64>] {
+        &self.coefficients
+    }
+}
+
+impl JointMotion for ChainPlan {
+    fn joints(&self) -> usize {
+        self.coefficients.len()
+    }
+
+    fn breakpoints(&self) -> &[f64] {
+        self.basis.breakpoints()
+    }
+
+    fn joint_state(&self, t: f64, theta: &mut [f64], rate: &mut [f64]) {
+        self.state_into(t, theta, rate);
+    }
+
+    fn joint_acceleration(&self, t: f64, out: &mut [f64]) {
+        for (o, c) in out.iter_mut().zip(&self.coefficients) {
+            *o = self.basis.evaluate(c, t.clamp(0.0, self.horizon()))[2];
+        }
+    }
+
+    fn phi_rate(&self, t: f64) -> f64 {
+        let n = self.joints();
+        let (mut theta, mut rate) = (vec![0.0; n], vec![0.0; n]);
+        self.state_into(t, &mut theta, &mut rate);
+        -self.connection.value(&theta, &rate)
+    }
+}

@@ -1,0 +1,215 @@
+//! Warm starts for an `n`-joint arm: the straight joint line, and the line with a closed loop in
+//! the plane of two joints, which turns the base by about `pi R^2 kappa_ij` (Green's theorem with
+//! the curvature `kappa_ij = da_i/dtheta_j - da_j/dtheta_i` of the connection `a = G/F`).
+
+use std::f64::consts::{PI, TAU};
+
+use super::connection::{Connection, Local};
+
+/// Which seed.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Seed {
+    /// The straight joint line, smooth-step timing.
+    Line,
+    /// The line with `turns` closed loops of radius `radius` \[rad\] in the `(theta_i, theta_j)`
+    /// plane, counter-clockwise when `orientation = +1`.
+    Loop {
+        /// First joint of the plane (0-based).
+        i: usize,
+        /// Second joint of the plane (0-based).
+        j: usize,
+        /// `+1` counter-clockwise, `-1` clockwise.
+        orientation: f64,
+        /// Radius \[rad\].
+        radius: f64,
+        /// Turns.
+        turns: usize,
+    },
+}
+
+impl Seed {
+    /// The same seed with radius `r` (a line unchanged).
+    pub fn with_radius(self, r: f64) -> Self {
+        match self {
+            Seed::Loop { i, j, orientation, turns, .. } => Seed::Loop { i, j, orientation, radius: r, turns },
+            Seed::Line => Seed::Line,
+        }
+    }
+}
+
+/// Cubic smooth step `3 s^2 - 2 s^3` on `[0, 1]`.
+fn smooth_step(s: f64) -> f64 {
+    let s = s.clamp(0.0, 1.0);
+    s * s * (3.0 - 2.0 * s)
+}
+
+/// The ends and timing shared by the seeds.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Line {
+    /// `theta(0)` \[rad\].
+    pub start: Vec<f64>,
+    /// `theta(T)` \[rad\].
+    pub end: Vec<f64>,
+    /// `theta'(0)` \[rad/s\].
+    pub initial_velocity: Vec<f64>,
+    /// `T` \[s\].
+    pub horizon: f64,
+}
+
+impl Line {
+    /// The straight line at `t`, with the initial velocity added by `t (1 - t/T)^2`.
+    pub fn at(&self, t: f64, out: &mut [f64]) {
+        let s = smooth_step(t / self.horizon);
+        let h = t * (1.0 - t / self.horizon).powi(2);
+        for (j, o) in out.iter_mut().enumerate() {
+            *o = self.start[j] + (self.end[j] - self.start[j]) * s + self.initial_velocity[j] * h;
+        }
+    }
+
+    /// The seed's joint path at `t`.
+    pub fn path(&self, seed: Seed, t: f64, out: &mut [f64]) {
+        self.at(t, out);
+        if let Seed::Loop { i, j, orientation, radius, turns } = seed {
+            let psi = TAU * turns as f64 * smooth_step(t / self.horizon);
+            let (sp, cp) = psi.sin_cos();
+            out[i] += radius * (1.0 - cp);
+            out[j] -= radius * orientation * sp;
+        }
+    }
+
+    /// The holonomy integral `integral g dt` along the straight line from start to end (any
+    /// timing gives the same) \[rad\], by a composite 16-point Gauss–Legendre rule.
+    pub fn holonomy(&self, connection: &Connection) -> f64 {
+        let rule = crate::numerics::quadrature::GaussLegendre::new(16);
+        let delta: Vec<f64> = self.start.iter().zip(&self.end).map(|(a, b)| b - a).collect();
+        let length = delta.iter().map(|d| d * d).sum::<f64>().sqrt();
+        let pieces = ((length / 0.5).ceil() as usize).clamp(1, 64);
+        let mut theta = vec![0.0; delta.len()];
+        rule.integrate_composite(0.0, 1.0, pieces, |s| {
+            for (k, th) in theta.iter_mut().enumerate() {
+                *th = self.start[k] + s * delta[k];
+            }
+            connection.value(&theta, &delta)
+        })
+    }
+
+    /// The length of the line \[rad\].
+    pub fn length(&self) -> f64 {
+        self.start.iter().zip(&self.end).map(|(a, b)| (b - a) * (b - a)).sum::<f64>().sqrt()
+    }
+
+    /// Loop seeds that should add the base rotation `needed` \[rad\]: in the `count` joint planes
+    /// of largest `|kappa_ij|` at the line's midpoint, the radius from `pi R^2 |kappa| = |needed|`
+    /// (several turns above `max_radius`), oriented by the signs.
+    pub fn loops(&self, connection: &Connection, needed: f64, count: usize, max_radius: f64) -> Vec<Seed> {
+        let n = self.start.len();
+        if n < 2 {
+            return Vec::new();
+        }
+        let mut mid = vec![0.0; n];
+        self.at(self.horizon / 2.0, &mut mid);
+        let mut local = Local::new(n);
+        connection.local(&mid, &vec![0.0; n], &mut local);
+        let mut planes = Vec::new();
+        for i in 0..n {
+            for j in i + 1..n {
+                // Rotation per counter-clockwise area: -(da_j/dtheta_i - da_i/dtheta_j).
+                let kappa = -(local.mixed[i * n + j] - local.mixed[j * n + i]);
+                planes.push((i, j, kappa));
+            }
+        }
+        planes.sort_by(|a, b| b.2.abs().total_cmp(&a.2.abs()));
+        planes
+            .into_iter()
+            .take(count)
+            .filter(|(.., kappa)| kappa.abs() > 1e-12)
+            .map(|(i, j, kappa)| {
+                let area = (needed / kappa).abs().max(0.01);
+                let turns = ((area / (PI * max_radius * max_radius)).ceil() as usize).clamp(1, 64);
+                let radius = (area / (PI * turns as f64)).sqrt().clamp(0.05, max_radius);
+                let orientation = if needed * kappa >= 0.0 { 1.0 } else { -1.0 };
+                Seed::Loop { i, j, orientation, radius, turns }
+            })
+            .collect()
+    }
+
+    /// A rough effort of the seed run at constant speed, `1.2 (L + 2 pi R turns)^2 / T`, for
+    /// ranking goal representatives.
+    pub fn effort_estimate(&self, seed: Seed) -> f64 {
+        let extra = match seed {
+            Seed::Loop { radius, turns, .. } => TAU * radius * turns as f64,
+            Seed::Line => 0.0,
+        };
+        1.2 * (self.length() + extra).powi(2) / self.horizon
+    }
+
+    /// The loop seed with its radius re-fitted (secant, at most 8 evaluations of `residual`)
+    /// so that the holonomy residual vanishes; the best radius seen is kept.
+    pub fn fit_radius(&self, seed: Seed, max_radius: f64, mut residual: impl FnMut(Seed) -> f64) -> Seed {
+        let Seed::Loop { radius, .. } = seed else { return seed };
+        let (mut r0, mut r1) = (radius, (radius * 1.2).min(max_radius));
+        if (r1 - r0).abs() < 1e-9 {
+            r1 = 0.8 * r0;
+        }
+        let (mut c0, mut c1) = (residual(seed.with_radius(r0)), residual(seed.with_radius(r1)));
+        let mut best = if c0.abs() < c1.abs() { (r0, c0) } else { (r1, c1) };
+        for _ in 0..6 {
+            if !(c1 - c0).is_finite() || (c1 - c0).abs() < 1e-300 || best.1.abs() < 1e-6 {
+                break;
+            }
+            let r2 = (r1 - c1 * (r1 - r0) / (c1 - c0)).clamp(0.05, max_radius);
+            let c2 = residual(seed.with_radius(r2));
+            if c2.abs() < best.1.abs() {
+                best = (r2, c2);
+            }
+            (r0, c0, r1, c1) = (r1, c1, r2, c2);
+        }
+        seed.with_radius(best.0)
+    }
+}
+
+/// A bound (sampled, with a safety factor 1.5) of the curvature's comass over the joint space:
+/// `1.5 max_k sqrt(sum_{i<j} kappa_ij(theta_k)^2)` over 64 points of a Kronecker sequence on
+/// the torus; 0 for one joint (no curvature).
+pub fn curvature_bound(connection: &Connection) -> f64 {
+    let n = connection.joints();
+    if n < 2 {
+        return 0.0;
+    }
+    let mut local = Local::new(n);
+    let zero = vec![0.0; n];
+    let mut theta = vec![0.0; n];
+    let mut peak: f64 = 0.0;
+    for k in 1..=64 {
+        for (i, t) in theta.iter_mut().enumerate() {
+            // sqrt of the (i + 1)-th prime's fractional multiples: equidistributed on the torus.
+            let alpha = [2.0f64, 3.0, 5.0, 7.0, 11.0, 13.0, 17.0, 19.0, 23.0, 29.0, 31.0, 37.0, 41.0, 43.0, 47.0]
+                [i % 15]
+                .sqrt();
+            *t = TAU * (k as f64 * alpha).fract();
+        }
+        connection.local(&theta, &zero, &mut local);
+        let mut sum = 0.0;
+        for i in 0..n {
+            for j in i + 1..n {
+                let kappa = local.mixed[i * n + j] - local.mixed[j * n + i];
+                sum += kappa * kappa;
+            }
+        }
+        peak = peak.max(sum.sqrt());
+    }
+    1.5 * peak
+}
+
+/// A lower bound of the effort of any joint path between the line's ends whose holonomy differs
+/// from the line's by `needed` \[rad\] (as the two-joint planner's, with the comass bound
+/// `kappa_max`): closed by the line, the path bounds a surface on which the curvature integrates
+/// to `needed`, of area at least `|needed| / kappa_max`, so by the isoperimetric inequality its
+/// length is at least `sqrt(4 pi |needed| / kappa_max) - d` (`d` the line's length), and at least
+/// `d`; by Cauchy–Schwarz the effort is at least `length^2 / T`.
+pub fn effort_lower_bound(line: &Line, needed: f64, kappa_max: f64) -> f64 {
+    let d = line.length();
+    let loop_length = if kappa_max > 0.0 { (4.0 * PI * needed.abs() / kappa_max).sqrt() - d } else { 0.0 };
+    let length = d.max(loop_length);
+    length * length / line.horizon
+}
