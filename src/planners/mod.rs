@@ -1,7 +1,11 @@
 //! The planners behind one trait: [`nfa`], the paper's Normal Form Approach, [`ecsa`], its
-//! reference method, and [`optimal`], the minimum-effort planner. A caller picks one by its [`Method`] ([`planner`]) and uses it only
-//! through [`Planner`].
+//! reference method, and [`optimal`], the minimum-effort planner. A caller picks one by its
+//! [`Method`] ([`planner`]) and uses it only through [`Planner`].
+//!
+//! An arm of another number of links than the paper's two goes through [`arm::plan_arm`], which
+//! runs [`chain`], the minimum-effort planner for `n` joints.
 
+pub mod arm;
 pub mod chain;
 pub mod ecsa;
 pub mod nfa;

@@ -26,7 +26,7 @@ use crate::Scalar;
 
 /// The most links an [`Arm`] may have: beyond it the `(n + 1) x (n + 1)` inertia matrix and its
 /// derivatives (`O(n^4)` per evaluation) stop being cheap, and no planar testbed comes near it.
-pub const MAX_LINKS: usize = 16;
+pub const MAX_LINKS: usize = 15;
 
 /// The base of the robot.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -106,7 +106,7 @@ impl Arm {
             return Err(InputError::InvalidParameter {
                 name: "link".into(),
                 value: n as f64,
-                expected: "an arm of 1 to 16 links (docs/spec.md §1)",
+                expected: "an arm of 1 to 15 links (docs/spec.md §1)",
             });
         }
         check_ranged("robot.M", self.base.mass, MASS_RANGE)?;

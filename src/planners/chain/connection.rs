@@ -17,7 +17,7 @@
 use crate::model::arm::Arm;
 
 /// Largest number of joints the chain planner takes.
-pub const MAX_JOINTS: usize = 15;
+pub const MAX_JOINTS: usize = crate::model::arm::MAX_LINKS;
 
 /// The constants of an arm's momentum coefficients (see the [module docs](self)).
 #[derive(Debug, Clone, PartialEq)]
