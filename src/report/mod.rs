@@ -14,6 +14,7 @@
 //! assert!(outcome.torques.certificate.certified);
 //! ```
 
+pub mod arm;
 pub mod cases;
 pub mod figures;
 pub mod html;
