@@ -5,6 +5,7 @@ pub mod config;
 mod domain;
 mod output;
 mod plan;
+mod plan_arm;
 mod reproduce;
 mod sweep;
 mod track;
@@ -82,21 +83,21 @@ pub fn parse_list<const N: usize>(flag: &str, text: &str) -> anyhow::Result<[f64
     Ok(out)
 }
 
-/// The robot of `--preset`/`--robot`/`--urdf`, with `--mount` applied: a 2-link arm (the paper's
-/// model, link inertias included), or any planar serial arm.
+/// What `--preset`/`--robot`/`--urdf` name: a 2-link arm (the paper's model, link inertias
+/// included; see [`robot`]), or any other planar serial arm.
 pub enum Robot {
     /// Two links: every method and command serves it.
-    TwoLink(RobotParams),
+    TwoLink,
     /// Any other number of links (docs/spec.md §1): `plan` with the optimal planner.
     Arm(Arm),
 }
 
 /// The robot of the flags (see [`Robot`]).
 pub fn any_robot(args: &RobotArgs) -> anyhow::Result<Robot> {
-    let Some(path) = args.urdf.as_ref().or(args.robot.as_ref()) else { return Ok(Robot::TwoLink(robot(args)?)) };
+    let Some(path) = args.urdf.as_ref().or(args.robot.as_ref()) else { return Ok(Robot::TwoLink) };
     let arm = Arm::load(path)?;
     if arm.as_src().is_some() {
-        return Ok(Robot::TwoLink(robot(args)?));
+        return Ok(Robot::TwoLink);
     }
     let mount = match &args.mount {
         Some(text) => {

@@ -126,6 +126,9 @@ pub fn run(args: &PlanArgs) -> anyhow::Result<ExitCode> {
         }
         None => None,
     };
+    if let super::Robot::Arm(arm) = super::any_robot(&args.problem.robot)? {
+        return super::plan_arm::run(args, &arm, out);
+    }
     let gif = match &args.gif {
         Some(path) => {
             check_gif_path(path)?;

@@ -2,6 +2,7 @@
 
 mod animation;
 mod arm;
+mod arm_cli;
 mod cli;
 mod hostile;
 mod layout;

@@ -1,0 +1,115 @@
+//! `freefloat plan` with any planar serial arm, as a user runs it: a robot file with
+//! `[[link]]`, the same arm as URDF, a 2-link arm with link inertias through the whole 2-link
+//! pipeline, and the refusals.
+
+use std::process::{Command, Output};
+
+use freefloat::RobotParams;
+use freefloat::model::arm::Arm;
+
+fn freefloat(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_freefloat")).args(args).output().expect("the binary runs")
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+fn example(name: &str) -> String {
+    format!("{}/examples/robots/{name}", env!("CARGO_MANIFEST_DIR"))
+}
+
+fn json(o: &Output) -> serde_json::Value {
+    assert!(o.status.success(), "{}", stderr(o));
+    serde_json::from_slice(&o.stdout).expect("one JSON object")
+}
+
+const FROM: &str = "0,60,-30,-30";
+const TO: &str = "30,120,40,-60";
+
+/// The 3-link example arm plans rest to rest, certified at both levels; the same arm read from
+/// its URDF gives the same plan (the URDF round trip is exact to 1e-12, so the efforts agree far
+/// below the planner's own tolerances).
+#[test]
+fn three_link_arm_plans_from_toml_and_urdf() {
+    let toml = example("three_link.toml");
+    let args = ["plan", "--robot", &toml, "--from", FROM, "--to", TO, "--torques", "--format", "json"];
+    let r = json(&freefloat(&args));
+    assert_eq!(r["joints"], 3);
+    assert_eq!(r["certified"], true);
+    assert!(r["final_error"].as_f64().unwrap() <= 1e-9, "{r}");
+    assert!(r["verification"]["max_abs_momentum"].as_f64().unwrap() <= 1e-12, "{r}");
+    assert_eq!(r["torque_certificate"]["certified"], true, "{r}");
+    assert_eq!(r["max_abs_torque"].as_array().unwrap().len(), 3);
+    let urdf = example("three_link.urdf");
+    let u = json(&freefloat(&["plan", "--urdf", &urdf, "--from", FROM, "--to", TO, "--format", "json"]));
+    let (a, b) = (r["effort"].as_f64().unwrap(), u["effort"].as_f64().unwrap());
+    assert!((a - b).abs() <= 1e-8 * a, "TOML {a}, URDF {b}");
+}
+
+/// `--out FILE.csv` has one column per joint (and torque), and every row its n + 1 angles.
+#[test]
+fn arm_csv_has_a_column_per_joint() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("arm.csv");
+    let toml = example("three_link.toml");
+    let o = freefloat(&[
+        "plan",
+        "--robot",
+        &toml,
+        "--from",
+        FROM,
+        "--to",
+        TO,
+        "--torques",
+        "--samples",
+        "11",
+        "--quiet",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = std::fs::read_to_string(&out).unwrap();
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    assert!(header.contains(&"theta3") && header.contains(&"tau3") && !header.contains(&"theta4"), "{header:?}");
+    let rows: Vec<Vec<f64>> = lines.map(|l| l.split(',').map(|x| x.parse().unwrap()).collect()).collect();
+    assert_eq!(rows.len(), 11);
+    assert!(rows.iter().all(|r| r.len() == header.len() && r.iter().all(|x| x.is_finite())));
+}
+
+/// What an n-link arm cannot take is refused (exit 2) with the reason: the NFA (its chained
+/// form is the 2-link robot's), 3 angles for a 3-link arm, the 2-link commands.
+#[test]
+fn arm_refusals_name_the_reason() {
+    let toml = example("three_link.toml");
+    let o = freefloat(&["plan", "--robot", &toml, "--from", FROM, "--to", TO, "--method", "nfa"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("chained form"), "{}", stderr(&o));
+    let o = freefloat(&["plan", "--robot", &toml]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("--from takes 4"), "{}", stderr(&o));
+    let o = freefloat(&["domain", "--robot", &toml]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("3 link") && stderr(&o).contains("freefloat plan"), "{}", stderr(&o));
+    let o = freefloat(&["plan", "--robot", &toml, "--from", FROM, "--to", TO, "--smooth-ends"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+}
+
+/// A 2-link arm with link inertias (from a URDF) takes the whole 2-link pipeline, the NFA
+/// included; its plan differs from the point-mass robot's (the inertias matter).
+#[test]
+fn two_link_arm_with_inertia_takes_the_nfa() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut arm = Arm::from_params(&RobotParams::src());
+    arm.links[0].inertia = 4.5 * 0.619 * 0.619 / 12.0;
+    arm.links[1].inertia = 1.5 * 0.6 * 0.6 / 12.0;
+    let path = dir.path().join("two.urdf");
+    std::fs::write(&path, arm.to_urdf()).unwrap();
+    let path = path.to_str().unwrap();
+    let with = json(&freefloat(&["plan", "--urdf", path, "--method", "nfa", "--torques", "--format", "json"]));
+    assert_eq!(with["certified"], true, "{with}");
+    let without = json(&freefloat(&["plan", "--method", "nfa", "--format", "json"]));
+    let (a, b) = (with["max_abs_u"][0].as_f64().unwrap(), without["max_abs_u"][0].as_f64().unwrap());
+    assert!((a - b).abs() > 1e-6 * b, "the link inertias changed nothing: {a} vs {b}");
+}
