@@ -3,6 +3,7 @@
 //! integrator), which this one wraps, so that neither imports anything above it.
 
 use crate::model::{Configuration, InputError};
+use crate::numerics::format::{error_number, number, rounded};
 use crate::numerics::iteration::IterationStats;
 use crate::numerics::ode::OdeError;
 
@@ -38,10 +39,10 @@ impl std::fmt::Display for Singularity {
 fn fmt_q(q: &Option<Configuration>) -> String {
     q.map(|q| {
         format!(
-            " (phi, theta1, theta2) = ({:.4}, {:.4}, {:.4}) deg",
-            q.phi.to_degrees(),
-            q.theta1.to_degrees(),
-            q.theta2.to_degrees()
+            " (phi, theta1, theta2) = ({}, {}, {}) deg",
+            rounded(q.phi.to_degrees(), 4),
+            rounded(q.theta1.to_degrees(), 4),
+            rounded(q.theta2.to_degrees(), 4)
         )
     })
     .unwrap_or_default()
@@ -49,14 +50,18 @@ fn fmt_q(q: &Option<Configuration>) -> String {
 
 fn fmt_newton(iterations: usize, residual: f64, guess: f64) -> String {
     if residual.is_finite() {
-        format!("{iterations} iterations from theta2 = {:.4} deg, residual {residual:.3e}", guess.to_degrees())
+        format!(
+            "{iterations} iterations from theta2 = {} deg, residual {}",
+            rounded(guess.to_degrees(), 4),
+            error_number(residual)
+        )
     } else {
-        format!("the warm start theta2 = {:.4} deg is already off the branch", guess.to_degrees())
+        format!("the warm start theta2 = {} deg is already off the branch", rounded(guess.to_degrees(), 4))
     }
 }
 
 fn fmt_t(t: &Option<f64>) -> String {
-    t.map(|t| format!(" at t = {t:.6} s")).unwrap_or_default()
+    t.map(|t| format!(" at t = {} s", number(t))).unwrap_or_default()
 }
 
 /// Everything that can go wrong in freefloat.
@@ -77,9 +82,10 @@ pub enum Error {
     /// A configuration lies outside the domain of the feedback transformation: at the start,
     /// at the goal, or on the planned path at time `t`.
     #[error(
-        "{where_}{} is outside the domain of {transform}: {which}{} (value {value:.3e}); {hint}",
+        "{where_}{} is outside the domain of {transform}: {which}{} (value {}); {hint}",
         fmt_q(q),
-        fmt_t(t)
+        fmt_t(t),
+        error_number(*value)
     )]
     Singular {
         /// Which condition fails.
@@ -146,9 +152,9 @@ pub enum Error {
     /// The chained-form path leaves the band of the global normal form: `z2` is outside the
     /// range of `h3` over the band `{sigma != 0}` at `theta1 = z1`.
     #[error(
-        "the chained-form path leaves the band of the global normal form{}: z2 = {z2:.6} is outside \
-         ({lower:.6}, {upper:.6}), the range of h3 at theta1 = {:.4} deg",
-        fmt_t(t), theta1.to_degrees()
+        "the chained-form path leaves the band of the global normal form{}: z2 = {} is outside \
+         ({}, {}), the range of h3 at theta1 = {} deg",
+        fmt_t(t), number(*z2), number(*lower), number(*upper), rounded(theta1.to_degrees(), 4)
     )]
     LeavesBand {
         /// Time on the path \[s\].
@@ -176,8 +182,10 @@ pub enum Error {
     },
     /// A plan was computed, but its verification failed the tolerance.
     #[error(
-        "the plan is not certified: verified final error {final_error:.3e} rad exceeds the \
-         tolerance {tolerance:.1e} rad ({level} level)"
+        "the plan is not certified: verified final error {} rad exceeds the tolerance {} rad \
+         ({level} level)",
+        error_number(*final_error),
+        number(*tolerance)
     )]
     NotCertified {
         /// The verified final error \[rad\].
@@ -205,9 +213,10 @@ pub enum Error {
     /// The forward dynamics under the planned torques could not be integrated to the end: the
     /// open-loop motion leaves the plan so fast that the integrator gives up.
     #[error(
-        "the torque certificate's forward-dynamics integration failed at t = {t:.4} s: {reason}; the \
+        "the torque certificate's forward-dynamics integration failed at t = {} s: {reason}; the \
          open-loop motion under the planned torques diverges from the plan (it is unstable there and \
-         would need feedback to be tracked)"
+         would need feedback to be tracked)",
+        number(*t)
     )]
     TorqueDiverges {
         /// Time reached \[s\].
@@ -218,10 +227,10 @@ pub enum Error {
     /// The chained-form path, mapped back on the start's piece of the domain, ends at another
     /// configuration with the goal's `z`: the goal lies on another piece.
     #[error(
-        "the path of {transform} ends at{} instead of the goal{} ({distance:.3e} rad away): the goal lies \
+        "the path of {transform} ends at{} instead of the goal{} ({} rad away): the goal lies \
          on another piece of the domain with the same normal-form coordinates (e.g. theta2 whole turns away, \
          across a singular curve); give the goal's representative on the start's side",
-        fmt_q(&Some(*reached)), fmt_q(&Some(*goal))
+        fmt_q(&Some(*reached)), fmt_q(&Some(*goal)), error_number(*distance)
     )]
     GoalNotReached {
         /// The transformation.

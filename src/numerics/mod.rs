@@ -4,6 +4,7 @@
 
 pub mod chebyshev;
 pub mod extremum;
+pub mod format;
 pub mod iteration;
 pub mod ode;
 pub mod quadrature;

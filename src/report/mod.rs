@@ -20,7 +20,7 @@ pub mod figures;
 pub mod html;
 pub mod io;
 pub mod methods;
-pub mod numbers;
+pub use crate::numerics::format as numbers;
 pub mod plot;
 pub mod reproduce;
 pub mod summary;

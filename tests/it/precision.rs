@@ -96,3 +96,26 @@ fn tables_print_numbers_with_sensible_precision() {
     }
     assert!(flaws.is_empty(), "{flaws:#?}");
 }
+
+/// Error messages print their numbers the same way (they used to say `(45.0000, 120.0000,
+/// 0.0000) deg` and `value 0.000e0`).
+#[test]
+fn error_messages_print_numbers_with_sensible_precision() {
+    let runs: [&[&str]; 3] = [
+        &["plan", "--method", "nfa", "--transform", "eq12", "--from", "45,120,0"],
+        &["plan", "--mount", "1,-1", "--method", "nfa", "--samples", "51"],
+        &["plan", "--robot", "/no/such/robot.toml"],
+    ];
+    let mut flaws = Vec::new();
+    for args in runs {
+        let o = Command::new(env!("CARGO_BIN_EXE_freefloat")).args(args).output().expect("the binary runs");
+        assert!(!o.status.success(), "{args:?} should fail");
+        let text = String::from_utf8_lossy(&o.stderr);
+        for word in decimals(&text) {
+            if let Some(why) = flaw(&word) {
+                flaws.push(format!("{args:?}: {word} ({why}) in {text}"));
+            }
+        }
+    }
+    assert!(flaws.is_empty(), "{flaws:#?}");
+}

@@ -1,5 +1,6 @@
-//! Numbers as people read them (issue 15): at most six significant digits, no float noise
-//! (`53.5817`, not `53.58170147727351`), fixed notation where it reads better than an exponent
+//! Numbers as people read them (issue 15; `report::numbers` re-exports them, and the errors use
+//! them too): at most six significant digits, no float noise (`53.5817`, not
+//! `53.58170147727351`), fixed notation where it reads better than an exponent
 //! (`1.21`, not `1.21e0`; `0.061`, not `6.1e-2`), scientific notation for the very small and the
 //! very large (`1.339e-12`). Machine outputs (JSON, CSV) keep full precision and do not use these.
 
@@ -7,7 +8,7 @@
 /// below 1e-4 and from 1e6 in absolute value (`significant(53.58170147727351, 6) == "53.5817"`).
 ///
 /// ```
-/// use freefloat::report::numbers::significant;
+/// use freefloat::numerics::format::significant;
 ///
 /// assert_eq!(significant(53.58170147727351, 6), "53.5817");
 /// assert_eq!(significant(1e-9, 6), "1e-9");
