@@ -12,10 +12,14 @@ use crate::error::Error;
 use crate::model::{InputError, RobotParams};
 use crate::plan::{Motion, PlanningProblem};
 
+/// Most trials of one run: each keeps its result (about 50 bytes per controller), and at about
+/// a second each a million trials take days on a workstation.
+pub const MAX_TRIALS: usize = 1_000_000;
+
 /// Options of a Monte Carlo run.
 #[derive(Debug, Clone, PartialEq)]
 pub struct MonteCarloOptions {
-    /// Number of trials; at least 1.
+    /// Number of trials; 1 to [`MAX_TRIALS`].
     pub trials: usize,
     /// Seed of the trials: trial `i` draws its robot and noise from [`trial_seed`]`(seed, i)`.
     pub seed: u64,
@@ -102,6 +106,14 @@ pub fn monte_carlo(
             name: "trials".into(),
             value: mc.trials as f64,
             expected: "at least one trial of at least one controller",
+        }
+        .into());
+    }
+    if mc.trials > MAX_TRIALS {
+        return Err(InputError::InvalidParameter {
+            name: "trials".into(),
+            value: mc.trials as f64,
+            expected: "at most 1e6 trials per run (each one keeps its result)",
         }
         .into());
     }
