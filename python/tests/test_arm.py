@@ -216,3 +216,17 @@ def test_one_link_goal_off_its_holonomy_is_bad_input():
     reachable = e.value.details["reachable"]
     p = ff.plan_arm(arm, [0.0, 0.0], [reachable, 0.3], 10.0)
     assert p.final_error <= 1e-9 and p.q.shape == (1001, 2)
+
+
+def test_bad_horizon_and_bad_urdf(three_link, tmp_path):
+    with pytest.raises(ff.BadInput) as e:
+        ff.plan_arm(three_link, ARM_START, ARM_GOAL, float("nan"))
+    assert e.value.name == "horizon"
+    # A prismatic joint is no planar revolute chain: the error names the joint.
+    urdf = three_link.to_urdf()
+    joint2 = urdf.index('<joint name="joint2" type="continuous">')
+    bad = urdf[:joint2] + urdf[joint2:].replace('type="continuous"', 'type="prismatic"', 1)
+    (tmp_path / "bad.urdf").write_text(bad)
+    with pytest.raises(ff.BadInput) as e:
+        ff.Arm.from_file(tmp_path / "bad.urdf")
+    assert e.value.kind == "urdf" and "joint2" in e.value.details["element"]
