@@ -1,7 +1,7 @@
 """Type stubs of the native module ``freefloat._freefloat`` (PyO3). Import from ``freefloat``."""
 
 from os import PathLike
-from typing import Any, Literal, Optional, Sequence, Tuple, Union, final, overload
+from typing import Any, Literal, Mapping, Optional, Sequence, Tuple, Union, final, overload
 
 import numpy as np
 import numpy.typing as npt
@@ -15,6 +15,8 @@ _CostName = Literal["effort", "energy"]
 _ElbowName = Literal["up", "down"]
 _Angles = Union[Sequence[float], npt.NDArray[np.floating[Any]]]
 _Pair = Union[Tuple[float, float], Sequence[float], npt.NDArray[np.floating[Any]]]
+_LinkKey = Literal["length", "com", "mass", "inertia"]
+_LinkSpec = Union[Mapping[_LinkKey, float], Tuple[float, float, float], Tuple[float, float, float, float], Sequence[float]]
 
 METHODS: list[str]
 """The planning methods, the default first: ``["optimal", "nfa", "ecsa"]`` (the order of
@@ -22,7 +24,20 @@ METHODS: list[str]
 
 __version__: str
 
-__all__ = ["Domain", "METHODS", "Plan", "Robot", "__version__", "_time_plan", "compare", "domain", "plan"]
+__all__ = [
+    "Arm",
+    "ArmPlan",
+    "Domain",
+    "METHODS",
+    "Plan",
+    "Robot",
+    "__version__",
+    "_time_plan",
+    "compare",
+    "domain",
+    "plan",
+    "plan_arm",
+]
 
 @final
 class Robot:
@@ -412,3 +427,165 @@ def track(
     ``saturated_fraction``, ``seconds``, and ``identification`` (adaptive). The GIL is
     released. Raises :class:`BadInput` for bad options, :class:`NoPlan`/:class:`NotCertified`
     when the plan itself fails."""
+
+@final
+class Arm:
+    """A planar free-floating robot with a serial arm of ``n`` revolute links (1 to 15), SI
+    units (the library's ``Arm``): the robots of ``freefloat plan --robot FILE`` with
+    ``[[link]]`` tables or ``--urdf FILE``. Immutable; ``==`` compares every parameter.
+
+    A base of mass ``M`` [kg] and moment of inertia ``I`` [kg m^2] about its centre of mass
+    carries links from the base outwards, each a dict ``{"length": l, "com": d, "mass": m,
+    "inertia": i}`` or a tuple ``(l, d, m)`` / ``(l, d, m, i)``: length joint to next joint
+    [m], distance from the joint to the link's centre of mass along the link [m], mass [kg],
+    moment of inertia about the link's centre of mass [kg m^2] (default 0, a point mass).
+    Joint 1 sits at ``(a, b)`` [m] in the base frame, measured from the base's centre of mass.
+
+    Coordinates are ``q = (phi, theta_1, ..., theta_n)`` [rad]: the base angle and the
+    *relative* joint angles (link ``k`` points along ``phi + theta_1 + ... + theta_k``).
+
+    Invalid values are :class:`freefloat.BadInput` naming the key as the robot file does:
+    ``robot.M``, ``robot.I``, ``mount.a``, ``link[k].mass`` (``k`` from 1), ``link`` for the
+    number of links; a missing or unknown key of a link dict is ``BadInput`` too. Limits: masses
+    1e-3 to 1e6 kg, lengths 1e-3 to 1e3 m, ``0 <= com <= length``, and the last link must carry
+    inertia about its joint (``com > 0`` or ``inertia > 0``).
+    """
+
+    def __new__(
+        cls,
+        *,
+        M: float,
+        I: float,
+        links: Sequence[_LinkSpec],
+        a: float = 0.0,
+        b: float = 0.0,
+    ) -> Arm: ...
+    @staticmethod
+    def from_file(path: Union[str, PathLike[str]]) -> Arm:
+        """Reads and validates a robot file: a URDF when the name ends in ``.urdf`` (a planar
+        chain of revolute joints about z; fixed joints merged; the first joint's origin is the
+        mount), else TOML (``[robot]`` with ``M``, ``I``, optional ``[mount]``, and
+        ``[[link]]`` tables; or the 2-link SRC file, whose links are point masses). Raises
+        :class:`freefloat.BadInput` naming the file, key or URDF element at fault."""
+    @staticmethod
+    def from_robot(robot: Robot) -> Arm:
+        """The 2-link :class:`Robot` as an arm (same base, mount, links and link inertias)."""
+    def to_robot(self) -> Robot:
+        """The arm as a 2-link :class:`Robot`, for :func:`plan` and its every method;
+        :class:`freefloat.BadInput` unless the arm has 2 links with ``com > 0``."""
+    def to_toml(self) -> str:
+        """The arm as a TOML robot file (``[robot]``, ``[mount]``, ``[[link]]``)."""
+    def to_urdf(self) -> str:
+        """The arm as a URDF that :meth:`from_file` reads back to the same arm."""
+    def with_mount(self, a: float, b: float) -> Arm:
+        """The same arm with joint 1 mounted at ``(a, b)`` [m]."""
+    def momentum(self, q: _Angles, dq: _Angles) -> float:
+        """The angular momentum ``F(theta) phi' + G(theta) . theta'`` [kg m^2/s] about the
+        system's centre of mass, at ``q`` = (phi, theta_1..theta_n) [rad] with velocities
+        ``dq`` [rad/s] (n + 1 values each): zero along every plan."""
+    @property
+    def joints(self) -> int:
+        """The number of joints (links) ``n``."""
+    @property
+    def M(self) -> float:
+        """Base mass [kg]."""
+    @property
+    def I(self) -> float:
+        """Base moment of inertia about its centre of mass [kg m^2]."""
+    @property
+    def a(self) -> float:
+        """Mounting point of joint 1 along the base's X axis [m]."""
+    @property
+    def b(self) -> float:
+        """Mounting point of joint 1 along the base's Y axis [m]."""
+    @property
+    def links(self) -> list[dict[str, float]]:
+        """The links, base outwards, as dicts ``{"length", "com", "mass", "inertia"}`` (a new
+        list on each access)."""
+
+@final
+class ArmPlan:
+    """A certified plan of an :class:`Arm`: the sampled trajectory (S samples, both ends
+    included) as float64 NumPy arrays in SI units and radians, and its certificate."""
+
+    @property
+    def t(self) -> npt.NDArray[np.float64]:
+        """Sample times [s], shape (S,), from 0 to T."""
+    @property
+    def q(self) -> npt.NDArray[np.float64]:
+        """Configurations (phi, theta_1..theta_n) [rad, relative joint angles], shape
+        (S, n + 1). With ``wrap=True`` the goal's angles are reached modulo 2 pi: ``q[-1]``
+        may differ from the goal by multiples of 2 pi."""
+    @property
+    def dq(self) -> npt.NDArray[np.float64]:
+        """Velocities [rad/s], shape (S, n + 1): ``dq[:, 0]`` is the base's (zero angular
+        momentum), ``dq[:, 1:]`` the planned joint velocities."""
+    @property
+    def ddtheta(self) -> npt.NDArray[np.float64]:
+        """Joint accelerations [rad/s^2], shape (S, n), exact."""
+    @property
+    def tau(self) -> Optional[npt.NDArray[np.float64]]:
+        """Joint torques [N m], shape (S, n), with ``torques=True``, else None."""
+    @property
+    def method(self) -> str:
+        """``"optimal"``."""
+    @property
+    def joints(self) -> int:
+        """The number of joints ``n``."""
+    @property
+    def effort(self) -> float:
+        """The effort ``integral_0^T |theta'(t)|^2 dt`` [rad^2/s], exact (Gauss-Legendre on the
+        plan's spline spans)."""
+    @property
+    def final_error(self) -> float:
+        """Verified final error ``max_i |wrap(q_i(T) - goal_i)|`` [rad]: the system integrated
+        from the start with the planned joint velocities (rtol = atol = 1e-12)."""
+    @property
+    def tolerance(self) -> float:
+        """The tolerance of ``final_error`` [rad]."""
+    @property
+    def certified(self) -> bool:
+        """Every certificate holds (always True for a returned plan: a failure raises
+        :class:`freefloat.NotCertified`, which carries the plan)."""
+    @property
+    def certificate(self) -> dict[str, Any]:
+        """The report of ``freefloat plan --format json`` for the arm, same keys: ``method``,
+        ``joints``, ``robot``, ``time``, ``samples``, ``start``, ``goal``, ``final_error``,
+        ``tolerance``, ``certified``, ``reached``, ``verification``, ``effort``, ``max_abs_u``,
+        ``optimal`` (the planner's iterations, residuals, spans), and with ``torques=True``
+        ``max_abs_torque``, ``torque_final_error``, ``torque_certificate``; ``seconds``
+        (``plan``, ``torques``)."""
+
+def plan_arm(
+    arm: Union[Arm, Robot],
+    start: _Angles,
+    goal: _Angles,
+    T: float,
+    *,
+    samples: int = 1001,
+    torques: bool = False,
+    wrap: bool = True,
+    initial_velocity: Optional[_Angles] = None,
+    tolerance: float = 1e-9,
+    method: _Method = "optimal",
+) -> ArmPlan:
+    """Plans the minimum-effort motion of ``arm`` from ``start`` to ``goal`` = (phi,
+    theta_1..theta_n) [rad, relative joint angles; n + 1 values] in ``T`` [s] at zero angular
+    momentum, to rest at the goal, and certifies it (the planner of ``freefloat plan`` for an
+    arm of any ``n``). A 2-link :class:`Robot` is accepted and planned as an arm;
+    :func:`plan` remains the full-featured 2-link path (NFA, ECSA, ``goal_ee``, ``cost``,
+    ``smooth_ends``, task-space arrays).
+
+    ``initial_velocity`` = (dtheta_1..dtheta_n) [rad/s] at t = 0 (default: at rest);
+    ``wrap=False`` takes the goal's angles literally instead of modulo 2 pi; ``samples`` is the
+    number of samples of the arrays (at least 2). ``torques=True`` adds the joint torques and
+    the second certificate (the full dynamics integrated with the planned torques, tolerance
+    1e-6 rad). ``method`` is ``"optimal"``: ``"nfa"`` (the chained form is the 2-link
+    robot's) and ``"ecsa"`` (implemented for 2 links) are :class:`BadInput` with the reason.
+    The GIL is released while planning.
+
+    Raises :class:`BadInput` (bad parameters, named: ``start.len``, ``goal[2]``,
+    ``initial_velocity.len``, ``method``, ...; a 1-link arm whose goal phi is not the one its
+    joint path fixes, ``kind == "holonomy_fixed"``), :class:`NoPlan` (the planner did not
+    converge), :class:`NotCertified` (a certificate failing; it carries the plan).
+    """

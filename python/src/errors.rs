@@ -32,6 +32,18 @@ pub enum BindingError {
         /// The method asked for.
         method: &'static str,
     },
+    /// A key or keyword that the bindings check themselves (a link's missing or unknown key, a
+    /// method `plan_arm` does not have), named as the robot file or the signature names it.
+    Key {
+        /// The error's kind, e.g. `missing_key`.
+        kind: &'static str,
+        /// The key, e.g. `link[2].mass`.
+        name: String,
+        /// The message.
+        message: String,
+        /// What is accepted.
+        expected: &'static str,
+    },
     /// A keyword that needs another one (`elbow` without `goal_ee`), or two that exclude each
     /// other (`goal` and `goal_ee`).
     Conflict {
@@ -66,6 +78,10 @@ impl BindingError {
                 let message = format!("{keywords} apply to method={owner:?}, not to method={method:?}");
                 let details = json!({ "name": keywords, "expected": format!("method={owner:?}"), "method": method });
                 raise(py, "BadInput", message, "misplaced_option", &details, None)
+            }
+            BindingError::Key { kind, name, message, expected } => {
+                let details = json!({ "name": name, "expected": expected });
+                raise(py, "BadInput", format!("{message}: expected {expected}"), kind, &details, None)
             }
             BindingError::Conflict { message } => {
                 raise(py, "BadInput", message.to_string(), "conflicting_options", &json!({}), None)
@@ -137,6 +153,12 @@ fn details(e: &freefloat::Error) -> Value {
         E::Input(InputError::RobotFile { path, reason }) => {
             json!({"path": path.display().to_string(), "reason": reason})
         }
+        E::Input(InputError::InvalidText { name, text, expected }) => {
+            json!({"name": name, "value": text, "expected": expected})
+        }
+        E::Input(InputError::Urdf { path, element, reason }) => {
+            json!({"path": path.display().to_string(), "element": element, "reason": reason})
+        }
         E::Input(InputError::Io { path, source }) => {
             json!({"path": path.display().to_string(), "reason": source.to_string()})
         }
@@ -166,6 +188,14 @@ fn details(e: &freefloat::Error) -> Value {
         E::EcsaFailed { stats } => json!({
             "iterations": stats.iterations, "residual": stats.residual, "tolerance": stats.tolerance,
             "residual_history": stats.residual_history, "termination": stats.termination,
+        }),
+        E::HolonomyFixed { joints, theta_goal, reachable, goal, gap, tolerance } => json!({
+            "joints": joints, "theta_goal": theta_goal, "reachable": reachable, "goal": goal, "gap": gap,
+            "tolerance": tolerance,
+        }),
+        E::OptimalFailed { iterations, constraint_residual, kkt_residual, effort, seeds, termination } => json!({
+            "iterations": iterations, "constraint_residual": constraint_residual, "kkt_residual": kkt_residual,
+            "effort": effort, "seeds": seeds, "termination": termination,
         }),
         E::GoalNotReached { transform, reached, goal, distance } => json!({
             "transform": transform, "reached": reached.to_array(), "goal": goal.to_array(), "distance": distance,

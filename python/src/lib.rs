@@ -1,9 +1,11 @@
-//! Python bindings of freefloat (PyO3): `freefloat.Robot`, `plan`, `compare`, `domain`, `track`.
+//! Python bindings of freefloat (PyO3): `freefloat.Robot`, `plan`, `compare`, `domain`, `track`,
+//! and `freefloat.Arm`, `plan_arm` for any planar serial arm.
 //!
 //! The Python package is `python/freefloat/` (its exceptions in `_errors.py`, the stubs in
 //! `_freefloat.pyi`); this crate is its native module `freefloat._freefloat`. Planning and
 //! domain maps run with the GIL released.
 
+mod arm;
 mod compat;
 mod convert;
 mod domain;
@@ -20,11 +22,14 @@ fn _freefloat(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<robot::PyRobot>()?;
     m.add_class::<planning::PyPlan>()?;
     m.add_class::<domain::PyDomain>()?;
+    m.add_class::<arm::PyArm>()?;
+    m.add_class::<arm::PyArmPlan>()?;
     m.add_function(wrap_pyfunction!(planning::plan, m)?)?;
     m.add_function(wrap_pyfunction!(planning::compare, m)?)?;
     m.add_function(wrap_pyfunction!(planning::_time_plan, m)?)?;
     m.add_function(wrap_pyfunction!(domain::domain, m)?)?;
     m.add_function(wrap_pyfunction!(tracking::track, m)?)?;
+    m.add_function(wrap_pyfunction!(arm::plan_arm, m)?)?;
     m.add("METHODS", planning::METHODS.to_vec())?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())

@@ -38,7 +38,8 @@ impl PyRobot {
         i1: f64,
         i2: f64,
     ) -> PyResult<Self> {
-        let params = RobotParams { l1, l2, d1, d2, base_mass: M, base_inertia: I, m1, m2, i1, i2, mount: Mount { a, b } };
+        let params =
+            RobotParams { l1, l2, d1, d2, base_mass: M, base_inertia: I, m1, m2, i1, i2, mount: Mount { a, b } };
         RobotParams::new(params).map(|inner| Self { inner }).py_result(py)
     }
 

@@ -1,0 +1,401 @@
+//! `freefloat.Arm`, `freefloat.plan_arm` and `freefloat.ArmPlan`: any planar serial arm (n
+//! links, link inertias), as the command line reads it (a TOML robot file with `[[link]]`, or a
+//! URDF), planned by the library's one entry point for arms ([`plan_arm`]) with its
+//! certificates; results as NumPy arrays, the CLI's JSON report as the certificate.
+
+use std::path::PathBuf;
+
+use freefloat::planners::arm::{ArmRequest, plan_arm as library_plan_arm};
+use freefloat::planners::chain::ChainProblem;
+use freefloat::report::arm::{ArmReport, trajectory};
+use freefloat::{Arm, Base, Link, Method, Mount};
+use numpy::ndarray::Array2;
+use numpy::{IntoPyArray, PyArray1, PyArray2};
+use pyo3::exceptions::PyTypeError;
+use pyo3::prelude::*;
+use pyo3::sync::PyOnceLock;
+use pyo3::types::{PyDict, PyList};
+use serde_json::Value;
+
+use crate::compat::InputError;
+use crate::convert::{column, json_dict};
+use crate::errors::{BindingError, IntoPyResult, library_error};
+use crate::planning::{count, parse_method};
+use crate::robot::PyRobot;
+
+/// The keys of a link given as a dict, in the order of a link given as a tuple.
+const LINK_KEYS: [&str; 4] = ["length", "com", "mass", "inertia"];
+
+/// A planar free-floating robot with a serial arm of `n` revolute links (SI units): a base of
+/// mass `M` and inertia `I`, links `(length, com, mass, inertia)` from the base outwards, joint
+/// 1 mounted at `(a, b)` in the base frame. Immutable.
+#[pyclass(name = "Arm", module = "freefloat", frozen, eq)]
+#[derive(Debug, Clone, PartialEq)]
+pub struct PyArm {
+    /// The validated arm.
+    pub inner: Arm,
+}
+
+/// `BadInput` for a parameter named `name`.
+fn bad(name: String, value: f64, expected: &'static str) -> BindingError {
+    BindingError::Library(freefloat::Error::from(InputError::InvalidParameter { name, value, expected }))
+}
+
+/// One number of a link, else `TypeError` naming its key.
+fn number(item: &Bound<'_, PyAny>, key: &str) -> PyResult<f64> {
+    item.extract::<f64>().map_err(|_| {
+        let type_name = item.get_type().name().map(|n| n.to_string()).unwrap_or_else(|_| "?".into());
+        PyTypeError::new_err(format!("{key}: expected a number, got {type_name}"))
+    })
+}
+
+/// The links of `Arm(links=...)`: dicts `{"length", "com", "mass", "inertia"}` (inertia
+/// optional, 0) or sequences `(length, com, mass[, inertia])`. Keys are named as the robot file
+/// names them, `link[k].mass` with `k` from 1.
+fn parse_links(py: Python<'_>, links: &Bound<'_, PyAny>) -> PyResult<Vec<Link>> {
+    if links.is_instance_of::<PyDict>() || links.extract::<String>().is_ok() {
+        return Err(PyTypeError::new_err("links: expected a sequence of links (dicts or tuples), one per joint"));
+    }
+    let mut out = Vec::new();
+    for (i, item) in links.try_iter()?.enumerate() {
+        let item = item?;
+        let key = |field: &str| format!("link[{}].{field}", i + 1);
+        let mut values = [f64::NAN, f64::NAN, f64::NAN, 0.0];
+        if let Ok(dict) = item.cast::<PyDict>() {
+            for (k, v) in dict.iter() {
+                let name: String =
+                    k.extract().map_err(|_| PyTypeError::new_err(format!("{}: keys are strings", key(""))))?;
+                let Some(j) = LINK_KEYS.iter().position(|x| *x == name) else {
+                    let name = key(&name);
+                    let message = format!("unknown key `{name}`");
+                    let expected = "the keys length, com, mass and inertia";
+                    return Err(BindingError::Key { kind: "unknown_key", name, message, expected }.into_pyerr(py));
+                };
+                values[j] = number(&v, &key(LINK_KEYS[j]))?;
+            }
+            for field in &LINK_KEYS[..3] {
+                if !dict.contains(field)? {
+                    let name = key(field);
+                    let message = format!("missing key `{name}`");
+                    let expected = "length, com and mass in every link (inertia defaults to 0)";
+                    return Err(BindingError::Key { kind: "missing_key", name, message, expected }.into_pyerr(py));
+                }
+            }
+        } else {
+            let fields: Vec<Bound<'_, PyAny>> = item
+                .try_iter()
+                .and_then(|it| it.collect::<PyResult<Vec<_>>>())
+                .map_err(|_| PyTypeError::new_err(format!("link[{}]: expected a dict or a tuple", i + 1)))?;
+            if !(3..=4).contains(&fields.len()) {
+                let expected = "a link (length, com, mass[, inertia]) of 3 or 4 numbers";
+                return Err(bad(format!("link[{}]", i + 1), fields.len() as f64, expected).into_pyerr(py));
+            }
+            for (j, v) in fields.iter().enumerate() {
+                values[j] = number(v, &key(LINK_KEYS[j]))?;
+            }
+        }
+        let [length, com, mass, inertia] = values;
+        out.push(Link { length, com, mass, inertia });
+    }
+    Ok(out)
+}
+
+/// A link as the dict `{"length", "com", "mass", "inertia"}`.
+fn link_dict<'py>(py: Python<'py>, link: &Link) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("length", link.length)?;
+    d.set_item("com", link.com)?;
+    d.set_item("mass", link.mass)?;
+    d.set_item("inertia", link.inertia)?;
+    Ok(d)
+}
+
+/// `n` numbers from a sequence, else `BadInput` naming it.
+fn exactly(py: Python<'_>, name: &str, values: Vec<f64>, n: usize, expected: &'static str) -> PyResult<Vec<f64>> {
+    if values.len() == n {
+        Ok(values)
+    } else {
+        Err(bad(format!("{name}.len"), values.len() as f64, expected).into_pyerr(py))
+    }
+}
+
+#[pymethods]
+impl PyArm {
+    /// The arm of the keywords; validated by the library (`BadInput` naming the key).
+    #[new]
+    #[pyo3(signature = (*, M, I, links, a = 0.0, b = 0.0))]
+    #[allow(non_snake_case)]
+    fn new(py: Python<'_>, M: f64, I: f64, links: &Bound<'_, PyAny>, a: f64, b: f64) -> PyResult<Self> {
+        let links = parse_links(py, links)?;
+        Arm::new(Base { mass: M, inertia: I }, Mount { a, b }, links).map(|inner| Self { inner }).py_result(py)
+    }
+
+    /// Reads and validates a robot file: a URDF when the name ends in `.urdf`, else TOML.
+    #[staticmethod]
+    fn from_file(py: Python<'_>, path: PathBuf) -> PyResult<Self> {
+        Arm::load(&path).map(|inner| Self { inner }).py_result(py)
+    }
+
+    /// The 2-link `Robot` as an arm.
+    #[staticmethod]
+    fn from_robot(robot: PyRef<'_, PyRobot>) -> Self {
+        Self { inner: Arm::from_params(&robot.inner) }
+    }
+
+    /// The 2-link arm as a `Robot` (for `plan`'s every method), else `BadInput`.
+    fn to_robot(&self, py: Python<'_>) -> PyResult<PyRobot> {
+        match self.inner.as_src() {
+            Some(inner) => Ok(PyRobot { inner }),
+            None => {
+                let expected = "an arm of 2 links with com > 0 on both (the 2-link robot of freefloat.plan)";
+                Err(bad("link".into(), self.inner.joints() as f64, expected).into_pyerr(py))
+            }
+        }
+    }
+
+    /// The arm as a TOML robot file (`[robot]`, `[mount]`, `[[link]]`).
+    fn to_toml(&self) -> String {
+        self.inner.to_toml()
+    }
+
+    /// The arm as a URDF that `from_file` reads back to the same arm.
+    fn to_urdf(&self) -> String {
+        self.inner.to_urdf()
+    }
+
+    /// The same arm mounted at `(a, b)` [m].
+    fn with_mount(&self, py: Python<'_>, a: f64, b: f64) -> PyResult<Self> {
+        Arm::new(self.inner.base, Mount { a, b }, self.inner.links.clone()).map(|inner| Self { inner }).py_result(py)
+    }
+
+    /// The angular momentum `F phi' + G . theta'` [kg m^2/s] at `q` [rad] with velocities `dq`
+    /// [rad/s] (n + 1 values each); zero along every plan.
+    fn momentum(&self, py: Python<'_>, q: Vec<f64>, dq: Vec<f64>) -> PyResult<f64> {
+        let n = self.inner.joints();
+        let expected = "n + 1 numbers (phi, theta_1..theta_n)";
+        let q = exactly(py, "q", q, n + 1, expected)?;
+        let dq = exactly(py, "dq", dq, n + 1, expected)?;
+        let (f, g) = self.inner.momentum_coefficients(&q[1..]);
+        Ok(f * dq[0] + g.iter().zip(&dq[1..]).map(|(g, w)| g * w).sum::<f64>())
+    }
+
+    /// The number of joints `n`.
+    #[getter]
+    fn joints(&self) -> usize {
+        self.inner.joints()
+    }
+    /// Base mass [kg].
+    #[getter(M)]
+    fn base_mass(&self) -> f64 {
+        self.inner.base.mass
+    }
+    /// Base moment of inertia [kg m^2].
+    #[getter(I)]
+    fn base_inertia(&self) -> f64 {
+        self.inner.base.inertia
+    }
+    /// Mounting point along the base's X axis [m].
+    #[getter]
+    fn a(&self) -> f64 {
+        self.inner.mount.a
+    }
+    /// Mounting point along the base's Y axis [m].
+    #[getter]
+    fn b(&self) -> f64 {
+        self.inner.mount.b
+    }
+    /// The links as dicts `{"length", "com", "mass", "inertia"}` (a new list on each access).
+    #[getter]
+    fn links<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
+        let list = PyList::empty(py);
+        for link in &self.inner.links {
+            list.append(link_dict(py, link)?)?;
+        }
+        Ok(list)
+    }
+
+    fn __repr__(&self) -> String {
+        let r = &self.inner;
+        let links = r
+            .links
+            .iter()
+            .map(|l| format!("({:?}, {:?}, {:?}, {:?})", l.length, l.com, l.mass, l.inertia))
+            .collect::<Vec<_>>()
+            .join(", ");
+        format!(
+            "Arm(M={:?}, I={:?}, links=[{links}], a={:?}, b={:?})",
+            r.base.mass, r.base.inertia, r.mount.a, r.mount.b
+        )
+    }
+}
+
+/// A certified plan of an arm: the sampled trajectory as NumPy arrays (SI units, radians) and
+/// its certificate, the report of `freefloat plan --format json` for the arm.
+#[pyclass(name = "ArmPlan", module = "freefloat", frozen)]
+pub struct PyArmPlan {
+    /// Sample times [s], shape (S,).
+    #[pyo3(get)]
+    t: Py<PyArray1<f64>>,
+    /// Configurations (phi, theta_1..theta_n) [rad], shape (S, n + 1).
+    #[pyo3(get)]
+    q: Py<PyArray2<f64>>,
+    /// Velocities [rad/s], shape (S, n + 1); columns 1.. are the controls u.
+    #[pyo3(get)]
+    dq: Py<PyArray2<f64>>,
+    /// Joint accelerations [rad/s^2], shape (S, n).
+    #[pyo3(get)]
+    ddtheta: Py<PyArray2<f64>>,
+    /// Joint torques [N m], shape (S, n), with torques=True, else None.
+    #[pyo3(get)]
+    tau: Option<Py<PyArray2<f64>>>,
+    /// "optimal".
+    #[pyo3(get)]
+    method: String,
+    /// The number of joints n.
+    #[pyo3(get)]
+    joints: usize,
+    /// integral of |theta'|^2 dt [rad^2/s] (exact).
+    #[pyo3(get)]
+    effort: f64,
+    /// Verified final error [rad].
+    #[pyo3(get)]
+    final_error: f64,
+    /// Its tolerance [rad].
+    #[pyo3(get)]
+    tolerance: f64,
+    /// Every certificate computed holds.
+    #[pyo3(get)]
+    certified: bool,
+    report: Value,
+    certificate: PyOnceLock<Py<PyDict>>,
+}
+
+#[pymethods]
+impl PyArmPlan {
+    /// The certificate: the CLI's JSON report as a dict (same keys), built on first access.
+    #[getter]
+    fn certificate(&self, py: Python<'_>) -> PyResult<Py<PyDict>> {
+        let dict = self.certificate.get_or_try_init(py, || -> PyResult<Py<PyDict>> {
+            let map = self.report.as_object().cloned().unwrap_or_default();
+            Ok(json_dict(py, &map)?.unbind())
+        })?;
+        Ok(dict.clone_ref(py))
+    }
+
+    fn __repr__(&self, py: Python<'_>) -> String {
+        let n = self.t.bind(py).len().unwrap_or(0);
+        format!(
+            "ArmPlan(method='{}', joints={}, samples={n}, final_error={:.3e}, certified={}, effort={:.6})",
+            self.method,
+            self.joints,
+            self.final_error,
+            if self.certified { "True" } else { "False" },
+            self.effort
+        )
+    }
+}
+
+/// Rows of `width` numbers as a `(rows, width)` float64 array.
+fn matrix<'py>(py: Python<'py>, rows: &[Vec<f64>], width: usize) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    let flat: Vec<f64> = rows.iter().flatten().copied().collect();
+    let array = Array2::from_shape_vec((rows.len(), width), flat).map_err(|e| {
+        pyo3::exceptions::PyRuntimeError::new_err(format!("invariant: every row has {width} numbers: {e}"))
+    })?;
+    Ok(array.into_pyarray(py))
+}
+
+/// The arm of `plan_arm(arm, ...)`: an `Arm`, or a 2-link `Robot` converted.
+fn any_arm(arm: &Bound<'_, PyAny>) -> PyResult<Arm> {
+    if let Ok(arm) = arm.cast::<PyArm>() {
+        return Ok(arm.get().inner.clone());
+    }
+    if let Ok(robot) = arm.cast::<PyRobot>() {
+        return Ok(Arm::from_params(&robot.get().inner));
+    }
+    let type_name = arm.get_type().name().map(|n| n.to_string()).unwrap_or_else(|_| "?".into());
+    Err(PyTypeError::new_err(format!("plan_arm: arm must be a freefloat.Arm or a freefloat.Robot, not {type_name}")))
+}
+
+/// The library's refusal of a method names the command line's flag; here it is the keyword.
+fn python_names(e: freefloat::Error) -> freefloat::Error {
+    match e {
+        freefloat::Error::Input(InputError::InvalidParameter { name, value, expected }) if name == "--method" => {
+            freefloat::Error::Input(InputError::InvalidParameter { name: "method".into(), value, expected })
+        }
+        e => e,
+    }
+}
+
+/// Plans a motion of `arm` from `start` to `goal` in `T` and certifies it; see the stub.
+#[pyfunction]
+#[pyo3(signature = (
+    arm, start, goal, T, *, samples = 1001, torques = false, wrap = true, initial_velocity = None,
+    tolerance = 1e-9, method = "optimal"
+))]
+#[allow(non_snake_case, clippy::too_many_arguments)]
+pub fn plan_arm<'py>(
+    py: Python<'py>,
+    arm: &Bound<'py, PyAny>,
+    start: Vec<f64>,
+    goal: Vec<f64>,
+    T: f64,
+    samples: i64,
+    torques: bool,
+    wrap: bool,
+    initial_velocity: Option<Vec<f64>>,
+    tolerance: f64,
+    method: &str,
+) -> PyResult<Bound<'py, PyArmPlan>> {
+    let arm = any_arm(arm)?;
+    let n = arm.joints();
+    let method: Method = parse_method(method).py_result(py)?;
+    if n == 2 && method != Method::Optimal {
+        // The library's reason ("another number of links") is not this arm's: point to `plan`.
+        let message = format!("plan_arm has no method={:?} for a 2-link arm", method.name());
+        let expected =
+            "method=\"optimal\"; the NFA and ECSA plan a 2-link arm with freefloat.plan(arm.to_robot(), ...)";
+        return Err(
+            BindingError::Key { kind: "invalid_parameter", name: "method".into(), message, expected }.into_pyerr(py)
+        );
+    }
+    let samples = count("samples", samples).py_result(py)?;
+    let angles = "n + 1 numbers (phi, theta_1..theta_n) [rad]";
+    let start = exactly(py, "start", start, n + 1, angles)?;
+    let goal = exactly(py, "goal", goal, n + 1, angles)?;
+    let initial_velocity = match initial_velocity {
+        None => vec![0.0; n],
+        Some(v) => exactly(py, "initial_velocity", v, n, "n numbers (dtheta_1..dtheta_n) [rad/s]")?,
+    };
+    let problem = ChainProblem { start, goal, horizon: T, initial_velocity, wrap };
+    problem.validate(&arm).py_result(py)?;
+    let request = ArmRequest { problem, samples, tolerance, torques };
+    let planned = py.detach(|| library_plan_arm(&arm, method, &request)).map_err(python_names).py_result(py)?;
+
+    let report = ArmReport::new(&planned, &request.problem.start, &request.problem.goal, false);
+    let report_value = serde_json::to_value(&report).map_err(|e| {
+        pyo3::exceptions::PyRuntimeError::new_err(format!("invariant: the arm's report serialises: {e}"))
+    })?;
+    let tr = trajectory(&planned);
+    let v = planned.verification();
+    let py_plan = PyArmPlan {
+        t: column(py, &tr.t).unbind(),
+        q: matrix(py, &tr.q, n + 1)?.unbind(),
+        dq: matrix(py, &tr.dq, n + 1)?.unbind(),
+        ddtheta: matrix(py, &tr.ddtheta, n)?.unbind(),
+        tau: tr.tau.as_deref().map(|tau| matrix(py, tau, n).map(Bound::unbind)).transpose()?,
+        method: planned.method.name().to_string(),
+        joints: n,
+        effort: planned.stats().effort,
+        final_error: v.final_error,
+        tolerance: v.tolerance,
+        certified: report.certified,
+        report: report_value,
+        certificate: PyOnceLock::new(),
+    };
+    let failure = planned.certified().err();
+    let bound = Bound::new(py, py_plan)?;
+    match failure {
+        Some(e) => Err(library_error(py, &e, Some(bound.into_any()))),
+        None => Ok(bound),
+    }
+}
