@@ -132,8 +132,9 @@ pub struct Animation {
     pub t: Vec<f64>,
     /// Base orientation `phi` \[rad\] at each time.
     pub phi: Vec<f64>,
-    /// Flattened poses: `[base x, base y, joint1 x, y, joint2 x, y, tip x, y]` per time \[m\].
-    pub points: Vec<[f64; 8]>,
+    /// Flattened poses per time \[m\]: `[base x, base y, joint1 x, y, .., joint n x, y, tip x, y]`
+    /// (`2 (n + 2)` numbers for `n` links; the mounting point is joint 1).
+    pub points: Vec<Vec<f64>>,
 }
 
 /// The animation of a planned case.
@@ -151,7 +152,7 @@ pub fn animation(o: &CaseOutcome) -> Animation {
         .iter()
         .map(|&i| {
             let p = pose(robot, &Configuration::from_array(tr.q[i]));
-            [p.base, p.joint1, p.joint2, p.tip].concat().try_into().map(|a: [f64; 8]| a.map(round)).unwrap_or([0.0; 8])
+            [p.base, p.joint1, p.joint2, p.tip].iter().flat_map(|xy| xy.map(round)).collect()
         })
         .collect();
     Animation {

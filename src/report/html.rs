@@ -31,6 +31,8 @@ pub struct Page<'a> {
     pub sweep: Option<&'a SweepSummary>,
     /// The three methods side by side (Fig. 17).
     pub methods: &'a [MethodRow],
+    /// The 3-link arm (Fig. 18).
+    pub arm3: Option<&'a super::Arm3Row>,
     /// The figures, in order.
     pub figures: &'a [FigureEmbed],
     /// Wall time of the whole computation \[s\].
@@ -246,10 +248,14 @@ pub fn page(p: &Page) -> Result<String, serde_json::Error> {
               motion's (refined between samples); effort is ∫|u|² dt.</p>\n";
         s += &methods_html(p.methods);
     }
+    if let Some(row) = p.arm3 {
+        s += "<h2>A 3-link arm (<a href=\"#fig18\">Fig. 18</a>)</h2>\n";
+        s += &super::arm3::arm3_html(row);
+    }
     s += "<h2>Figures</h2>\n";
     s += "<p class=\"note\">Animations: the base (grey rectangle, 0.6 m × 0.5 m, illustrative) at its \
-          orientation φ around its centre of mass, the bar to the mounting point (a, b), link 1 (blue) and link 2 \
-          (green), and the end-effector's path (orange: travelled). The system's centre of mass stays at the \
+          orientation φ around its centre of mass, the bar to the mounting point (a, b), link 1 (blue), link 2 \
+          (green) and, for the 3-link arm, link 3 (pink), and the end-effector's path (orange: travelled). The system's centre of mass stays at the \
           origin (+): Eq. (4) with zero linear momentum. Each canvas has this legend and a scale bar.</p>\n";
     for f in p.figures {
         s += &format!("<section class=\"figure\" id=\"{}\">\n", escape(&f.name));

@@ -1,4 +1,4 @@
-//! The paper's results of Sec. 5 (Figs. 4-14), and three beyond it (Figs. 15-17), as plans,
+//! The paper's results of Sec. 5 (Figs. 4-14), and four beyond it (Figs. 15-18), as plans,
 //! figures, a summary and a self-contained report page: what `freefloat reproduce` writes.
 //!
 //! Every number here is computed by the planners on the paper's problem
@@ -15,6 +15,7 @@
 //! ```
 
 pub mod arm;
+pub mod arm3;
 pub mod cases;
 pub mod figures;
 pub mod html;
@@ -25,6 +26,7 @@ pub mod plot;
 pub mod reproduce;
 pub mod summary;
 
+pub use arm3::{ARM3_FIGURE, Arm3Row, arm3_animation, arm3_figure, plan_arm3};
 pub use cases::{Case, CaseMethod, CaseOutcome, PaperSeconds, cases};
 pub use figures::{Animation, BASE_SIZE, animation, plan_figure};
 pub use methods::{COMPARED_METHODS, METHOD_MOUNTS, MethodRow, methods_markdown};

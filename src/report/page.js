@@ -1,4 +1,5 @@
-// freefloat report page: one animation per plan (canvas), play/pause and a time slider.
+// freefloat report page: one animation per plan (canvas), play/pause and a time slider; the arm
+// is drawn from its points (base, joints, tip), for any number of links.
 // No network, no external scripts. When every canvas has drawn its first frame, the body gets
 // data-status="ok" and data-painted = the smallest count of non-background pixels of a canvas;
 // a script error sets data-status="error: ..." instead (checked by the browser test).
@@ -21,12 +22,17 @@
   };
 
   var BACKGROUND = [255, 255, 255];
+  // Link colours, from the base outwards (Okabe and Ito; links 1 and 2 as in the 2-link figures).
+  var LINK_COLOURS = ["#0072b2", "#009e73", "#cc79a7", "#e69f00", "#56b4e9", "#f0e442"];
+  function linkColour(k) { return LINK_COLOURS[k % LINK_COLOURS.length]; }
+  // A frame is [base x, y, joint 1 x, y, .., joint n x, y, tip x, y]: n links.
+  function linkCount(anim) { return anim.points[0].length / 2 - 2; }
 
   function bounds(anim) {
     var half = Math.hypot(anim.base_size[0], anim.base_size[1]) / 2;
     var b = { x0: -half, x1: half, y0: -half, y1: half };
     anim.points.forEach(function (p) {
-      for (var k = 0; k < 8; k += 2) {
+      for (var k = 0; k < p.length; k += 2) {
         var r = k === 0 ? half : 0.05;
         b.x0 = Math.min(b.x0, p[k] - r);
         b.x1 = Math.max(b.x1, p[k] + r);
@@ -65,8 +71,16 @@
     var ctx = canvas.getContext("2d");
     var b = bounds(anim);
     var margin = 20;
-    // The strip under the drawing for the legend and the scale bar [px].
-    var LEGEND = 72;
+    var links = linkCount(anim);
+    var entries = [
+      ["+", "#999", "centre of mass of the system (fixed)"],
+      ["bar", "#444", "base to mounting point (a, b)"]
+    ];
+    for (var k = 0; k < links; k++) entries.push(["bar", linkColour(k), "link " + (k + 1)]);
+    entries.push(["line", "#d55e00", "end-effector path"]);
+    entries.push(["line", "#0072b2", "base's centre of mass path"]);
+    // The strip under the drawing for the legend (two columns) and the scale bar [px].
+    var LEGEND = 12 + 20 * Math.ceil(entries.length / 2);
     var scale = Math.min(
       (canvas.width - 2 * margin) / (b.x1 - b.x0),
       (canvas.height - 2 * margin - 24 - LEGEND) / (b.y1 - b.y0)
@@ -90,14 +104,6 @@
       ctx.lineTo(canvas.width, top - 6);
       ctx.stroke();
       ctx.font = "13px sans-serif";
-      var entries = [
-        ["+", "#999", "centre of mass of the system (fixed)"],
-        ["bar", "#444", "base to mounting point (a, b)"],
-        ["bar", "#0072b2", "link 1"],
-        ["bar", "#009e73", "link 2"],
-        ["line", "#d55e00", "end-effector path"],
-        ["line", "#0072b2", "base's centre of mass path"]
-      ];
       entries.forEach(function (e, k) {
         var x = 10 + 230 * (k % 2);
         var y = top + 20 * Math.floor(k / 2) + 6;
@@ -155,7 +161,7 @@
       line([[-0.05, 0], [0.05, 0]], "#999", 1);
       line([[0, -0.05], [0, 0.05]], "#999", 1);
       // The end-effector path: whole (faint) and travelled so far.
-      var path = anim.points.map(function (q) { return [q[6], q[7]]; });
+      var path = anim.points.map(function (q) { return [q[q.length - 2], q[q.length - 1]]; });
       line(path, "#d9d9d9", 1.5);
       line(path.slice(0, i + 1), "#d55e00", 2);
       // The base's centre of mass: where the base drifts (same kinematics, model::kinematics).
@@ -180,13 +186,13 @@
       line([[p[0], p[1]], [p[0] + c * w, p[1] + s * w]], "#444", 1);
       // From the base's centre of mass to the mounting point (a, b).
       line([[p[0], p[1]], [p[2], p[3]]], "#444", 3);
-      // The two links.
-      line([[p[2], p[3]], [p[4], p[5]]], "#0072b2", 6);
-      line([[p[4], p[5]], [p[6], p[7]]], "#009e73", 6);
+      // The links, each from its joint to the next (the last to the tip), then the joints.
+      for (var k = 0; k < links; k++) {
+        line([[p[2 * k + 2], p[2 * k + 3]], [p[2 * k + 4], p[2 * k + 5]]], linkColour(k), 6);
+      }
       dot([p[0], p[1]], 4, "#444");
-      dot([p[2], p[3]], 5, "#000");
-      dot([p[4], p[5]], 5, "#000");
-      dot([p[6], p[7]], 5, "#d55e00");
+      for (var j = 1; j <= links; j++) dot([p[2 * j], p[2 * j + 1]], 5, "#000");
+      dot([p[p.length - 2], p[p.length - 1]], 5, "#d55e00");
       ctx.fillStyle = "#000";
       ctx.font = "15px sans-serif";
       var text = "t = " + anim.t[i].toFixed(2) + " s   \u03c6 = " + (phi * 180 / Math.PI).toFixed(1) + " deg";

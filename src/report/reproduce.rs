@@ -1,5 +1,5 @@
-//! The reproduction of the paper's results of Sec. 5 (Figs. 4-14) and three beyond it
-//! (Figs. 15-17) on the built-in defaults, as figures (SVG and PNG), `summary.md`,
+//! The reproduction of the paper's results of Sec. 5 (Figs. 4-14) and four beyond it
+//! (Figs. 15-18) on the built-in defaults, as figures (SVG and PNG), `summary.md`,
 //! `summary.json` and a self-contained `report.html` with an animation of every plan: what
 //! `freefloat reproduce` writes.
 
@@ -9,6 +9,7 @@ use std::time::Instant;
 use rayon::prelude::*;
 use serde::Serialize;
 
+use super::arm3::{ARM3_FIGURE, Arm3Row, arm3_animation, arm3_figure, arm3_markdown, plan_arm3};
 use super::cases::{Case, CaseMethod, CaseOutcome, cases};
 use super::figures::{animation, plan_figure};
 use super::html::{FigureEmbed, Page, page};
@@ -34,6 +35,8 @@ struct Summary<'a> {
     sweep: &'a SweepSummary,
     /// The three methods side by side (Fig. 17).
     methods: &'a [MethodRow],
+    /// The 3-link arm (Fig. 18).
+    arm3: &'a Arm3Row,
     /// Wall time of the computation and the pictures (before the page and the summary) \[s\].
     seconds: f64,
 }
@@ -79,10 +82,10 @@ fn description(outcome: &CaseOutcome) -> String {
 }
 
 /// The number of jobs that [`reproduce`] reports to its progress callback (with `gif`, one
-/// more per case: its animation).
+/// more per case of the 2-link robot: its animation).
 pub fn job_count(gif: bool) -> usize {
     let cases = cases().len();
-    cases + 2 * DOMAIN_FIGURES.len() + 1 + method_jobs().len() + if gif { cases } else { 0 }
+    cases + 2 * DOMAIN_FIGURES.len() + 1 + method_jobs().len() + 1 + if gif { cases } else { 0 }
 }
 
 /// What [`reproduce`] wrote and found.
@@ -204,17 +207,36 @@ fn reproduce_into(
         row
     };
     let method_jobs = method_jobs();
+    let run_arm3 = || {
+        let clock = Instant::now();
+        let planned = plan_arm3();
+        let status = match &planned {
+            Ok(p) => {
+                let torque = p.torques.as_ref().map_or(f64::NAN, |t| t.certificate.final_error);
+                let ok = if p.certified().is_ok() { "" } else { " (NOT certified)" };
+                format!("{:.1e} rad, torques {torque:.1e} rad{ok}", p.verification().final_error)
+            }
+            Err(_) => "no plan".into(),
+        };
+        progress(&format!("{ARM3_FIGURE:<14} 3-link arm, optimal"), clock.elapsed().as_secs_f64(), &status);
+        planned
+    };
     let robot = RobotParams::src();
-    let (((outcomes, panels), method_rows), sweep) = rayon::join(
+    let ((((outcomes, panels), method_rows), arm3), sweep) = rayon::join(
         || {
             rayon::join(
                 || {
                     rayon::join(
-                        || all.par_iter().map(run_case).collect::<Vec<_>>(),
-                        || domain_jobs.par_iter().map(|&j| run_domain(j)).collect::<Vec<_>>(),
+                        || {
+                            rayon::join(
+                                || all.par_iter().map(run_case).collect::<Vec<_>>(),
+                                || domain_jobs.par_iter().map(|&j| run_domain(j)).collect::<Vec<_>>(),
+                            )
+                        },
+                        || method_jobs.par_iter().map(run_method).collect::<Vec<_>>(),
                     )
                 },
-                || method_jobs.par_iter().map(run_method).collect::<Vec<_>>(),
+                run_arm3,
             )
         },
         || {
@@ -233,6 +255,7 @@ fn reproduce_into(
     let (sweep_rows, sweep_seconds) = sweep?;
     let sweep_summary = SweepSummary::new(&sweep_opts, &sweep_rows, sweep_seconds);
     let rows: Vec<SummaryRow> = all.iter().zip(&outcomes).map(|(c, o)| SummaryRow::new(c, o.as_ref())).collect();
+    let arm3_row = Arm3Row::new(arm3.as_ref());
 
     // Pictures, each as SVG and PNG, rendered in parallel.
     enum Picture<'a> {
@@ -240,6 +263,7 @@ fn reproduce_into(
         Domains(&'static str, [&'a DomainPanel; 2]),
         Sweep,
         Methods,
+        Arm3(&'a crate::planners::arm::ArmPlanned),
     }
     let mut pictures: Vec<(String, Picture)> = Vec::new();
     for (case, outcome) in all.iter().zip(&outcomes) {
@@ -253,6 +277,9 @@ fn reproduce_into(
     }
     pictures.push(("fig16".into(), Picture::Sweep));
     pictures.push(("fig17".into(), Picture::Methods));
+    if let Ok(p) = &arm3 {
+        pictures.push((ARM3_FIGURE.into(), Picture::Arm3(p)));
+    }
     // The paper's figures first, then the cases beyond them.
     pictures.sort_by_key(|(name, _)| (!name.starts_with("fig"), name.clone()));
     let rendered: Vec<(String, Vec<u8>, Vec<u8>)> = pictures
@@ -268,6 +295,7 @@ fn reproduce_into(
                     }
                     Picture::Sweep => sweep_picture(&sweep_rows, format, &path),
                     Picture::Methods => methods_picture(&method_rows, format, &path),
+                    Picture::Arm3(p) => plan_picture(&arm3_figure(p), format, &path),
                 }
             };
             let (svg, png) = rayon::join(|| draw(PictureFormat::Svg), || draw(PictureFormat::Png));
@@ -336,6 +364,20 @@ fn reproduce_into(
                         .to_string(),
                     None,
                 ),
+                Picture::Arm3(p) => (
+                    arm3_figure(p).title,
+                    format!(
+                        "{} Left to right, top to bottom: the angles, the joint velocities with the base's rate \
+                         φ' = -(G · θ')/F, the torques from the inverse dynamics (6), the arm's parameters. {}",
+                        super::arm3::arm3_text().replace('`', ""),
+                        if p.certified().is_ok() {
+                            "Both levels certified."
+                        } else {
+                            "NOT certified at both levels (see the caption)."
+                        }
+                    ),
+                    Some(arm3_animation(p)),
+                ),
             };
             FigureEmbed { name: name.clone(), title, description, png: Some(png.clone()), animation: anim }
         })
@@ -346,6 +388,7 @@ fn reproduce_into(
         domains: &domain_rows,
         sweep: Some(&sweep_summary),
         methods: &method_rows,
+        arm3: Some(&arm3_row),
         figures: &figures,
         seconds,
     })
@@ -359,12 +402,15 @@ fn reproduce_into(
         domains: &domain_rows,
         sweep: &sweep_summary,
         methods: &method_rows,
+        arm3: &arm3_row,
         seconds,
     };
     let json = serde_json::to_vec_pretty(&summary)
         .map_err(|e| InputError::Io { path: out.join("summary.json"), source: std::io::Error::other(e) })?;
     write_atomic(&out.join("summary.json"), &json)?;
-    let mut md = summary_markdown(&rows, &domain_rows, Some(&sweep_summary)) + &methods_markdown(&method_rows);
+    let mut md = summary_markdown(&rows, &domain_rows, Some(&sweep_summary))
+        + &methods_markdown(&method_rows)
+        + &arm3_markdown(&arm3_row);
     if !gifs.is_empty() {
         md += &format!(
             "\n## Animations\n\nEach plan's animation as a GIF, beside this file (the report page shows them \
@@ -387,6 +433,9 @@ fn reproduce_into(
             }
             _ => {}
         }
+    }
+    if let Err(e) = arm3.as_ref().map_err(|e| e.to_string()).and_then(|p| p.certified().map_err(|e| e.to_string())) {
+        failures.push(format!("{ARM3_FIGURE}: the 3-link arm: {e}"));
     }
     Ok(Reproduction { markdown: md, files, seconds: clock.elapsed().as_secs_f64(), failures })
 }

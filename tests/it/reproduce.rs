@@ -34,6 +34,8 @@ fn figures() -> Vec<(String, (u32, u32))> {
     }
     figures.push(("fig16".into(), SWEEP_SIZE));
     figures.push(("fig17".into(), METHODS_SIZE));
+    // The 3-link arm (issue 14), beyond the paper.
+    figures.push(("fig18".into(), PLAN_FIGURE_SIZE));
     // The sin²-windowed ECSA, beyond the paper: plan pictures named by their case.
     for a in ["0.0", "0.1", "0.2", "0.3"] {
         figures.push((format!("ecsa-sin2-{a}"), PLAN_FIGURE_SIZE));
@@ -83,7 +85,7 @@ fn reproduce_writes_every_file_whole_and_the_planners_numbers() {
     let o = reproduce(dir.path());
     let seconds = clock.elapsed().as_secs_f64();
     let stdout = String::from_utf8_lossy(&o.stdout);
-    assert!(stdout.contains("wrote 39 files"), "{stdout}");
+    assert!(stdout.contains("wrote 41 files"), "{stdout}");
     assert!(seconds < 60.0, "reproduce took {seconds} s");
 
     // Every file exists and is not empty; nothing else (no temporary files) is left.
@@ -100,7 +102,13 @@ fn reproduce_writes_every_file_whole_and_the_planners_numbers() {
         assert_eq!(root.tag_name().name(), "svg", "{name}.svg");
         assert_eq!(root.attribute("width"), Some(size.0.to_string().as_str()), "{name}.svg");
         assert!(root.descendants().filter(|n| n.has_tag_name("text")).count() > 10, "{name}.svg has labels");
-        if size == PLAN_FIGURE_SIZE {
+        if name == "fig18" {
+            for label in
+                ["t [s]", "angle [deg]", "rate [rad/s]", "τ [N m]", "θ3", "τ3", "velocity level", "torque level"]
+            {
+                assert!(text.contains(label), "{name}.svg has no `{label}`");
+            }
+        } else if size == PLAN_FIGURE_SIZE {
             for label in ["t [s]", "angle [deg]", "u [rad/s]", "τ [N m]", "θ1", "velocity level", "torque level"] {
                 assert!(text.contains(label), "{name}.svg has no `{label}`");
             }
@@ -140,7 +148,7 @@ fn reproduce_writes_every_file_whole_and_the_planners_numbers() {
     }
     // Self-contained: no external resources.
     assert!(!html.contains("http://") && !html.contains("https://") && !html.contains("src=\"/"));
-    assert_eq!(html.matches("data:image/png;base64,").count(), 18, "a picture for every plan");
+    assert_eq!(html.matches("data:image/png;base64,").count(), 19, "a picture for every plan");
     // Self-contained: no link to a file beside the page, only to anchors on it.
     for link in words.split("href=\"").skip(1) {
         assert!(link.starts_with('#'), "a link off the page: {}", &link[..link.len().min(40)]);
@@ -188,6 +196,24 @@ fn reproduce_writes_every_file_whole_and_the_planners_numbers() {
         close(f64_at(r, "effort"), plan.effort);
         close(pair_at(r, "max_abs_u")[0], plan.max_abs_u[0]);
         close(pair_at(r, "max_abs_u")[1], plan.max_abs_u[1]);
+    }
+
+    // The 3-link arm (Fig. 18): planned, certified at both levels, in summary.md and on the page;
+    // its numbers are the planner's, recomputed here.
+    let arm3 = &summary["arm3"];
+    assert!(arm3["error"].is_null(), "{arm3}");
+    assert_eq!(arm3["certified"], true, "{arm3}");
+    assert_eq!(arm3["torque_certified"], true, "{arm3}");
+    assert!(f64_at(arm3, "final_error") <= 1e-9 && f64_at(arm3, "torque_final_error") <= 1e-6, "{arm3}");
+    assert_eq!(arm3["max_abs_torque"].as_array().map(Vec::len), Some(3));
+    assert_eq!(arm3["arm"]["links"].as_array().map(Vec::len), Some(3));
+    assert!(md.contains("## A 3-link arm (Fig. 18)") && html.contains("A 3-link arm"));
+    let planned = freefloat::report::plan_arm3().expect("the 3-link plan");
+    close(f64_at(arm3, "effort"), planned.stats().effort);
+    close(f64_at(arm3, "final_error"), planned.verification().final_error);
+    let tau = &planned.torques.as_ref().expect("torques").max_abs_torque;
+    for (k, t) in tau.iter().enumerate() {
+        close(arm3["max_abs_torque"][k].as_f64().expect("a number"), *t);
     }
 
     // The values are the planners': recompute an NFA case, an ECSA case and Fig. 15 here.
@@ -307,7 +333,7 @@ fn report_page_runs_in_a_headless_browser() {
     };
     assert_eq!(attribute("data-status"), "ok", "the page's script failed: {body}\n{log}");
     assert!(!log.contains("Uncaught"), "console errors: {log}");
-    assert_eq!(attribute("data-canvases"), "14", "one animation per plan");
+    assert_eq!(attribute("data-canvases"), "15", "one animation per plan (the 3-link arm's among them)");
     let painted: usize = attribute("data-painted").parse().expect("a pixel count");
     assert!(painted > 2000, "an animation canvas is (nearly) blank: {painted} pixels drawn");
 
@@ -348,5 +374,22 @@ fn report_page_runs_in_a_headless_browser() {
     let (size, levels) = decode_png(&shot);
     assert_eq!(size, (1400, 1700));
     assert!(levels > 20, "the screenshot looks blank");
+    eprintln!("screenshot: {}", shot.display());
+
+    // The 3-link arm's animation at t = 2.5 s, kept for a human to look at.
+    let shot = Path::new(env!("CARGO_TARGET_TMPDIR")).join("report-fig18.png");
+    let _stale = std::fs::remove_file(&shot);
+    let (_, log) = headless(
+        &browser,
+        dir.path(),
+        "shot18",
+        &[
+            "--window-size=1400,1700".into(),
+            format!("--screenshot={}", shot.display()),
+            format!("{url}#only=fig18&t=2.5"),
+        ],
+    );
+    assert!(shot.exists(), "no screenshot: {log}");
+    assert!(decode_png(&shot).1 > 20, "the screenshot looks blank");
     eprintln!("screenshot: {}", shot.display());
 }

@@ -254,6 +254,26 @@ impl Arm {
         BodyFrames { base, links, base_jacobian, link_jacobians }
     }
 
+    /// The points of the arm at `q` (`n + 1` values) relative to the system's centre of mass
+    /// \[m\], for drawing it: the base's centre of mass, then joint 1 (the mounting point), joints
+    /// `2..n` and the tip of link `n` (`n + 2` points). The same formulas as [`Arm::bodies`]:
+    /// joint 1 at `base + R(phi) (a, b)`, joint `k + 1` at joint `k` plus `l_k e(psi_k)`.
+    pub fn joint_positions(&self, q: &[f64]) -> Vec<[f64; 2]> {
+        let base = self.bodies(q).base;
+        let (sp, cp) = q[0].sin_cos();
+        let (a, b) = (self.mount.a, self.mount.b);
+        let mut joint = [base[0] + cp * a - sp * b, base[1] + sp * a + cp * b];
+        let mut points = Vec::with_capacity(self.joints() + 2);
+        points.extend([base, joint]);
+        let mut psi = q[0];
+        for (link, theta) in self.links.iter().zip(&q[1..]) {
+            psi += theta;
+            joint = [joint[0] + link.length * psi.cos(), joint[1] + link.length * psi.sin()];
+            points.push(joint);
+        }
+        points
+    }
+
     /// The inertia matrix `M(theta)` of `T = 1/2 q'^T M q'` (`(n + 1) x (n + 1)`, symmetric,
     /// positive definite), at the joint angles `theta` (`n` values): `sum_k m_k J_k^T J_k` over
     /// the bodies' centres of mass plus the rotational terms `I_k w_k w_k^T`, where

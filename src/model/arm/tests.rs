@@ -437,3 +437,38 @@ fn strip_inertial(good: &str, name: &str) -> String {
     let to = from + good[from..].find("</inertial>").expect("its end") + "</inertial>".len();
     format!("{}{}", &good[..from], &good[to..])
 }
+
+/// [`Arm::joint_positions`] agrees with [`Arm::bodies`]: each link's centre of mass lies
+/// `d_k` along the segment from its joint to the next (1e-12), the links keep their lengths;
+/// and at n = 2 the points are [`crate::model::kinematics::pose`]'s.
+#[test]
+fn joint_positions_agree_with_bodies_and_the_two_link_pose() {
+    use crate::model::Configuration;
+    use crate::model::kinematics::pose;
+    let three = Arm::from_toml(include_str!("../../../examples/robots/three_link.toml"), "three_link.toml".as_ref())
+        .expect("the example robot file loads");
+    let mut rng = Rng::new(7);
+    for arm in [three, Arm::from_params(&RobotParams::src().with_mount(Mount::new(0.2, -0.1).unwrap()).unwrap())] {
+        for _ in 0..20 {
+            let q: Vec<f64> = (0..=arm.joints()).map(|_| rng.uniform(-3.0, 3.0)).collect();
+            let points = arm.joint_positions(&q);
+            assert_eq!(points.len(), arm.joints() + 2);
+            let frames = arm.bodies(&q);
+            let close = |x: [f64; 2], y: [f64; 2]| (x[0] - y[0]).hypot(x[1] - y[1]) <= 1e-12;
+            assert!(close(points[0], frames.base));
+            for (k, link) in arm.links.iter().enumerate() {
+                let (j, next) = (points[k + 1], points[k + 2]);
+                assert!(((next[0] - j[0]).hypot(next[1] - j[1]) - link.length).abs() <= 1e-12);
+                let s = link.com / link.length;
+                let com = [j[0] + s * (next[0] - j[0]), j[1] + s * (next[1] - j[1])];
+                assert!(close(com, frames.links[k]), "link {k}: {com:?} vs {:?}", frames.links[k]);
+            }
+            if let Some(robot) = arm.as_src() {
+                let p = pose(&robot, &Configuration::from_array([q[0], q[1], q[2]]));
+                for (x, y) in points.iter().zip([p.base, p.joint1, p.joint2, p.tip]) {
+                    assert!(close(*x, y), "{x:?} vs {y:?}");
+                }
+            }
+        }
+    }
+}
