@@ -15,7 +15,7 @@
 //! lost or repeated rows (accidents, not an adversary, who could recompute it). A merged file is
 //! written by the same routine with `shard=1/1`, so it equals the unsharded run byte for byte.
 //! `mount-sweep` ([`crate::analysis::sweep::file`]) and `track --trials`
-//! (`crate::track::trials_file`) write such files.
+//! ([`crate::track::trials_file`]) write such files.
 
 use std::path::{Path, PathBuf};
 
