@@ -45,13 +45,20 @@ pub const COLUMNS: [&str; 18] = [
 ];
 
 /// The canonical description of a run: every option that changes a row and the robot (without
-/// its mount, which the sweep chooses), floats in shortest round-trip form.
+/// its mount, which the sweep chooses), floats in shortest round-trip form. The links' own
+/// inertias follow only when one is not zero, so that runs of point-mass robots keep the
+/// identity they had before link inertias existed.
 pub fn run_description(robot: &RobotParams, options: &SweepOptions) -> String {
     let o = options;
     let q = |c: crate::model::Configuration| format!("{:?},{:?},{:?}", c.phi, c.theta1, c.theta2);
+    let inertias = if robot.i1 == 0.0 && robot.i2 == 0.0 {
+        String::new()
+    } else {
+        format!(",i1:{:?},i2:{:?}", robot.i1, robot.i2)
+    };
     format!(
         "a={:?},{:?},{} b={:?},{:?},{} grid={} trials={} seed={} samples={} horizon={:?} tolerance={:?} \
-         start={} goal={} global={} robot=l1:{:?},l2:{:?},d1:{:?},d2:{:?},M:{:?},I:{:?},m1:{:?},m2:{:?}",
+         start={} goal={} global={} robot=l1:{:?},l2:{:?},d1:{:?},d2:{:?},M:{:?},I:{:?},m1:{:?},m2:{:?}{inertias}",
         o.a.min,
         o.a.max,
         o.a.steps,
