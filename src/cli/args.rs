@@ -390,7 +390,10 @@ pub enum ControllerArg {
 
 /// Flags of `freefloat track`.
 #[derive(Debug, Args)]
+#[command(args_conflicts_with_subcommands = true)]
 pub struct TrackArgs {
+    #[command(subcommand)]
+    pub command: Option<TrackCommand>,
     /// The nominal robot (the planning model).
     #[command(flatten)]
     pub robot: RobotArgs,
@@ -447,13 +450,37 @@ pub struct TrackArgs {
     /// Monte Carlo: run N seeded trials in parallel and print success rates.
     #[arg(long, value_name = "N")]
     pub trials: Option<usize>,
+    /// With --trials and --out: run only part K of N (K from 1), the trials i with
+    /// i mod N = K - 1. The file's first line names the run and the shard, for `merge` to check.
+    #[arg(long, value_name = "K/N", allow_hyphen_values = true)]
+    pub shard: Option<String>,
     /// Output format on stdout.
     #[arg(long, value_enum, default_value_t = DomainFormat::Table)]
     pub format: DomainFormat,
-    /// Write reference vs actual (and torques) to FILE.csv (single run, first controller).
+    /// Write reference vs actual (and torques) to FILE.csv (single run, first controller); with
+    /// --trials, one checked row per trial and controller.
     #[arg(long, value_name = "FILE.csv")]
     pub out: Option<PathBuf>,
     /// Draw reference vs actual angles, torques and errors to FILE (.svg or .png).
     #[arg(long, value_name = "FILE")]
     pub plot: Option<PathBuf>,
+}
+
+#[derive(Debug, Subcommand)]
+pub enum TrackCommand {
+    /// Merge the trial files of the shards of one Monte Carlo run and print its success rates.
+    Merge(TrackMergeArgs),
+}
+
+#[derive(Debug, Args)]
+pub struct TrackMergeArgs {
+    /// The shards' CSV files (`track --trials N --shard K/N --out FILE.csv`).
+    #[arg(required = true, value_name = "FILES")]
+    pub files: Vec<PathBuf>,
+    /// Output format on stdout.
+    #[arg(long, value_enum, default_value_t = DomainFormat::Table)]
+    pub format: DomainFormat,
+    /// Also write the merged CSV file (equal to the unsharded run's).
+    #[arg(long, value_name = "FILE.csv")]
+    pub out: Option<PathBuf>,
 }

@@ -4,6 +4,7 @@
 use std::io::IsTerminal;
 use std::process::ExitCode;
 
+use freefloat::analysis::shards::ShardFile;
 use freefloat::analysis::sweep::{self, Shard, Span, SweepOptions, SweepRow, file};
 use freefloat::report::io::write_atomic;
 use freefloat::report::plot::{PictureFormat, sweep_picture};
@@ -120,18 +121,26 @@ fn best_line(rows: &[SweepRow], scope: &str) -> String {
     }
 }
 
-/// The largest sweep file read \[bytes\] (a million points take about 250 MiB).
-const SWEEP_FILE_LIMIT: u64 = 1 << 30;
+/// The largest shard file read \[bytes\] (a million sweep points take about 250 MiB).
+const SHARD_FILE_LIMIT: u64 = 1 << 30;
+
+/// Reads and checks the shard files of a merge with `read` (each up to [`SHARD_FILE_LIMIT`]).
+pub(super) fn read_shard_files<R>(
+    paths: &[std::path::PathBuf],
+    read: impl Fn(&[u8], &std::path::Path) -> Result<ShardFile<R>, freefloat::Error>,
+) -> anyhow::Result<Vec<(std::path::PathBuf, ShardFile<R>)>> {
+    let mut files = Vec::new();
+    for path in paths {
+        let bytes = freefloat::model::read_regular_file(path, SHARD_FILE_LIMIT).map_err(freefloat::Error::from)?;
+        files.push((path.clone(), read(&bytes, path)?));
+    }
+    Ok(files)
+}
 
 fn merge(args: &MergeArgs) -> anyhow::Result<ExitCode> {
     let picture = args.plot.as_deref().map(PictureFormat::from_path).transpose()?;
     freefloat::report::io::check_writable(&args.out)?;
-    let mut files = Vec::new();
-    for path in &args.files {
-        let bytes = freefloat::model::read_regular_file(path, SWEEP_FILE_LIMIT).map_err(freefloat::Error::from)?;
-        files.push((path.clone(), file::read(&bytes, path)?));
-    }
-    let merged = file::merge_files(files)?;
+    let merged = file::merge_files(read_shard_files(&args.files, file::read)?)?;
     write_atomic(&args.out, &file::write(&merged.run, merged.shard, &merged.rows)?)?;
     if let (Some(path), Some(format)) = (&args.plot, picture) {
         write_atomic(path, &sweep_picture(&merged.rows, format, path)?)?;

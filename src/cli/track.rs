@@ -5,17 +5,19 @@ use std::io::IsTerminal;
 use std::process::ExitCode;
 
 use anyhow::Context;
+use freefloat::analysis::shards::Shard;
 use freefloat::planners::{PlannerOptions, planner};
 use freefloat::report::io::write_atomic;
 use freefloat::report::numbers::{error_number, number, scientific};
 use freefloat::report::plot::{Panel, PictureFormat, PlanFigure, Series, plan_picture};
+use freefloat::track::trials_file::{self, RunSummary};
 use freefloat::track::{
-    Controller, Disturbances, Gains, IdentifyOptions, MonteCarloOptions, Perturbation, ReplanOptions, TrackOptions,
-    Tracked, monte_carlo, track,
+    Controller, Disturbances, Gains, IdentifyOptions, MonteCarloOptions, Perturbation, ReplanOptions, Summary,
+    TrackOptions, Tracked, monte_carlo, summarise, track,
 };
 use freefloat::{Method, PlanningProblem, RobotParams};
 
-use super::args::{ControllerArg, DomainFormat, TrackArgs};
+use super::args::{ControllerArg, DomainFormat, TrackArgs, TrackCommand, TrackMergeArgs};
 
 fn controller(c: ControllerArg) -> Controller {
     match c {
@@ -49,8 +51,38 @@ fn options(args: &TrackArgs) -> anyhow::Result<TrackOptions> {
     Ok(options)
 }
 
-/// Runs `freefloat track`.
+/// The checked `--out FILE.csv` of a Monte Carlo run or a merge: the extension (any case) and
+/// the directory.
+fn trials_out(path: &std::path::Path) -> anyhow::Result<()> {
+    if !path.extension().and_then(|e| e.to_str()).is_some_and(|e| e.eq_ignore_ascii_case("csv")) {
+        anyhow::bail!("--out {}: the trials file's name must end in .csv", path.display());
+    }
+    Ok(freefloat::report::io::check_writable(path)?)
+}
+
+/// The shard of `--shard`, checked against the other flags before any work: it needs
+/// `--trials` and `--out`.
+fn shard(args: &TrackArgs) -> anyhow::Result<Shard> {
+    let Some(text) = &args.shard else { return Ok(Shard::ALL) };
+    let shard = Shard::parse(text)?;
+    if args.trials.is_none() {
+        anyhow::bail!("--shard {text} needs --trials N: it splits the trials of a Monte Carlo run");
+    }
+    if args.out.is_none() {
+        anyhow::bail!("--shard {text} needs --out FILE.csv: the shard's trials go to a file for `track merge`");
+    }
+    Ok(shard)
+}
+
+/// Runs `freefloat track` or `freefloat track merge`.
 pub fn run(args: &TrackArgs) -> anyhow::Result<ExitCode> {
+    if let Some(TrackCommand::Merge(m)) = &args.command {
+        return merge(m);
+    }
+    let shard = shard(args)?;
+    if let (Some(path), Some(_)) = (&args.out, args.trials) {
+        trials_out(path)?;
+    }
     let robot = super::robot(&args.robot)?;
     let [p0, a0, b0] = super::parse_list::<3>("--from", &args.ends.from)?;
     let [p1, a1, b1] = super::parse_list::<3>("--to", &args.ends.to)?;
@@ -69,7 +101,15 @@ pub fn run(args: &TrackArgs) -> anyhow::Result<ExitCode> {
     let planned = planner(Method::Optimal, &PlannerOptions::default()).plan(&problem)?;
     planned.certified()?;
     if let Some(trials) = args.trials {
-        let mc = MonteCarloOptions { trials, seed: args.seed, truth, perturbation, controllers, ..Default::default() };
+        let mc = MonteCarloOptions {
+            trials,
+            seed: args.seed,
+            truth,
+            perturbation,
+            controllers,
+            shard,
+            ..Default::default()
+        };
         return monte(args, &problem, planned.motion.as_ref(), &options, &mc);
     }
     let truth = match truth {
@@ -103,8 +143,9 @@ fn monte(
     options: &TrackOptions,
     mc: &MonteCarloOptions,
 ) -> anyhow::Result<ExitCode> {
-    let bar = if std::io::stderr().is_terminal() {
-        indicatif::ProgressBar::new(mc.trials as u64)
+    let count = mc.shard.indices(mc.trials).count();
+    let bar = if std::io::stderr().is_terminal() && !super::output::quiet() {
+        indicatif::ProgressBar::new(count as u64)
     } else {
         indicatif::ProgressBar::hidden()
     };
@@ -114,24 +155,46 @@ fn monte(
         bar.set_style(style);
     }
     let clock = std::time::Instant::now();
-    let (_, summaries) = monte_carlo(problem, plan, options, mc, &|| bar.inc(1))?;
+    let (trials, summaries) = monte_carlo(problem, plan, options, mc, &|| bar.inc(1))?;
     bar.finish_and_clear();
-    if args.format == DomainFormat::Json {
-        println!("{}", serde_json::to_string_pretty(&summaries)?);
+    let seconds = clock.elapsed().as_secs_f64();
+    if let Some(path) = &args.out {
+        let run = trials_file::run_description(problem, options, mc, Method::Optimal.name());
+        write_atomic(path, &trials_file::write(&run, mc.shard, &trials)?)?;
+    }
+    let runs = trials.len().max(1) as f64;
+    super::note(&format!(
+        "{} runs in {seconds:.1} s on {} threads ({:.3} s of a thread per run)\n",
+        trials.len(),
+        rayon::current_num_threads(),
+        seconds * rayon::current_num_threads() as f64 / runs
+    ));
+    let scope = if mc.shard == Shard::ALL {
+        format!("{} trials", mc.trials)
+    } else {
+        format!("{count} of {} trials (shard {}/{})", mc.trials, mc.shard.k, mc.shard.n)
+    };
+    print_summaries(args.format, &scope, mc.seed, mc.success_tolerance, &summaries)
+}
+
+/// The success-rate table (or JSON) of a Monte Carlo run or a merge, deterministic: the same
+/// trials print the same bytes.
+fn print_summaries(
+    format: DomainFormat,
+    scope: &str,
+    seed: u64,
+    tolerance: f64,
+    summaries: &[Summary],
+) -> anyhow::Result<ExitCode> {
+    if format == DomainFormat::Json {
+        super::emit(&format!("{}\n", serde_json::to_string_pretty(summaries)?))?;
         return Ok(ExitCode::SUCCESS);
     }
-    println!(
-        "{} trials (seed {}), success = final error <= {} rad, {:.1} s on {} threads",
-        mc.trials,
-        mc.seed,
-        number(mc.success_tolerance),
-        clock.elapsed().as_secs_f64(),
-        rayon::current_num_threads()
-    );
-    println!("controller  success        median     p95        max        replan failures  s/run");
-    for s in &summaries {
-        println!(
-            "{:<10}  {:>5.1} % {:>5}  {:<9}  {:<9}  {:<9}  {:>15}  {:.3}",
+    let mut out = format!("{scope} (seed {seed}), success = final error <= {} rad\n", number(tolerance));
+    out += "controller  success        median     p95        max        replan failures\n";
+    for s in summaries {
+        out += &format!(
+            "{:<10}  {:>5.1} % {:>5}  {:<9}  {:<9}  {:<9}  {:>15}\n",
             s.controller.name(),
             100.0 * s.success_rate,
             s.successes,
@@ -139,10 +202,28 @@ fn monte(
             scientific(s.p95_error, 2),
             scientific(s.max_error, 2),
             s.replan_failures,
-            s.mean_seconds
         );
     }
+    super::emit(&out)?;
     Ok(ExitCode::SUCCESS)
+}
+
+/// `freefloat track merge`: checks the shards' files, writes the merged file and prints the
+/// whole run's success rates, computed from the rows as the unsharded run computes them.
+fn merge(args: &TrackMergeArgs) -> anyhow::Result<ExitCode> {
+    if let Some(path) = &args.out {
+        trials_out(path)?;
+    }
+    let files = super::sweep::read_shard_files(&args.files, trials_file::read)?;
+    let (merged, run) = trials_file::merge_files(files)?;
+    let rows: Vec<_> = merged.rows.iter().map(freefloat::track::Trial::from).collect();
+    if let Some(path) = &args.out {
+        write_atomic(path, &trials_file::write(&merged.run, merged.shard, &rows)?)?;
+    }
+    let RunSummary { trials, seed, controllers, success_tolerance } = run;
+    let summaries = summarise(&controllers, &rows, success_tolerance);
+    super::note(&format!("merged {} files, {} rows\n", args.files.len(), merged.rows.len()));
+    print_summaries(args.format, &format!("{trials} trials"), seed, success_tolerance, &summaries)
 }
 
 /// An error with its sign (`+4.349e-9`, `-0.0121`).

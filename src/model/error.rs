@@ -93,9 +93,10 @@ pub enum InputError {
         /// What is accepted, e.g. `at most 1048576 samples`.
         hint: String,
     },
-    /// A mount-sweep file is damaged, from another run, or does not fit with the other shards.
+    /// A shard file (of `mount-sweep` or `track --trials`) is damaged, from another run, or does
+    /// not fit with the other shards.
     #[error("{}{}: {reason}", path.display(), line.map(|l| format!(", line {l}")).unwrap_or_default())]
-    SweepFile {
+    ShardFile {
         /// The file.
         path: PathBuf,
         /// The line (from 1), when one line is at fault.

@@ -1,7 +1,7 @@
 //! The control laws, all on a model of the robot (the nominal one, or the identified one): the
 //! planned torques alone, and computed torque with PD feedback on the joint angles.
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use super::plant::State;
 use crate::dynamics::{coriolis, inertia_matrix, joint_torques};
@@ -10,7 +10,7 @@ use crate::model::{Configuration, InputError, Lumped};
 use crate::plan::MotionPoint;
 
 /// The controller of a closed-loop run.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Controller {
     /// Open loop: the planned torques (inverse dynamics of the plan on the model, Eq. 6).
@@ -38,6 +38,11 @@ impl Controller {
             Controller::Replan => "replan",
             Controller::Adaptive => "adaptive",
         }
+    }
+
+    /// The controller named `name` ([`Controller::name`]).
+    pub fn from_name(name: &str) -> Option<Controller> {
+        Controller::ALL.into_iter().find(|c| c.name() == name)
     }
 
     /// True for the controllers that re-plan.

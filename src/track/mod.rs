@@ -15,7 +15,8 @@
 //! - `adaptive`: `replan` on a model whose momentum map (Eqs. 5, 8) is identified on line
 //!   ([`identify`]), so that the re-plans aim right.
 //!
-//! [`track()`] runs one of them; [`monte_carlo()`] runs many seeded trials in parallel.
+//! [`track()`] runs one of them; [`monte_carlo()`] runs many seeded trials in parallel, whole or
+//! in shards whose checked files ([`trials_file`]) merge into the whole.
 //!
 //! ```
 //! use freefloat::planners::{PlannerOptions, planner};
@@ -38,11 +39,12 @@ pub mod perturb;
 pub mod plant;
 pub mod replan;
 pub mod run;
+pub mod trials_file;
 
 pub use certificate::{CLOSED_LOOP_TOLERANCE, ClosedLoopCertificate, closed_loop_certificate};
 pub use control::{Controller, Gains};
 pub use identify::IdentifyOptions;
-pub use monte_carlo::{MonteCarloOptions, Summary, Trial, monte_carlo};
+pub use monte_carlo::{MonteCarloOptions, Summary, Trial, monte_carlo, summarise};
 pub use perturb::Perturbation;
 pub use plant::Disturbances;
 pub use replan::ReplanOptions;

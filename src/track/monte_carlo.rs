@@ -1,5 +1,10 @@
 //! Monte Carlo runs: many seeded true robots and noise sequences, each tracked by every
 //! controller asked for, in parallel; success rates by controller.
+//!
+//! Trial `i` depends only on the options and `i` ([`trial_seed`]), so a run can be cut into
+//! shards ([`Shard`]: the trials `i` with `i mod n = k - 1`) run anywhere, written to checked
+//! files ([`super::trials_file`]) and merged into exactly the unsharded run's trials; the summary
+//! of either is [`summarise`]'s.
 
 use rayon::prelude::*;
 use serde::Serialize;
@@ -8,6 +13,7 @@ use super::control::Controller;
 use super::noise::Noise;
 use super::perturb::Perturbation;
 use super::run::{TrackOptions, track};
+use crate::analysis::shards::Shard;
 use crate::error::Error;
 use crate::model::{InputError, RobotParams};
 use crate::plan::{Motion, PlanningProblem};
@@ -31,6 +37,8 @@ pub struct MonteCarloOptions {
     pub controllers: Vec<Controller>,
     /// A trial succeeds when its final error is at most this \[rad\]; default 1e-3.
     pub success_tolerance: f64,
+    /// The part of the trials to run; default [`Shard::ALL`].
+    pub shard: Shard,
 }
 
 impl Default for MonteCarloOptions {
@@ -42,6 +50,7 @@ impl Default for MonteCarloOptions {
             perturbation: Perturbation::default(),
             controllers: vec![Controller::Adaptive],
             success_tolerance: 1e-3,
+            shard: Shard::ALL,
         }
     }
 }
@@ -65,8 +74,6 @@ pub struct Trial {
     pub replans: usize,
     /// Re-plans failed.
     pub replan_failures: usize,
-    /// Wall time of the run \[s\].
-    pub seconds: f64,
 }
 
 /// Success rate and error quantiles of one controller.
@@ -88,12 +95,11 @@ pub struct Summary {
     pub max_error: f64,
     /// Re-plans that failed, over all trials.
     pub replan_failures: usize,
-    /// Mean wall time of a run \[s\].
-    pub mean_seconds: f64,
 }
 
-/// Runs the trials in parallel (rayon), calling `progress` after each; returns every trial and
-/// the summary by controller.
+/// Runs the trials of `mc.shard` in parallel (rayon), calling `progress` after each; returns
+/// their results (trial-major, controllers in `mc.controllers`' order) and their summary by
+/// controller ([`summarise`]). Results are deterministic: no wall time is kept.
 pub fn monte_carlo(
     problem: &PlanningProblem,
     plan: &(dyn Motion + Sync),
@@ -119,7 +125,8 @@ pub fn monte_carlo(
     }
     mc.perturbation.validate()?;
     options.validate()?;
-    let per_trial: Vec<Vec<Trial>> = (0..mc.trials)
+    let indices: Vec<usize> = mc.shard.indices(mc.trials).collect();
+    let per_trial: Vec<Vec<Trial>> = indices
         .into_par_iter()
         .map(|i| {
             let seed = trial_seed(mc.seed, i as u64);
@@ -139,7 +146,6 @@ pub fn monte_carlo(
                         final_error: r.final_error,
                         replans: r.replans,
                         replan_failures: r.replan_failures,
-                        seconds: r.seconds,
                     })
                 })
                 .collect::<Result<Vec<_>, Error>>();
@@ -148,11 +154,18 @@ pub fn monte_carlo(
         })
         .collect::<Result<_, Error>>()?;
     let trials: Vec<Trial> = per_trial.into_iter().flatten().collect();
-    let summaries = mc.controllers.iter().map(|&c| summarise(c, &trials, mc.success_tolerance)).collect();
+    let summaries = summarise(&mc.controllers, &trials, mc.success_tolerance);
     Ok((trials, summaries))
 }
 
-fn summarise(controller: Controller, trials: &[Trial], tolerance: f64) -> Summary {
+/// The summary of each of `controllers` over its `trials`: success (final error at most
+/// `tolerance` \[rad\]), the median, 95th percentile (nearest rank) and largest final error
+/// (a diverged run counts as infinite), and the failed re-plans.
+pub fn summarise(controllers: &[Controller], trials: &[Trial], tolerance: f64) -> Vec<Summary> {
+    controllers.iter().map(|&c| summary(c, trials, tolerance)).collect()
+}
+
+fn summary(controller: Controller, trials: &[Trial], tolerance: f64) -> Summary {
     let mine: Vec<&Trial> = trials.iter().filter(|t| t.controller == controller).collect();
     let mut errors: Vec<f64> =
         mine.iter().map(|t| if t.final_error.is_nan() { f64::INFINITY } else { t.final_error }).collect();
@@ -169,6 +182,5 @@ fn summarise(controller: Controller, trials: &[Trial], tolerance: f64) -> Summar
         p95_error: quantile(0.95),
         max_error: errors.last().copied().unwrap_or(f64::NAN),
         replan_failures: mine.iter().map(|t| t.replan_failures).sum(),
-        mean_seconds: mine.iter().map(|t| t.seconds).sum::<f64>() / n.max(1) as f64,
     }
 }

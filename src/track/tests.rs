@@ -168,3 +168,85 @@ fn saturation_is_counted() {
     let run = track(&problem, motion(&planned), &problem.robot, &options, 0).unwrap();
     assert!(run.saturated_fraction > 0.0 && run.peak_torque.iter().all(|t| *t <= 0.2 + 1e-12));
 }
+
+/// The trials file: a diverged run is written without a non-finite number and read back as
+/// infinite; rows edited with their checks recomputed are refused for their numbers; every
+/// option of the run changes its description.
+#[test]
+fn trials_file_round_trip_and_row_checks() {
+    use crate::analysis::shards::{self, Shard};
+    let problem = PlanningProblem::paper(RobotParams::src());
+    let options = TrackOptions::default();
+    let mc = MonteCarloOptions { trials: 4, controllers: vec![Controller::Open, Controller::Ct], ..Default::default() };
+    let run = trials_file::run_description(&problem, &options, &mc, "optimal");
+    let trial =
+        |trial, controller, final_error| Trial { trial, controller, final_error, replans: 3, replan_failures: 1 };
+    let shard = Shard { k: 2, n: 2 };
+    let trials = vec![
+        trial(1, Controller::Open, f64::INFINITY),
+        trial(1, Controller::Ct, 1.25e-7),
+        trial(3, Controller::Open, f64::NAN),
+        trial(3, Controller::Ct, 0.5),
+    ];
+    let bytes = trials_file::write(&run, shard, &trials).unwrap();
+    let text = String::from_utf8(bytes.clone()).unwrap();
+    assert!(!text.to_lowercase().contains("inf") && !text.contains("NaN"), "{text}");
+    assert!(text.contains("\n1,open,,true,3,1,"), "{text}");
+    let p = std::path::Path::new("t.csv");
+    let back = trials_file::read(&bytes, p).unwrap();
+    let read: Vec<Trial> = back.rows.iter().map(Trial::from).collect();
+    assert!(read[0].final_error.is_infinite() && read[2].final_error.is_infinite());
+    assert_eq!(read[1], trials[1]);
+    let summary = trials_file::RunSummary::parse(&back.run).unwrap();
+    assert_eq!((summary.trials, summary.controllers.clone()), (4, mc.controllers.clone()));
+    let s = summarise(&summary.controllers, &read, summary.success_tolerance);
+    assert_eq!((s[0].successes, s[1].successes), (0, 1));
+    // Rows whose numbers are wrong, written with valid checks.
+    let kind = &trials_file::KIND;
+    let row = |trial, final_error, diverged| trials_file::TrialRow {
+        trial,
+        controller: Controller::Ct,
+        final_error,
+        diverged,
+        replans: 0,
+        replan_failures: 0,
+    };
+    for (bad, what) in [
+        (row(1, Some(-1.0), false), "negative"),
+        (row(1, Some(0.1), true), "exactly when"),
+        (row(1, None, false), "exactly when"),
+        (row(2, Some(0.1), false), "not a trial of shard 2/2"),
+        (row(5, Some(0.1), false), "not a trial of shard 2/2"),
+    ] {
+        let e = trials_file::read(&shards::write(kind, &run, shard, &[bad]).unwrap(), p).unwrap_err().to_string();
+        assert!(e.contains("line 4") && e.contains(what), "{e}");
+    }
+    let adaptive = trials_file::TrialRow { controller: Controller::Adaptive, ..row(1, Some(0.1), false) };
+    let e = trials_file::read(&shards::write(kind, &run, shard, &[adaptive]).unwrap(), p).unwrap_err().to_string();
+    assert!(e.contains("not a controller of the run"), "{e}");
+    // Each option is part of the run's identity.
+    let mut changed = Vec::new();
+    let with = |f: &dyn Fn(&mut TrackOptions, &mut MonteCarloOptions)| {
+        let (mut o, mut m) = (options.clone(), mc.clone());
+        f(&mut o, &mut m);
+        trials_file::run_description(&problem, &o, &m, "optimal")
+    };
+    changed.push(with(&|_, m| m.seed = 1));
+    changed.push(with(&|_, m| m.trials = 5));
+    changed.push(with(&|_, m| m.success_tolerance = 1e-4));
+    changed.push(with(&|_, m| m.controllers = vec![Controller::Open]));
+    changed.push(with(&|_, m| m.perturbation.relative = 0.01));
+    changed.push(with(&|_, m| m.perturbation.mount = 0.01));
+    changed.push(with(&|_, m| m.truth = Some(RobotParams::src())));
+    changed.push(with(&|o, _| o.rate = 500.0));
+    changed.push(with(&|o, _| o.gains.kp = 100.0));
+    changed.push(with(&|o, _| o.replan.rate = 20.0));
+    changed.push(with(&|o, _| o.replan.planner.samples = 3));
+    changed.push(with(&|o, _| o.identify.forgetting_time = 2.0));
+    changed.push(with(&|o, _| o.disturbances.torque_limit = 5.0));
+    changed.push(with(&|o, _| o.disturbances.q_noise = 1e-5));
+    changed.push(with(&|_, m| m.shard = Shard { k: 1, n: 3 }));
+    assert!(changed[..changed.len() - 1].iter().all(|c| *c != run));
+    assert_eq!(changed.last(), Some(&run), "the shard is not part of the run");
+    assert!(!run.contains("inf") && !run.contains('\n'), "{run}");
+}

@@ -71,3 +71,136 @@ fn invalid_options_exit_2_with_the_flag_named() {
         assert!(stderr(&o).contains(name), "{args:?}: {}", stderr(&o));
     }
 }
+
+/// A small Monte Carlo run: six trials of `open` and `ct` on a perturbed robot, coarse rates.
+fn monte(extra: &[&str]) -> Vec<String> {
+    let mut args: Vec<String> =
+        ["track", "--mount", "0.1,0.1", "--controller", "open,ct", "--perturb", "0.05", "--trials", "6", "--seed", "3"]
+            .iter()
+            .chain(FAST.iter())
+            .map(|s| s.to_string())
+            .collect();
+    args.extend(extra.iter().map(|s| s.to_string()));
+    args
+}
+
+fn run(args: &[String]) -> Output {
+    let refs: Vec<&str> = args.iter().map(String::as_str).collect();
+    freefloat(&refs)
+}
+
+/// Runs `track` with `extra`, writing `name` in `dir`; returns the file and stdout.
+fn trials_file(dir: &std::path::Path, name: &str, extra: &[&str]) -> (std::path::PathBuf, String) {
+    let path = dir.join(name);
+    let mut args = monte(extra);
+    args.extend(["--out".to_string(), path.to_str().unwrap().to_string()]);
+    let o = run(&args);
+    assert!(o.status.success(), "{extra:?}: {}", stderr(&o));
+    (path, String::from_utf8_lossy(&o.stdout).into_owned())
+}
+
+fn merge(files: &[&std::path::Path], extra: &[&str]) -> Output {
+    let mut args = vec!["track", "merge"];
+    args.extend(files.iter().map(|p| p.to_str().unwrap()));
+    args.extend(extra);
+    freefloat(&args)
+}
+
+/// Refused with exit 2, naming `name`: returns stderr.
+fn refused(o: &Output, name: &str) -> String {
+    let e = stderr(o);
+    assert_eq!(o.status.code(), Some(2), "{e}");
+    assert!(e.contains(name), "{name} not named: {e}");
+    e
+}
+
+/// Three shards merge into the unsharded run's file byte for byte, and print the unsharded run's
+/// table and JSON byte for byte (the summary of both is one function's).
+#[test]
+fn shards_merge_to_the_unsharded_run() {
+    let dir = tempfile::tempdir().unwrap();
+    let (whole, table) = trials_file(dir.path(), "whole.csv", &[]);
+    let shards: Vec<_> =
+        (1..=3).map(|k| trials_file(dir.path(), &format!("s{k}.csv"), &["--shard", &format!("{k}/3")]).0).collect();
+    let text = std::fs::read_to_string(&shards[0]).unwrap();
+    assert!(text.starts_with("# freefloat-track-trials v1 ") && text.contains("shard=1/3 rows=4"), "{text}");
+    assert!(text.lines().skip(3).all(|l| l.starts_with("0,") || l.starts_with("3,")), "{text}");
+    let merged = dir.path().join("merged.csv");
+    let paths = [shards[2].as_path(), shards[0].as_path(), shards[1].as_path()];
+    let o = merge(&paths, &["--out", merged.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(std::fs::read(&merged).unwrap(), std::fs::read(&whole).unwrap());
+    assert_eq!(String::from_utf8_lossy(&o.stdout), table);
+    assert!(table.starts_with("6 trials (seed 3)") && table.contains("\nct "), "{table}");
+    // The direct run's table, without --out, is the same too; and so is its JSON.
+    let direct = run(&monte(&[]));
+    assert_eq!(String::from_utf8_lossy(&direct.stdout), table);
+    let json = run(&monte(&["--format", "json"]));
+    let merged_json = merge(&paths, &["--format", "json"]);
+    assert!(json.status.success() && merged_json.status.success(), "{}", stderr(&merged_json));
+    assert_eq!(merged_json.stdout, json.stdout);
+    let v: serde_json::Value = serde_json::from_slice(&json.stdout).unwrap();
+    assert_eq!(v.as_array().unwrap().len(), 2);
+    // No cell of the file is a non-finite number.
+    let text = std::fs::read_to_string(&whole).unwrap();
+    assert!(!text.to_lowercase().contains("inf") && !text.contains("NaN"), "{text}");
+}
+
+/// A shard of another run, a duplicate, a missing shard and an edited row are refused with
+/// exit 2 naming the file; nothing is written.
+#[test]
+fn merge_refuses_what_does_not_belong() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let one = trials_file(d, "one.csv", &["--shard", "1/3"]).0;
+    let two = trials_file(d, "two.csv", &["--shard", "2/3"]).0;
+    let three = trials_file(d, "three.csv", &["--shard", "3/3"]).0;
+    let out = d.join("merged.csv");
+    let merge_out = |files: &[&std::path::Path]| merge(files, &["--out", out.to_str().unwrap()]);
+    for (name, extra) in [("seed.csv", ["--seed", "4"]), ("perturb.csv", ["--perturb", "0.04"])] {
+        let mut args = monte(&["--shard", "3/3"]);
+        let i = args.iter().position(|a| a == extra[0]).unwrap();
+        args[i + 1] = extra[1].to_string();
+        let path = d.join(name);
+        args.extend(["--out".to_string(), path.to_str().unwrap().to_string()]);
+        assert!(run(&args).status.success());
+        let e = refused(&merge_out(&[&one, &two, &path]), name);
+        assert!(e.contains("another run"), "{e}");
+    }
+    let e = refused(&merge_out(&[&one, &two, &two]), "two.csv");
+    assert!(e.contains("given twice"), "{e}");
+    let e = refused(&merge_out(&[&one, &three]), "one.csv");
+    assert!(e.contains("shards missing from the merge: 2/3"), "{e}");
+    let text = std::fs::read_to_string(&two).unwrap();
+    let edited = d.join("edited.csv");
+    let line = text.lines().nth(4).unwrap();
+    let (trial, rest) = line.split_once(",ct,").unwrap();
+    let changed = format!("{trial},ct,0.0001{}", &rest[rest.find(',').unwrap()..]);
+    std::fs::write(&edited, text.replace(line, &changed)).unwrap();
+    let e = refused(&merge_out(&[&one, &edited, &three]), "edited.csv");
+    assert!(e.contains("line 5") && e.contains("does not match its check"), "{e}");
+    assert!(!out.exists());
+}
+
+/// `--shard` is validated before any work: it needs --trials and --out, K/N with 1 <= K <= N;
+/// the trials file must be a .csv.
+#[test]
+fn shard_flags_are_validated() {
+    let dir = tempfile::tempdir().unwrap();
+    let csv = dir.path().join("t.csv");
+    let csv = csv.to_str().unwrap();
+    let o = freefloat(&["track", "--shard", "1/2", "--out", csv]);
+    assert!(refused(&o, "--shard").contains("--trials"), "{}", stderr(&o));
+    let o = run(&monte(&["--shard", "1/2"]));
+    assert!(refused(&o, "--shard").contains("--out"), "{}", stderr(&o));
+    for bad in ["0/8", "9/8", "x", "1/", "2-3"] {
+        let o = run(&monte(&["--shard", bad, "--out", csv]));
+        assert!(refused(&o, "--shard").contains(bad), "{}", stderr(&o));
+    }
+    let txt = dir.path().join("t.txt");
+    let o = run(&monte(&["--out", txt.to_str().unwrap()]));
+    assert!(refused(&o, "--out").contains(".csv"), "{}", stderr(&o));
+    let o = freefloat(&["track", "merge", csv, "--out", txt.to_str().unwrap()]);
+    refused(&o, "--out");
+    assert!(!std::path::Path::new(csv).exists() && !txt.exists());
+}

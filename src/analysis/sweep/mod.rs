@@ -12,6 +12,8 @@
 
 pub mod file;
 
+pub use crate::analysis::shards::Shard;
+
 use crate::model::InputError;
 use serde::{Deserialize, Serialize};
 
@@ -192,43 +194,6 @@ impl SweepRow {
             }
         }
         best.1
-    }
-}
-
-/// Part `k` of `n` of a sweep (`k` from 1): the points whose index is `k - 1` modulo `n`
-/// (interleaved, so that every shard gets a similar mix of cheap and costly points).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Shard {
-    /// This part, `1..=n`.
-    pub k: usize,
-    /// Number of parts.
-    pub n: usize,
-}
-
-impl Shard {
-    /// The whole sweep.
-    pub const ALL: Shard = Shard { k: 1, n: 1 };
-
-    /// Parses `k/n` with `1 <= k <= n`.
-    pub fn parse(text: &str) -> Result<Self, Error> {
-        let bad = || {
-            Error::from(InputError::InvalidText {
-                name: "--shard".into(),
-                text: text.to_string(),
-                expected: "K/N, two whole numbers with 1 <= K <= N (e.g. 2/8)",
-            })
-        };
-        let (k, n) = text.split_once('/').ok_or_else(bad)?;
-        let (k, n): (usize, usize) = (k.trim().parse().map_err(|_| bad())?, n.trim().parse().map_err(|_| bad())?);
-        if k == 0 || k > n {
-            return Err(bad());
-        }
-        Ok(Self { k, n })
-    }
-
-    /// The point indices of this shard among `points`.
-    pub fn indices(&self, points: usize) -> impl Iterator<Item = usize> + use<> {
-        (self.k - 1..points).step_by(self.n)
     }
 }
 

@@ -123,3 +123,14 @@ fn sweep_file_round_trip_and_row_checks() {
     assert_eq!(String::from_utf8(empty.clone()).unwrap().lines().count(), 3);
     assert!(file::read(&empty, p).unwrap().rows.is_empty());
 }
+
+/// The links' inertias are part of a sweep's identity (and absent for point-mass robots, whose
+/// description is unchanged).
+#[test]
+fn link_inertias_are_part_of_the_run() {
+    let robot = RobotParams::src();
+    let run = file::run_description(&robot, &small());
+    assert!(run.ends_with(",m2:1.5") && !run.contains("i1:"), "{run}");
+    let heavy = RobotParams { i1: 0.01, ..robot };
+    assert!(file::run_description(&heavy, &small()).ends_with(",m2:1.5,i1:0.01,i2:0.0"));
+}

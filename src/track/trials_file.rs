@@ -1,0 +1,250 @@
+//! The file of a Monte Carlo run (`track --trials N --out FILE.csv`, one shard or the whole):
+//! one row per trial and controller under two comment lines that identify the run and check the
+//! rows (the format and its checks are [`crate::analysis::shards`]'s), so that `track merge`
+//! can refuse whatever does not belong together and summarise exactly as the unsharded run.
+//!
+//! ```text
+//! # freefloat-track-trials v1 run=<hash> shard=K/N rows=<count> checksum=<hash>
+//! # run: trials=6 seed=0 controllers=open,ct success_tolerance=0.001 truth=perturbed:0.05,0.0 ...
+//! trial,controller,final_error,diverged,replans,replan_failures,check
+//! 0,open,0.0123...,false,0,0,<hash>
+//! ```
+//!
+//! Every cell is deterministic (no wall time), so a shard run again is the same file, and the
+//! merge of the shards equals the unsharded run's file byte for byte. A diverged run has
+//! `diverged = true` and an empty `final_error`: no cell holds a non-finite number.
+
+use std::cell::OnceCell;
+use std::path::{Path, PathBuf};
+
+use serde::{Deserialize, Serialize};
+
+use super::control::Controller;
+use super::monte_carlo::{MonteCarloOptions, Trial};
+use super::run::TrackOptions;
+use crate::analysis::shards::{self, FileKind, Shard, ShardFile, field, file_error, finite};
+use crate::error::Error;
+use crate::model::{Configuration, RobotParams};
+use crate::plan::PlanningProblem;
+
+/// The first words of a trials file.
+pub const MAGIC: &str = "# freefloat-track-trials v1";
+
+/// The CSV columns: [`TrialRow`]'s fields, then the row's `check`.
+pub const COLUMNS: [&str; 6] = ["trial", "controller", "final_error", "diverged", "replans", "replan_failures"];
+
+/// The trials file's kind: [`MAGIC`] and [`COLUMNS`].
+pub const KIND: FileKind = FileKind { magic: MAGIC, name: "track trials", columns: &COLUMNS };
+
+/// One controller on one trial, as a row of the file.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct TrialRow {
+    /// Trial number, from 0.
+    pub trial: usize,
+    /// The controller.
+    pub controller: Controller,
+    /// Final error \[rad\], full precision; `None` (an empty cell) when the motion diverged.
+    pub final_error: Option<f64>,
+    /// The motion diverged (its final error is infinite).
+    pub diverged: bool,
+    /// Re-plans used.
+    pub replans: usize,
+    /// Re-plans failed.
+    pub replan_failures: usize,
+}
+
+impl From<&Trial> for TrialRow {
+    fn from(t: &Trial) -> Self {
+        let finite = t.final_error.is_finite();
+        Self {
+            trial: t.trial,
+            controller: t.controller,
+            final_error: finite.then_some(t.final_error),
+            diverged: !finite,
+            replans: t.replans,
+            replan_failures: t.replan_failures,
+        }
+    }
+}
+
+impl From<&TrialRow> for Trial {
+    fn from(r: &TrialRow) -> Self {
+        Self {
+            trial: r.trial,
+            controller: r.controller,
+            final_error: r.final_error.unwrap_or(f64::INFINITY),
+            replans: r.replans,
+            replan_failures: r.replan_failures,
+        }
+    }
+}
+
+fn robot_description(r: &RobotParams) -> String {
+    format!(
+        "l1:{:?},l2:{:?},d1:{:?},d2:{:?},M:{:?},I:{:?},m1:{:?},m2:{:?},i1:{:?},i2:{:?},a:{:?},b:{:?}",
+        r.l1, r.l2, r.d1, r.d2, r.base_mass, r.base_inertia, r.m1, r.m2, r.i1, r.i2, r.mount.a, r.mount.b
+    )
+}
+
+/// The canonical description of a Monte Carlo run: `key=value` words of every option that
+/// changes a row (the trials, the seed, the controllers, the success tolerance, the true robot
+/// or its perturbation, the nominal robot, the problem, the planner of the first plan (named by
+/// `planner`), the control, re-planning and identification options and the disturbances),
+/// floats in shortest round-trip form. The shard is not part of it.
+pub fn run_description(
+    problem: &PlanningProblem,
+    options: &TrackOptions,
+    mc: &MonteCarloOptions,
+    planner: &str,
+) -> String {
+    let q = |c: Configuration| format!("{:?},{:?},{:?}", c.phi, c.theta1, c.theta2);
+    let truth = match &mc.truth {
+        Some(t) => format!("robot:{}", robot_description(t)),
+        None => format!("perturbed:{:?},{:?}", mc.perturbation.relative, mc.perturbation.mount),
+    };
+    let controllers: Vec<&str> = mc.controllers.iter().map(|c| c.name()).collect();
+    let d = &options.disturbances;
+    let limit = if d.torque_limit.is_finite() { format!("{:?}", d.torque_limit) } else { "none".into() };
+    let (replan, identify) = (&options.replan, &options.identify);
+    format!(
+        "trials={} seed={} controllers={} success_tolerance={:?} truth={truth} robot={} start={} goal={} \
+         horizon={:?} start_velocity={:?},{:?} planner={planner} rate={:?} substeps={} kp={:?} kd={:?} \
+         replan_rate={:?} final_window={:?} accept={:?} threshold={:?} forgetting={:?} prior_weight={:?} \
+         torque_noise={:?} torque_bias={:?},{:?} torque_limit={limit} noise_q={:?} noise_dq={:?} \
+         replan_planner={}",
+        mc.trials,
+        mc.seed,
+        controllers.join(","),
+        mc.success_tolerance,
+        robot_description(&problem.robot),
+        q(problem.start),
+        q(problem.goal),
+        problem.horizon,
+        problem.start_velocity[0],
+        problem.start_velocity[1],
+        options.rate,
+        options.substeps,
+        options.gains.kp,
+        options.gains.kd,
+        replan.rate,
+        replan.final_window,
+        replan.accept,
+        replan.threshold,
+        identify.forgetting_time,
+        identify.prior_weight,
+        d.torque_noise,
+        d.torque_bias[0],
+        d.torque_bias[1],
+        d.q_noise,
+        d.dq_noise,
+        format!("{:?}", replan.planner).replace(' ', ""),
+    )
+}
+
+/// What a merge needs of a run's description: the number of trials, the seed, the controllers
+/// (in order) and the success tolerance.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RunSummary {
+    /// Trials of the whole run.
+    pub trials: usize,
+    /// The run's seed.
+    pub seed: u64,
+    /// The controllers, in the order of the run.
+    pub controllers: Vec<Controller>,
+    /// The success tolerance \[rad\].
+    pub success_tolerance: f64,
+}
+
+impl RunSummary {
+    /// Reads the `trials`, `seed`, `controllers` and `success_tolerance` words of a
+    /// [`run_description`]; says which is missing or damaged.
+    pub fn parse(run: &str) -> Result<Self, String> {
+        let word = |key: &str| field(run, key).ok_or_else(|| format!("the `# run:` line has no {key}="));
+        let bad = |key: &str| format!("the `# run:` line has a damaged {key}=");
+        let trials = word("trials")?.parse().map_err(|_| bad("trials"))?;
+        let seed = word("seed")?.parse().map_err(|_| bad("seed"))?;
+        let controllers = word("controllers")?
+            .split(',')
+            .map(Controller::from_name)
+            .collect::<Option<Vec<_>>>()
+            .ok_or_else(|| bad("controllers"))?;
+        let success_tolerance: f64 = word("success_tolerance")?.parse().map_err(|_| bad("success_tolerance"))?;
+        if controllers.is_empty() || !success_tolerance.is_finite() {
+            return Err(bad(if controllers.is_empty() { "controllers" } else { "success_tolerance" }));
+        }
+        Ok(Self { trials, seed, controllers, success_tolerance })
+    }
+
+    fn position(&self, controller: Controller) -> Option<usize> {
+        self.controllers.iter().position(|&c| c == controller)
+    }
+}
+
+/// The file of `shard` of the run `run` ([`run_description`]): one row per trial and
+/// controller, in the order of [`super::monte_carlo()`]'s trials.
+pub fn write(run: &str, shard: Shard, trials: &[Trial]) -> Result<Vec<u8>, Error> {
+    let rows: Vec<TrialRow> = trials.iter().map(TrialRow::from).collect();
+    shards::write(&KIND, run, shard, &rows)
+}
+
+/// Reads and checks one file: its header, every row's check, the row count and the checksum,
+/// and every row: a trial of the run and of the shard, a controller of the run, a finite,
+/// non-negative final error unless diverged (and then none). Errors name the file and the line.
+pub fn read(bytes: &[u8], path: &Path) -> Result<ShardFile<TrialRow>, Error> {
+    let summary: OnceCell<Result<RunSummary, String>> = OnceCell::new();
+    shards::read(&KIND, bytes, path, |row: &TrialRow, run, shard| {
+        let run = summary.get_or_init(|| RunSummary::parse(run)).as_ref().map_err(Clone::clone)?;
+        check_row(row, run, shard)
+    })
+}
+
+fn check_row(r: &TrialRow, run: &RunSummary, shard: Shard) -> Result<(), String> {
+    let at = |what: String| format!("trial {} ({}): {what}", r.trial, r.controller.name());
+    if r.trial >= run.trials || !shard.holds(r.trial) {
+        return Err(at(format!("not a trial of shard {}/{} of {} trials", shard.k, shard.n, run.trials)));
+    }
+    if run.position(r.controller).is_none() {
+        return Err(at("not a controller of the run".into()));
+    }
+    match (r.final_error, r.diverged) {
+        (Some(e), false) => {
+            finite("final_error", e).map_err(at)?;
+            if e < 0.0 {
+                return Err(at(format!("final_error = {e} is negative")));
+            }
+        }
+        (None, true) => {}
+        _ => return Err(at("a final error is given exactly when the run did not diverge".into())),
+    }
+    Ok(())
+}
+
+/// Merges checked files into the whole run ([`shards::merge_files`]): same run, every shard
+/// once, then every trial of the run once with every controller, in the run's order. Returns
+/// the merged file (`shard = 1/1`), equal to the unsharded run's, and the run's summary words.
+pub fn merge_files(files: Vec<(PathBuf, ShardFile<TrialRow>)>) -> Result<(ShardFile<TrialRow>, RunSummary), Error> {
+    let Some((path, first)) = files.first() else {
+        return Err(file_error(Path::new("<merge>"), None, "no files to merge"));
+    };
+    let run = RunSummary::parse(&first.run).map_err(|what| file_error(path, Some(2), what))?;
+    let merged = shards::merge_files(
+        files,
+        |r| (r.trial, run.position(r.controller)),
+        |_, rows| {
+            let c = run.controllers.len();
+            let whole = rows.len() == run.trials * c
+                && rows.iter().enumerate().all(|(i, r)| r.trial == i / c && r.controller == run.controllers[i % c]);
+            if whole {
+                Ok(())
+            } else {
+                Err(format!(
+                    "the shards hold {} rows, not the run's {} trials of {} controllers, each once",
+                    rows.len(),
+                    run.trials,
+                    c
+                ))
+            }
+        },
+    )?;
+    Ok((merged, run))
+}
