@@ -200,12 +200,7 @@ pub fn plan_arm(arm: &Arm, method: Method, request: &ArmRequest) -> Result<ArmPl
 
 /// The torques at the samples and the forward-dynamics certificate (tolerance and integrator
 /// of the 2-link torque level, docs/spec.md §2).
-fn arm_torques(
-    arm: &Arm,
-    plan: &ArmPlan,
-    samples: &[ChainPoint],
-    problem: &ChainProblem,
-) -> Result<ArmTorques, Error> {
+fn arm_torques(arm: &Arm, plan: &ArmPlan, samples: &[ChainPoint], problem: &ChainProblem) -> Result<ArmTorques, Error> {
     let clock = Instant::now();
     let defaults = TorqueOptions::default();
     let plan = plan.motion();

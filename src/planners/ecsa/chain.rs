@@ -219,9 +219,13 @@ impl ChainEcsaPlanner {
         loop {
             let k = self.evaluate(&basis, start, c.as_slice(), pieces, true);
             // `wrap`: angles modulo 2 pi (as the 2-joint ECSA); else the goal literally.
-            let error = DVector::from_fn(n + 1, |i, _| {
-                if problem.wrap { wrap_angle(k.q[i] - goal[i]) } else { k.q[i] - goal[i] }
-            });
+            let error =
+                DVector::from_fn(
+                    n + 1,
+                    |i, _| {
+                        if problem.wrap { wrap_angle(k.q[i] - goal[i]) } else { k.q[i] - goal[i] }
+                    },
+                );
             let finite = error.iter().all(|e| e.is_finite());
             let residual = if finite { error.amax() } else { f64::NAN };
             history.push(residual);

@@ -223,11 +223,7 @@ proptest! {
 #[test]
 fn quadrature_converges() {
     let arm = three_link();
-    let problem = ChainProblem::rest_to_rest(
-        deg(&[0.0, 60.0, -30.0, -30.0]),
-        deg(&[30.0, 120.0, 40.0, -60.0]),
-        10.0,
-    );
+    let problem = ChainProblem::rest_to_rest(deg(&[0.0, 60.0, -30.0, -30.0]), deg(&[30.0, 120.0, 40.0, -60.0]), 10.0);
     let planner = ChainEcsaPlanner::new(arm, EcsaOptions::default());
     let plan = planner.plan(&problem).unwrap();
     let s = &plan.stats;
