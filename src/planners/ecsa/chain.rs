@@ -15,10 +15,11 @@
 //! [`Arm::momentum_coefficients`] by its tests and by `gradient_matches_num_dual_and_differences`
 //! here).
 //!
-//! **Quadrature rule**: the iteration starts with `8 H` pieces of [`NODES`] nodes. When it has
+//! **Quadrature rule**: the iteration starts with `64 H` pieces of [`NODES`] nodes. When it has
 //! converged the holonomy integral is recomputed with twice the pieces; if the two differ by more
 //! than 1% of the residual tolerance the pieces are doubled and the iteration continues from
-//! the current `c` (up to [`MAX_PIECES`]). The plan is returned only when certified by
+//! the current `c` (up to [`MAX_PIECES`]); the residual on the finer rule then replaces the last
+//! entry of the residual history, which can therefore rise after a small residual. The plan is returned only when certified by
 //! [`verify_chain`] (the system integrated with the planned controls by the adaptive
 //! integrator), independent of the rule.
 
@@ -212,7 +213,7 @@ impl ChainEcsaPlanner {
         for i in 0..n {
             c[i * m] = (goal[i + 1] - start[i + 1]) / integral;
         }
-        let mut pieces = (8 * basis.harmonics()).min(MAX_PIECES);
+        let mut pieces = (64 * basis.harmonics()).min(MAX_PIECES);
         let mut history = Vec::new();
         let mut iterations = 0;
         let mut change = f64::NAN;
