@@ -385,7 +385,7 @@ pub fn plan_arm<'py>(
         tau: tr.tau.as_deref().map(|tau| matrix(py, tau, n).map(Bound::unbind)).transpose()?,
         method: planned.method.name().to_string(),
         joints: n,
-        effort: planned.stats().effort,
+        effort: planned.effort(),
         final_error: v.final_error,
         tolerance: v.tolerance,
         certified: report.certified,

@@ -117,12 +117,20 @@ fn table(planned: &ArmPlanned, r: &ArmReport) -> String {
     let list = |v: &[f64]| v.iter().map(|x| number(*x)).collect::<Vec<_>>().join(", ");
     let verdict = |ok: bool| if ok { "CERTIFIED" } else { "NOT CERTIFIED" };
     let v = planned.verification();
-    let o = &r.optimal;
     let mut s = String::new();
+    let method = match (&r.optimal, &r.ecsa) {
+        (Some(o), _) => format!("optimal (minimum effort), {}-link arm, {} SQP iterations", r.joints, o.iterations),
+        (None, Some(e)) => format!(
+            "ecsa ({} harmonic(s), window {}), {}-link arm, {} iterations",
+            e.harmonics,
+            e.window.name(),
+            r.joints,
+            e.iteration.iterations
+        ),
+        (None, None) => format!("{}, {}-link arm", r.method.name(), r.joints),
+    };
     s += &format!(
-        "freefloat plan: optimal (minimum effort), {}-link arm, {} SQP iterations, mount (a, b) = ({}, {}) m\n",
-        r.joints,
-        o.iterations,
+        "freefloat plan: {method}, mount (a, b) = ({}, {}) m\n",
         number(r.robot.mount.a),
         number(r.robot.mount.b)
     );
@@ -139,12 +147,24 @@ fn table(planned: &ArmPlanned, r: &ArmReport) -> String {
     s += &format!("  max |angular momentum|   {} kg m^2/s\n", scientific(v.max_abs_momentum, 2));
     s += &format!("  effort                   {} rad^2/s (integral of |u|^2 dt)\n", number(r.effort));
     s += &format!("  max |u_k| [rad/s]        {}\n", list(&r.max_abs_u));
-    s += &format!(
-        "  optimality               KKT residual {}, holonomy residual {} rad, {} spline spans\n",
-        scientific(o.kkt_residual, 1),
-        scientific(o.holonomy_residual, 1),
-        o.spans
-    );
+    if let Some(o) = &r.optimal {
+        s += &format!(
+            "  optimality               KKT residual {}, holonomy residual {} rad, {} spline spans\n",
+            scientific(o.kkt_residual, 1),
+            scientific(o.holonomy_residual, 1),
+            o.spans
+        );
+    }
+    if let Some(e) = &r.ecsa {
+        s += &format!(
+            "  iteration                residual {} rad (tolerance {}), {}, {} x {} quadrature nodes\n",
+            scientific(e.iteration.residual, 1),
+            number(e.iteration.tolerance),
+            e.iteration.termination,
+            e.quadrature_pieces,
+            e.quadrature_nodes
+        );
+    }
     if let Some(t) = &planned.torques {
         let c = &t.certificate;
         s += &format!("  max |tau_k| [N m]        {}\n", list(&t.max_abs_torque));

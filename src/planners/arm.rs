@@ -1,10 +1,10 @@
 //! Planning for any planar serial arm (docs/spec.md §1–2): the one entry point that the command
 //! line, the report and Python use for an arm that is not the paper's 2-link robot.
 //!
-//! The method is the minimum-effort planner for `n` joints ([`super::chain`]): the holonomy
-//! constraint `phi(T) = phid` is one scalar for any `n` (Eq. 7 with `G = (G_1..G_n)`). The NFA's
-//! chained form (Eq. 10) is the 2-link robot's, and the ECSA is implemented for 2 links; for other
-//! arms both are refused with the reason. Every plan is certified at the velocity level (the
+//! The methods are the minimum-effort planner for `n` joints ([`super::chain`], the default) and
+//! the ECSA for `n` joints ([`super::ecsa::chain`]): the holonomy constraint `phi(T) = phid` is
+//! one scalar for any `n` (Eq. 7 with `G = (G_1..G_n)`). The NFA's chained form (Eq. 10) is the
+//! 2-link robot's; for other arms it is refused with the reason. Every plan is certified at the velocity level (the
 //! system integrated with the planned joint velocities), and with `torques` at the torque level
 //! (the full dynamics, base unactuated, integrated with the planned torques, Eq. 6).
 
@@ -13,11 +13,12 @@ use std::time::Instant;
 use serde::Serialize;
 
 use super::chain::{ChainOptions, ChainPlan, ChainPlanner, ChainPoint, ChainProblem, ChainStats};
+use super::ecsa::{ChainEcsaPlan, ChainEcsaPlanner, ChainEcsaStats, EcsaOptions};
 use crate::error::Error;
 use crate::model::InputError;
 use crate::model::arm::Arm;
 use crate::numerics::ode::OdeOptions;
-use crate::plan::chain_certificate::ChainVerification;
+use crate::plan::chain_certificate::{ChainVerification, JointMotion};
 use crate::plan::chain_torques::{ChainTorqueCertificate, certify_chain_torques, chain_torques_at};
 use crate::plan::{Method, TorqueOptions};
 
@@ -49,15 +50,66 @@ pub struct ArmTorques {
     pub seconds: f64,
 }
 
+/// The planned motion of an arm, exact at any time: the method's plan.
+#[derive(Debug, Clone)]
+pub enum ArmPlan {
+    /// The minimum-effort planner's.
+    Optimal(ChainPlan),
+    /// The ECSA's.
+    Ecsa(ChainEcsaPlan),
+}
+
+impl ArmPlan {
+    /// The motion, for the certificates and the torques.
+    pub fn motion(&self) -> &dyn JointMotion {
+        match self {
+            ArmPlan::Optimal(p) => p,
+            ArmPlan::Ecsa(p) => p,
+        }
+    }
+
+    /// The horizon `T` \[s\].
+    pub fn horizon(&self) -> f64 {
+        match self {
+            ArmPlan::Optimal(p) => p.horizon(),
+            ArmPlan::Ecsa(p) => p.horizon(),
+        }
+    }
+
+    /// The velocity-level certificate.
+    pub fn verification(&self) -> &ChainVerification {
+        match self {
+            ArmPlan::Optimal(p) => &p.verification,
+            ArmPlan::Ecsa(p) => &p.verification,
+        }
+    }
+
+    /// The effort `integral_0^T |theta'|^2 dt` \[rad^2/s\].
+    pub fn effort(&self) -> f64 {
+        match self {
+            ArmPlan::Optimal(p) => p.effort(),
+            ArmPlan::Ecsa(p) => p.stats.effort,
+        }
+    }
+
+    /// `samples >= 2` equally spaced points from 0 to T, the last exactly at T.
+    pub fn sample(&self, samples: usize) -> Vec<ChainPoint> {
+        match self {
+            ArmPlan::Optimal(p) => p.sample(samples),
+            ArmPlan::Ecsa(p) => p.sample(samples),
+        }
+    }
+}
+
 /// A certified plan for an arm.
 #[derive(Debug, Clone)]
 pub struct ArmPlanned {
     /// The arm.
     pub arm: Arm,
-    /// The method (the optimal planner).
+    /// The method (optimal or ECSA).
     pub method: Method,
     /// The planned motion, exact at any time.
-    pub plan: ChainPlan,
+    pub plan: ArmPlan,
     /// The trajectory at `samples` equally spaced times.
     pub trajectory: Vec<ChainPoint>,
     /// The torque level, when asked for.
@@ -69,12 +121,30 @@ pub struct ArmPlanned {
 impl ArmPlanned {
     /// The velocity-level certificate.
     pub fn verification(&self) -> &ChainVerification {
-        &self.plan.verification
+        self.plan.verification()
     }
 
-    /// The planner's statistics (effort, peak velocity, iterations, optimality).
-    pub fn stats(&self) -> &ChainStats {
-        &self.plan.stats
+    /// The minimum-effort planner's statistics (effort, peak velocity, iterations,
+    /// optimality); `None` for the ECSA.
+    pub fn stats(&self) -> Option<&ChainStats> {
+        match &self.plan {
+            ArmPlan::Optimal(p) => Some(&p.stats),
+            ArmPlan::Ecsa(_) => None,
+        }
+    }
+
+    /// The ECSA's account (coefficients, iterations, residual, quadrature); `None` for the
+    /// optimal planner.
+    pub fn ecsa(&self) -> Option<&ChainEcsaStats> {
+        match &self.plan {
+            ArmPlan::Ecsa(p) => Some(&p.stats),
+            ArmPlan::Optimal(_) => None,
+        }
+    }
+
+    /// The effort `integral_0^T |theta'|^2 dt` \[rad^2/s\].
+    pub fn effort(&self) -> f64 {
+        self.plan.effort()
     }
 
     /// `Ok` when every certificate computed holds, else [`Error::NotCertified`] naming the level.
@@ -94,24 +164,18 @@ impl ArmPlanned {
     }
 }
 
-/// Plans `request` for `arm` with `method` (only [`Method::Optimal`] serves arms other than the
-/// 2-link robot; the others are bad input naming the reason), certifies it, and adds the torque
-/// level when asked.
+/// Plans `request` for `arm` with `method` ([`Method::Optimal`] or [`Method::Ecsa`] with its
+/// default options; [`Method::Nfa`] is bad input naming the reason), certifies it, and adds the
+/// torque level when asked. The ECSA plans from rest (a moving start is bad input).
 pub fn plan_arm(arm: &Arm, method: Method, request: &ArmRequest) -> Result<ArmPlanned, Error> {
     let refuse = |expected: &'static str| {
         Err(Error::from(InputError::InvalidParameter { name: "--method".into(), value: arm.joints() as f64, expected }))
     };
-    match method {
-        Method::Optimal => {}
-        Method::Nfa => {
-            return refuse(
-                "the optimal method for this arm: the NFA's chained form (Eq. 10) is the 2-link robot's, \
-                 and this arm has another number of links",
-            );
-        }
-        Method::Ecsa => {
-            return refuse("the optimal method for this arm: the ECSA is implemented for 2-link arms only");
-        }
+    if method == Method::Nfa {
+        return refuse(
+            "the optimal or ecsa method for this arm: the NFA's chained form (Eq. 10) is the 2-link robot's, \
+             and this arm has another number of links",
+        );
     }
     if request.samples < 2 {
         return Err(Error::from(InputError::InvalidParameter {
@@ -121,8 +185,13 @@ pub fn plan_arm(arm: &Arm, method: Method, request: &ArmRequest) -> Result<ArmPl
         }));
     }
     let clock = Instant::now();
-    let options = ChainOptions { tolerance: request.tolerance, ..ChainOptions::default() };
-    let plan = ChainPlanner::new(arm.clone(), options).plan(&request.problem)?;
+    let plan = if method == Method::Ecsa {
+        let options = EcsaOptions { tolerance: request.tolerance, ..EcsaOptions::default() };
+        ArmPlan::Ecsa(ChainEcsaPlanner::new(arm.clone(), options).plan(&request.problem)?)
+    } else {
+        let options = ChainOptions { tolerance: request.tolerance, ..ChainOptions::default() };
+        ArmPlan::Optimal(ChainPlanner::new(arm.clone(), options).plan(&request.problem)?)
+    };
     let trajectory = plan.sample(request.samples);
     let seconds = clock.elapsed().as_secs_f64();
     let torques = request.torques.then(|| arm_torques(arm, &plan, &trajectory, &request.problem)).transpose()?;
@@ -131,14 +200,10 @@ pub fn plan_arm(arm: &Arm, method: Method, request: &ArmRequest) -> Result<ArmPl
 
 /// The torques at the samples and the forward-dynamics certificate (tolerance and integrator
 /// of the 2-link torque level, docs/spec.md §2).
-fn arm_torques(
-    arm: &Arm,
-    plan: &ChainPlan,
-    samples: &[ChainPoint],
-    problem: &ChainProblem,
-) -> Result<ArmTorques, Error> {
+fn arm_torques(arm: &Arm, plan: &ArmPlan, samples: &[ChainPoint], problem: &ChainProblem) -> Result<ArmTorques, Error> {
     let clock = Instant::now();
     let defaults = TorqueOptions::default();
+    let plan = plan.motion();
     let n = arm.joints();
     let mut tau = Vec::with_capacity(samples.len());
     let (mut peak, mut residual) = (vec![0.0_f64; n], 0.0_f64);

@@ -13,6 +13,7 @@ use crate::plan::chain_certificate::ChainVerification;
 use crate::plan::chain_torques::ChainTorqueCertificate;
 use crate::planners::arm::ArmPlanned;
 use crate::planners::chain::ChainStats;
+use crate::planners::ecsa::ChainEcsaStats;
 
 /// Wall times \[s\].
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
@@ -42,7 +43,7 @@ pub struct ArmTrajectory {
 /// The JSON report of an arm's plan.
 #[derive(Debug, Clone, Serialize)]
 pub struct ArmReport {
-    /// `optimal`.
+    /// `optimal` or `ecsa`.
     pub method: Method,
     /// Number of joints `n`.
     pub joints: usize,
@@ -70,8 +71,12 @@ pub struct ArmReport {
     pub effort: f64,
     /// Largest `|theta_k'|` over the samples, per joint \[rad/s\].
     pub max_abs_u: Vec<f64>,
-    /// The planner's account (iterations, KKT residual, spans, ...).
-    pub optimal: ChainStats,
+    /// The minimum-effort planner's account (iterations, KKT residual, spans, ...).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub optimal: Option<ChainStats>,
+    /// The ECSA's account (coefficients, iterations, residual, quadrature; with `--method ecsa`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ecsa: Option<ChainEcsaStats>,
     /// Largest `|tau_k|` per joint [N m] (with `--torques`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub max_abs_torque: Option<Vec<f64>>,
@@ -93,7 +98,6 @@ impl ArmReport {
     /// `with_trajectory`.
     pub fn new(planned: &ArmPlanned, start: &[f64], goal: &[f64], with_trajectory: bool) -> Self {
         let v = planned.verification();
-        let stats = planned.stats();
         let n = planned.arm.joints();
         let mut max_abs_u = vec![0.0_f64; n];
         for p in &planned.trajectory {
@@ -115,9 +119,10 @@ impl ArmReport {
             certified: planned.certified().is_ok(),
             reached: v.reached.clone(),
             verification: v.clone(),
-            effort: stats.effort,
+            effort: planned.effort(),
             max_abs_u,
-            optimal: *stats,
+            optimal: planned.stats().copied(),
+            ecsa: planned.ecsa().cloned(),
             max_abs_torque: torques.map(|t| t.max_abs_torque.clone()),
             torque_final_error: torques.map(|t| t.certificate.final_error),
             torque_certificate: torques.map(|t| t.certificate.clone()),

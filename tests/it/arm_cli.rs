@@ -47,6 +47,38 @@ fn three_link_arm_plans_from_toml_and_urdf() {
     assert!((a - b).abs() <= 1e-8 * a, "TOML {a}, URDF {b}");
 }
 
+/// `--method ecsa` plans the 3-link example arm (issue 14), certified, with the ECSA's account
+/// (iterations, residual) in place of the optimal planner's; the table names the iteration; a
+/// moving start is bad input (the ECSA plans from rest).
+#[test]
+fn three_link_arm_plans_with_the_ecsa() {
+    let toml = example("three_link.toml");
+    let args = ["plan", "--robot", &toml, "--from", FROM, "--to", TO, "--method", "ecsa", "--format", "json"];
+    let o = freefloat(&args);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let r = json(&o);
+    assert_eq!(r["method"], "ecsa");
+    assert_eq!(r["joints"], 3);
+    assert_eq!(r["certified"], true);
+    assert!(r["final_error"].as_f64().unwrap() <= 1e-9, "{r}");
+    assert!(r["optimal"].is_null(), "{r}");
+    let e = &r["ecsa"];
+    assert_eq!(e["iteration"]["termination"], "converged", "{r}");
+    assert!(e["iteration"]["residual"].as_f64().unwrap() <= 1e-10, "{r}");
+    assert!(e["iteration"]["iterations"].as_u64().unwrap() >= 1, "{r}");
+    assert_eq!(e["coefficients"].as_array().unwrap().len(), 9);
+    let optimal = json(&freefloat(&["plan", "--robot", &toml, "--from", FROM, "--to", TO, "--format", "json"]));
+    assert!(optimal["ecsa"].is_null() && optimal["optimal"]["iterations"].is_u64(), "{optimal}");
+    let table = freefloat(&["plan", "--robot", &toml, "--from", FROM, "--to", TO, "--method", "ecsa"]);
+    assert_eq!(table.status.code(), Some(0), "{}", stderr(&table));
+    let text = String::from_utf8_lossy(&table.stdout);
+    assert!(text.contains("ecsa") && text.contains("CERTIFIED") && text.contains("iteration"), "{text}");
+    let moving = ["plan", "--robot", &toml, "--from", FROM, "--to", TO, "--method", "ecsa", "--from-velocity", "5,0,0"];
+    let o = freefloat(&moving);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("from rest"), "{}", stderr(&o));
+}
+
 /// `--out FILE.csv` has one column per joint (and torque), and every row its n + 1 angles.
 #[test]
 fn arm_csv_has_a_column_per_joint() {

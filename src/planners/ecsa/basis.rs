@@ -142,6 +142,36 @@ impl Basis {
         out
     }
 
+    /// `int_0^t` of each basis function \[s\] at `t` \[s\], in closed form: the joint angles are
+    /// `theta_i(t) = theta_i(0) + sum_j c_ij A_j(t)`. With `S_k(t) = (1 - cos(k w t)) / (k w)`,
+    /// `C_k(t) = sin(k w t) / (k w)` (`S_0 = 0`, `C_0 = t`): without window `(C_0, S_1, C_1, ..)`;
+    /// with `sin^2 = 1/2 - cos(w t)/2` the products `cos(w t) sin(k w t)`, `cos(w t) cos(k w t)`
+    /// split into harmonics `k +- 1`, so `A = (C_0/2 - C_1/2, .., S_k/2 - (S_(k+1) + S_(k-1))/4,
+    /// C_k/2 - (C_(k+1) + C_(k-1))/4, ..)`. At `t = T` these are [`Self::integrals`].
+    pub fn antiderivatives(&self, t: f64) -> [f64; MAX_TERMS] {
+        let w = std::f64::consts::TAU / self.horizon;
+        let s = |k: usize| if k == 0 { 0.0 } else { (1.0 - (k as f64 * w * t).cos()) / (k as f64 * w) };
+        let c = |k: usize| if k == 0 { t } else { (k as f64 * w * t).sin() / (k as f64 * w) };
+        let mut out = [0.0; MAX_TERMS];
+        match self.window {
+            Window::None => {
+                out[0] = c(0);
+                for k in 1..=self.harmonics {
+                    out[2 * k - 1] = s(k);
+                    out[2 * k] = c(k);
+                }
+            }
+            Window::SinSquared => {
+                out[0] = 0.5 * (c(0) - c(1));
+                for k in 1..=self.harmonics {
+                    out[2 * k - 1] = 0.5 * s(k) - 0.25 * (s(k + 1) + s(k - 1));
+                    out[2 * k] = 0.5 * c(k) - 0.25 * (c(k + 1) + c(k - 1));
+                }
+            }
+        }
+        out
+    }
+
     /// The initial guess of the iteration: the constant terms that move each joint from
     /// `theta_i(0)` to `theta_i(T)` with all harmonics zero, i.e. `c_i0 = (theta_id -
     /// theta_i0) / int_0^T W`: a linear joint motion without window, `sin^2`-shaped with it.
@@ -194,6 +224,26 @@ mod tests {
             }
             for (s, exact) in sums.iter().zip(basis.integrals()) {
                 assert!((s - exact).abs() < 1e-9, "{window:?}: {s} vs {exact}");
+            }
+        }
+    }
+
+    /// The closed-form antiderivatives match a 64-node Gauss–Legendre rule to 1e-13 s at
+    /// interior times, and equal [`Basis::integrals`] at `t = T`.
+    #[test]
+    fn antiderivatives_match_quadrature() {
+        let rule = crate::numerics::quadrature::GaussLegendre::new(64);
+        for window in [Window::None, Window::SinSquared] {
+            let basis = Basis::new(4, 7.0, window).unwrap();
+            for t in [0.0, 0.4, 3.1, 5.9, 7.0] {
+                let a = basis.antiderivatives(t);
+                for (j, aj) in a.iter().enumerate() {
+                    let q = rule.integrate(0.0, t, |x| basis.values(x)[j]);
+                    assert!((aj - q).abs() < 1e-13, "{window:?} t = {t} j = {j}: {aj} vs {q}");
+                }
+            }
+            for (a, i) in basis.antiderivatives(7.0).iter().zip(basis.integrals()) {
+                assert!((a - i).abs() < 1e-13, "{window:?}: {a} vs {i}");
             }
         }
     }

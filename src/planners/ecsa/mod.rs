@@ -30,6 +30,7 @@
 //! Int. J. Control 76(14) (2003) 1387–1419, doi:10.1080/0020717031000099029.
 
 pub mod basis;
+pub mod chain;
 mod motion;
 
 use std::time::Instant;
@@ -38,6 +39,7 @@ use nalgebra::{Const, Matrix3, SMatrix, SVector, U1, Vector3};
 use num_dual::{Derivative, DualSVec64};
 
 pub use basis::{Basis, MAX_HARMONICS, Window};
+pub use chain::{ChainEcsaPlan, ChainEcsaPlanner, ChainEcsaStats};
 pub use motion::EcsaMotion;
 
 use crate::error::Error;
