@@ -580,8 +580,9 @@ def plan_arm(
     ``wrap=False`` takes the goal's angles literally instead of modulo 2 pi; ``samples`` is the
     number of samples of the arrays (at least 2). ``torques=True`` adds the joint torques and
     the second certificate (the full dynamics integrated with the planned torques, tolerance
-    1e-6 rad). ``method`` is ``"optimal"``: ``"nfa"`` (the chained form is the 2-link
-    robot's) and ``"ecsa"`` (implemented for 2 links) are :class:`BadInput` with the reason.
+    1e-6 rad). ``method`` is ``"optimal"`` (minimum effort) or ``"ecsa"`` (the
+    paper's reference method, from rest only; its motions can cost far more effort); ``"nfa"``
+    (the chained form is the 2-link robot's) is :class:`BadInput` with the reason.
     The GIL is released while planning.
 
     Raises :class:`BadInput` (bad parameters, named: ``start.len``, ``goal[2]``,

@@ -185,7 +185,6 @@ def test_bad_base_and_mount():
         (ARM_START, [0.5, 0.8, 0.2, -0.3, 0.0], {}, "goal.len"),
         (ARM_START, ARM_GOAL, {"initial_velocity": [0.0, 0.1]}, "initial_velocity.len"),
         (ARM_START, ARM_GOAL, {"method": "nfa"}, "method"),
-        (ARM_START, ARM_GOAL, {"method": "ecsa"}, "method"),
         (ARM_START, ARM_GOAL, {"method": "rrt"}, "method"),
         (ARM_START, ARM_GOAL, {"samples": 1}, "samples"),
         (ARM_START, ARM_GOAL, {"tolerance": 0.0}, "tolerance"),

@@ -121,11 +121,11 @@ impl Arm3Row {
             }
         };
         let v = p.verification();
-        row.effort = Some(p.stats().effort);
+        row.effort = Some(p.effort());
         let n = p.arm.joints();
         let rates: Vec<f64> =
             (0..n).map(|j| p.trajectory.iter().map(|s| s.rate[j].abs()).fold(0.0, f64::max)).collect();
-        row.peak_velocity = Some(rates.iter().copied().fold(p.stats().peak_velocity, f64::max));
+        row.peak_velocity = Some(rates.iter().copied().fold(p.stats().map_or(0.0, |s| s.peak_velocity), f64::max));
         row.max_abs_rate = Some(rates);
         (row.final_error, row.max_abs_momentum, row.certified) =
             (Some(v.final_error), Some(v.max_abs_momentum), v.certified);
@@ -247,7 +247,7 @@ pub fn arm3_figure(p: &ArmPlanned) -> PlanFigure {
             l.inertia
         ));
     }
-    text.push(format!("effort ∫|θ'|² dt = {:.4} rad²/s, plan {:.1} ms", p.stats().effort, p.seconds * 1e3));
+    text.push(format!("effort ∫|θ'|² dt = {:.4} rad²/s, plan {:.1} ms", p.effort(), p.seconds * 1e3));
     let panels = vec![
         Panel {
             title: "Base orientation and joint angles".into(),
@@ -283,7 +283,7 @@ pub fn arm3_figure(p: &ArmPlanned) -> PlanFigure {
         v.tolerance,
         verdict(v.certified),
         v.max_abs_momentum,
-        p.stats().peak_velocity
+        p.stats().map_or(0.0, |s| s.peak_velocity)
     )];
     if let Some(t) = &p.torques {
         let c = &t.certificate;

@@ -209,7 +209,7 @@ fn reproduce_writes_every_file_whole_and_the_planners_numbers() {
     assert_eq!(arm3["arm"]["links"].as_array().map(Vec::len), Some(3));
     assert!(md.contains("## A 3-link arm (Fig. 18)") && html.contains("A 3-link arm"));
     let planned = freefloat::report::plan_arm3().expect("the 3-link plan");
-    close(f64_at(arm3, "effort"), planned.stats().effort);
+    close(f64_at(arm3, "effort"), planned.effort());
     close(f64_at(arm3, "final_error"), planned.verification().final_error);
     let tau = &planned.torques.as_ref().expect("torques").max_abs_torque;
     for (k, t) in tau.iter().enumerate() {
