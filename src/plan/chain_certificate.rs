@@ -44,6 +44,19 @@ pub struct ChainVerification {
     pub stats: OdeStats,
 }
 
+/// Checks that `motion`, `start` and `goal` (`n + 1` values each) have the joint count of `arm`.
+pub fn check_lengths(arm: &Arm, motion: &dyn JointMotion, start: &[f64], goal: &[f64]) -> Result<(), Error> {
+    let n = arm.joints();
+    if motion.joints() != n || start.len() != n + 1 || goal.len() != n + 1 {
+        return Err(Error::from(InputError::InvalidParameter {
+            name: "joints".into(),
+            value: motion.joints() as f64,
+            expected: "a motion, start and goal of the arm's joint count",
+        }));
+    }
+    Ok(())
+}
+
 /// Largest number of joints [`verify_chain`] takes.
 pub const MAX_CERTIFIED_JOINTS: usize = 15;
 
@@ -58,13 +71,7 @@ pub fn verify_chain(
     tolerance: f64,
 ) -> Result<ChainVerification, Error> {
     let n = arm.joints();
-    if motion.joints() != n || start.len() != n + 1 || goal.len() != n + 1 {
-        return Err(Error::from(InputError::InvalidParameter {
-            name: "joints".into(),
-            value: motion.joints() as f64,
-            expected: "a motion, start and goal of the arm's joint count",
-        }));
-    }
+    check_lengths(arm, motion, start, goal)?;
     macro_rules! dispatch {
         ($($n:literal => $m:literal),*) => {
             match n {

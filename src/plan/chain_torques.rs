@@ -6,7 +6,7 @@
 use nalgebra::{DVector, SVector};
 use serde::Serialize;
 
-use super::chain_certificate::JointMotion;
+use super::chain_certificate::{JointMotion, check_lengths};
 use crate::dynamics::arm::{InverseDynamics, forward_dynamics, inverse_dynamics};
 use crate::error::Error;
 use crate::model::InputError;
@@ -54,13 +54,7 @@ pub fn certify_chain_torques(
     tolerance: f64,
 ) -> Result<ChainTorqueCertificate, Error> {
     let n = arm.joints();
-    if motion.joints() != n || start.len() != n + 1 || goal.len() != n + 1 {
-        return Err(Error::from(InputError::InvalidParameter {
-            name: "joints".into(),
-            value: motion.joints() as f64,
-            expected: "a motion, start and goal of the arm's joint count",
-        }));
-    }
+    check_lengths(arm, motion, start, goal)?;
     macro_rules! dispatch {
         ($($n:literal => $m:literal),*) => {
             match n {
