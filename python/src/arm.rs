@@ -18,7 +18,7 @@ use pyo3::types::{PyDict, PyList};
 use serde_json::Value;
 
 use crate::compat::InputError;
-use crate::convert::{column, json_dict};
+use crate::convert::{column, report_dict};
 use crate::errors::{BindingError, IntoPyResult, library_error};
 use crate::planning::{count, parse_method};
 use crate::robot::PyRobot;
@@ -275,11 +275,7 @@ impl PyArmPlan {
     /// The certificate: the CLI's JSON report as a dict (same keys), built on first access.
     #[getter]
     fn certificate(&self, py: Python<'_>) -> PyResult<Py<PyDict>> {
-        let dict = self.certificate.get_or_try_init(py, || -> PyResult<Py<PyDict>> {
-            let map = self.report.as_object().cloned().unwrap_or_default();
-            Ok(json_dict(py, &map)?.unbind())
-        })?;
-        Ok(dict.clone_ref(py))
+        report_dict(py, &self.certificate, &self.report)
     }
 
     fn __repr__(&self, py: Python<'_>) -> String {

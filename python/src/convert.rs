@@ -4,6 +4,7 @@ use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray1, PyArray2};
 use pyo3::IntoPyObjectExt;
 use pyo3::prelude::*;
+use pyo3::sync::PyOnceLock;
 use pyo3::types::{PyDict, PyList};
 use serde_json::Value;
 
@@ -49,4 +50,14 @@ pub fn rows<'py, const N: usize>(py: Python<'py>, rows: &[[f64; N]]) -> Bound<'p
 /// A column as a float64 array.
 pub fn column<'py>(py: Python<'py>, values: &[f64]) -> Bound<'py, PyArray1<f64>> {
     PyArray1::from_slice(py, values)
+}
+
+/// The JSON report `report` as a Python dict, built once into `cell` and shared after (the
+/// `certificate` of `Plan` and `ArmPlan`).
+pub fn report_dict(py: Python<'_>, cell: &PyOnceLock<Py<PyDict>>, report: &Value) -> PyResult<Py<PyDict>> {
+    let dict = cell.get_or_try_init(py, || -> PyResult<Py<PyDict>> {
+        let map = report.as_object().cloned().unwrap_or_default();
+        Ok(json_dict(py, &map)?.unbind())
+    })?;
+    Ok(dict.clone_ref(py))
 }

@@ -16,7 +16,7 @@ use pyo3::types::PyDict;
 use serde_json::Value;
 
 use crate::compat::{Cost, Elbow, InputError, OptimalOptions, PlanReport, PlannerOptions, plan_to_pose, planner};
-use crate::convert::{column, json_dict, rows};
+use crate::convert::{column, report_dict, rows};
 use crate::errors::{BindingError, IntoPyResult, library_error};
 use crate::robot::{PyRobot, triple};
 
@@ -339,11 +339,7 @@ impl PyPlan {
     /// The certificate: the CLI's JSON report as a dict (same keys), built on first access.
     #[getter]
     fn certificate(&self, py: Python<'_>) -> PyResult<Py<PyDict>> {
-        let dict = self.certificate.get_or_try_init(py, || -> PyResult<Py<PyDict>> {
-            let map = self.report.as_object().cloned().unwrap_or_default();
-            Ok(json_dict(py, &map)?.unbind())
-        })?;
-        Ok(dict.clone_ref(py))
+        report_dict(py, &self.certificate, &self.report)
     }
 
     fn __repr__(&self, py: Python<'_>) -> String {

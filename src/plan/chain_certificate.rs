@@ -44,6 +44,21 @@ pub struct ChainVerification {
     pub stats: OdeStats,
 }
 
+impl ChainVerification {
+    /// The certificate of a motion not yet verified: not certified, errors unknown (NaN), to be
+    /// replaced by [`verify_chain`]'s before the plan is returned.
+    pub fn pending() -> Self {
+        Self {
+            final_error: f64::NAN,
+            reached: Vec::new(),
+            max_abs_momentum: f64::NAN,
+            tolerance: f64::NAN,
+            certified: false,
+            stats: OdeStats::default(),
+        }
+    }
+}
+
 /// Checks that `motion`, `start` and `goal` (`n + 1` values each) have the joint count of `arm`.
 pub fn check_lengths(arm: &Arm, motion: &dyn JointMotion, start: &[f64], goal: &[f64]) -> Result<(), Error> {
     let n = arm.joints();

@@ -94,14 +94,7 @@ impl ChainPlan {
             coefficients,
             phi_at_breakpoints: Vec::new(),
             stats,
-            verification: ChainVerification {
-                final_error: f64::NAN,
-                reached: Vec::new(),
-                max_abs_momentum: f64::NAN,
-                tolerance: f64::NAN,
-                certified: false,
-                stats: Default::default(),
-            },
+            verification: ChainVerification::pending(),
         };
         let b = me.basis.breakpoints().to_vec();
         let mut phi = vec![phi0];

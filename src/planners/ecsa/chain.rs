@@ -357,14 +357,7 @@ impl ChainEcsaPlan {
             breakpoints,
             phi_at_breakpoints: vec![start[0]],
             stats,
-            verification: ChainVerification {
-                final_error: f64::NAN,
-                reached: Vec::new(),
-                max_abs_momentum: f64::NAN,
-                tolerance: f64::NAN,
-                certified: false,
-                stats: OdeStats::default(),
-            },
+            verification: ChainVerification::pending(),
         };
         for i in 0..pieces {
             let next = me.phi_at_breakpoints[i] - me.holonomy(me.breakpoints[i], me.breakpoints[i + 1]);
