@@ -250,3 +250,20 @@ fn trials_file_round_trip_and_row_checks() {
     assert_eq!(changed.last(), Some(&run), "the shard is not part of the run");
     assert!(!run.contains("inf") && !run.contains('\n'), "{run}");
 }
+
+/// A Monte Carlo run of more than `MAX_TRIALS` trials (or of none) is bad input, refused before
+/// any trial runs (each trial keeps its result).
+#[test]
+fn trial_counts_are_bounded() {
+    use crate::track::monte_carlo::{MAX_TRIALS, MonteCarloOptions, monte_carlo};
+    let (problem, planned) = fig06();
+    for trials in [0, MAX_TRIALS + 1] {
+        let mc = MonteCarloOptions { trials, ..Default::default() };
+        let ran = std::sync::atomic::AtomicUsize::new(0);
+        let result = monte_carlo(&problem, motion(&planned), &TrackOptions::default(), &mc, &|| {
+            ran.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        });
+        assert!(result.is_err_and(|e| e.is_bad_input()), "{trials} trials");
+        assert_eq!(ran.into_inner(), 0);
+    }
+}
