@@ -7,7 +7,7 @@ use crate::error::Error;
 use crate::model::{Configuration, InputError, RobotParams};
 use crate::numerics::ode::OdeOptions;
 use crate::plan::{Method, Motion, MotionPoint, PlanningProblem};
-use crate::planners::optimal::OptimalOptions;
+use crate::planners::optimal::{OptimalOptions, Sampled};
 use crate::planners::{PlannerOptions, planner};
 
 /// Options of the re-planning.
@@ -50,7 +50,7 @@ impl Default for ReplanOptions {
                 finalists: 1,
                 wrap: false,
                 tolerance: 1e-6,
-                ode: OdeOptions { rtol: 1e-10, atol: 1e-10, max_steps: 100_000 },
+                ode: OdeOptions { rtol: 1e-9, atol: 1e-9, max_steps: 100_000 },
                 ..OptimalOptions::default()
             },
         }
@@ -121,23 +121,40 @@ impl Replanner {
         Self { goal, options }
     }
 
-    /// A plan on `model` from the measured state at time `t` to the goal at `horizon` \[s\]:
-    /// `Ok(None)` when the planner fails or its plan is not accepted (see
-    /// [`ReplanOptions::accept`]).
+    /// A plan on `model` from the measured state at time `t` to the goal at `horizon` \[s\],
+    /// warm-started by the rest of `current`, the reference being followed (the planner's full
+    /// search follows where that start does not converge): `None` when the planner fails or its
+    /// plan is not accepted (see [`ReplanOptions::accept`]).
     pub fn replan(
         &self,
         model: &RobotParams,
         measured: &State,
         t: f64,
         horizon: f64,
+        current: &Reference,
     ) -> Option<Box<dyn Motion + Send + Sync>> {
         let problem = PlanningProblem::new(*model, measured.q, self.goal, horizon - t)
             .and_then(|p| p.with_start_velocity([measured.dq[1], measured.dq[2]]))
             .ok()?;
-        let optimal = self.options.planner.clone();
+        let mut optimal = self.options.planner.clone();
+        optimal.warm_start = Self::rest_of(current, t, horizon, 4 * optimal.max_spans + 1);
         let planner = planner(Method::Optimal, &PlannerOptions { optimal, ..Default::default() });
         let planned = planner.plan(&problem).ok()?;
         let e = planned.plan.verification.final_error;
         (e.is_finite() && e <= self.options.accept).then_some(planned.motion)
+    }
+
+    /// The joint path of `current` from `t` to `horizon` at `n` equally spaced times, with its
+    /// own time starting at 0; `None` if it cannot be evaluated.
+    fn rest_of(current: &Reference, t: f64, horizon: f64, n: usize) -> Option<Sampled> {
+        let mut path = Sampled { t: Vec::with_capacity(n), theta: Vec::with_capacity(n), rate: Vec::with_capacity(n) };
+        for i in 0..n {
+            let s = (horizon - t) * i as f64 / (n - 1) as f64;
+            let p = current.at(t + s).ok()?;
+            path.t.push(s);
+            path.theta.push([p.q.theta1, p.q.theta2]);
+            path.rate.push(p.u);
+        }
+        Some(path)
     }
 }

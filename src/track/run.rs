@@ -185,7 +185,7 @@ pub fn track(
                 model = fitted;
                 k = model.lumped();
             }
-            match replanner.replan(&model, &measured, t, horizon) {
+            match replanner.replan(&model, &measured, t, horizon, &reference) {
                 Some(motion) => {
                     reference = Reference::Replanned { motion, t0: t };
                     replans += 1;

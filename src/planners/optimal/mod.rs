@@ -43,6 +43,7 @@ use crate::planners::{Details, Planned, Planner};
 use discrete::{Discretisation, Table, Targets};
 
 pub use motion::{OptimalMotion, OptimalStats};
+pub use seeds::Sampled;
 use spline::SplineBasis;
 pub use sqp::{SqpOptions, Termination};
 
@@ -106,6 +107,11 @@ pub struct OptimalOptions {
     pub max_loop_radius: f64,
     /// SQP options of the refined solves.
     pub sqp: SqpOptions,
+    /// A joint path to start from, sampled from `t = 0` to the horizon (in re-planning: the rest
+    /// of the plan being followed). It is solved first, on the literal goal's representative
+    /// whose joint angles it ends at; when that solve converges, its motion is the plan and no
+    /// other seed is tried. Default none.
+    pub warm_start: Option<Sampled>,
 }
 
 impl Default for OptimalOptions {
@@ -127,6 +133,7 @@ impl Default for OptimalOptions {
             targets_solved: 2,
             max_loop_radius: 2.0,
             sqp: SqpOptions::default(),
+            warm_start: None,
         }
     }
 }
@@ -163,6 +170,13 @@ impl OptimalOptions {
         }
         if !(self.refinement_tolerance > 0.0) {
             return bad("refinement_tolerance", self.refinement_tolerance, "a positive relative change");
+        }
+        if let Some(path) = &self.warm_start {
+            let finite = path.theta.iter().chain(&path.rate).flatten().chain(&path.t).all(|x| x.is_finite());
+            let shape = path.t.len() >= 2 && path.theta.len() == path.t.len() && path.rate.len() == path.t.len();
+            if !(finite && shape && path.t[0] == 0.0 && path.t[path.t.len() - 1] > 0.0) {
+                return bad("warm_start", path.t.len() as f64, "at least 2 finite samples from t = 0 on");
+            }
         }
         Ok(())
     }
@@ -244,6 +258,11 @@ impl OptimalPlanner {
         let kappa_max = seeds::curvature_bound_on(&grid);
         let sites = seeds::coil_sites_on(&k, o.max_loop_radius, &grid);
         let tables = Tables::default();
+        if let Some(path) = &o.warm_start
+            && let Some(motion) = self.warm(problem, path, &tables)?
+        {
+            return Ok(vec![motion]);
+        }
         let mut lines = Vec::new();
         let mut prepared = Vec::new();
         for targets in self.targets(problem) {

@@ -1,11 +1,13 @@
 //! The goal representatives modulo 2 pi and the warm starts of each: the straight line, loops
-//! beside it, a coil where the base must turn far, and the NFA's joint path.
+//! beside it, a coil where the base must turn far, the NFA's joint path, and a given path (the
+//! rest of the plan being followed, in re-planning).
 
 use nalgebra::DVector;
 
 use super::discrete::{Discretisation, Targets};
 use super::seeds::{self, CoilSite, Line, Sampled, SeedKind};
-use super::{OptimalPlanner, Tables};
+use super::motion::OptimalMotion;
+use super::{COARSE_SQP, Candidate, OptimalPlanner, Tables, sqp};
 use crate::error::Error;
 use crate::model::wrap_angle;
 use crate::plan::{Motion, PlanningProblem};
@@ -184,5 +186,35 @@ impl OptimalPlanner {
             }
         }
         Ok(starts)
+    }
+
+    /// The motion from the warm start `path` ([`super::OptimalOptions::warm_start`]): its
+    /// projection on the coarse basis, solved and refined like a finalist, on the representative
+    /// whose joint goal it ends at. `None` when no representative matches or the solve does not
+    /// converge (the full search follows).
+    pub(super) fn warm(
+        &self,
+        problem: &PlanningProblem,
+        path: &Sampled,
+        tables: &Tables,
+    ) -> Result<Option<OptimalMotion>, Error> {
+        let o = &self.options;
+        let Some(end) = path.theta.last() else { return Ok(None) };
+        let near = |t: &Targets| (0..2).all(|j| (t.end[j] - end[j]).abs() <= 1e-6);
+        let Some(targets) = self.targets(problem).into_iter().find(near) else { return Ok(None) };
+        let disc = self.discretise(problem, targets, o.coarse_spans, o.quadrature_nodes, tables)?;
+        let x0 = disc.project(|t| path.at(t))?;
+        let Ok(result) = sqp::solve(&disc, x0, &COARSE_SQP, None) else { return Ok(None) };
+        if !(result.c.abs() <= 1e-6 && result.f.is_finite()) {
+            return Ok(None);
+        }
+        let iterations = result.iterations;
+        let c = Candidate { disc, iterations, result, spans: o.coarse_spans, nodes: o.quadrature_nodes, motion: None };
+        let c = self.refine(problem, c, tables)?;
+        if !c.result.converged() {
+            return Ok(None);
+        }
+        let total = c.iterations;
+        Ok(Some(self.to_motion(problem, c, 1, total)))
     }
 }

@@ -329,7 +329,7 @@ pub fn coil_sites_on(k: &Lumped, max_radius: f64, grid: &[f64]) -> [CoilSite; 2]
 }
 
 /// Cubic Hermite interpolation of sampled `(t, theta, theta')`.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct Sampled {
     /// Equally spaced times \[s\].
     pub t: Vec<f64>,
