@@ -432,6 +432,10 @@ pub struct TrackArgs {
     /// Control rate in Hz (zero-order hold).
     #[arg(long, value_name = "HZ", default_value_t = 1000.0, allow_hyphen_values = true)]
     pub rate: f64,
+    /// Follow the plan's own feedforward: no correction for the zero-order hold on the nominal model
+    /// (docs/spec.md §5).
+    #[arg(long)]
+    pub no_hold_correction: bool,
     /// Re-planning rate in Hz.
     #[arg(long, value_name = "HZ", default_value_t = 50.0, allow_hyphen_values = true)]
     pub replan_rate: f64,

@@ -46,6 +46,7 @@ fn options(args: &TrackArgs) -> anyhow::Result<TrackOptions> {
             dq_noise: args.noise_dq,
         },
         record: args.out.is_some() || args.plot.is_some(),
+        hold_correction: !args.no_hold_correction,
     };
     options.validate()?;
     Ok(options)

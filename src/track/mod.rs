@@ -8,8 +8,9 @@
 //! controllers ([`Controller`]), all built on a model:
 //!
 //! - `open`: the planned torques (Eq. 6) alone;
-//! - `ct`: computed torque with PD on the joint angles ([`control::computed_torque`]). It cannot
-//!   correct the base angle `phi`: only the holonomy of the joint path moves it;
+//! - `ct`: computed torque with PD on the joint angles ([`control::computed_torque`]), its
+//!   feedforward corrected for the zero-order hold on the nominal model ([`hold`]). It cannot
+//!   correct the base angle `phi` on another robot: only the holonomy of the joint path moves it;
 //! - `replan`: `ct` plus receding-horizon re-planning ([`replan`]) from the measured state to the
 //!   goal in the remaining time, which steers `phi` back;
 //! - `adaptive`: `replan` on a model whose momentum map (Eqs. 5, 8) is identified on line
@@ -32,6 +33,7 @@
 
 pub mod certificate;
 pub mod control;
+pub mod hold;
 pub mod identify;
 pub mod monte_carlo;
 pub mod noise;
@@ -48,7 +50,8 @@ pub use monte_carlo::{MonteCarloOptions, Summary, Trial, monte_carlo, summarise}
 pub use perturb::Perturbation;
 pub use plant::Disturbances;
 pub use replan::ReplanOptions;
-pub use run::{History, Identification, TrackOptions, Tracked, track};
+pub use hold::HoldCorrection;
+pub use run::{History, HoldSummary, Identification, TrackOptions, Tracked, hold_correction, track, track_with};
 
 #[cfg(test)]
 mod tests;

@@ -12,7 +12,7 @@ use serde::Serialize;
 use super::control::Controller;
 use super::noise::Noise;
 use super::perturb::Perturbation;
-use super::run::{TrackOptions, track};
+use super::run::{TrackOptions, hold_correction, track_with};
 use crate::analysis::shards::Shard;
 use crate::error::Error;
 use crate::model::{InputError, RobotParams};
@@ -125,6 +125,11 @@ pub fn monte_carlo(
     }
     mc.perturbation.validate()?;
     options.validate()?;
+    let correction = if mc.controllers.iter().all(|&c| c == Controller::Open) {
+        None
+    } else {
+        hold_correction(problem, plan, options)?
+    };
     let indices: Vec<usize> = mc.shard.indices(mc.trials).collect();
     let per_trial: Vec<Vec<Trial>> = indices
         .into_par_iter()
@@ -139,7 +144,7 @@ pub fn monte_carlo(
                 .iter()
                 .map(|&controller| {
                     let o = TrackOptions { controller, record: false, ..options.clone() };
-                    let r = track(problem, plan, &truth, &o, seed)?;
+                    let r = track_with(problem, plan, correction.as_ref(), &truth, &o, seed)?;
                     Ok(Trial {
                         trial: i,
                         controller,

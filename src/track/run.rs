@@ -6,6 +6,7 @@ use std::time::Instant;
 use serde::Serialize;
 
 use super::control::{Controller, Gains, computed_torque, feedforward};
+use super::hold::HoldCorrection;
 use super::identify::{Constants, Identifier, IdentifyOptions, constants, fit_robot, momentum_map_error};
 use super::plant::{Disturbances, Plant};
 use super::replan::{Reference, ReplanOptions, Replanner};
@@ -34,6 +35,9 @@ pub struct TrackOptions {
     /// Keep the reference and the actual motion at every tick ([`Tracked::history`]); default
     /// false.
     pub record: bool,
+    /// Correct the joint loop's feedforward for the zero-order hold on the nominal model
+    /// ([`HoldCorrection`]); default true. Not used by `open`.
+    pub hold_correction: bool,
 }
 
 impl Default for TrackOptions {
@@ -47,6 +51,7 @@ impl Default for TrackOptions {
             identify: IdentifyOptions::default(),
             disturbances: Disturbances::default(),
             record: false,
+            hold_correction: true,
         }
     }
 }
@@ -105,6 +110,37 @@ pub struct Identification {
     pub identified_map_error: f64,
 }
 
+/// What the hold correction did ([`HoldCorrection`]).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct HoldSummary {
+    /// Final error of the nominal loop without the correction \[rad\].
+    pub error_before: f64,
+    /// Final error of the nominal loop with it \[rad\].
+    pub error_after: f64,
+    /// Largest added joint acceleration [rad/s^2].
+    pub peak_acceleration: f64,
+}
+
+impl From<&HoldCorrection> for HoldSummary {
+    fn from(c: &HoldCorrection) -> Self {
+        Self { error_before: c.error_before, error_after: c.error_after, peak_acceleration: c.peak_acceleration }
+    }
+}
+
+/// The hold correction that runs of `plan` with `options` use (any controller but `open`):
+/// `None` when switched off or when it does not reduce the nominal loop's error.
+pub fn hold_correction(
+    problem: &PlanningProblem,
+    plan: &(dyn Motion + Sync),
+    options: &TrackOptions,
+) -> Result<Option<HoldCorrection>, Error> {
+    options.validate()?;
+    if !options.hold_correction {
+        return Ok(None);
+    }
+    HoldCorrection::new(problem, plan, options.rate, options.substeps, options.gains)
+}
+
 /// The result of a closed-loop run.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Tracked {
@@ -134,6 +170,8 @@ pub struct Tracked {
     pub diverged_at: Option<f64>,
     /// The identified model (`adaptive` only).
     pub identification: Option<Identification>,
+    /// The hold correction of the first plan's feedforward, where the run used one.
+    pub hold_correction: Option<HoldSummary>,
     /// The motion tick by tick, when recorded.
     #[serde(skip)]
     pub history: Option<History>,
@@ -150,9 +188,30 @@ pub fn track(
     options: &TrackOptions,
     seed: u64,
 ) -> Result<Tracked, Error> {
+    let clock = Instant::now();
+    let correction = match options.controller {
+        Controller::Open => None,
+        _ => hold_correction(problem, plan, options)?,
+    };
+    let mut run = track_with(problem, plan, correction.as_ref(), truth, options, seed)?;
+    run.seconds = clock.elapsed().as_secs_f64();
+    Ok(run)
+}
+
+/// [`track()`] with the hold correction computed beforehand ([`hold_correction`]; Monte Carlo
+/// runs share one). `open` ignores it; its wall time is not part of [`Tracked::seconds`].
+pub fn track_with(
+    problem: &PlanningProblem,
+    plan: &(dyn Motion + Sync),
+    correction: Option<&HoldCorrection>,
+    truth: &RobotParams,
+    options: &TrackOptions,
+    seed: u64,
+) -> Result<Tracked, Error> {
     options.validate()?;
     truth.validate()?;
     let clock = Instant::now();
+    let correction = correction.filter(|_| options.controller != Controller::Open);
     let horizon = problem.horizon;
     let ticks = (horizon * options.rate).round().max(1.0) as usize;
     let dt = horizon / ticks as f64;
@@ -175,9 +234,16 @@ pub fn track(
         if controller == Controller::Adaptive {
             identifier.update(&measured, dt);
         }
+        // On the first plan, the nominal loop's own state is the one to be at.
+        let initial = matches!(reference, Reference::Initial(_));
         let due =
             controller.replans() && i > 0 && i % every == 0 && horizon - t >= options.replan.final_window - 0.5 * dt;
-        if due && measured.q.distance(&reference.at(t)?.q) > options.replan.threshold {
+        let expected = match correction.and_then(|c| c.nominal(i)).filter(|_| initial) {
+            Some(s) => s.q,
+            None if due => reference.at(t)?.q,
+            None => measured.q,
+        };
+        if due && measured.q.distance(&expected) > options.replan.threshold {
             let started = Instant::now();
             if controller == Controller::Adaptive
                 && let Ok((fitted, _)) = fit_robot(&identifier.estimate(), &model)
@@ -196,8 +262,10 @@ pub fn track(
             (replan_seconds, replan_max) = (replan_seconds + s, replan_max.max(s));
         }
         // The law is evaluated at the centre of the tick (see `computed_torque`).
-        // The law is evaluated at the centre of the tick (see `computed_torque`).
-        let centre = reference.at(t + 0.5 * dt)?;
+        let mut centre = reference.at(t + 0.5 * dt)?;
+        if let Some(c) = correction.filter(|_| matches!(reference, Reference::Initial(_))) {
+            centre = c.corrected(centre, t + 0.5 * dt);
+        }
         let command = match controller {
             Controller::Open => feedforward(&k, &centre),
             _ => computed_torque(&k, &measured, &centre, 0.5 * dt, &options.gains),
@@ -254,6 +322,7 @@ pub fn track(
         seconds: clock.elapsed().as_secs_f64(),
         diverged_at,
         identification,
+        hold_correction: correction.map(HoldSummary::from),
         history,
     })
 }

@@ -267,3 +267,35 @@ fn trial_counts_are_bounded() {
         assert_eq!(ran.into_inner(), 0);
     }
 }
+
+/// The zero-order hold's error on the model is O(dt^2) (see [`hold`]), and the hold correction
+/// removes it: at a = 1, b = -1, whose optimal plan has steep end layers, `ct` and `replan` on
+/// the nominal robot end at the goal to round-off, and `replan` finds nothing to re-plan.
+#[test]
+fn hold_correction_brings_the_nominal_loop_to_the_goal() {
+    let (problem, planned) = paper(1.0, -1.0);
+    let plain = |rate: f64| {
+        let o = TrackOptions { controller: Controller::Ct, rate, hold_correction: false, ..Default::default() };
+        track(&problem, motion(&planned), &problem.robot, &o, 0).unwrap().final_error
+    };
+    let (e1, e2) = (plain(1000.0), plain(2000.0));
+    assert!(e1 > 1e-8, "the hold's error at 1 kHz ({e1:.3e} rad) is what the correction is for");
+    assert!((3.0..5.0).contains(&(e1 / e2)), "halving dt divides the hold's error by {:.2}, not ~4", e1 / e2);
+    for controller in [Controller::Ct, Controller::Replan] {
+        let o = TrackOptions { controller, ..Default::default() };
+        let run = track(&problem, motion(&planned), &problem.robot, &o, 0).unwrap();
+        assert!(run.final_error <= 1e-10, "{} ends {:.3e} rad off", controller.name(), run.final_error);
+        assert_eq!(run.replans, 0, "{} re-planned on the model", controller.name());
+        assert!(run.final_velocity.iter().all(|v| v.abs() <= 1e-9), "not at rest: {:?}", run.final_velocity);
+        let hold = run.hold_correction.expect("a correction");
+        assert!(hold.error_before > 1e-8 && hold.error_after <= 1e-10);
+        // The correction is a feedforward for the hold's lag (mostly the final layer's
+        // velocity), not a new plan: far below the plan's own accelerations.
+        let peak = (0..=1000)
+            .map(|i| planned.motion.at(problem.horizon * i as f64 / 1000.0).unwrap().du)
+            .fold(0.0_f64, |m, a| m.max(a[0].abs()).max(a[1].abs()));
+        assert!(hold.peak_acceleration < 1e-2 * peak, "{:.3e} against {peak:.3e}", hold.peak_acceleration);
+    }
+    let open = TrackOptions { controller: Controller::Open, ..Default::default() };
+    assert!(track(&problem, motion(&planned), &problem.robot, &open, 0).unwrap().hold_correction.is_none());
+}

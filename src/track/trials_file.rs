@@ -108,7 +108,7 @@ pub fn run_description(
     let (replan, identify) = (&options.replan, &options.identify);
     format!(
         "trials={} seed={} controllers={} success_tolerance={:?} truth={truth} robot={} start={} goal={} \
-         horizon={:?} start_velocity={:?},{:?} planner={planner} rate={:?} substeps={} kp={:?} kd={:?} \
+         horizon={:?} start_velocity={:?},{:?} planner={planner} rate={:?} substeps={} kp={:?} kd={:?} hold_correction={} \
          replan_rate={:?} final_window={:?} accept={:?} threshold={:?} forgetting={:?} prior_weight={:?} \
          torque_noise={:?} torque_bias={:?},{:?} torque_limit={limit} noise_q={:?} noise_dq={:?} \
          replan_planner={}",
@@ -126,6 +126,7 @@ pub fn run_description(
         options.substeps,
         options.gains.kp,
         options.gains.kd,
+        options.hold_correction,
         replan.rate,
         replan.final_window,
         replan.accept,
