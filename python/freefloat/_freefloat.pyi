@@ -424,7 +424,8 @@ def track(
     line). ``torque_noise`` (relative), ``q_noise`` [rad], ``dq_noise`` [rad/s]: disturbances;
     ``rate``: control rate [Hz] with zero-order hold. Returns a dict: ``final_error`` [rad],
     ``final_errors`` per coordinate, ``peak_torque`` [N m], ``replans``, ``replan_failures``,
-    ``saturated_fraction``, ``seconds``, and ``identification`` (adaptive). The GIL is
+    ``saturated_fraction``, ``seconds``, ``identification`` (adaptive), and
+    ``hold_correction`` (the feedforward's correction for the zero-order hold, or None). The GIL is
     released. Raises :class:`BadInput` for bad options, :class:`NoPlan`/:class:`NotCertified`
     when the plan itself fails."""
 
