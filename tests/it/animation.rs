@@ -258,8 +258,9 @@ fn interrupted_gif_writes_leave_no_temporary() {
     assert!(left.is_empty(), "{left:?}");
 }
 
-/// `reproduce --gif` writes `anim-CASE.gif` for every plan, lists them in summary.md, and the
-/// self-contained page links none of them.
+/// `reproduce --gif` writes `anim-CASE.gif` for every plan of the 2-link robot and
+/// `anim-arm3.gif` for the 3-link arm, lists them in summary.md, and the self-contained page
+/// links none of them.
 #[test]
 fn reproduce_writes_one_gif_per_case() {
     let dir = tempfile::tempdir().expect("temp dir");
@@ -279,4 +280,10 @@ fn reproduce_writes_one_gif_per_case() {
         gifs += 1;
     }
     assert!(gifs >= 10);
+    // The 3-link arm's plan (Fig. 18) has its animation too.
+    let arm3 = decode(&std::fs::read(out.join("anim-arm3.gif")).expect("anim-arm3.gif"));
+    let options = GifOptions::new(240, 240, 2).expect("valid");
+    let horizon = freefloat::report::arm3::ARM3_HORIZON;
+    assert_eq!((arm3.size, arm3.frames.len()), ((240, 240), options.frame_count(horizon)));
+    assert!(summary.contains("anim-arm3.gif"), "summary.md does not list anim-arm3.gif");
 }
