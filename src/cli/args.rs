@@ -218,8 +218,8 @@ pub struct PlanArgs {
     /// Also write the result to FILE: .json (report with trajectory) or .csv (trajectory).
     #[arg(long, value_name = "FILE")]
     pub out: Option<PathBuf>,
-    /// Also write an animated GIF of the motion to FILE.gif: the robot as the report page draws
-    /// it, the horizon played in 5 to 8 s (T clamped to that range), looping.
+    /// Also write an animated GIF of the motion to FILE.gif: the robot (any arm) as the report
+    /// page draws it, the horizon played in 5 to 8 s (T clamped to that range), looping.
     #[arg(long, value_name = "FILE.gif")]
     pub gif: Option<PathBuf>,
     #[command(flatten)]

@@ -12,15 +12,25 @@ use freefloat::planners::chain::ChainProblem;
 use freefloat::report::arm::{ArmReport, arm_csv};
 use freefloat::report::io::write_atomic;
 use freefloat::report::numbers::{error_number, number, scientific};
+use freefloat::report::plot::{arm_animation_gif, check_gif_path};
 
 use super::args::{CostArg, Format, PlanArgs, ProblemArgs};
 
 /// Runs `plan` for `arm`: exit 0 with a certified plan, 2 for bad input (e.g. a flag the
 /// n-joint planner does not take), 3 without a certified plan. `out` is the checked `--out`
-/// file (`true` for JSON).
+/// file (`true` for JSON). `--gif` is checked before planning, as for the 2-link robot, and
+/// written after `--out`, before anything is printed.
 pub fn run(args: &PlanArgs, arm: &Arm, out: Option<(&PathBuf, bool)>) -> anyhow::Result<ExitCode> {
     let p = &args.problem;
     refuse_two_link_flags(args)?;
+    let gif = match &args.gif {
+        Some(path) => {
+            check_gif_path(path)?;
+            freefloat::report::io::check_writable(path)?;
+            Some((path, super::gif_options(&args.gif_options)?))
+        }
+        None => None,
+    };
     let method = args.method.map(Method::from).unwrap_or(Method::Optimal);
     let problem = problem(p, arm)?;
     let request = ArmRequest {
@@ -40,6 +50,15 @@ pub fn run(args: &PlanArgs, arm: &Arm, out: Option<(&PathBuf, bool)>) -> anyhow:
         let bytes = if json { serde_json::to_vec_pretty(&report(true))? } else { arm_csv(&planned)? };
         write_atomic(path, &bytes)?;
     }
+    if let Some((path, options)) = gif {
+        let title = format!(
+            "freefloat plan: {}, {}-link arm, T = {} s",
+            planned.method.name(),
+            arm.joints(),
+            number(problem.horizon)
+        );
+        write_atomic(path, &arm_animation_gif(&planned, &title, &options, path)?)?;
+    }
     super::emit(&text)?;
     planned.certified()?;
     Ok(ExitCode::SUCCESS)
@@ -53,7 +72,6 @@ fn refuse_two_link_flags(args: &PlanArgs) -> anyhow::Result<()> {
         (p.max_velocity.is_some(), "--max-velocity"),
         (p.smooth_ends, "--smooth-ends"),
         (p.cost != CostArg::Effort, "--cost energy"),
-        (args.gif.is_some(), "--gif (animations draw 2-link arms)"),
     ];
     for (given, flag) in given {
         if given {

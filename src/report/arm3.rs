@@ -26,6 +26,8 @@ pub const ARM3_START_DEG: [f64; 4] = [0.0, 30.0, 60.0, 45.0];
 pub const ARM3_GOAL_DEG: [f64; 4] = [30.0, 75.0, 20.0, 90.0];
 /// Horizon `T` \[s\].
 pub const ARM3_HORIZON: f64 = 10.0;
+/// The animation's title (the report page's and `anim-arm3.gif`'s).
+pub const ARM3_ANIMATION_TITLE: &str = "Fig. 18: a 3-link arm";
 /// Samples of the trajectory, both ends included (as the paper's cases).
 pub const ARM3_SAMPLES: usize = 1001;
 
@@ -324,7 +326,7 @@ pub fn arm3_animation(p: &ArmPlanned) -> Animation {
         .collect();
     Animation {
         id: "arm3".into(),
-        title: "Fig. 18: a 3-link arm".into(),
+        title: ARM3_ANIMATION_TITLE.into(),
         mount: [p.arm.mount.a, p.arm.mount.b],
         base_size: BASE_SIZE,
         t: indices.iter().map(|&i| round(p.trajectory[i].t)).collect(),

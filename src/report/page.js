@@ -79,8 +79,25 @@
     for (var k = 0; k < links; k++) entries.push(["bar", linkColour(k), "link " + (k + 1)]);
     entries.push(["line", "#d55e00", "end-effector path"]);
     entries.push(["line", "#0072b2", "base's centre of mass path"]);
-    // The strip under the drawing for the legend (two columns) and the scale bar [px].
-    var LEGEND = 12 + 20 * Math.ceil(entries.length / 2);
+    // The legend in rows under the drawing: entries left to right, a new row when the next
+    // would pass the right edge, each label measured with the canvas's font, so that no entry
+    // overlaps another (two fixed columns did; the GIF frames' legend is laid out the same way,
+    // plot/legend.rs).
+    ctx.font = "13px sans-serif";
+    var placed = [];
+    var rows = 1;
+    (function () {
+      var x = 10, row = 0;
+      entries.forEach(function (e) {
+        var width = 32 + Math.ceil(ctx.measureText(e[2]).width);
+        if (x > 10 && x + width > canvas.width - 10) { x = 10; row += 1; }
+        placed.push([e, x, row]);
+        x += width + 20;
+      });
+      rows = row + 1;
+    })();
+    // The strip under the drawing for the legend [px].
+    var LEGEND = 12 + 20 * rows;
     var scale = Math.min(
       (canvas.width - 2 * margin) / (b.x1 - b.x0),
       (canvas.height - 2 * margin - 24 - LEGEND) / (b.y1 - b.y0)
@@ -104,9 +121,8 @@
       ctx.lineTo(canvas.width, top - 6);
       ctx.stroke();
       ctx.font = "13px sans-serif";
-      entries.forEach(function (e, k) {
-        var x = 10 + 230 * (k % 2);
-        var y = top + 20 * Math.floor(k / 2) + 6;
+      placed.forEach(function (p) {
+        var e = p[0], x = p[1], y = top + 20 * p[2] + 6;
         ctx.strokeStyle = e[1];
         ctx.fillStyle = e[1];
         ctx.lineWidth = e[0] === "bar" ? 4 : 2;
@@ -120,8 +136,8 @@
         ctx.fillStyle = "#000";
         ctx.fillText(e[2], x + 32, y + 4);
       });
-      // The scale bar, bottom right.
-      var x1 = canvas.width - 20, x0 = x1 - barLength * scale, y = canvas.height - 22;
+      // The scale bar, top right (as in the GIF frames): the legend's rows take the full width.
+      var x1 = canvas.width - 20, x0 = x1 - barLength * scale, y = 30;
       ctx.strokeStyle = "#000";
       ctx.lineWidth = 2;
       ctx.beginPath();

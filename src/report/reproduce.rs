@@ -9,14 +9,15 @@ use std::time::Instant;
 use rayon::prelude::*;
 use serde::Serialize;
 
-use super::arm3::{ARM3_FIGURE, Arm3Row, arm3_animation, arm3_figure, arm3_markdown, plan_arm3};
+use super::arm3::{ARM3_ANIMATION_TITLE, ARM3_FIGURE, Arm3Row, arm3_animation, arm3_figure, arm3_markdown, plan_arm3};
 use super::cases::{Case, CaseMethod, CaseOutcome, cases};
 use super::figures::{animation, plan_figure};
 use super::html::{FigureEmbed, Page, page};
 use super::io::write_atomic;
 use super::methods::{MethodRow, method_jobs, methods_markdown};
 use super::plot::{
-    GifOptions, PictureFormat, animation_gif, domain_pair_picture, methods_picture, plan_picture, sweep_picture,
+    GifOptions, PictureFormat, animation_gif, arm_animation_gif, domain_pair_picture, methods_picture, plan_picture,
+    sweep_picture,
 };
 use super::summary::{
     DOMAIN_FIGURES, DomainPanel, DomainRow, SummaryRow, SweepSummary, domain_panel, summary_markdown, sweep_options,
@@ -82,10 +83,10 @@ fn description(outcome: &CaseOutcome) -> String {
 }
 
 /// The number of jobs that [`reproduce`] reports to its progress callback (with `gif`, one
-/// more per case of the 2-link robot: its animation).
+/// more per plan: the animation of each case and of the 3-link arm).
 pub fn job_count(gif: bool) -> usize {
     let cases = cases().len();
-    cases + 2 * DOMAIN_FIGURES.len() + 1 + method_jobs().len() + 1 + if gif { cases } else { 0 }
+    cases + 2 * DOMAIN_FIGURES.len() + 1 + method_jobs().len() + 1 + if gif { cases + 1 } else { 0 }
 }
 
 /// What [`reproduce`] wrote and found.
@@ -111,8 +112,8 @@ pub struct Reproduction {
 /// replaces `out` by renames: a killed run leaves the old directory or the new one, never a mix
 /// (an interrupted one removes its temporary directory; a killed one's is removed by the next).
 ///
-/// With `gif`, also an animated GIF of every plan, `anim-CASE.gif` ([`animation_gif`]); the page
-/// stays self-contained (it does not link them), `summary.md` lists them.
+/// With `gif`, also an animated GIF of every plan, `anim-CASE.gif` ([`animation_gif`]) and
+/// `anim-arm3.gif` for the 3-link arm ([`arm_animation_gif`]); the page stays self-contained (it does not link them), `summary.md` lists them.
 pub fn reproduce(
     out: &Path,
     gif: Option<&GifOptions>,
@@ -320,6 +321,18 @@ fn reproduce_into(
             );
             gifs.push(name);
         }
+    }
+    if let (Some(options), Ok(p)) = (gif, &arm3) {
+        let (name, clock) = ("anim-arm3.gif".to_string(), Instant::now());
+        let path = out.join(&name);
+        let bytes = arm_animation_gif(p, ARM3_ANIMATION_TITLE, options, &path)?;
+        write_atomic(&path, &bytes)?;
+        progress(
+            &format!("{:<14} animation", "arm3"),
+            clock.elapsed().as_secs_f64(),
+            &format!("{} KiB", bytes.len() / 1024),
+        );
+        gifs.push(name);
     }
     let seconds = clock.elapsed().as_secs_f64();
 

@@ -1,11 +1,14 @@
 //! `freefloat plan` with any planar serial arm, as a user runs it: a robot file with
 //! `[[link]]`, the same arm as URDF, a 2-link arm with link inertias through the whole 2-link
-//! pipeline, and the refusals.
+//! pipeline, its animated GIF, and the refusals.
 
 use std::process::{Command, Output};
 
 use freefloat::RobotParams;
 use freefloat::model::arm::Arm;
+use freefloat::report::plot::GifOptions;
+
+use super::animation::decode;
 
 fn freefloat(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_freefloat")).args(args).output().expect("the binary runs")
@@ -108,6 +111,48 @@ fn arm_csv_has_a_column_per_joint() {
     let rows: Vec<Vec<f64>> = lines.map(|l| l.split(',').map(|x| x.parse().unwrap()).collect()).collect();
     assert_eq!(rows.len(), 11);
     assert!(rows.iter().all(|r| r.len() == header.len() && r.iter().all(|x| x.is_finite())));
+}
+
+/// `plan --robot three_link.toml --gif` writes a GIF of the arm's motion that decodes: the size
+/// asked, one frame per `1 / fps` of the loop and the last, an infinite loop, the motion shows
+/// (the first and last frames differ); only the GIF is written. Bad `--gif` paths and sizes exit
+/// 2 before planning, with the flag named, and write nothing.
+#[test]
+fn three_link_arm_writes_an_animated_gif() {
+    let dir = tempfile::tempdir().unwrap();
+    let toml = example("three_link.toml");
+    let file = dir.path().join("arm.gif");
+    let gif = file.to_str().unwrap();
+    let base = ["plan", "--robot", &toml, "--from", FROM, "--to", TO, "--samples", "201", "--quiet"];
+    let size = ["--gif-width", "320", "--gif-height", "240", "--gif-fps", "5"];
+    let o = freefloat(&[&base[..], &["--gif", gif], &size[..]].concat());
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let decoded = decode(&std::fs::read(&file).expect("the GIF is written"));
+    let options = GifOptions::new(320, 240, 5).unwrap();
+    assert_eq!(decoded.size, (320, 240));
+    assert_eq!(decoded.frames.len(), options.frame_count(10.0));
+    assert_eq!(decoded.repeat, gif::Repeat::Infinite);
+    assert_ne!(decoded.frames.first().map(|f| &f.1), decoded.frames.last().map(|f| &f.1), "no motion shows");
+    let files: Vec<_> = std::fs::read_dir(dir.path()).unwrap().flatten().map(|e| e.file_name()).collect();
+    assert_eq!(files, vec![std::ffi::OsString::from("arm.gif")]);
+
+    let bad = tempfile::tempdir().unwrap();
+    let at = |name: &str| bad.path().join(name).to_str().unwrap().to_string();
+    let cases: [(Vec<String>, &str); 5] = [
+        (vec!["--gif".into(), at("arm.png")], "must end in .gif"),
+        (vec!["--gif".into(), at("no/such/dir/arm.gif")], "no/such/dir/arm.gif"),
+        (vec!["--gif".into(), at("arm.gif"), "--gif-width".into(), "100".into()], "--gif-width"),
+        (vec!["--gif".into(), at("arm.gif"), "--gif-fps".into(), "51".into()], "--gif-fps"),
+        (vec!["--gif-height".into(), "480".into()], "--gif"),
+    ];
+    for (extra, message) in cases {
+        let extra: Vec<&str> = extra.iter().map(String::as_str).collect();
+        let o = freefloat(&[&base[..], &extra].concat());
+        assert_eq!(o.status.code(), Some(2), "{extra:?}: {}", stderr(&o));
+        assert!(stderr(&o).contains(message), "{extra:?}: {}", stderr(&o));
+        assert!(o.stdout.is_empty(), "{extra:?}");
+    }
+    assert_eq!(std::fs::read_dir(bad.path()).unwrap().count(), 0, "a refused run wrote a file");
 }
 
 /// What an n-link arm cannot take is refused (exit 2) with the reason: the NFA (its chained

@@ -1,125 +1,47 @@
-//! An animated GIF of a plan's motion (`--gif`): the robot drawn as the report page's animation
-//! draws it (`page.js`), one frame per instant, rasterised by resvg and encoded as a looping GIF.
+//! The frames of an animated GIF (`--gif`): the robot drawn as the report page's animation draws
+//! it (`page.js`), one SVG picture per instant, for an arm of any number of links (the paper's
+//! 2-link robot is the case `n = 2`). [`super::gif_writer`] rasterises and encodes them.
 //!
-//! Each frame is an SVG picture: the base (a rectangle of [`BASE_SIZE`] at its orientation around
-//! its centre of mass), the bar from the base's centre of mass to the mounting point, link 1 and
-//! link 2, the joints, the system's centre of mass (a fixed "+" at the origin: Eq. (4) with zero
-//! linear momentum), the end-effector's and the base's paths (whole and faint, travelled so far in
-//! colour), a legend, a scale bar and a time stamp. Poses come from
-//! [`crate::model::kinematics::pose`]. The SVG is rasterised with resvg (the embedded font only,
-//! as the PNGs) and encoded by the `gif` crate, the image-rs project's GIF codec (pure Rust, LZW),
-//! with one palette for all frames learnt by its quantiser (NeuQuant, see [`animation_gif`]).
-//!
-//! Playback: the plan's horizon `T` is shown in a loop of `T` seconds clamped to 5 to 8 s (a 10 s
-//! plan plays in 8 s, a 2 s plan in 5 s), at [`GifOptions::fps`] frames per second, then the
-//! final pose is held for 1 s and the GIF starts again (infinite loop). GIF delays are counted in
-//! hundredths of a second: each frame lasts `round(100 / fps)` of them.
+//! A frame shows the base (a rectangle of [`BASE_SIZE`] at its orientation around its centre of
+//! mass), the bar from the base's centre of mass to the mounting point, the `n` links in their
+//! colours ([`LINK_COLOURS`]), the joints, the end effector, the system's centre of mass (a fixed
+//! "+" at the origin: Eq. (4) with zero linear momentum), the end effector's and the base's paths
+//! (the drift: whole and faint, travelled so far in colour), a legend (laid out by
+//! [`super::legend`], so that its entries never overlap), a scale bar and a time stamp. The
+//! points come from [`crate::model::kinematics::pose`] for the 2-link robot and from
+//! [`Arm::joint_positions`] for any arm: both put the system's centre of mass at the origin.
 
-use std::path::Path;
-
-use rayon::prelude::*;
-
-use super::{picture_error, rgba_pixels};
-use crate::error::Error;
-use crate::model::kinematics::{Pose, pose};
-use crate::model::{Configuration, InputError};
+use super::GifOptions;
+use super::legend::{Entry, FIRST_ROW, FONT_SIZE, LABEL_OFFSET, Legend, ROW, SWATCH_WIDTH, Swatch};
+use crate::model::Configuration;
+use crate::model::arm::Arm;
+use crate::model::kinematics::pose;
 use crate::plan::Plan;
+use crate::planners::arm::ArmPlanned;
 use crate::report::figures::BASE_SIZE;
 use crate::report::html::escape;
 
-/// Size and frame rate of an animated GIF.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct GifOptions {
-    /// Width \[px\], from [`GifOptions::MIN_SIDE`] to [`GifOptions::MAX_SIDE`] (default 480).
-    pub width: u32,
-    /// Height \[px\], from [`GifOptions::MIN_SIDE`] to [`GifOptions::MAX_SIDE`] (default 480).
-    pub height: u32,
-    /// Frames per second, from 1 to [`GifOptions::MAX_FPS`] (default 25).
-    pub fps: u32,
-}
-
-impl Default for GifOptions {
-    fn default() -> Self {
-        Self { width: 480, height: 480, fps: 25 }
-    }
-}
-
-impl GifOptions {
-    /// Smallest width or height \[px\].
-    pub const MIN_SIDE: u32 = 240;
-    /// Largest width or height \[px\].
-    pub const MAX_SIDE: u32 = 1920;
-    /// Largest frame rate \[1/s\]: a GIF frame lasts at least 2 hundredths of a second in
-    /// browsers (shorter delays are slowed down to 10 hundredths).
-    pub const MAX_FPS: u32 = 50;
-    /// Largest number of frames of a GIF (8 s at 50 frames/s, and the last frame).
-    pub const MAX_FRAMES: usize = 401;
-
-    /// Validated options: `width` and `height` in pixels, `fps` in frames per second; a value
-    /// out of range is bad input naming its flag (`--gif-width`, `--gif-height`, `--gif-fps`).
-    ///
-    /// ```
-    /// use freefloat::report::plot::GifOptions;
-    ///
-    /// assert_eq!(GifOptions::new(480, 480, 25).unwrap(), GifOptions::default());
-    /// assert!(GifOptions::new(100, 480, 25).is_err());
-    /// ```
-    pub fn new(width: u64, height: u64, fps: u64) -> Result<Self, Error> {
-        let check = |name: &str, value: u64, max: u32, min: u32, expected: &'static str| {
-            if (u64::from(min)..=u64::from(max)).contains(&value) {
-                Ok(value as u32)
-            } else {
-                Err(Error::from(InputError::InvalidParameter { name: name.into(), value: value as f64, expected }))
-            }
-        };
-        let side = "a whole number of pixels from 240 to 1920";
-        Ok(Self {
-            width: check("--gif-width", width, Self::MAX_SIDE, Self::MIN_SIDE, side)?,
-            height: check("--gif-height", height, Self::MAX_SIDE, Self::MIN_SIDE, side)?,
-            fps: check("--gif-fps", fps, Self::MAX_FPS, 1, "a whole number of frames per second from 1 to 50")?,
-        })
-    }
-
-    /// The loop's length \[s\] for a horizon `horizon` \[s\]: `horizon` clamped to 5 to 8 s.
-    pub fn loop_seconds(horizon: f64) -> f64 {
-        if horizon.is_finite() { horizon.clamp(5.0, 8.0) } else { 8.0 }
-    }
-
-    /// The number of frames for a horizon \[s\]: one per `1 / fps` of the loop, and the last,
-    /// at most [`GifOptions::MAX_FRAMES`].
-    pub fn frame_count(&self, horizon: f64) -> usize {
-        let n = (Self::loop_seconds(horizon) * f64::from(self.fps)).round() as usize + 1;
-        n.clamp(2, Self::MAX_FRAMES)
-    }
-
-    /// A frame's delay in hundredths of a second.
-    pub fn delay(&self) -> u16 {
-        (100.0 / f64::from(self.fps)).round().max(1.0) as u16
-    }
-}
-
-/// Checks that `path` names a GIF file (`.gif`, any case): bad input otherwise.
-pub fn check_gif_path(path: &Path) -> Result<(), Error> {
-    match path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase).as_deref() {
-        Some("gif") => Ok(()),
-        _ => Err(picture_error(path, "the animation's file name must end in .gif")),
-    }
-}
+/// The links' colours from the base outwards, repeated beyond six links (Okabe and Ito's
+/// colour-blind-safe set; links 1 and 2 as in the 2-link figures, and as `page.js` draws them).
+pub const LINK_COLOURS: [&str; 6] = ["#0072b2", "#009e73", "#cc79a7", "#e69f00", "#56b4e9", "#f0e442"];
 
 /// How many samples of the paths are drawn, at most.
 const PATH_POINTS: usize = 500;
-/// The hold on the final pose before the loop starts again \[hundredths of a second\].
-const FINAL_HOLD: u16 = 100;
-/// The palette index of a pixel unchanged since the previous frame (transparent).
-const UNCHANGED: u8 = 255;
-/// NeuQuant's sampling factor (1 best and slowest, 30 fastest): it learns the palette once, and the
-/// swatch keeps the drawing's colours exact.
-const QUANTISER_SPEED: i32 = 5;
+/// The strip above the drawing (title, time stamp, scale bar) \[px at 480\].
+const TOP: f64 = 44.0;
+/// Room around the drawing \[px at 480\].
+const MARGIN: f64 = 12.0;
 
-/// The frames of an animation and where the plane's points fall on them: what [`animation_gif`]
-/// draws, for tests and for callers that want the frames' instants.
+/// The points of a pose, as [`Arm::joint_positions`] lists them: the base's centre of mass,
+/// joint 1 (the mounting point), joints `2..n`, the tip of link `n` (`n + 2` points) \[m\].
+type Points = Vec<[f64; 2]>;
+
+/// The frames of an animation and where the plane's points fall on them: what
+/// [`super::animation_gif`] and [`super::arm_animation_gif`] draw, for tests and for callers that
+/// want the frames' instants.
 #[derive(Debug, Clone)]
 pub struct GifView {
+    options: GifOptions,
     width: f64,
     height: f64,
     /// The layout's unit \[px\]: `min(width, height) / 480`; fonts, strokes and strips scale with it.
@@ -130,68 +52,97 @@ pub struct GifView {
     centre: [f64; 2],
     /// The drawing's centre on the canvas \[px\].
     middle: [f64; 2],
-    /// Frame instants \[s\] and configurations `(phi, theta1, theta2)` \[rad\].
-    frames: Vec<(f64, [f64; 3])>,
-    /// Samples of the paths: instant \[s\] and pose.
-    path: Vec<(f64, Pose)>,
+    /// Frame instants \[s\], configurations `(phi, theta_1..theta_n)` \[rad\] and the points there.
+    frames: Vec<(f64, Vec<f64>, Points)>,
+    /// Samples of the paths: instant \[s\] and points.
+    path: Vec<(f64, Points)>,
+    /// The legend, laid out for the frame's width.
+    legend: Legend,
 }
 
-/// The strip above the drawing (title, time stamp, scale bar) and below it (legend) \[px at 480\].
-const TOP: f64 = 44.0;
-const LEGEND: f64 = 66.0;
-const MARGIN: f64 = 12.0;
-
 impl GifView {
-    /// The view of `plan`'s motion at `options`' size: frames at evenly spaced instants from the
-    /// first sample to the last (configurations interpolated linearly between samples), the
-    /// scale fitted to the whole motion.
+    /// The view of the 2-link `plan`'s motion at `options`' size (points from
+    /// [`crate::model::kinematics::pose`]); see [`GifView::arm`].
     pub fn new(plan: &Plan, options: &GifOptions) -> Self {
         let tr = &plan.trajectory;
         let robot = &plan.problem.robot;
-        let (t0, t1) = (tr.t.first().copied().unwrap_or(0.0), tr.t.last().copied().unwrap_or(0.0));
+        let q: Vec<Vec<f64>> = tr.q.iter().map(|q| q.to_vec()).collect();
+        Self::of_motion(&tr.t, &q, options, &|q| {
+            let p = pose(robot, &Configuration::from_array([q[0], q[1], q[2]]));
+            vec![p.base, p.joint1, p.joint2, p.tip]
+        })
+    }
+
+    /// The view of an arm's motion at `options`' size: frames at evenly spaced instants from
+    /// the first sample to the last (configurations interpolated linearly between samples), the
+    /// scale fitted to the whole motion; points from [`Arm::joint_positions`].
+    pub fn arm(planned: &ArmPlanned, options: &GifOptions) -> Self {
+        let t: Vec<f64> = planned.trajectory.iter().map(|p| p.t).collect();
+        let q: Vec<Vec<f64>> = planned
+            .trajectory
+            .iter()
+            .map(|p| std::iter::once(p.phi).chain(p.theta.iter().copied()).collect())
+            .collect();
+        let arm: &Arm = &planned.arm;
+        Self::of_motion(&t, &q, options, &|q| arm.joint_positions(q))
+    }
+
+    /// The view of the samples `(ts, qs)` (times ascending), `points` giving a configuration's
+    /// points.
+    fn of_motion(ts: &[f64], qs: &[Vec<f64>], options: &GifOptions, points: &dyn Fn(&[f64]) -> Points) -> Self {
+        let (t0, t1) = (ts.first().copied().unwrap_or(0.0), ts.last().copied().unwrap_or(0.0));
         let n = options.frame_count(t1 - t0);
-        let frames = (0..n)
+        let frames: Vec<(f64, Vec<f64>, Points)> = (0..n)
             .map(|k| {
                 let t = if k + 1 == n { t1 } else { t0 + (t1 - t0) * k as f64 / (n - 1) as f64 };
-                (t, configuration_at(&tr.t, &tr.q, t))
+                let q = configuration_at(ts, qs, t);
+                let p = points(&q);
+                (t, q, p)
             })
             .collect();
-        let step = tr.t.len().div_ceil(PATH_POINTS).max(1);
-        let mut indices: Vec<usize> = (0..tr.t.len()).step_by(step).collect();
-        if tr.t.len() > 1 && indices.last() != Some(&(tr.t.len() - 1)) {
-            indices.push(tr.t.len() - 1);
+        let step = ts.len().div_ceil(PATH_POINTS).max(1);
+        let mut indices: Vec<usize> = (0..ts.len()).step_by(step).collect();
+        if ts.len() > 1 && indices.last() != Some(&(ts.len() - 1)) {
+            indices.push(ts.len() - 1);
         }
-        let path: Vec<(f64, Pose)> =
-            indices.iter().map(|&i| (tr.t[i], pose(robot, &Configuration::from_array(tr.q[i])))).collect();
+        let path: Vec<(f64, Points)> = indices.iter().map(|&i| (ts[i], points(&qs[i]))).collect();
         // The bounds of every body over the motion, as page.js takes them.
         let half = BASE_SIZE[0].hypot(BASE_SIZE[1]) / 2.0;
         let mut b = [-half, half, -half, half];
         for (_, p) in &path {
-            for (k, point) in [p.base, p.joint1, p.joint2, p.tip].iter().enumerate() {
+            for (k, point) in p.iter().enumerate() {
                 let r = if k == 0 { half } else { 0.05 };
                 b = [b[0].min(point[0] - r), b[1].max(point[0] + r), b[2].min(point[1] - r), b[3].max(point[1] + r)];
             }
         }
         let (width, height) = (f64::from(options.width), f64::from(options.height));
         let unit = width.min(height) / 480.0;
-        let (top, legend, margin) = (TOP * unit, LEGEND * unit, MARGIN * unit);
-        let scale =
-            ((width - 2.0 * margin) / (b[1] - b[0])).min((height - top - legend - 2.0 * margin) / (b[3] - b[2]));
+        let links = frames.first().map_or(0, |f| f.2.len().saturating_sub(2));
+        let legend = Legend::new(legend_entries(links), width / unit);
+        let (top, strip, margin) = (TOP * unit, legend.height() * unit, MARGIN * unit);
+        let scale = ((width - 2.0 * margin) / (b[1] - b[0])).min((height - top - strip - 2.0 * margin) / (b[3] - b[2]));
         Self {
+            options: *options,
             width,
             height,
             unit,
             scale,
             centre: [(b[0] + b[1]) / 2.0, (b[2] + b[3]) / 2.0],
-            middle: [width / 2.0, top + (height - top - legend) / 2.0],
+            middle: [width / 2.0, top + (height - top - strip) / 2.0],
             frames,
             path,
+            legend,
         }
     }
 
-    /// The frames: instant \[s\] and configuration `(phi, theta1, theta2)` \[rad\].
-    pub fn frames(&self) -> &[(f64, [f64; 3])] {
-        &self.frames
+    /// The size and frame rate.
+    pub fn options(&self) -> &GifOptions {
+        &self.options
+    }
+
+    /// The frames: instant \[s\] and configuration `(phi, theta_1..theta_n)` \[rad\].
+    pub fn frames(&self) -> Vec<(f64, &[f64])> {
+        self.frames.iter().map(|(t, q, _)| (*t, q.as_slice())).collect()
     }
 
     /// Where the point `p` of the plane \[m\] (the system's centre of mass at the origin, y up)
@@ -200,11 +151,10 @@ impl GifView {
         (self.middle[0] + (p[0] - self.centre[0]) * self.scale, self.middle[1] - (p[1] - self.centre[1]) * self.scale)
     }
 
-    /// Frame `k` as an SVG picture; `robot` and `title` as in [`animation_gif`].
-    fn svg(&self, plan: &Plan, title: &str, k: usize) -> String {
+    /// Frame `k` as an SVG picture, titled `title`.
+    pub fn svg(&self, title: &str, k: usize) -> String {
         let u = self.unit;
-        let (t, q) = self.frames[k];
-        let now = pose(&plan.problem.robot, &Configuration::from_array(q));
+        let (t, q, now) = &self.frames[k];
         let mut s = format!(
             "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{w}\" height=\"{h}\" viewBox=\"0 0 {w} {h}\" \
              font-family=\"DejaVu Sans\">\n<rect width=\"{w}\" height=\"{h}\" fill=\"#fff\"/>\n",
@@ -235,34 +185,42 @@ impl GifView {
         s += &polyline(&[[-0.05, 0.0], [0.05, 0.0]], "#999", 1.0);
         s += &polyline(&[[0.0, -0.05], [0.0, 0.05]], "#999", 1.0);
         // The paths: whole (faint) and travelled so far (to the current pose).
-        let so_far = |f: fn(&Pose) -> [f64; 2]| -> Vec<[f64; 2]> {
-            let mut v: Vec<[f64; 2]> = self.path.iter().filter(|(s, _)| *s <= t).map(|(_, p)| f(p)).collect();
-            v.push(f(&now));
+        let tip = |p: &Points| p[p.len() - 1];
+        let base = |p: &Points| p[0];
+        let so_far = |f: &dyn Fn(&Points) -> [f64; 2]| -> Vec<[f64; 2]> {
+            let mut v: Vec<[f64; 2]> = self.path.iter().filter(|(s, _)| s <= t).map(|(_, p)| f(p)).collect();
+            v.push(f(now));
             v
         };
-        let whole = |f: fn(&Pose) -> [f64; 2]| -> Vec<[f64; 2]> { self.path.iter().map(|(_, p)| f(p)).collect() };
-        s += &polyline(&whole(|p| p.tip), "#d9d9d9", 1.5);
-        s += &polyline(&so_far(|p| p.tip), "#d55e00", 2.0);
-        s += &polyline(&whole(|p| p.base), "#dbe6f0", 1.5);
-        s += &polyline(&so_far(|p| p.base), "#0072b2", 2.0);
+        let whole =
+            |f: &dyn Fn(&Points) -> [f64; 2]| -> Vec<[f64; 2]> { self.path.iter().map(|(_, p)| f(p)).collect() };
+        s += &polyline(&whole(&tip), "#d9d9d9", 1.5);
+        s += &polyline(&so_far(&tip), "#d55e00", 2.0);
+        s += &polyline(&whole(&base), "#dbe6f0", 1.5);
+        s += &polyline(&so_far(&base), "#0072b2", 2.0);
         // The base at its orientation around its centre of mass, and its own x axis.
         let (sin, cos) = q[0].sin_cos();
         let (w, h) = (BASE_SIZE[0] / 2.0, BASE_SIZE[1] / 2.0);
+        let centre = now[0];
         let corners: Vec<[f64; 2]> = [[-w, -h], [w, -h], [w, h], [-w, h], [-w, -h]]
             .iter()
-            .map(|c| [now.base[0] + cos * c[0] - sin * c[1], now.base[1] + sin * c[0] + cos * c[1]])
+            .map(|c| [centre[0] + cos * c[0] - sin * c[1], centre[1] + sin * c[0] + cos * c[1]])
             .collect();
         s += &polyline(&corners, "#444", 2.0)
             .replace("fill=\"none\"", "fill=\"rgb(120,120,120)\" fill-opacity=\"0.35\"");
-        s += &polyline(&[now.base, [now.base[0] + cos * w, now.base[1] + sin * w]], "#444", 1.0);
-        s += &polyline(&[now.base, now.joint1], "#444", 3.0);
-        s += &polyline(&[now.joint1, now.joint2], "#0072b2", 6.0);
-        s += &polyline(&[now.joint2, now.tip], "#009e73", 6.0);
-        s += &dot(now.base, 4.0, "#444");
-        s += &dot(now.joint1, 5.0, "#000");
-        s += &dot(now.joint2, 5.0, "#000");
-        s += &dot(now.tip, 5.0, "#d55e00");
-        s += &self.captions(title, t, q[0]);
+        s += &polyline(&[centre, [centre[0] + cos * w, centre[1] + sin * w]], "#444", 1.0);
+        // The bar to the mounting point, each link from its joint to the next (the last to the
+        // tip), then the joints and the end effector.
+        s += &polyline(&[centre, now[1]], "#444", 3.0);
+        for (k, pair) in now[1..].windows(2).enumerate() {
+            s += &polyline(pair, LINK_COLOURS[k % LINK_COLOURS.len()], 6.0);
+        }
+        s += &dot(centre, 4.0, "#444");
+        for &joint in &now[1..now.len() - 1] {
+            s += &dot(joint, 5.0, "#000");
+        }
+        s += &dot(tip(now), 5.0, "#d55e00");
+        s += &self.captions(title, *t, q[0]);
         s + "</svg>\n"
     }
 
@@ -304,147 +262,67 @@ impl GifView {
         };
         s += &text(10.0, 17.0, 12.0, "start", &title);
         s += &text(10.0, 36.0, 13.0, "start", &format!("t = {t:.2} s, φ = {:.1} deg", phi.to_degrees()));
-        // The legend, in two columns under the drawing.
-        let top = self.height / u - LEGEND + 6.0;
+        // The legend, in rows under the drawing.
+        let top = self.height / u - self.legend.height();
         s += &format!(
             "<line x1=\"0\" y1=\"{:.2}\" x2=\"{:.2}\" y2=\"{:.2}\" stroke=\"#ddd\" stroke-width=\"{:.2}\"/>\n",
-            (top - 4.0) * u,
+            (top + 2.0) * u,
             self.width,
-            (top - 4.0) * u,
+            (top + 2.0) * u,
             u
         );
-        let entries = [
-            ("+", "#999", "system's centre of mass (fixed)"),
-            ("bar", "#444", "base to mounting point (a, b)"),
-            ("bar", "#0072b2", "link 1"),
-            ("bar", "#009e73", "link 2"),
-            ("line", "#d55e00", "end-effector path"),
-            ("line", "#0072b2", "base's centre of mass path"),
-        ];
-        for (k, (kind, colour, label)) in entries.iter().enumerate() {
-            let x = 10.0 + (self.width / u / 2.0) * (k % 2) as f64;
-            let y = top + 10.0 + 19.0 * (k / 2) as f64;
+        for (entry, x, row, _) in &self.legend.placed {
+            let (x, y) = (*x, top + FIRST_ROW + ROW * *row as f64);
             let stroke = |x0: f64, y0: f64, x1: f64, y1: f64, width: f64| {
                 format!(
-                    "<line x1=\"{:.2}\" y1=\"{:.2}\" x2=\"{:.2}\" y2=\"{:.2}\" stroke=\"{colour}\" stroke-width=\"{:.2}\"/>\n",
+                    "<line x1=\"{:.2}\" y1=\"{:.2}\" x2=\"{:.2}\" y2=\"{:.2}\" stroke=\"{}\" stroke-width=\"{:.2}\"/>\n",
                     x0 * u,
                     y0 * u,
                     x1 * u,
                     y1 * u,
+                    entry.colour,
                     width * u
                 )
             };
-            s += &match *kind {
-                "+" => stroke(x + 6.0, y, x + 18.0, y, 2.0) + &stroke(x + 12.0, y - 6.0, x + 12.0, y + 6.0, 2.0),
-                "bar" => stroke(x, y, x + 24.0, y, 4.0),
-                _ => stroke(x, y, x + 24.0, y, 2.0),
+            s += &match entry.swatch {
+                Swatch::Cross => {
+                    stroke(x + 6.0, y, x + 18.0, y, 2.0) + &stroke(x + 12.0, y - 6.0, x + 12.0, y + 6.0, 2.0)
+                }
+                Swatch::Bar => stroke(x, y, x + SWATCH_WIDTH, y, 4.0),
+                Swatch::Line => stroke(x, y, x + SWATCH_WIDTH, y, 2.0),
             };
-            s += &text(x + 30.0, y + 4.0, 11.0, "start", label);
+            s += &text(x + LABEL_OFFSET, y + 4.0, FONT_SIZE, "start", &entry.label);
         }
         s
     }
 }
 
+/// The legend's entries for `links` links, in the order `page.js` lists them.
+fn legend_entries(links: usize) -> Vec<Entry> {
+    let mut entries = vec![
+        Entry::new(Swatch::Cross, "#999", "system's centre of mass (fixed)"),
+        Entry::new(Swatch::Bar, "#444", "base to mounting point (a, b)"),
+    ];
+    entries.extend(
+        (0..links).map(|k| Entry::new(Swatch::Bar, LINK_COLOURS[k % LINK_COLOURS.len()], &format!("link {}", k + 1))),
+    );
+    entries.push(Entry::new(Swatch::Line, "#d55e00", "end-effector path"));
+    entries.push(Entry::new(Swatch::Line, "#0072b2", "base's centre of mass path"));
+    entries
+}
+
 /// The configuration at time `t` \[s\]: linear between the samples `(ts, qs)` (times ascending),
-/// the first or last sample outside them.
-fn configuration_at(ts: &[f64], qs: &[[f64; 3]], t: f64) -> [f64; 3] {
+/// the first or last sample outside them (empty without samples).
+fn configuration_at(ts: &[f64], qs: &[Vec<f64>], t: f64) -> Vec<f64> {
     let i = ts.partition_point(|&s| s <= t);
     match (i, qs.len()) {
-        (_, 0) => [0.0; 3],
-        (0, _) => qs[0],
-        (i, n) if i >= n => qs[n - 1],
+        (_, 0) => Vec::new(),
+        (0, _) => qs[0].clone(),
+        (i, n) if i >= n => qs[n - 1].clone(),
         (i, _) => {
             let (a, b) = (ts[i - 1], ts[i]);
             let w = if b > a { (t - a) / (b - a) } else { 0.0 };
-            std::array::from_fn(|k| qs[i - 1][k] + w * (qs[i][k] - qs[i - 1][k]))
+            qs[i - 1].iter().zip(&qs[i]).map(|(x, y)| x + w * (y - x)).collect()
         }
     }
-}
-
-/// The palette index of each RGBA pixel; a run of one colour (most of a frame is white) is
-/// looked up once.
-fn palette_indices(quantiser: &color_quant::NeuQuant, rgba: &[u8]) -> Vec<u8> {
-    let mut last: Option<(&[u8], u8)> = None;
-    rgba.chunks_exact(4)
-        .map(|p| match last {
-            Some((colour, index)) if colour == p => index,
-            _ => {
-                let index = quantiser.index_of(p) as u8;
-                last = Some((p, index));
-                index
-            }
-        })
-        .collect()
-}
-
-/// The drawing's own colours (RGBA): a swatch of each joins the palette's training pixels, so
-/// that the robot keeps its exact colours however few pixels it covers.
-const SWATCH: [[u8; 4]; 9] = [
-    [0xff, 0xff, 0xff, 0xff],
-    [0x00, 0x00, 0x00, 0xff],
-    [0x44, 0x44, 0x44, 0xff],
-    [0x99, 0x99, 0x99, 0xff],
-    [0x00, 0x72, 0xb2, 0xff],
-    [0x00, 0x9e, 0x73, 0xff],
-    [0xd5, 0x5e, 0x00, 0xff],
-    [0xd9, 0xd9, 0xd9, 0xff],
-    [0xdb, 0xe6, 0xf0, 0xff],
-];
-
-/// The animated GIF of `plan`'s motion, titled `title` (see the module's documentation); `path`
-/// only labels errors.
-///
-/// One palette of 255 colours serves every frame (the GIF's global palette: no colour flicker
-/// between frames, no palette per frame), and each frame after the first stores only the pixels
-/// that changed (the others transparent, over the previous frame kept): the `gif` crate's quantiser (NeuQuant, the
-/// `color_quant` crate that [`gif::Frame::from_rgba_speed`] uses per frame) learns it from the
-/// first, middle and last frames and a swatch of the drawing's colours. Frames are drawn and
-/// mapped to the palette on all of rayon's threads, a few at a time (the memory stays that of a
-/// few frames).
-pub fn animation_gif(plan: &Plan, title: &str, options: &GifOptions, path: &Path) -> Result<Vec<u8>, Error> {
-    let view = GifView::new(plan, options);
-    let fail = |e: gif::EncodingError| picture_error(path, e);
-    let (w, h) = (options.width as u16, options.height as u16);
-    let n = view.frames.len();
-    let draw = |k: usize| rgba_pixels(&view.svg(plan, title, k), path).map(|(rgba, _, _)| rgba);
-    let mut training = Vec::new();
-    for k in [0, n / 2, n - 1] {
-        training.extend(draw(k)?);
-    }
-    for colour in SWATCH {
-        training.extend(colour.repeat(4096));
-    }
-    let quantiser = color_quant::NeuQuant::new(QUANTISER_SPEED, 255, &training);
-    drop(training);
-    // 255 learnt colours, and one more index for "as in the previous frame".
-    let mut palette = quantiser.color_map_rgb();
-    palette.resize(3 * 256, 0);
-    let mut bytes = Vec::new();
-    {
-        let mut encoder = gif::Encoder::new(&mut bytes, w, h, &palette).map_err(fail)?;
-        encoder.set_repeat(gif::Repeat::Infinite).map_err(fail)?;
-        let batch = 2 * rayon::current_num_threads().max(1);
-        let mut previous: Option<Vec<u8>> = None;
-        for first in (0..n).step_by(batch) {
-            let indexed: Vec<Vec<u8>> = (first..(first + batch).min(n))
-                .into_par_iter()
-                .map(|k| Ok(palette_indices(&quantiser, &draw(k)?)))
-                .collect::<Result<_, Error>>()?;
-            for (k, indices) in (first..).zip(indexed) {
-                // A pixel as in the previous frame is transparent: the frame is drawn over it.
-                let pixels: Vec<u8> = match &previous {
-                    Some(before) => {
-                        indices.iter().zip(before).map(|(&i, &b)| if i == b { UNCHANGED } else { i }).collect()
-                    }
-                    None => indices.clone(),
-                };
-                let mut frame = gif::Frame::from_indexed_pixels(w, h, pixels, Some(UNCHANGED));
-                frame.dispose = gif::DisposalMethod::Keep;
-                frame.delay = if k + 1 == n { FINAL_HOLD } else { options.delay() };
-                encoder.write_frame(&frame).map_err(fail)?;
-                previous = Some(indices);
-            }
-        }
-    }
-    Ok(bytes)
 }

@@ -17,14 +17,17 @@ use plotters::prelude::*;
 
 mod animation;
 mod domain;
+mod gif_writer;
+mod legend;
 mod methods;
 mod plan;
 mod sweep;
 #[cfg(test)]
 mod tests;
 
-pub use animation::{GifOptions, GifView, animation_gif, check_gif_path};
+pub use animation::{GifView, LINK_COLOURS};
 pub use domain::{DOMAIN_PAIR_SIZE, DomainOverlay, domain_pair_picture, domain_picture};
+pub use gif_writer::{GifOptions, animation_gif, arm_animation_gif, check_gif_path};
 pub use methods::{METHODS_SIZE, methods_picture};
 pub use plan::{PLAN_FIGURE_SIZE, Panel, PlanFigure, Series, plan_picture};
 pub use sweep::{SWEEP_SIZE, sweep_picture};
@@ -105,14 +108,21 @@ fn font_database() -> Arc<resvg::usvg::fontdb::Database> {
         .clone()
 }
 
+/// How resvg reads an SVG picture: DejaVu Sans, the embedded font only.
+fn svg_options() -> resvg::usvg::Options<'static> {
+    resvg::usvg::Options {
+        font_family: "DejaVu Sans".into(),
+        fontdb: font_database(),
+        ..resvg::usvg::Options::default()
+    }
+}
+
 /// Rasterises an SVG picture on white with resvg (anti-aliased, the embedded font only): opaque
 /// RGBA pixels, row by row, and the size in pixels.
 fn rgba_pixels(svg: &str, path: &Path) -> Result<(Vec<u8>, u32, u32), Error> {
     use resvg::{tiny_skia, usvg};
     let fail = |e: &dyn std::fmt::Display| picture_error(path, e);
-    let options =
-        usvg::Options { font_family: "DejaVu Sans".into(), fontdb: font_database(), ..usvg::Options::default() };
-    let tree = usvg::Tree::from_str(svg, &options).map_err(|e| fail(&e))?;
+    let tree = usvg::Tree::from_str(svg, &svg_options()).map_err(|e| fail(&e))?;
     let size = tree.size().to_int_size();
     let mut pixmap =
         tiny_skia::Pixmap::new(size.width(), size.height()).ok_or_else(|| fail(&"the picture has no pixels"))?;
