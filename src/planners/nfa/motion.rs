@@ -23,7 +23,15 @@ pub struct NfaMotion {
     pub(super) u: Vec<[f64; 2]>,
     /// `(min |sigma|, min |P|)` over the samples.
     pub(super) margins: (f64, f64),
+    /// Every `stride`-th stored sample is a reported one; the others only carry the
+    /// continuation of Newton's method through a band path's loops.
+    stride: usize,
 }
+
+/// Newton's continuation along a band path takes at least this many steps per loop (and per
+/// path without loops), whatever the number of reported samples: a step of a fifth of a loop
+/// or more can warm-start Newton on the wrong side of the band.
+const STEPS_PER_LOOP: usize = 100;
 
 impl NfaMotion {
     pub(super) fn new(nf: NormalForm, steering: Steering) -> Self {
@@ -35,13 +43,19 @@ impl NfaMotion {
             q: Vec::new(),
             u: Vec::new(),
             margins: (f64::INFINITY, f64::INFINITY),
+            stride: 1,
         }
     }
 
     /// Inverts the path at `samples` equally spaced times, each Newton run warm-started from the
     /// previous sample (first-order prediction), and checks that the path stays in the domain.
+    /// A band path is inverted at [`STEPS_PER_LOOP`] times per loop at least, of which the
+    /// reported samples are every `stride`-th.
     pub(super) fn sample(&mut self, problem: &PlanningProblem, samples: usize) -> Result<(), Error> {
         let horizon = problem.horizon;
+        let needed = self.steering.band_choice().map_or(1, |c| STEPS_PER_LOOP * (c.loops + 1));
+        self.stride = needed.div_ceil(samples - 1).max(1);
+        let samples = (samples - 1) * self.stride + 1;
         let dt = horizon / (samples - 1) as f64;
         self.t = Vec::with_capacity(samples);
         self.z = Vec::with_capacity(samples);
@@ -75,14 +89,16 @@ impl NfaMotion {
         self.q[i].theta2 + self.u[i][1] * (t - self.t[i])
     }
 
-    /// The sampled trajectory (with accelerations when asked).
+    /// The sampled trajectory (with accelerations when asked) at the reported samples.
     pub fn trajectory(&self, problem: &PlanningProblem, accelerations: bool) -> Result<Trajectory, Error> {
         let k = problem.robot.lumped();
-        let dq = self.q.iter().zip(&self.u).map(|(q, u)| velocity(&k, q.to_array(), *u)).collect();
+        let every = |n: usize| (0..n).step_by(self.stride);
+        let reported: Vec<usize> = every(self.t.len()).collect();
+        let dq = reported.iter().map(|&i| velocity(&k, self.q[i].to_array(), self.u[i])).collect();
         let ddq = if accelerations {
-            let mut ddq = Vec::with_capacity(self.t.len());
-            for (q, &t) in self.q.iter().zip(&self.t) {
-                let m = self.point(*q, t)?;
+            let mut ddq = Vec::with_capacity(reported.len());
+            for &i in &reported {
+                let m = self.point_with_controls(self.q[i], self.u[i], self.t[i]);
                 ddq.push(velocity_acceleration(&k, &m.q, m.u, m.du).1);
             }
             Some(ddq)
@@ -90,11 +106,11 @@ impl NfaMotion {
             None
         };
         Ok(Trajectory {
-            t: self.t.clone(),
-            q: self.q.iter().map(|q| q.to_array()).collect(),
+            t: reported.iter().map(|&i| self.t[i]).collect(),
+            q: reported.iter().map(|&i| self.q[i].to_array()).collect(),
             dq,
             ddq,
-            z: Some(self.z.clone()),
+            z: Some(reported.iter().map(|&i| self.z[i]).collect()),
             ..Default::default()
         })
     }

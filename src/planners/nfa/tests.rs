@@ -197,3 +197,28 @@ fn polynomial_or_band_does_not_depend_on_the_samples() {
         .collect();
     assert!(choices.iter().all(|c| c == &choices[0]), "{choices:?}");
 }
+
+/// A band path is inverted at enough times to follow its loops whatever the number of reported
+/// samples: at a = 1, b = -1 (9 loops in 10 s) 51 samples used to warm-start Newton a fifth of a
+/// loop away, on the wrong side of the band (`LeavesBand` at t = 4.8 s). The 51 samples are
+/// those of the 1001-sample plan at the same times.
+#[test]
+fn a_band_plan_does_not_depend_on_the_reported_samples() {
+    let robot = RobotParams::src().with_mount(Mount::new(1.0, -1.0).unwrap()).unwrap();
+    let problem = PlanningProblem::paper(robot);
+    let plan = |samples: usize| {
+        let options = NfaOptions { transform: Some(Transform::Global), samples, ..Default::default() };
+        let (plan, motion) = NormalFormPlanner::new(options).plan_with_motion(&problem).unwrap();
+        assert!(motion.steering.band_choice().is_some_and(|c| c.loops > 1), "a band plan with loops");
+        assert!(plan.verification.certified, "{samples} samples: {:?}", plan.verification);
+        plan
+    };
+    let (coarse, fine) = (plan(51), plan(1001));
+    assert_eq!(coarse.trajectory.t.len(), 51);
+    for (i, t) in coarse.trajectory.t.iter().enumerate() {
+        let j = 20 * i;
+        assert_eq!(t.to_bits(), fine.trajectory.t[j].to_bits(), "sample {i}");
+        let (a, b) = (coarse.trajectory.q[i], fine.trajectory.q[j]);
+        assert!((0..3).all(|k| (a[k] - b[k]).abs() <= 1e-12), "sample {i}: {a:?} against {b:?}");
+    }
+}
