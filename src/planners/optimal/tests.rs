@@ -412,3 +412,44 @@ proptest! {
         }
     }
 }
+
+/// The rest of `motion`, sampled from `t0` to the horizon, its own time starting at 0.
+fn rest_of(motion: &OptimalMotion, t0: f64, horizon: f64) -> seeds::Sampled {
+    let n = 129;
+    let mut path = seeds::Sampled { t: vec![], theta: vec![], rate: vec![] };
+    for i in 0..n {
+        let s = (horizon - t0) * i as f64 / (n - 1) as f64;
+        let p = motion.at(t0 + s).unwrap();
+        path.t.push(s);
+        path.theta.push([p.q.theta1, p.q.theta2]);
+        path.rate.push(p.u);
+    }
+    path
+}
+
+/// Re-planning (issue 12) warm-starts from the rest of the plan being followed: from a plan's
+/// own path the planner returns the same plan from that one seed, in fewer iterations than the
+/// search; a warm start that ends elsewhere is set aside for the full search.
+#[test]
+fn a_warm_start_from_the_plan_returns_it() {
+    let problem = paper(0.1, 0.1);
+    let literal = OptimalOptions { wrap: false, ..Default::default() };
+    let cold = OptimalPlanner::new(literal.clone()).motion(&problem).unwrap();
+    let path = rest_of(&cold, 0.0, problem.horizon);
+    let warm = OptimalOptions { warm_start: Some(path.clone()), ..literal.clone() };
+    let again = OptimalPlanner::new(warm).motion(&problem).unwrap();
+    assert!((again.stats.effort - cold.stats.effort).abs() <= 1e-6 * cold.stats.effort);
+    assert_eq!(again.stats.seeds, 1);
+    assert!(again.stats.iterations < cold.stats.iterations, "{} >= {}", again.stats.iterations, cold.stats.iterations);
+    let mut elsewhere = path;
+    for theta in elsewhere.theta.iter_mut() {
+        theta[0] += 0.5;
+    }
+    let set_aside = OptimalOptions { warm_start: Some(elsewhere), ..literal.clone() };
+    let searched = OptimalPlanner::new(set_aside).motion(&problem).unwrap();
+    assert!(searched.stats.seeds > 1);
+    assert!((searched.stats.effort - cold.stats.effort).abs() <= 1e-6 * cold.stats.effort);
+    let broken = seeds::Sampled { t: vec![0.0], theta: vec![[f64::NAN; 2]], rate: vec![[0.0; 2]] };
+    let bad = OptimalOptions { warm_start: Some(broken), ..literal };
+    assert!(OptimalPlanner::new(bad).motion(&problem).is_err_and(|e| e.is_bad_input()));
+}
