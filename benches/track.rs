@@ -1,5 +1,6 @@
 //! Criterion benches of closed-loop execution (issue 12; docs/spec.md §5): one 10 s run of the
-//! paper's problem at 1 kHz per controller (target: <= 0.5 s). Before timing, the final errors
+//! paper's problem at 1 kHz per controller, and of the adaptive controller at a = 1, b = -1
+//! (target: <= 0.5 s). Before timing, the final errors
 //! of `ct` and `replan` on the nominal robot without noise are printed for the paper's five
 //! cases and for a = 1, b = -1 (target: <= 1e-8 rad); they are reported, not gated.
 
@@ -45,15 +46,19 @@ fn bench_track(c: &mut Criterion) {
     nominal_errors();
     let mut group = c.benchmark_group("track");
     group.sample_size(10).measurement_time(Duration::from_secs(8));
-    let p = problem(0.1, 0.1);
-    let planned = planner(Method::Optimal, &PlannerOptions::default()).plan(&p).expect("plan");
-    let truth = Perturbation { relative: 0.05, mount: 0.01 }.apply(&p.robot, 1).expect("robot");
     let disturbances = Disturbances { torque_noise: 0.01, q_noise: 1e-5, dq_noise: 1e-5, ..Default::default() };
-    for controller in Controller::ALL {
-        let o = TrackOptions { controller, disturbances, ..Default::default() };
-        group.bench_function(format!("run_10s_1kHz/{}", controller.name()), |b| {
-            b.iter(|| black_box(track(&p, planned.motion.as_ref(), &truth, &o, 1).expect("run")))
-        });
+    for (name, a, b, controllers) in
+        [("", 0.1, 0.1, &Controller::ALL[..]), ("_a1_b-1", 1.0, -1.0, &[Controller::Adaptive][..])]
+    {
+        let p = problem(a, b);
+        let planned = planner(Method::Optimal, &PlannerOptions::default()).plan(&p).expect("plan");
+        let truth = Perturbation { relative: 0.05, mount: 0.01 }.apply(&p.robot, 1).expect("robot");
+        for &controller in controllers {
+            let o = TrackOptions { controller, disturbances, ..Default::default() };
+            group.bench_function(format!("run_10s_1kHz{name}/{}", controller.name()), |bench| {
+                bench.iter(|| black_box(track(&p, planned.motion.as_ref(), &truth, &o, 1).expect("run")))
+            });
+        }
     }
     group.finish();
 }
