@@ -129,7 +129,10 @@ fn energy_and_momentum_identities_for_one_to_seven_links() {
             let p = (&m * &w)[0];
             assert!(close(p, angular, 1e-12, scale_p), "n = {n}: momentum {p} vs {angular}");
             let (f, g) = arm.momentum_coefficients(&q[1..]);
-            assert!(std::iter::once(&f).chain(&g).zip(m.row(0).iter()).all(|(x, y)| x == y), "n = {n}: row 0");
+            assert!(
+                std::iter::once(&f).chain(&g).zip(m.row(0).iter()).all(|(x, y)| x.to_bits() == y.to_bits()),
+                "n = {n}: row 0"
+            );
             assert!(close(f * dq[0] + g.iter().zip(&dq[1..]).map(|(g, w)| g * w).sum::<f64>(), p, 1e-12, scale_p));
             let phi_rate = arm.base_rate(&q[1..], &dq[1..]);
             let mut at_rest = dq.clone();
