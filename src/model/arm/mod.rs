@@ -317,10 +317,35 @@ impl Arm {
     /// The angular-momentum coefficients `(F, G_1..G_n)`: the first row of
     /// [`Arm::inertia_matrix`], so that the angular momentum is `F phi' + G . theta'` (Eq. 5; for
     /// the SRC robot `G_1, G_2` are `G, H` of Eq. 8). `F > 0` at every configuration.
+    ///
+    /// Only that row is formed (`m_k J_k^T J_k e_0` and the rotational terms, the same sums in
+    /// the same order as the matrix, so the values are identical): the velocity certificates
+    /// evaluate it at every right-hand side of their integration.
     pub fn momentum_coefficients<D: Scalar>(&self, theta: &[D]) -> (D, Vec<D>) {
-        let m = self.inertia_matrix(theta);
-        let g = (1..=self.joints()).map(|j| m[(0, j)]).collect();
-        (m[(0, 0)], g)
+        let n = self.joints();
+        let mut q = Vec::with_capacity(n + 1);
+        q.push(D::from(0.0));
+        q.extend_from_slice(theta);
+        let frames = self.bodies(&q);
+        let mut row = vec![D::from(0.0); n + 1];
+        let mut add_body = |mass: f64, jac: &[[D; 2]]| {
+            for (r, column) in row.iter_mut().zip(jac) {
+                *r += (column[0] * jac[0][0] + column[1] * jac[0][1]) * mass;
+            }
+        };
+        add_body(self.base.mass, &frames.base_jacobian);
+        for (link, jac) in self.links.iter().zip(&frames.link_jacobians) {
+            add_body(link.mass, jac);
+        }
+        row[0] += D::from(self.base.inertia);
+        for (k, link) in self.links.iter().enumerate() {
+            for r in &mut row[..=k + 1] {
+                *r += D::from(link.inertia);
+            }
+        }
+        let f = row[0];
+        row.remove(0);
+        (f, row)
     }
 
     /// The base's angular velocity at zero angular momentum, `phi' = -(G . theta') / F`

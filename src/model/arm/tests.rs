@@ -95,8 +95,8 @@ fn close(x: f64, y: f64, rel: f64, scale: f64) -> bool {
 /// positive definite; the kinetic energy of the bodies' velocities (AD) equals
 /// `1/2 q'^T M(theta) q'` (so `M` does not depend on `phi`); the centre of mass stays at the
 /// origin; the linear momentum is zero; the angular momentum about the centre of mass equals the
-/// first row of `M q'` (Eq. 5); the Jacobians of `bodies` are the AD velocities. All to 1e-12
-/// relative.
+/// first row of `M q'` (Eq. 5), and `momentum_coefficients` is that row exactly; the Jacobians of
+/// `bodies` are the AD velocities. All to 1e-12 relative.
 #[test]
 fn energy_and_momentum_identities_for_one_to_seven_links() {
     let mut rng = Rng::new(14);
@@ -129,6 +129,10 @@ fn energy_and_momentum_identities_for_one_to_seven_links() {
             let p = (&m * &w)[0];
             assert!(close(p, angular, 1e-12, scale_p), "n = {n}: momentum {p} vs {angular}");
             let (f, g) = arm.momentum_coefficients(&q[1..]);
+            assert!(
+                std::iter::once(&f).chain(&g).zip(m.row(0).iter()).all(|(x, y)| x.to_bits() == y.to_bits()),
+                "n = {n}: row 0"
+            );
             assert!(close(f * dq[0] + g.iter().zip(&dq[1..]).map(|(g, w)| g * w).sum::<f64>(), p, 1e-12, scale_p));
             let phi_rate = arm.base_rate(&q[1..], &dq[1..]);
             let mut at_rest = dq.clone();
