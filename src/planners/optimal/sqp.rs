@@ -62,7 +62,8 @@ pub struct SqpOptions {
     /// `|c| <= constraint_tolerance` \[rad\] at convergence; default 1e-12.
     pub constraint_tolerance: f64,
     /// Relative KKT residual `|grad f + lambda grad c|_{S^-1} / max(1, |grad f|_{S^-1})` at
-    /// convergence; default 1e-7 (its rounding floor on graded knots is about 1e-8).
+    /// convergence; default 1e-7 (the projected CG keeps its residual on the tangent space, so
+    /// refined solves reach about 1e-11).
     pub kkt_tolerance: f64,
     /// Stop as [`Termination::Stalled`] after this many iterations without halving the best KKT
     /// residual while feasible; default 8.
