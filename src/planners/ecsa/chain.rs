@@ -77,6 +77,16 @@ pub enum ChainSolver {
     PseudoInverse,
 }
 
+impl ChainSolver {
+    /// `minimum-norm` or `pseudo-inverse`.
+    pub fn name(self) -> &'static str {
+        match self {
+            ChainSolver::MinimumNorm => "minimum-norm",
+            ChainSolver::PseudoInverse => "pseudo-inverse",
+        }
+    }
+}
+
 /// What a solver returns.
 struct Solved {
     c: DVector<f64>,
