@@ -139,11 +139,13 @@ fn table(planned: &ArmPlanned, r: &ArmReport) -> String {
     let method = match (&r.optimal, &r.ecsa) {
         (Some(o), _) => format!("optimal (minimum effort), {}-link arm, {} SQP iterations", r.joints, o.iterations),
         (None, Some(e)) => format!(
-            "ecsa ({} harmonic(s), window {}), {}-link arm, {} iterations",
+            "ecsa ({} harmonic(s), window {}, {}), {}-link arm, {} iterations in {} continuation steps",
             e.harmonics,
             e.window.name(),
+            e.solver.name(),
             r.joints,
-            e.iteration.iterations
+            e.iteration.iterations,
+            e.continuation_steps
         ),
         (None, None) => format!("{}, {}-link arm", r.method.name(), r.joints),
     };

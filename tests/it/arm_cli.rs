@@ -50,13 +50,16 @@ fn three_link_arm_plans_from_toml_and_urdf() {
     assert!((a - b).abs() <= 1e-8 * a, "TOML {a}, URDF {b}");
 }
 
-/// `--method ecsa` plans the 3-link example arm (issue 14), certified, with the ECSA's account
-/// (iterations, residual) in place of the optimal planner's; the table names the iteration; a
-/// moving start is bad input (the ECSA plans from rest).
+/// `--method ecsa` plans the 3-link example arm (issue 14), certified at both levels (the
+/// minimum-norm solution's torques: the pseudo-inverse iteration's large harmonics failed the
+/// torque level), with the ECSA's account (solver, iterations, residual) in place of the optimal
+/// planner's; the table names the iteration; a moving start is bad input (the ECSA plans from
+/// rest).
 #[test]
 fn three_link_arm_plans_with_the_ecsa() {
     let toml = example("three_link.toml");
-    let args = ["plan", "--robot", &toml, "--from", FROM, "--to", TO, "--method", "ecsa", "--format", "json"];
+    let args =
+        ["plan", "--robot", &toml, "--from", FROM, "--to", TO, "--method", "ecsa", "--torques", "--format", "json"];
     let o = freefloat(&args);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     let r = json(&o);
@@ -65,7 +68,10 @@ fn three_link_arm_plans_with_the_ecsa() {
     assert_eq!(r["certified"], true);
     assert!(r["final_error"].as_f64().unwrap() <= 1e-9, "{r}");
     assert!(r["optimal"].is_null(), "{r}");
+    assert_eq!(r["torque_certificate"]["certified"], true, "{r}");
     let e = &r["ecsa"];
+    assert_eq!(e["solver"], "minimum_norm", "{r}");
+    assert!(e["continuation_steps"].as_u64().unwrap() >= 1, "{r}");
     assert_eq!(e["iteration"]["termination"], "converged", "{r}");
     assert!(e["iteration"]["residual"].as_f64().unwrap() <= 1e-10, "{r}");
     assert!(e["iteration"]["iterations"].as_u64().unwrap() >= 1, "{r}");

@@ -1,6 +1,9 @@
 //! The ECSA for any planar serial arm of `n` joints (issue 14): the controls `u_i(t)` of each
-//! joint are the series of the 2-joint ECSA's [`Basis`], and the iteration is the same damped
-//! pseudo-inverse `c <- c - gamma J#(c) wrap(K(c) - qd)`.
+//! joint are the series of the 2-joint ECSA's [`Basis`], and `c` solves the end-point equation
+//! `K(c) = q_d` by one of two [`ChainSolver`]s: the least-norm solution (the default,
+//! [`min_norm`]) or the 2-joint ECSA's damped pseudo-inverse iteration
+//! `c <- c - gamma J#(c) wrap(K(c) - qd)` from the straight line, whose first step overshoots
+//! into large harmonics when the base must turn by loops (see [`min_norm`]).
 //!
 //! **The end-point map is a quadrature along an explicit path.** With `theta' = u` the joint
 //! angles are explicit functions of the coefficients,
@@ -61,6 +64,38 @@ pub struct ChainEndPoint {
     pub jacobian: DMatrix<f64>,
 }
 
+/// How the `n`-joint ECSA solves `K(c) = q_d`.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ChainSolver {
+    /// `min |c|^2` s.t. `K(c) = q_d` by Lagrange–Newton with continuation in the base's target
+    /// from the straight line ([`min_norm`]). Default.
+    #[default]
+    MinimumNorm,
+    /// The 2-joint ECSA's damped pseudo-inverse iteration from its initial guess (at `n = 2` it
+    /// reaches the 2-joint [`super::EcsaPlanner`]'s coefficients).
+    PseudoInverse,
+}
+
+impl ChainSolver {
+    /// `minimum-norm` or `pseudo-inverse`.
+    pub fn name(self) -> &'static str {
+        match self {
+            ChainSolver::MinimumNorm => "minimum-norm",
+            ChainSolver::PseudoInverse => "pseudo-inverse",
+        }
+    }
+}
+
+/// What a solver returns.
+struct Solved {
+    c: DVector<f64>,
+    iteration: IterationStats,
+    pieces: usize,
+    change: f64,
+    continuation_steps: usize,
+}
+
 /// The account of an `n`-joint ECSA plan.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct ChainEcsaStats {
@@ -68,10 +103,16 @@ pub struct ChainEcsaStats {
     pub harmonics: usize,
     /// The window of the series.
     pub window: Window,
+    /// The solver.
+    pub solver: ChainSolver,
     /// `c = (c_10, .., c_1,2H, .., c_n0, .., c_n,2H)` \[rad/s\].
     pub coefficients: Vec<f64>,
-    /// Iterations, residual history, termination (`ode` is zero: no ODE is solved).
+    /// Iterations (Newton steps), residual history `|K(c) - q_s|_inf` (for the minimum-norm
+    /// solver at the continuation's current target), termination (`ode` is zero: no ODE is
+    /// solved).
     pub iteration: IterationStats,
+    /// Steps of the continuation in the base's target (0 for the pseudo-inverse iteration).
+    pub continuation_steps: usize,
     /// Pieces of the composite Gauss–Legendre rule of the holonomy integral.
     pub quadrature_pieces: usize,
     /// Nodes per piece.
@@ -89,15 +130,23 @@ pub struct ChainEcsaStats {
 pub struct ChainEcsaPlanner {
     arm: Arm,
     connection: Arc<Connection>,
-    /// Options (`samples` is not used: the caller samples the plan).
+    /// Options (`samples` is not used: the caller samples the plan; `gamma` and `damping` are
+    /// the pseudo-inverse iteration's).
     pub options: EcsaOptions,
+    /// The solver; default [`ChainSolver::MinimumNorm`].
+    pub solver: ChainSolver,
 }
 
 impl ChainEcsaPlanner {
     /// A planner for `arm`.
     pub fn new(arm: Arm, options: EcsaOptions) -> Self {
         let connection = Arc::new(Connection::new(&arm));
-        Self { arm, connection, options }
+        Self { arm, connection, options, solver: ChainSolver::default() }
+    }
+
+    /// This planner with `solver`.
+    pub fn with_solver(self, solver: ChainSolver) -> Self {
+        Self { solver, ..self }
     }
 
     /// The arm.
@@ -190,9 +239,8 @@ impl ChainEcsaPlanner {
         ChainEndPoint { q, jacobian }
     }
 
-    /// Runs the pseudo-inverse iteration from the initial guess (the 2-joint ECSA's: constant
-    /// terms moving each joint from `theta_i0` to `theta_id` literally) to the residual
-    /// tolerance, with the quadrature rule of the [module docs](self). Non-convergence is
+    /// Solves `K(c) = q_d` with the planner's [`ChainSolver`] to the residual tolerance, with
+    /// the quadrature rule of the [module docs](self). Non-convergence is
     /// [`Error::EcsaFailed`] with the statistics.
     pub fn solve(&self, problem: &ChainProblem) -> Result<ChainEcsaStats, Error> {
         let clock = Instant::now();
@@ -204,8 +252,32 @@ impl ChainEcsaPlanner {
                 expected: "zero: the ECSA plans from rest; the optimal planner takes a moving start",
             }));
         }
-        let o = &self.options;
         let basis = self.basis(problem.horizon)?;
+        let solved = match self.solver {
+            ChainSolver::MinimumNorm => self.minimum_norm(&basis, problem)?,
+            ChainSolver::PseudoInverse => self.pseudo_inverse(&basis, problem)?,
+        };
+        let coefficients = solved.c.as_slice().to_vec();
+        let effort = effort(&basis, self.arm.joints(), &coefficients, solved.pieces);
+        Ok(ChainEcsaStats {
+            harmonics: basis.harmonics(),
+            window: basis.window(),
+            solver: self.solver,
+            coefficients,
+            iteration: solved.iteration,
+            continuation_steps: solved.continuation_steps,
+            quadrature_pieces: solved.pieces,
+            quadrature_nodes: NODES,
+            quadrature_change: solved.change,
+            effort,
+            plan_seconds: clock.elapsed().as_secs_f64(),
+        })
+    }
+
+    /// [`ChainSolver::PseudoInverse`]: the 2-joint ECSA's iteration from its initial guess
+    /// (constant terms moving each joint from `theta_i0` to `theta_id` literally).
+    fn pseudo_inverse(&self, basis: &Basis, problem: &ChainProblem) -> Result<Solved, Error> {
+        let o = &self.options;
         let (n, m) = (self.arm.joints(), basis.terms());
         let (start, goal) = (&problem.start, &problem.goal);
         let integral = basis.integrals()[0];
@@ -218,7 +290,7 @@ impl ChainEcsaPlanner {
         let mut iterations = 0;
         let mut change = f64::NAN;
         loop {
-            let k = self.evaluate(&basis, start, c.as_slice(), pieces, true);
+            let k = self.evaluate(basis, start, c.as_slice(), pieces, true);
             // `wrap`: angles modulo 2 pi (as the 2-joint ECSA); else the goal literally.
             let error =
                 DVector::from_fn(
@@ -234,7 +306,7 @@ impl ChainEcsaPlanner {
                 Some(Termination::NonFinite)
             } else if residual <= o.residual_tolerance {
                 // Converged on this rule: check it against twice the pieces.
-                let fine = self.evaluate(&basis, start, c.as_slice(), 2 * pieces, false);
+                let fine = self.evaluate(basis, start, c.as_slice(), 2 * pieces, false);
                 change = (fine.q[0] - k.q[0]).abs();
                 if change <= 0.01 * o.residual_tolerance || 2 * pieces > MAX_PIECES {
                     Some(Termination::Converged)
@@ -269,19 +341,7 @@ impl ChainEcsaPlanner {
                 if termination != Termination::Converged {
                     return Err(Error::EcsaFailed { stats: iteration });
                 }
-                let coefficients = c.as_slice().to_vec();
-                let effort = effort(&basis, n, &coefficients, pieces);
-                return Ok(ChainEcsaStats {
-                    harmonics: basis.harmonics(),
-                    window: basis.window(),
-                    coefficients,
-                    iteration,
-                    quadrature_pieces: pieces,
-                    quadrature_nodes: NODES,
-                    quadrature_change: change,
-                    effort,
-                    plan_seconds: clock.elapsed().as_secs_f64(),
-                });
+                return Ok(Solved { c, iteration, pieces, change, continuation_steps: 0 });
             }
             if let Some(step) = step {
                 c -= step * o.gamma;
@@ -465,6 +525,8 @@ impl JointMotion for ChainEcsaPlan {
         }
     }
 }
+
+mod min_norm;
 
 #[cfg(test)]
 mod tests;

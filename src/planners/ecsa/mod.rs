@@ -39,7 +39,7 @@ use nalgebra::{Const, Matrix3, SMatrix, SVector, U1, Vector3};
 use num_dual::{Derivative, DualSVec64};
 
 pub use basis::{Basis, MAX_HARMONICS, Window};
-pub use chain::{ChainEcsaPlan, ChainEcsaPlanner, ChainEcsaStats};
+pub use chain::{ChainEcsaPlan, ChainEcsaPlanner, ChainEcsaStats, ChainSolver};
 pub use motion::EcsaMotion;
 
 use crate::error::Error;

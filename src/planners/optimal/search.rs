@@ -5,8 +5,8 @@
 use nalgebra::DVector;
 
 use super::discrete::{Discretisation, Targets};
-use super::seeds::{self, CoilSite, Line, Sampled, SeedKind};
 use super::motion::OptimalMotion;
+use super::seeds::{self, CoilSite, Line, Sampled, SeedKind};
 use super::{COARSE_SQP, Candidate, OptimalPlanner, Tables, sqp};
 use crate::error::Error;
 use crate::model::wrap_angle;

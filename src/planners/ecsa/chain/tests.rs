@@ -4,7 +4,7 @@
 
 use std::path::Path;
 
-use nalgebra::SVector;
+use nalgebra::{DVector, SVector};
 use num_dual::{Derivative, DualSVec64};
 use proptest::prelude::*;
 
@@ -48,7 +48,7 @@ fn matches_the_two_joint_ecsa() {
         for harmonics in [1, 2] {
             let options = EcsaOptions::default().with_window(window).with_harmonics(harmonics).unwrap();
             let two = EcsaPlanner::new(options).solve(&PlanningProblem::paper(robot)).unwrap();
-            let planner = ChainEcsaPlanner::new(arm.clone(), options);
+            let planner = ChainEcsaPlanner::new(arm.clone(), options).with_solver(ChainSolver::PseudoInverse);
             let clock = Instant::now();
             let plan = planner.plan(&problem).unwrap();
             let seconds = clock.elapsed().as_secs_f64();
@@ -75,9 +75,59 @@ fn matches_the_two_joint_ecsa() {
     }
 }
 
+/// How far `c` is from the row space of `J(c)` (the first-order condition of `min |c|^2` on
+/// `K(c) = q_d`: `c = -J^T mu`), relative to `|c|`.
+fn off_row_space(planner: &ChainEcsaPlanner, problem: &ChainProblem, c: &[f64]) -> f64 {
+    let k = planner.end_point(&problem.start, problem.horizon, c, 256).unwrap();
+    let (j, c) = (&k.jacobian, DVector::from_column_slice(c));
+    let mu = (j * j.transpose()).cholesky().unwrap().solve(&(j * &c));
+    (&c - j.transpose() * mu).norm() / c.norm()
+}
+
+/// The minimum-norm solver on the paper's problem (n = 2), where the pseudo-inverse iteration
+/// converges from the line: both are solutions of `K(c) = q_d`, the minimum-norm one is
+/// stationary for `|c|^2` (`c` in the row space of `J` to 1e-7, the Hessian's forward
+/// differences being 1e-7) and no longer than the pseudo-inverse's.
+#[test]
+fn minimum_norm_on_the_paper_problem() {
+    let robot = RobotParams::src().with_mount(Mount::new(0.1, 0.1).unwrap()).unwrap();
+    let arm = Arm::from_params(&robot);
+    let (q0, qd, horizon) = crate::model::paper_problem();
+    let problem = ChainProblem::rest_to_rest(q0.to_array().to_vec(), qd.to_array().to_vec(), horizon);
+    for window in [Window::None, Window::SinSquared] {
+        let options = EcsaOptions::default().with_window(window);
+        let pinv = ChainEcsaPlanner::new(arm.clone(), options).with_solver(ChainSolver::PseudoInverse);
+        let p = pinv.plan(&problem).unwrap().stats;
+        let planner = ChainEcsaPlanner::new(arm.clone(), options);
+        let plan = planner.plan(&problem).unwrap();
+        let s = &plan.stats;
+        let norm = |c: &[f64]| c.iter().map(|x| x * x).sum::<f64>().sqrt();
+        let off =
+            (off_row_space(&planner, &problem, &s.coefficients), off_row_space(&planner, &problem, &p.coefficients));
+        eprintln!(
+            "paper {window:?}: |c| {:.6} (pseudo-inverse {:.6}), effort {:.6} ({:.6}), {} iterations in {} steps ({}),              off the row space {:.1e} ({:.1e})",
+            norm(&s.coefficients),
+            norm(&p.coefficients),
+            s.effort,
+            p.effort,
+            s.iteration.iterations,
+            s.continuation_steps,
+            p.iteration.iterations,
+            off.0,
+            off.1
+        );
+        assert_eq!(s.solver, ChainSolver::MinimumNorm);
+        assert!(plan.verification.certified && plan.verification.final_error <= 1e-9);
+        assert!(off.0 < 1e-7, "{off:?}");
+        assert!(norm(&s.coefficients) <= norm(&p.coefficients) * (1.0 + 1e-12));
+    }
+}
+
 /// Certified plans for the 3-link example arm (the CLI test's problem) and a 7-link arm, both
-/// windows; the samples start at `q0` and end at `qd` (`phi` modulo 2 pi: the wrapped residual
-/// lets the iteration settle on any representative), the windowed plans at rest.
+/// windows, by the minimum-norm solver; the samples start at `q0` and end at `qd` (`phi` modulo
+/// 2 pi: the wrapped residual lets the iteration settle on any representative), the windowed
+/// plans at rest. `c` is stationary for `|c|^2` (as above) and no longer than the
+/// pseudo-inverse iteration's solution of the same equation, when that converges.
 #[test]
 fn plans_three_and_seven_links() {
     let cases = [
@@ -97,18 +147,27 @@ fn plans_three_and_seven_links() {
             let plan = planner.plan(&problem).unwrap();
             let seconds = clock.elapsed().as_secs_f64();
             let s = &plan.stats;
+            let pinv = planner.clone().with_solver(ChainSolver::PseudoInverse).solve(&problem);
+            let norm = |c: &[f64]| c.iter().map(|x| x * x).sum::<f64>().sqrt();
+            let off = off_row_space(&planner, &problem, &s.coefficients);
             eprintln!(
-                "n = {n} {window:?}: {} iterations, residual {:.1e}, verified {:.2e}, pieces {}, change {:.1e}, \
-                 effort {:.4}, {:.1} ms, history {:?}",
+                "n = {n} {window:?}: {} iterations in {} steps, residual {:.1e}, verified {:.2e}, pieces {}, \
+                 change {:.1e}, effort {:.4} (pseudo-inverse {:?}), off the row space {off:.1e}, {:.1} ms, history {:?}",
                 s.iteration.iterations,
+                s.continuation_steps,
                 s.iteration.residual,
                 plan.verification.final_error,
                 s.quadrature_pieces,
                 s.quadrature_change,
                 s.effort,
+                pinv.as_ref().map(|p| p.effort).ok(),
                 seconds * 1e3,
                 s.iteration.residual_history
             );
+            assert!(off < 1e-7, "{off}");
+            if let Ok(p) = &pinv {
+                assert!(norm(&s.coefficients) <= norm(&p.coefficients) * (1.0 + 1e-12));
+            }
             assert!(plan.verification.certified && plan.verification.final_error <= 1e-9);
             assert!(plan.verification.max_abs_momentum < 1e-9, "{}", plan.verification.max_abs_momentum);
             let samples = plan.sample(101);
