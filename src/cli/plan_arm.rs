@@ -38,6 +38,7 @@ pub fn run(args: &PlanArgs, arm: &Arm, out: Option<(&PathBuf, bool)>) -> anyhow:
         samples: super::config::samples(p.samples)?,
         tolerance: super::config::tolerance(p.tolerance)?,
         torques: p.torques,
+        ecsa: super::ecsa_options(p)?,
     };
     let planned = plan_arm(arm, method, &request)?;
     let report = |with_trajectory| ArmReport::new(&planned, &problem.start, &problem.goal, with_trajectory);

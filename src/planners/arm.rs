@@ -33,6 +33,8 @@ pub struct ArmRequest {
     pub tolerance: f64,
     /// Add the torque level: torques at the samples and their certificate.
     pub torques: bool,
+    /// The ECSA's harmonics and window (its tolerance is `tolerance`), for [`Method::Ecsa`].
+    pub ecsa: EcsaOptions,
 }
 
 /// The torque level of an arm's plan.
@@ -186,7 +188,7 @@ pub fn plan_arm(arm: &Arm, method: Method, request: &ArmRequest) -> Result<ArmPl
     }
     let clock = Instant::now();
     let plan = if method == Method::Ecsa {
-        let options = EcsaOptions { tolerance: request.tolerance, ..EcsaOptions::default() };
+        let options = EcsaOptions { tolerance: request.tolerance, ..request.ecsa.clone() };
         ArmPlan::Ecsa(ChainEcsaPlanner::new(arm.clone(), options).plan(&request.problem)?)
     } else {
         let options = ChainOptions { tolerance: request.tolerance, ..ChainOptions::default() };
