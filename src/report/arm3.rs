@@ -45,7 +45,13 @@ pub fn arm3_problem() -> ChainProblem {
 
 /// Plans the case: the minimum-effort planner with both certificates.
 pub fn plan_arm3() -> Result<ArmPlanned, Error> {
-    let request = ArmRequest { problem: arm3_problem(), samples: ARM3_SAMPLES, tolerance: 1e-9, torques: true, ecsa: Default::default() };
+    let request = ArmRequest {
+        problem: arm3_problem(),
+        samples: ARM3_SAMPLES,
+        tolerance: 1e-9,
+        torques: true,
+        ecsa: Default::default(),
+    };
     plan_arm(&three_link_arm()?, Method::Optimal, &request)
 }
 

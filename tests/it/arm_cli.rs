@@ -86,7 +86,11 @@ fn three_link_arm_plans_with_the_ecsa() {
     let sin2 = ["plan", "--robot", &toml, "--from", FROM, "--to", TO, "--method", "ecsa", "--harmonics", "2"];
     let sin2 = json(&freefloat(&[&sin2[..], &["--window", "sin2", "--format", "json"]].concat()));
     assert_eq!(sin2["certified"], true, "{sin2}");
-    assert_eq!((sin2["ecsa"]["harmonics"].as_u64(), sin2["ecsa"]["window"].as_str()), (Some(2), Some("sin_squared")), "{sin2}");
+    assert_eq!(
+        (sin2["ecsa"]["harmonics"].as_u64(), sin2["ecsa"]["window"].as_str()),
+        (Some(2), Some("sin_squared")),
+        "{sin2}"
+    );
     let moving = ["plan", "--robot", &toml, "--from", FROM, "--to", TO, "--method", "ecsa", "--from-velocity", "5,0,0"];
     let o = freefloat(&moving);
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
