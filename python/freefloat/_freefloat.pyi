@@ -569,6 +569,8 @@ def plan_arm(
     initial_velocity: Optional[_Angles] = None,
     tolerance: float = 1e-9,
     method: _Method = "optimal",
+    harmonics: int = 1,
+    window: Literal["none", "sin2"] = "none",
 ) -> ArmPlan:
     """Plans the minimum-effort motion of ``arm`` from ``start`` to ``goal`` = (phi,
     theta_1..theta_n) [rad, relative joint angles; n + 1 values] in ``T`` [s] at zero angular
@@ -582,8 +584,10 @@ def plan_arm(
     number of samples of the arrays (at least 2). ``torques=True`` adds the joint torques and
     the second certificate (the full dynamics integrated with the planned torques, tolerance
     1e-6 rad). ``method`` is ``"optimal"`` (minimum effort) or ``"ecsa"`` (the
-    paper's reference method, from rest only; its motions can cost far more effort); ``"nfa"``
-    (the chained form is the 2-link robot's) is :class:`BadInput` with the reason.
+    paper's reference method, from rest only; its motions can cost far more effort), with
+    ``harmonics`` (1 to 4) and ``window`` (``"none"`` or ``"sin2"``) as in :func:`plan`
+    (given with another method: :class:`BadInput`); ``"nfa"`` (the chained form is the 2-link
+    robot's) is :class:`BadInput` with the reason.
     The GIL is released while planning.
 
     Raises :class:`BadInput` (bad parameters, named: ``start.len``, ``goal[2]``,

@@ -8,7 +8,7 @@ use std::path::PathBuf;
 use freefloat::planners::arm::{ArmRequest, plan_arm as library_plan_arm};
 use freefloat::planners::chain::ChainProblem;
 use freefloat::report::arm::{ArmReport, trajectory};
-use freefloat::{Arm, Base, Link, Method, Mount};
+use freefloat::{Arm, Base, EcsaOptions, Link, Method, Mount, Window};
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray1, PyArray2};
 use pyo3::exceptions::PyTypeError;
@@ -20,7 +20,7 @@ use serde_json::Value;
 use crate::compat::InputError;
 use crate::convert::{column, report_dict};
 use crate::errors::{BindingError, IntoPyResult, library_error};
-use crate::planning::{count, parse_method};
+use crate::planning::{count, parse_method, parse_window};
 use crate::robot::PyRobot;
 
 /// The keys of a link given as a dict, in the order of a link given as a tuple.
@@ -326,7 +326,7 @@ fn python_names(e: freefloat::Error) -> freefloat::Error {
 #[pyfunction]
 #[pyo3(signature = (
     arm, start, goal, T, *, samples = 1001, torques = false, wrap = true, initial_velocity = None,
-    tolerance = 1e-9, method = "optimal"
+    tolerance = 1e-9, method = "optimal", harmonics = 1, window = "none"
 ))]
 #[allow(non_snake_case, clippy::too_many_arguments)]
 pub fn plan_arm<'py>(
@@ -341,10 +341,23 @@ pub fn plan_arm<'py>(
     initial_velocity: Option<Vec<f64>>,
     tolerance: f64,
     method: &str,
+    harmonics: i64,
+    window: &str,
 ) -> PyResult<Bound<'py, PyArmPlan>> {
     let arm = any_arm(arm)?;
     let n = arm.joints();
     let method: Method = parse_method(method).py_result(py)?;
+    let window = parse_window(window).py_result(py)?;
+    let harmonics = count("harmonics", harmonics).py_result(py)?;
+    if (harmonics != 1 || window != Window::None) && method != Method::Ecsa {
+        let misplaced = BindingError::Misplaced { keywords: "harmonics/window", owner: "ecsa", method: method.name() };
+        return Err(misplaced.into_pyerr(py));
+    }
+    let ecsa = EcsaOptions::default()
+        .with_window(window)
+        .with_harmonics(harmonics)
+        .map_err(BindingError::from)
+        .py_result(py)?;
     if n == 2 && method != Method::Optimal {
         // The library's reason ("another number of links") is not this arm's: point to `plan`.
         let message = format!("plan_arm has no method={:?} for a 2-link arm", method.name());
@@ -364,7 +377,7 @@ pub fn plan_arm<'py>(
     };
     let problem = ChainProblem { start, goal, horizon: T, initial_velocity, wrap };
     problem.validate(&arm).py_result(py)?;
-    let request = ArmRequest { problem, samples, tolerance, torques, ecsa: Default::default() };
+    let request = ArmRequest { problem, samples, tolerance, torques, ecsa };
     let planned = py.detach(|| library_plan_arm(&arm, method, &request)).map_err(python_names).py_result(py)?;
 
     let report = ArmReport::new(&planned, &request.problem.start, &request.problem.goal, false);

@@ -123,17 +123,7 @@ impl Options {
             torques: k.torques,
             tolerance: k.tolerance,
             harmonics: count("harmonics", k.harmonics)?,
-            window: match k.window {
-                "none" => Window::None,
-                "sin2" => Window::SinSquared,
-                other => {
-                    return Err(BindingError::UnknownChoice {
-                        name: "window",
-                        value: other.into(),
-                        allowed: &["none", "sin2"],
-                    });
-                }
-            },
+            window: parse_window(k.window)?,
             smooth_ends: k.smooth_ends,
             initial_velocity,
             wrap: k.wrap,
@@ -193,6 +183,15 @@ impl Options {
                 ..Default::default()
             },
         })
+    }
+}
+
+/// The ECSA's window by its name: `none` or `sin2`.
+pub fn parse_window(name: &str) -> Result<Window, BindingError> {
+    match name {
+        "none" => Ok(Window::None),
+        "sin2" => Ok(Window::SinSquared),
+        other => Err(BindingError::UnknownChoice { name: "window", value: other.into(), allowed: &["none", "sin2"] }),
     }
 }
 

@@ -206,6 +206,14 @@ def test_method_refusals_give_the_reason(three_link, src):
     goal = [math.radians(x) for x in (30, 120, 40, -60)]
     plan = ff.plan_arm(three_link, start, goal, 10.0, method="ecsa")
     assert plan.certified and plan.method == "ecsa"
+    # Its harmonics and window, as for plan; given to another method they are misplaced.
+    two = ff.plan_arm(three_link, start, goal, 10.0, method="ecsa", harmonics=2, window="sin2")
+    assert two.certified and two.certificate["ecsa"]["harmonics"] == 2
+    assert two.certificate["ecsa"]["window"] == "sin_squared"
+    with pytest.raises(ff.BadInput, match="harmonics"):
+        ff.plan_arm(three_link, start, goal, 10.0, harmonics=2)
+    with pytest.raises(ff.BadInput, match="window"):
+        ff.plan_arm(three_link, start, goal, 10.0, method="ecsa", window="hann")
     with pytest.raises(ff.BadInput, match="from rest"):
         ff.plan_arm(three_link, start, goal, 10.0, method="ecsa", initial_velocity=[0.1, 0.0, 0.0])
     # A 2-link arm is pointed to plan, which has both.
