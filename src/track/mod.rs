@@ -45,12 +45,12 @@ pub mod trials_file;
 
 pub use certificate::{CLOSED_LOOP_TOLERANCE, ClosedLoopCertificate, closed_loop_certificate};
 pub use control::{Controller, Gains};
+pub use hold::HoldCorrection;
 pub use identify::IdentifyOptions;
 pub use monte_carlo::{MonteCarloOptions, Summary, Trial, monte_carlo, summarise};
 pub use perturb::Perturbation;
 pub use plant::Disturbances;
 pub use replan::ReplanOptions;
-pub use hold::HoldCorrection;
 pub use run::{History, HoldSummary, Identification, TrackOptions, Tracked, hold_correction, track, track_with};
 
 #[cfg(test)]
