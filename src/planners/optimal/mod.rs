@@ -13,9 +13,10 @@
 //!    and last coefficients ([`spline`]); cost and holonomy are Gauss–Legendre sums per knot span
 //!    with exact gradients and Hessians ([`discrete`], [`holonomy`]);
 //! 2. a Byrd–Omojokun trust-region SQP ([`sqp`]) solves the equality-constrained problem from
-//!    several seeds ([`seeds`]): the straight line, loops on either side of it, the NFA's path,
-//!    for each representative of the goal modulo 2 pi; all are solved on a coarse basis, the best
-//!    are refined on finer bases until the cost settles;
+//!    several seeds ([`seeds`]): the straight line, loops on either side of it (or a coil where
+//!    one loop cannot turn the base far enough), the NFA's path, for each representative of the
+//!    goal modulo 2 pi; all are solved on a coarse basis, the best are refined on finer bases
+//!    until the cost settles;
 //! 3. the result is an exact [`OptimalMotion`], certified like every plan of the crate.
 
 pub mod band;
@@ -95,7 +96,8 @@ pub struct OptimalOptions {
     /// Gauss–Legendre nodes per knot span of the optimiser; default 8 (raised automatically
     /// until the motion's finer quadrature agrees).
     pub quadrature_nodes: usize,
-    /// How many of the best coarse solutions are refined; default 2.
+    /// How many of the best coarse solutions are refined; default 2. The best line solved beside
+    /// a coil is refined as one more where its coarse cost is below all of theirs.
     pub finalists: usize,
     /// Seed with the NFA's joint path where the paper's transformation (Eq. 12 or 14) plans;
     /// default true.
