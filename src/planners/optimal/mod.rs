@@ -13,9 +13,10 @@
 //!    and last coefficients ([`spline`]); cost and holonomy are Gauss–Legendre sums per knot span
 //!    with exact gradients and Hessians ([`discrete`], [`holonomy`]);
 //! 2. a Byrd–Omojokun trust-region SQP ([`sqp`]) solves the equality-constrained problem from
-//!    several seeds ([`seeds`]): the straight line, loops on either side of it, the NFA's path,
-//!    for each representative of the goal modulo 2 pi; all are solved on a coarse basis, the best
-//!    are refined on finer bases until the cost settles;
+//!    several seeds ([`seeds`]): the straight line, loops on either side of it (or a coil where
+//!    one loop cannot turn the base far enough), the NFA's path, for each representative of the
+//!    goal modulo 2 pi; all are solved on a coarse basis, the best are refined on finer bases
+//!    until the cost settles;
 //! 3. the result is an exact [`OptimalMotion`], certified like every plan of the crate.
 
 pub mod band;
@@ -95,7 +96,8 @@ pub struct OptimalOptions {
     /// Gauss–Legendre nodes per knot span of the optimiser; default 8 (raised automatically
     /// until the motion's finer quadrature agrees).
     pub quadrature_nodes: usize,
-    /// How many of the best coarse solutions are refined; default 2.
+    /// How many of the best coarse solutions are refined; default 2. The best line solved beside
+    /// a coil is refined as one more where its coarse cost is below all of theirs.
     pub finalists: usize,
     /// Seed with the NFA's joint path where the paper's transformation (Eq. 12 or 14) plans;
     /// default true.
@@ -278,25 +280,24 @@ impl OptimalPlanner {
         let mut batch = o.targets_solved;
         let mut prepared = prepared.into_iter().peekable();
         while prepared.peek().is_some() {
-            let mut coarse: Vec<Candidate> = Vec::new();
-            for mut p in prepared.by_ref().take(batch) {
+            let (mut coarse, mut extras): (Vec<Candidate>, Vec<Candidate>) = (Vec::new(), Vec::new());
+            for p in prepared.by_ref().take(batch) {
                 if p.bound > best {
                     break;
                 }
-                let starts = self.starts(problem, &mut p, nfa.as_ref(), &tables)?;
-                for x0 in starts {
-                    let guess = p.multiplier_guess(&x0);
+                for start in self.starts(problem, &p, nfa.as_ref(), &tables)? {
                     seeds += 1;
-                    let Ok(result) = sqp::solve(&p.disc, x0, &COARSE_SQP, guess) else { continue };
+                    let Ok(result) = sqp::solve(&start.disc, start.x0, &COARSE_SQP, start.guess) else { continue };
                     total_iterations += result.iterations;
-                    if result.c.abs() <= 1e-6 && result.f < best {
+                    if !start.extra && result.c.abs() <= 1e-6 && result.f < best {
                         best = result.f;
                     }
-                    coarse.push(Candidate {
-                        disc: p.disc.clone(),
+                    let list = if start.extra { &mut extras } else { &mut coarse };
+                    list.push(Candidate {
+                        disc: start.disc,
                         iterations: result.iterations,
                         result,
-                        spans: p.spans,
+                        spans: start.spans,
                         nodes: o.quadrature_nodes,
                         motion: None,
                     });
@@ -315,6 +316,13 @@ impl OptimalPlanner {
                 if !duplicate {
                     finalists.push(c);
                 }
+            }
+            // The best line beside a coil is refined too where its coarse effort is below every
+            // finalist's: an extra finalist, so that the others (and the plan without it) stay.
+            let first = finalists.first().filter(|c| feasible(c)).map_or(f64::INFINITY, |c| c.result.f);
+            let extra = extras.into_iter().filter(feasible).min_by(|a, b| a.result.f.total_cmp(&b.result.f));
+            if let Some(c) = extra.filter(|c| c.result.f < first * (1.0 - 1e-6)) {
+                finalists.push(c);
             }
             let mut done = Vec::new();
             for c in finalists {

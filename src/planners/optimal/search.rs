@@ -28,28 +28,45 @@ pub(super) struct Prepared {
     pub estimate: f64,
     /// A lower bound of its effort \[rad^2/s\] (see [`seeds::effort_lower_bound`]).
     pub bound: f64,
-    /// The discretisation its seeds are solved on.
+    /// The coarse discretisation (the line's, the loops' and, without a coil, the NFA's).
     pub disc: Discretisation,
-    /// Uniform knot spans of `disc`.
-    pub spans: usize,
+    /// Uniform knot spans of the coil's discretisation (`coarse_spans` without a coil).
+    spans: usize,
     line: Line,
-    /// The line's free coefficients on `disc` (`None` for a coil target).
-    x_line: Option<DVector<f64>>,
+    /// The line's free coefficients on `disc`.
+    x_line: DVector<f64>,
     /// The raw loop seeds (one per side), or the coil.
     kinds: Vec<SeedKind>,
     /// The rotation the seeds add to the line's \[rad\].
     needed: f64,
 }
 
+/// A warm start: the discretisation it is solved on, its spans, its free coefficients and the
+/// SQP's initial multiplier.
+pub(super) struct Start {
+    /// The discretisation.
+    pub disc: Discretisation,
+    /// Its uniform knot spans.
+    pub spans: usize,
+    /// The free coefficients of the seed.
+    pub x0: DVector<f64>,
+    /// The initial multiplier (a coil's, see [`Prepared::multiplier_guess`]).
+    pub guess: Option<f64>,
+    /// The line beside a coil: ranked apart, an extra finalist where it beats the others (see
+    /// [`OptimalPlanner::starts`]).
+    pub extra: bool,
+}
+
 impl Prepared {
-    /// The multiplier of a coil's solution as estimated at its seed `x0`,
+    /// The multiplier of a coil's solution as estimated at its seed `x0` on `disc`,
     /// `lambda ~ -2 f / needed`: the effort grows as the square of the coil's length, the
-    /// rotation linearly, and `df/d phi_end = -lambda`. `None` for the other seeds.
-    pub fn multiplier_guess(&self, x0: &DVector<f64>) -> Option<f64> {
-        if self.x_line.is_some() || !(self.needed.abs() > 0.0) {
-            return None;
-        }
-        Some(-2.0 * self.disc.evaluate(x0, 0).f / self.needed)
+    /// rotation linearly, and `df/d phi_end = -lambda`.
+    fn multiplier_guess(&self, disc: &Discretisation, x0: &DVector<f64>) -> Option<f64> {
+        (self.needed.abs() > 0.0).then(|| -2.0 * disc.evaluate(x0, 0).f / self.needed)
+    }
+
+    fn is_coil(&self) -> bool {
+        matches!(self.kinds.first(), Some(SeedKind::Coil { .. }))
     }
 }
 
@@ -143,46 +160,60 @@ impl OptimalPlanner {
             // The finer basis is built when the representative is solved (see `starts`).
             let spans = o.coarse_spans.max(SPANS_PER_TURN * turns);
             let estimate = line.effort_estimate(coil);
-            return Ok(Prepared { estimate, bound, disc, spans, line, x_line: None, kinds: vec![coil], needed });
+            return Ok(Prepared { estimate, bound, disc, spans, line, x_line, kinds: vec![coil], needed });
         }
         let kinds: Vec<SeedKind> = [1, -1].map(|side| line.loop_seed(&k, needed, side, 0, o.max_loop_radius)).into();
         let estimate = kinds.iter().map(|kind| line.effort_estimate(*kind)).fold(f64::INFINITY, f64::min);
-        Ok(Prepared { estimate, bound, disc, spans: o.coarse_spans, line, x_line: Some(x_line), kinds, needed })
+        Ok(Prepared { estimate, bound, disc, spans: o.coarse_spans, line, x_line, kinds, needed })
     }
 
-    /// The warm starts of a prepared representative: the line, each loop as estimated and
-    /// re-fitted to the constraint (they lead to different local minima), or the fitted coil;
-    /// and the NFA's path where it ends at this representative.
+    /// The warm starts of a prepared representative: the line on the coarse basis; each loop as
+    /// estimated and re-fitted to the constraint (they lead to different local minima), or the
+    /// fitted coil on its finer basis; and the NFA's path where it ends at this representative.
+    ///
+    /// The line is solved beside a coil too: the SQP bends it into a path that turns the base
+    /// where the curvature is large along the way rather than around one site, which can cost
+    /// far less than the coil (the paper's problem at `a = 1, b = -1`: from the line 91.72, from
+    /// the coil 111.39 rad^2/s at the same representative).
     pub(super) fn starts(
         &self,
         problem: &PlanningProblem,
-        prepared: &mut Prepared,
+        prepared: &Prepared,
         nfa: Option<&(Sampled, [f64; 2], f64)>,
         tables: &Tables,
-    ) -> Result<Vec<DVector<f64>>, Error> {
-        if prepared.spans != self.options.coarse_spans {
-            let targets = *prepared.disc.targets();
-            prepared.disc = self.discretise(problem, targets, prepared.spans, self.options.quadrature_nodes, tables)?;
-        }
-        let (disc, line) = (&prepared.disc, &prepared.line);
-        let max_radius = self.options.max_loop_radius;
+    ) -> Result<Vec<Start>, Error> {
+        let o = &self.options;
+        let coarse = &prepared.disc;
+        let fine;
+        let (disc, spans) = if prepared.is_coil() {
+            let targets = *coarse.targets();
+            fine = self.discretise(problem, targets, prepared.spans, o.quadrature_nodes, tables)?;
+            (&fine, prepared.spans)
+        } else {
+            (coarse, o.coarse_spans)
+        };
+        let line = &prepared.line;
+        let max_radius = o.max_loop_radius;
         let residual = |kind: SeedKind| disc.project(|t| line.path(kind, t)).map(|x| disc.evaluate(&x, 0).c);
-        let mut starts = Vec::new();
-        if let Some(x) = &prepared.x_line {
-            starts.push(x.clone());
+        let start = |x0: DVector<f64>, guess| Start { disc: disc.clone(), spans, x0, guess, extra: false };
+        let (x0, extra) = (prepared.x_line.clone(), prepared.is_coil());
+        let mut starts = vec![Start { disc: coarse.clone(), spans: o.coarse_spans, x0, guess: None, extra }];
+        if !prepared.is_coil() {
             for kind in &prepared.kinds {
-                starts.push(disc.project(|t| line.path(*kind, t))?);
+                starts.push(start(disc.project(|t| line.path(*kind, t))?, None));
             }
         }
         for kind in &prepared.kinds {
             let fitted = line.fit_radius(*kind, max_radius, |kind| residual(kind).unwrap_or(f64::NAN));
-            starts.push(disc.project(|t| line.path(fitted, t))?);
+            let x0 = disc.project(|t| line.path(fitted, t))?;
+            let guess = if prepared.is_coil() { prepared.multiplier_guess(disc, &x0) } else { None };
+            starts.push(start(x0, guess));
         }
         let targets = disc.targets();
         if let Some((path, end, phi)) = nfa {
             let same_end = (end[0] - targets.end[0]).abs() < 1e-6 && (end[1] - targets.end[1]).abs() < 1e-6;
             if same_end && (phi - targets.phi_end).abs() < 1e-6 {
-                starts.push(disc.project(|t| path.at(t))?);
+                starts.push(start(disc.project(|t| path.at(t))?, None));
             }
         }
         Ok(starts)
