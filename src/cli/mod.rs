@@ -212,3 +212,14 @@ pub fn ecsa_options(args: &ProblemArgs) -> anyhow::Result<freefloat::EcsaOptions
 pub fn gif_options(args: &args::GifArgs) -> anyhow::Result<freefloat::report::plot::GifOptions> {
     Ok(freefloat::report::plot::GifOptions::new(args.gif_width, args.gif_height, args.gif_fps)?)
 }
+
+/// The checked `plan --gif FILE.gif` with its options, before anything is planned (exit 2 on a
+/// bad name, an unwritable place or bad options); `None` without `--gif`.
+pub fn checked_gif(
+    args: &args::PlanArgs,
+) -> anyhow::Result<Option<(&std::path::PathBuf, freefloat::report::plot::GifOptions)>> {
+    let Some(path) = &args.gif else { return Ok(None) };
+    freefloat::report::plot::check_gif_path(path)?;
+    freefloat::report::io::check_writable(path)?;
+    Ok(Some((path, gif_options(&args.gif_options)?)))
+}

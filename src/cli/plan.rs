@@ -8,7 +8,7 @@ use freefloat::plan::{Method, Plan, PlanningProblem, TorqueOptions};
 use freefloat::planners::{Planned, PlannerOptions, plan_to_pose, planner};
 use freefloat::report::io::{PlanReport, trajectory_csv, write_atomic};
 pub use freefloat::report::numbers::{error_number, number, rounded, scientific, significant};
-use freefloat::report::plot::{animation_gif, check_gif_path};
+use freefloat::report::plot::animation_gif;
 use freefloat::track::closed_loop_certificate;
 
 use super::args::{
@@ -129,14 +129,7 @@ pub fn run(args: &PlanArgs) -> anyhow::Result<ExitCode> {
     if let super::Robot::Arm(arm) = super::any_robot(&args.problem.robot)? {
         return super::plan_arm::run(args, &arm, out);
     }
-    let gif = match &args.gif {
-        Some(path) => {
-            check_gif_path(path)?;
-            freefloat::report::io::check_writable(path)?;
-            Some((path, super::gif_options(&args.gif_options)?))
-        }
-        None => None,
-    };
+    let gif = super::checked_gif(args)?;
     let problem = super::problem(&args.problem)?;
     let planned = plan_with(method(args)?, &args.problem, &problem)??;
     let plan = &planned.plan;

@@ -12,7 +12,7 @@ use freefloat::planners::chain::ChainProblem;
 use freefloat::report::arm::{ArmReport, arm_csv};
 use freefloat::report::io::write_atomic;
 use freefloat::report::numbers::{error_number, number, scientific};
-use freefloat::report::plot::{arm_animation_gif, check_gif_path};
+use freefloat::report::plot::arm_animation_gif;
 
 use super::args::{CostArg, Format, PlanArgs, ProblemArgs};
 
@@ -23,14 +23,7 @@ use super::args::{CostArg, Format, PlanArgs, ProblemArgs};
 pub fn run(args: &PlanArgs, arm: &Arm, out: Option<(&PathBuf, bool)>) -> anyhow::Result<ExitCode> {
     let p = &args.problem;
     refuse_two_link_flags(args)?;
-    let gif = match &args.gif {
-        Some(path) => {
-            check_gif_path(path)?;
-            freefloat::report::io::check_writable(path)?;
-            Some((path, super::gif_options(&args.gif_options)?))
-        }
-        None => None,
-    };
+    let gif = super::checked_gif(args)?;
     let method = args.method.map(Method::from).unwrap_or(Method::Optimal);
     let problem = problem(p, arm)?;
     let request = ArmRequest {

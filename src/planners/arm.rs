@@ -188,7 +188,7 @@ pub fn plan_arm(arm: &Arm, method: Method, request: &ArmRequest) -> Result<ArmPl
     }
     let clock = Instant::now();
     let plan = if method == Method::Ecsa {
-        let options = EcsaOptions { tolerance: request.tolerance, ..request.ecsa.clone() };
+        let options = EcsaOptions { tolerance: request.tolerance, ..request.ecsa };
         ArmPlan::Ecsa(ChainEcsaPlanner::new(arm.clone(), options).plan(&request.problem)?)
     } else {
         let options = ChainOptions { tolerance: request.tolerance, ..ChainOptions::default() };
