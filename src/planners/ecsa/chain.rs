@@ -1,9 +1,9 @@
 //! The ECSA for any planar serial arm of `n` joints (issue 14): the controls `u_i(t)` of each
 //! joint are the series of the 2-joint ECSA's [`Basis`], and `c` solves the end-point equation
 //! `K(c) = q_d` by one of two [`ChainSolver`]s: the least-norm solution (the default,
-//! [`min_norm`]) or the 2-joint ECSA's damped pseudo-inverse iteration
+//! `chain/min_norm.rs`) or the 2-joint ECSA's damped pseudo-inverse iteration
 //! `c <- c - gamma J#(c) wrap(K(c) - qd)` from the straight line, whose first step overshoots
-//! into large harmonics when the base must turn by loops (see [`min_norm`]).
+//! into large harmonics when the base must turn by loops (see `chain/min_norm.rs`).
 //!
 //! **The end-point map is a quadrature along an explicit path.** With `theta' = u` the joint
 //! angles are explicit functions of the coefficients,
@@ -69,7 +69,7 @@ pub struct ChainEndPoint {
 #[serde(rename_all = "snake_case")]
 pub enum ChainSolver {
     /// `min |c|^2` s.t. `K(c) = q_d` by Lagrange–Newton with continuation in the base's target
-    /// from the straight line ([`min_norm`]). Default.
+    /// from the straight line (`chain/min_norm.rs`). Default.
     #[default]
     MinimumNorm,
     /// The 2-joint ECSA's damped pseudo-inverse iteration from its initial guess (at `n = 2` it
