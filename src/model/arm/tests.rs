@@ -342,6 +342,73 @@ fn urdf_merges_fixed_joints_and_reads_the_tool_frame() {
     assert_same_arm(&arm, &expected, 1e-12);
 }
 
+/// An end-effector link with mass fixed 0.5 m along the last link (as SPART's
+/// `floating_planar_4dof_manipulator.urdf` has it): the tip is that link's origin, 0.5 m along,
+/// not the merged centre of mass; the mass moves the link's centre of mass and inertia only.
+/// Checked against forward kinematics written here from the URDF's frames (the system's centre of
+/// mass at the origin), at random configurations; with a massless `tool0` 0.05 m beyond the end
+/// effector, the tip is `tool0`.
+#[test]
+fn urdf_tool_point_is_the_fixed_end_effector_frame_whatever_its_mass() {
+    let z = r#"<axis xyz="0 0 1"/>"#;
+    let inertial = |x: f64, m: f64, izz: f64| {
+        format!(
+            r#"<inertial><origin xyz="{x} 0 0"/><mass value="{m}"/><inertia ixx="0" ixy="0" ixz="0" iyy="0" iyz="0" izz="{izz}"/></inertial>"#
+        )
+    };
+    let file = |tool0: bool| {
+        let (link, joint_tool) = if tool0 {
+            (
+                r#"<link name="tool0"/>"#.to_string(),
+                joint("tool_joint", "fixed", "end_effector", "tool0", "0.05 0 0", ""),
+            )
+        } else {
+            (String::new(), String::new())
+        };
+        format!(
+            r#"<robot name="r">
+  <link name="base">{}</link><link name="l1">{}</link><link name="l2">{}</link>
+  <link name="end_effector">{}</link>{link}
+  {}{}{}{joint_tool}
+</robot>"#,
+            inertial(0.0, 10.0, 1.0),
+            inertial(0.25, 2.0, 0.02),
+            inertial(0.25, 2.0, 0.02),
+            inertial(0.0, 1.0, 0.001),
+            joint("j1", "continuous", "base", "l1", "0.3 0 0", z),
+            joint("j2", "continuous", "l1", "l2", "0.5 0 0", z),
+            joint("ee", "fixed", "l2", "end_effector", "0.5 0 0", ""),
+        )
+    };
+    for (tool0, tip) in [(false, 0.5), (true, 0.55)] {
+        let arm = urdf(&file(tool0)).unwrap();
+        let last = arm.links[1];
+        assert!(close(last.length, tip, 1e-15, 1.0), "tool0 {tool0}: length {}", last.length);
+        let com = (2.0 * 0.25 + 1.0 * 0.5) / 3.0;
+        assert!(close(last.com, com, 1e-14, 1.0) && close(last.mass, 3.0, 1e-15, 1.0), "{last:?}");
+        let inertia = 0.02 + 0.001 + 2.0 * (0.25 - com).powi(2) + (0.5 - com).powi(2);
+        assert!(close(last.inertia, inertia, 1e-14, 1.0), "{last:?}");
+        let mut rng = Rng::new(11);
+        for _ in 0..20 {
+            let q: Vec<f64> = (0..3).map(|_| rng.uniform(-std::f64::consts::PI, std::f64::consts::PI)).collect();
+            let e = |psi: f64| [psi.cos(), psi.sin()];
+            let (p1, p2) = (e(q[0] + q[1]), e(q[0] + q[1] + q[2]));
+            // Frames relative to the base's centre of mass (the base frame's origin here).
+            let j1 = [0.3 * q[0].cos(), 0.3 * q[0].sin()];
+            let j2 = [j1[0] + 0.5 * p1[0], j1[1] + 0.5 * p1[1]];
+            let at = |from: [f64; 2], d: f64, dir: [f64; 2]| [from[0] + d * dir[0], from[1] + d * dir[1]];
+            let bodies = [([0.0, 0.0], 10.0), (at(j1, 0.25, p1), 2.0), (at(j2, 0.25, p2), 2.0), (at(j2, 0.5, p2), 1.0)];
+            let total: f64 = bodies.iter().map(|b| b.1).sum();
+            let centre = [0, 1].map(|i| bodies.iter().map(|b| b.1 * b.0[i]).sum::<f64>() / total);
+            let tool = at(j2, tip, p2);
+            let expected = [tool[0] - centre[0], tool[1] - centre[1]];
+            let points = arm.joint_positions(&q);
+            let got = points[points.len() - 1];
+            assert!((got[0] - expected[0]).hypot(got[1] - expected[1]) < 1e-14, "{got:?} vs {expected:?}");
+        }
+    }
+}
+
 fn urdf_error(text: &str) -> (String, String) {
     match urdf(text) {
         Err(e @ InputError::Urdf { .. }) => {

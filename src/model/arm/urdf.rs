@@ -19,8 +19,11 @@
 //!   origin minus the base's centre of mass. Link `k`'s centre of mass must lie on its `x` axis
 //!   (within [`URDF_PLANAR_TOLERANCE`]), `com` is its `x`; its length is the `x` of the next
 //!   joint's origin, which must lie on that axis too. The last link's length is the `x` of its
-//!   tool frame, the massless link fixed to it farthest along its `x` axis (it must lie on the axis);
-//!   without one, its length is its `com` (the tip at the centre of mass).
+//!   **tool frame**: of the links fixed to it that end its fixed subtree (no joint leaves them),
+//!   with or without mass, the one farthest along its `x` axis (it must lie on the axis). A fixed
+//!   end-effector link with mass adds its mass and inertia to the last link (moving its centre of
+//!   mass), never its length. Without a fixed child, the length is the link's `com` (the tip at
+//!   the centre of mass).
 
 use std::collections::{HashMap, HashSet};
 use std::path::Path;
@@ -41,8 +44,10 @@ struct Body<'a> {
     root: &'a str,
     /// Masses, centres of mass in the body's frame and `izz` about them.
     parts: Vec<(f64, [f64; 2], f64)>,
-    /// Massless links (frames) and their origins in the body's frame.
-    frames: Vec<[f64; 2]>,
+    /// The fixed descendants that end the body's fixed subtree (links with no child joint, with
+    /// or without mass): their names and origins in the body's frame. The last body's tool frame
+    /// is one of them.
+    frames: Vec<(&'a str, [f64; 2])>,
     /// The joint leaving the body and its origin in the body's frame.
     next: Option<(&'a Joint, [f64; 2])>,
 }
@@ -130,8 +135,9 @@ impl Arm {
                 let (mass, com, izz) = inertial(link).map_err(|reason| fail(link_name(name), reason))?;
                 if mass > 0.0 {
                     body.parts.push((mass, [at[0] + com[0], at[1] + com[1]], izz));
-                } else if name != body_root {
-                    body.frames.push(at);
+                }
+                if name != body_root && !children.contains_key(name) {
+                    body.frames.push((name, at));
                 }
                 for &joint in children.get(name).into_iter().flatten() {
                     check_joint(joint).map_err(|reason| fail(joint_name(joint), reason))?;
@@ -280,6 +286,14 @@ fn check_joint(joint: &Joint) -> Result<(), String> {
     Ok(())
 }
 
+/// The tool frame of the last body: of the fixed links that end its fixed subtree (a leaf: no
+/// joint leaves it), with or without mass, the one farthest along the link's `x` axis (ties: the
+/// first in the file); `None` when the body has no fixed child. Its mass, if any, is merged into
+/// the link's centre of mass and inertia; it never moves the tip (docs/spec.md §1, URDF).
+fn tool_frame<'a>(body: &Body<'a>) -> Option<(&'a str, [f64; 2])> {
+    body.frames.iter().copied().reduce(|best, f| if f.1[0] > best.1[0] { f } else { best })
+}
+
 /// The base, mount and links from the bodies (base first); errors as `(element, reason)`.
 fn chain(bodies: &[Body]) -> Result<(Base, Mount, Vec<Link>), (String, String)> {
     let tol = URDF_PLANAR_TOLERANCE;
@@ -314,17 +328,14 @@ fn chain(bodies: &[Body]) -> Result<(Base, Mount, Vec<Link>), (String, String)> 
                 }
                 p[0]
             }
-            None => {
-                let tool = body.frames.iter().copied().max_by(|p, q| p[0].total_cmp(&q[0]));
-                match tool {
-                    Some(p) if !(p[1].abs() <= tol) => {
-                        let reason = format!("tool frame at y = {} m off the link's x axis", p[1]);
-                        return Err((link_name(body.root), reason));
-                    }
-                    Some(p) => p[0],
-                    None => com[0],
+            None => match tool_frame(body) {
+                Some((name, p)) if !(p[1].abs() <= tol) => {
+                    let reason = format!("tool frame {} at y = {} m off the link's x axis", link_name(name), p[1]);
+                    return Err((link_name(body.root), reason));
                 }
-            }
+                Some((_, p)) => p[0],
+                None => com[0],
+            },
         };
         links.push(Link { length, com: com[0], mass, inertia });
     }
