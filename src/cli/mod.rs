@@ -19,7 +19,7 @@ use freefloat::{Configuration, Mount, RobotParams};
 
 use args::{Cli, Command, CostArg, ProblemArgs, RobotArgs, TransformArg, WindowArg};
 
-pub use output::{ClosedPipe, emit, note};
+pub use output::{ClosedPipe, emit, note, report_error};
 
 /// Parses the command line and runs the command. With `--format json`, a failure also prints one
 /// JSON error object on stdout (docs/spec.md §3).

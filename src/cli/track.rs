@@ -125,8 +125,8 @@ pub fn run(args: &TrackArgs) -> anyhow::Result<ExitCode> {
         })
         .collect::<Result<Vec<Tracked>, _>>()?;
     match args.format {
-        DomainFormat::Json => println!("{}", serde_json::to_string_pretty(&runs)?),
-        DomainFormat::Table => print!("{}", table(&runs, &truth, &robot)),
+        DomainFormat::Json => super::emit(&format!("{}\n", serde_json::to_string_pretty(&runs)?))?,
+        DomainFormat::Table => super::emit(&table(&runs, &truth, &robot))?,
     }
     if let Some(path) = &args.out {
         write_atomic(path, &history_csv(&runs[0])?)?;
