@@ -35,6 +35,45 @@ use crate::model::{InputError, Mount, excerpt};
 /// length, the `y` of a centre of mass or of a joint on its link \[m\].
 pub const URDF_PLANAR_TOLERANCE: f64 = 1e-9;
 
+/// The deepest nesting of XML elements read from a URDF (`<robot>` is level 1; a URDF needs about
+/// six: `robot`, `link`, `visual`, `geometry`, `mesh`, and a vendor's extension or two).
+pub const MAX_XML_DEPTH: usize = 64;
+
+/// Refuses a text whose elements nest deeper than [`MAX_XML_DEPTH`] (an
+/// [`InputError::NestedTooDeep`] naming the line), or that is not well-formed XML: one linear
+/// scan by quick-xml's streaming reader, which keeps no stack of its own, before the URDF
+/// reader, which recurses into every element (15000 nested elements overflowed its stack).
+fn check_nesting(text: &str, path: &Path) -> Result<(), InputError> {
+    use quick_xml::events::Event;
+    let line_at = |offset: u64| {
+        let end = usize::try_from(offset).unwrap_or(usize::MAX).min(text.len());
+        text.as_bytes()[..end].iter().filter(|&&b| b == b'\n').count() + 1
+    };
+    let mut reader = quick_xml::Reader::from_str(text);
+    let mut depth = 0usize;
+    loop {
+        match reader.read_event() {
+            Ok(Event::Start(_)) => {
+                depth += 1;
+                if depth > MAX_XML_DEPTH {
+                    let line = line_at(reader.buffer_position());
+                    return Err(InputError::NestedTooDeep { path: path.to_path_buf(), line, limit: MAX_XML_DEPTH });
+                }
+            }
+            Ok(Event::End(_)) => depth = depth.saturating_sub(1),
+            Ok(Event::Eof) => return Ok(()),
+            Ok(_) => {}
+            Err(e) => {
+                let line = line_at(reader.error_position());
+                return Err(InputError::RobotFile {
+                    path: path.to_path_buf(),
+                    reason: short_reason(&format!("not a valid URDF: line {line}: {e}")),
+                });
+            }
+        }
+    }
+}
+
 /// One rigid body: a link with its fixed descendants.
 struct Body<'a> {
     /// The link that the entering joint moves (the root link for the base).
@@ -78,6 +117,7 @@ impl Arm {
     /// [`InputError::Urdf`] naming the offending joint or link; a bad value an
     /// [`InputError::InvalidParameter`] naming the key of [`Arm::new`] and the URDF link.
     pub fn from_urdf_str(text: &str, path: &Path) -> Result<Self, InputError> {
+        check_nesting(text, path)?;
         let robot = urdf_rs::read_from_string(text).map_err(|e| InputError::RobotFile {
             path: path.to_path_buf(),
             reason: short_reason(&format!("not a valid URDF: {e}")),
