@@ -138,7 +138,11 @@ impl Arm {
                 }
             }
             if let Some(other) = parent_of.insert(&joint.child.link, joint) {
-                let reason = format!("is the child of two joints, `{}` and `{}`: not a tree", other.name, joint.name);
+                let reason = format!(
+                    "is the child of two joints, `{}` and `{}`: not a tree",
+                    excerpt(&other.name),
+                    excerpt(&joint.name)
+                );
                 return Err(fail(link_name(&joint.child.link), reason));
             }
             children.entry(joint.parent.link.as_str()).or_default().push(joint);
@@ -146,7 +150,11 @@ impl Arm {
         let roots: Vec<&str> =
             robot.links.iter().map(|l| l.name.as_str()).filter(|name| !parent_of.contains_key(name)).collect();
         let [mut root] = roots[..] else {
-            let names = roots.iter().map(|r| format!("`{}`", excerpt(r))).collect::<Vec<_>>().join(", ");
+            // At most five names: a file may have thousands of root links.
+            let mut names = roots.iter().take(5).map(|r| format!("`{}`", excerpt(r))).collect::<Vec<_>>().join(", ");
+            if roots.len() > 5 {
+                names += &format!(" and {} more", roots.len() - 5);
+            }
             let reason = format!("{} root links ({names}): expected one tree whose root is the base", roots.len());
             return Err(fail("robot".into(), reason));
         };
@@ -182,8 +190,8 @@ impl Arm {
                     } else if let Some((other, _)) = body.next {
                         let reason = format!(
                             "branches: joints `{}` and `{}` both move off the body of {}; freefloat models one serial arm",
-                            other.name,
-                            joint.name,
+                            excerpt(&other.name),
+                            excerpt(&joint.name),
                             link_name(body_root)
                         );
                         return Err(fail(joint_name(joint), reason));
