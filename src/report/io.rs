@@ -82,7 +82,7 @@ pub fn uninterrupted<T>(f: impl FnOnce() -> T) -> std::io::Result<T> {
 const TEMPORARY_NAME_BYTES: usize = 200;
 
 /// The name of the temporary file (`kind = "tmp"`) or directory (`"tmpdir"`) of this process
-/// for the file `name`: `.NAME.PID.tmp`, `NAME` cut to [`TEMPORARY_NAME_BYTES`] bytes.
+/// for the file `name`: `.NAME.PID.tmp`, `NAME` cut to 200 bytes (so that the name fits NAME_MAX).
 pub fn temporary_name(name: &str, kind: &str) -> String {
     format!(".{}.{}.{kind}", cut_name(name), std::process::id())
 }
