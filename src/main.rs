@@ -11,7 +11,7 @@ fn main() -> ExitCode {
         Ok(code) => code,
         Err(err) if err.downcast_ref::<cli::ClosedPipe>().is_some() => ExitCode::SUCCESS,
         Err(err) => {
-            eprintln!("error: {err:#}");
+            cli::report_error(&format!("error: {err:#}\n"));
             ExitCode::from(cli::exit_code(&err))
         }
     }

@@ -35,22 +35,27 @@ pub struct Shard {
     pub n: usize,
 }
 
+/// The largest number of shards `N` of a run, written (`--shard K/N`) or read (a file's
+/// `shard=K/N`): far more than any cluster runs at once, and small enough that nothing that scales
+/// with `N` (a merge's accounting of the shards) can grow large. A file claiming more is damaged.
+pub const MAX_SHARDS: usize = 65_536;
+
 impl Shard {
     /// The whole run.
     pub const ALL: Shard = Shard { k: 1, n: 1 };
 
-    /// Parses `k/n` with `1 <= k <= n`.
+    /// Parses `k/n` with `1 <= k <= n <= MAX_SHARDS` ([`MAX_SHARDS`]).
     pub fn parse(text: &str) -> Result<Self, Error> {
         let bad = || {
             Error::from(InputError::InvalidText {
                 name: "--shard".into(),
                 text: text.to_string(),
-                expected: "K/N, two whole numbers with 1 <= K <= N (e.g. 2/8)",
+                expected: "K/N, two whole numbers with 1 <= K <= N <= 65536 (e.g. 2/8)",
             })
         };
         let (k, n) = text.split_once('/').ok_or_else(bad)?;
         let (k, n): (usize, usize) = (k.trim().parse().map_err(|_| bad())?, n.trim().parse().map_err(|_| bad())?);
-        if k == 0 || k > n {
+        if k == 0 || k > n || n > MAX_SHARDS {
             return Err(bad());
         }
         Ok(Self { k, n })
@@ -182,7 +187,9 @@ pub fn read<R: DeserializeOwned>(
     let head = lines.next().and_then(|l| l.strip_prefix(kind.magic)).ok_or_else(not_ours)?;
     let bad_head = |what: &str| file_error(path, Some(1), format!("damaged header: {what}"));
     let run_hash = field(head, "run").ok_or_else(|| bad_head("no run="))?;
-    let shard = field(head, "shard").and_then(|s| Shard::parse(s).ok()).ok_or_else(|| bad_head("no shard=K/N"))?;
+    let shard = field(head, "shard")
+        .and_then(|s| Shard::parse(s).ok())
+        .ok_or_else(|| bad_head("no shard=K/N with 1 <= K <= N <= 65536"))?;
     let count: usize = field(head, "rows").and_then(|s| s.parse().ok()).ok_or_else(|| bad_head("no rows=<count>"))?;
     let sum = field(head, "checksum").ok_or_else(|| bad_head("no checksum="))?;
     let run = lines
@@ -251,7 +258,8 @@ pub fn merge_files<R, K: Ord>(
         return Err(file_error(Path::new("<merge>"), None, "no files to merge"));
     };
     let (first_path, run, n) = (first_path.clone(), first.run.clone(), first.shard.n);
-    let mut seen: Vec<Option<&Path>> = vec![None; n];
+    // The shards given, by part: at most one entry per file, never one per shard of the run.
+    let mut seen: std::collections::BTreeMap<usize, &Path> = std::collections::BTreeMap::new();
     for (path, file) in &files {
         if file.run != run {
             return Err(file_error(
@@ -272,29 +280,69 @@ pub fn merge_files<R, K: Ord>(
                 ),
             ));
         }
-        let slot = &mut seen[file.shard.k - 1];
-        if let Some(other) = slot {
+        if let Some(other) = seen.insert(file.shard.k, path) {
             return Err(file_error(
                 path,
                 Some(1),
                 format!("shard {}/{n} is given twice (also {})", file.shard.k, other.display()),
             ));
         }
-        *slot = Some(path);
     }
-    let missing: Vec<String> =
-        seen.iter().enumerate().filter(|(_, p)| p.is_none()).map(|(k, _)| format!("{}/{n}", k + 1)).collect();
-    drop(seen);
-    if !missing.is_empty() {
-        let list = if missing.len() > 8 {
-            format!("{} and {} more", missing[..8].join(", "), missing.len() - 8)
-        } else {
-            missing.join(", ")
-        };
+    if seen.len() < n {
+        let list = missing_shards(seen.keys().copied(), n);
         return Err(file_error(&first_path, None, format!("shards missing from the merge: {list}")));
     }
+    drop(seen);
     let mut rows: Vec<R> = files.into_iter().flat_map(|(_, f)| f.rows).collect();
     rows.sort_by_key(&key);
     whole(&run, &rows).map_err(|what| file_error(&first_path, None, what))?;
     Ok(ShardFile { run, shard: Shard::ALL, rows })
+}
+
+/// The shards of `1..=n` not among `given` (ascending), in words: `3/3`, or ranges
+/// `2/10 to 5/10, 7/10`, at most eight ranges and then the count of the rest. Its work and memory
+/// go with the shards given, not with `n`.
+fn missing_shards(given: impl Iterator<Item = usize>, n: usize) -> String {
+    let mut ranges: Vec<String> = Vec::new();
+    let (mut next, mut missing, mut more) = (1, 0, 0);
+    let mut gap = |from: usize, to: usize, ranges: &mut Vec<String>| {
+        if from > to {
+            return;
+        }
+        missing += to - from + 1;
+        if ranges.len() == 8 {
+            more += to - from + 1;
+        } else if from == to {
+            ranges.push(format!("{from}/{n}"));
+        } else {
+            ranges.push(format!("{from}/{n} to {to}/{n}"));
+        }
+    };
+    for k in given {
+        gap(next, k - 1, &mut ranges);
+        next = k + 1;
+    }
+    gap(next, n, &mut ranges);
+    let list = ranges.join(", ");
+    if more > 0 { format!("{list} and {more} more ({missing} of {n} shards)") } else { list }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Missing shards as ranges, cut after eight (issue 24 item 3: `1/18446744073709551615`
+    /// must not allocate per shard).
+    #[test]
+    fn missing_shards_are_ranges() {
+        assert_eq!(missing_shards([1, 2].into_iter(), 3), "3/3");
+        assert_eq!(missing_shards([1, 6].into_iter(), 10), "2/10 to 5/10, 7/10 to 10/10");
+        let every_other = missing_shards((1..=40).map(|k| 2 * k - 1), 80);
+        assert!(every_other.ends_with("16/80 and 32 more (40 of 80 shards)"), "{every_other}");
+        assert_eq!(missing_shards([1].into_iter(), MAX_SHARDS), "2/65536 to 65536/65536");
+        assert!(Shard::parse("1/65536").is_ok());
+        for bad in ["1/65537", "1/18446744073709551615", "1/100000000", "0/1", "2/1"] {
+            assert!(Shard::parse(bad).is_err(), "{bad}");
+        }
+    }
 }

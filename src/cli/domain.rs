@@ -44,6 +44,7 @@ pub fn run(args: &DomainArgs) -> anyhow::Result<ExitCode> {
     let (start, goal, time) = super::ends(&args.ends)?;
     let samples = super::config::samples(args.samples)?;
     let format = args.plot.as_deref().map(PictureFormat::from_path).transpose()?;
+    super::check_outputs(&[args.plot.as_ref()])?;
     let clock = std::time::Instant::now();
     let map = DomainMap::new(&robot, transform, args.grid)?;
     let seconds = clock.elapsed().as_secs_f64();

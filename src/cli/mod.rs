@@ -19,7 +19,7 @@ use freefloat::{Configuration, Mount, RobotParams};
 
 use args::{Cli, Command, CostArg, ProblemArgs, RobotArgs, TransformArg, WindowArg};
 
-pub use output::{ClosedPipe, emit, note};
+pub use output::{ClosedPipe, emit, note, report_error};
 
 /// Parses the command line and runs the command. With `--format json`, a failure also prints one
 /// JSON error object on stdout (docs/spec.md §3).
@@ -117,6 +117,14 @@ pub fn robot(args: &RobotArgs) -> anyhow::Result<RobotParams> {
             let arm = Arm::load(path)?;
             match arm.as_src() {
                 Some(robot) => robot,
+                // A valid 2-link arm is the paper's model unless a centre of mass sits on its joint.
+                None if arm.joints() == 2 => bail!(
+                    "{}: link[{}].com = 0: this command's 2-link model (the paper's d1, d2) needs the centre of mass \
+                     of each link off its joint, 0 < com <= length (docs/spec.md §1); `freefloat plan` plans this \
+                     arm as a general serial arm",
+                    path.display(),
+                    arm.links.iter().position(|l| l.com <= 0.0).map_or(1, |k| k + 1)
+                ),
                 None => bail!(
                     "{}: an arm of {} link(s); this command serves 2-link arms (docs/spec.md §1); `freefloat plan` plans any planar serial arm",
                     path.display(),
@@ -206,6 +214,15 @@ pub fn ecsa_options(args: &ProblemArgs) -> anyhow::Result<freefloat::EcsaOptions
     .with_window(window)
     .with_harmonics(args.harmonics)?;
     Ok(options)
+}
+
+/// Checks every output file given (`--out`, `--plot`, ...) before any work: its directory exists
+/// and takes a file, and it is nothing yet or a regular file (docs/spec.md §3).
+pub fn check_outputs(paths: &[Option<&std::path::PathBuf>]) -> anyhow::Result<()> {
+    for path in paths.iter().flatten() {
+        freefloat::report::io::check_writable(path)?;
+    }
+    Ok(())
 }
 
 /// The validated size and frame rate of `--gif` (bad input, exit 2, out of range).

@@ -42,14 +42,24 @@ pub fn wrote_stdout() -> bool {
     WROTE.load(Ordering::Relaxed)
 }
 
-/// Writes `text` to stdout; a closed pipe becomes [`ClosedPipe`], never a panic.
+/// Writes `text` to stdout; a closed pipe becomes [`ClosedPipe`] (exit 0), any other failure
+/// (a full disk) an error naming stdout (exit 2), never a panic. Every line the binary prints
+/// goes through here or through [`note`] / [`report_error`]: `tests/it/layout.rs` refuses the
+/// `print` macros, which panic on such outputs.
 pub fn emit(text: &str) -> anyhow::Result<()> {
     WROTE.store(true, Ordering::Relaxed);
     let mut out = std::io::stdout().lock();
     match out.write_all(text.as_bytes()).and_then(|()| out.flush()) {
         Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Err(ClosedPipe.into()),
-        result => Ok(result?),
+        result => Ok(result.map_err(|e| anyhow::Error::new(e).context("cannot write to stdout"))?),
     }
+}
+
+/// Prints a line on stderr that `--quiet` does not silence (an error, a failed case); a closed
+/// or full stderr is ignored: there is nowhere left to tell, and the exit code still says it.
+pub fn report_error(text: &str) {
+    let mut err = std::io::stderr().lock();
+    let _ignored = err.write_all(text.as_bytes()).and_then(|()| err.flush());
 }
 
 /// On SIGINT, SIGTERM or SIGHUP: removes the temporary files and directories of writes in

@@ -88,6 +88,14 @@ fn problem(p: &ProblemArgs, arm: &Arm) -> anyhow::Result<ChainProblem> {
                 if count == n + 1 { "; the default is the 2-link paper's problem" } else { "" }
             );
         }
+        if let Some(&x) = values.iter().find(|x| x.abs() > super::config::max_angle_deg()) {
+            return Err(freefloat::Error::from(freefloat::model::InputError::InvalidParameter {
+                name: flag.into(),
+                value: x,
+                expected: "angles with |angle| <= 572957 deg (1e4 rad, docs/spec.md §2)",
+            })
+            .into());
+        }
         Ok(values.iter().map(|x| x.to_radians()).collect())
     };
     let start = angles("--from", &p.ends.from, n + 1)?;
@@ -97,7 +105,9 @@ fn problem(p: &ProblemArgs, arm: &Arm) -> anyhow::Result<ChainProblem> {
         v if v.len() == n => v.iter().map(|x| x.to_radians()).collect(),
         v => bail!("--from-velocity takes {n} joint velocities DTH1,..,DTH{n} in deg/s for this arm, got {}", v.len()),
     };
-    Ok(ChainProblem { start, goal, horizon: p.ends.time, initial_velocity, wrap: !p.no_wrap })
+    // Checked here, naming the flags; the planner checks again under its own names.
+    let horizon = super::config::time(p.ends.time)?;
+    Ok(ChainProblem { start, goal, horizon, initial_velocity, wrap: !p.no_wrap })
 }
 
 /// A comma-separated list of finite numbers (at most 64), naming the flag on error.

@@ -17,14 +17,14 @@ pub fn run(args: &ReproduceArgs) -> anyhow::Result<ExitCode> {
     let progress = |what: &str, seconds: f64, status: &str| {
         let k = done.fetch_add(1, Ordering::Relaxed) + 1;
         if on {
-            eprintln!("[{k:>2}/{total}] {what:<46} {status:<58} {:>7.1} ms", seconds * 1e3);
+            super::note(&format!("[{k:>2}/{total}] {what:<46} {status:<58} {:>7.1} ms\n", seconds * 1e3));
         }
     };
     let gif = if args.gif { Some(super::gif_options(&args.gif_options)?) } else { None };
     let r = reproduce(&args.out, gif.as_ref(), &progress)?;
     super::emit(&format!("{}\nwrote {} files to {} in {:.2} s\n", r.markdown, r.files, args.out.display(), r.seconds))?;
     for failure in &r.failures {
-        eprintln!("{failure}");
+        super::report_error(&format!("{failure}\n"));
     }
     Ok(if r.failures.is_empty() { ExitCode::SUCCESS } else { ExitCode::from(3) })
 }

@@ -60,9 +60,7 @@ fn sweep(args: &SweepRunArgs) -> anyhow::Result<ExitCode> {
     let options = options(args)?;
     let shard = args.shard.as_deref().map(Shard::parse).transpose()?.unwrap_or(Shard::ALL);
     let picture = args.plot.as_deref().map(PictureFormat::from_path).transpose()?;
-    if let Some(path) = &args.out {
-        freefloat::report::io::check_writable(path)?;
-    }
+    super::check_outputs(&[args.out.as_ref(), args.plot.as_ref()])?;
     let count = shard.indices(options.points()).count() as u64;
     let bar = if std::io::stderr().is_terminal() && !super::output::quiet() {
         indicatif::ProgressBar::new(count)
@@ -139,7 +137,7 @@ pub(super) fn read_shard_files<R>(
 
 fn merge(args: &MergeArgs) -> anyhow::Result<ExitCode> {
     let picture = args.plot.as_deref().map(PictureFormat::from_path).transpose()?;
-    freefloat::report::io::check_writable(&args.out)?;
+    super::check_outputs(&[Some(&args.out), args.plot.as_ref()])?;
     let merged = file::merge_files(read_shard_files(&args.files, file::read)?)?;
     write_atomic(&args.out, &file::write(&merged.run, merged.shard, &merged.rows)?)?;
     if let (Some(path), Some(format)) = (&args.plot, picture) {

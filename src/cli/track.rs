@@ -67,10 +67,16 @@ fn shard(args: &TrackArgs) -> anyhow::Result<Shard> {
     let Some(text) = &args.shard else { return Ok(Shard::ALL) };
     let shard = Shard::parse(text)?;
     if args.trials.is_none() {
-        anyhow::bail!("--shard {text} needs --trials N: it splits the trials of a Monte Carlo run");
+        anyhow::bail!(
+            "--shard {} needs --trials N: it splits the trials of a Monte Carlo run",
+            super::config::quote(text)
+        );
     }
     if args.out.is_none() {
-        anyhow::bail!("--shard {text} needs --out FILE.csv: the shard's trials go to a file for `track merge`");
+        anyhow::bail!(
+            "--shard {} needs --out FILE.csv: the shard's trials go to a file for `track merge`",
+            super::config::quote(text)
+        );
     }
     Ok(shard)
 }
@@ -98,6 +104,7 @@ pub fn run(args: &TrackArgs) -> anyhow::Result<ExitCode> {
     perturbation.validate()?;
     let truth = args.true_robot.as_deref().map(RobotParams::load).transpose()?;
     let picture = args.plot.as_deref().map(PictureFormat::from_path).transpose()?;
+    super::check_outputs(&[args.out.as_ref(), args.plot.as_ref()])?;
     let controllers: Vec<Controller> = args.controller.iter().map(|&c| controller(c)).collect();
     let planned = planner(Method::Optimal, &PlannerOptions::default()).plan(&problem)?;
     planned.certified()?;
@@ -124,15 +131,16 @@ pub fn run(args: &TrackArgs) -> anyhow::Result<ExitCode> {
             track(&problem, planned.motion.as_ref(), &truth, &o, args.seed)
         })
         .collect::<Result<Vec<Tracked>, _>>()?;
-    match args.format {
-        DomainFormat::Json => println!("{}", serde_json::to_string_pretty(&runs)?),
-        DomainFormat::Table => print!("{}", table(&runs, &truth, &robot)),
-    }
+    // The files first: stdout never shows a run whose files then fail.
     if let Some(path) = &args.out {
         write_atomic(path, &history_csv(&runs[0])?)?;
     }
     if let (Some(path), Some(format)) = (&args.plot, picture) {
         write_atomic(path, &plan_picture(&figure(&runs[0]), format, path)?)?;
+    }
+    match args.format {
+        DomainFormat::Json => super::emit(&format!("{}\n", serde_json::to_string_pretty(&runs)?))?,
+        DomainFormat::Table => super::emit(&table(&runs, &truth, &robot))?,
     }
     Ok(ExitCode::SUCCESS)
 }

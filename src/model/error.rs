@@ -104,6 +104,17 @@ pub enum InputError {
         /// What is wrong.
         reason: String,
     },
+    /// An input file nests deeper than freefloat reads (elements of a URDF): refused before any
+    /// recursive parser sees it, which could overflow its stack.
+    #[error("{}, line {line}: elements nested deeper than {limit} levels; a robot file needs a handful", path.display())]
+    NestedTooDeep {
+        /// The file.
+        path: PathBuf,
+        /// The line (from 1) of the element that passes the limit.
+        line: usize,
+        /// The deepest nesting read.
+        limit: usize,
+    },
 }
 
 /// The most characters of user input that a message repeats.

@@ -67,6 +67,34 @@ fn remove_path(path: &Path) {
     }
 }
 
+/// Runs `f` with the signal handler held off ([`remove_temporaries`] waits for it): for a few
+/// renames that must all happen or none. An error if the process is already being interrupted.
+pub fn uninterrupted<T>(f: impl FnOnce() -> T) -> std::io::Result<T> {
+    let _list = temporaries();
+    if interrupted() {
+        return Err(std::io::Error::new(std::io::ErrorKind::Interrupted, "interrupted by a signal"));
+    }
+    Ok(f())
+}
+
+/// The most bytes of a file's name kept in its temporary's name: `.NAME.PID.tmpdir` then stays
+/// within the 255 bytes of a file name (`NAME_MAX`) for any valid name.
+const TEMPORARY_NAME_BYTES: usize = 200;
+
+/// The name of the temporary file (`kind = "tmp"`) or directory (`"tmpdir"`) of this process
+/// for the file `name`: `.NAME.PID.tmp`, `NAME` cut to 200 bytes (so that the name fits NAME_MAX).
+pub fn temporary_name(name: &str, kind: &str) -> String {
+    format!(".{}.{}.{kind}", cut_name(name), std::process::id())
+}
+
+fn cut_name(name: &str) -> &str {
+    let mut end = name.len().min(TEMPORARY_NAME_BYTES);
+    while !name.is_char_boundary(end) {
+        end -= 1;
+    }
+    &name[..end]
+}
+
 /// Set by [`remove_temporaries`]: the process is being interrupted and writes no more files.
 static INTERRUPTED: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
 
@@ -92,7 +120,7 @@ pub fn remove_stale_temporaries(dir: &Path, name: &str) {
         return;
     }
     let Ok(entries) = std::fs::read_dir(dir) else { return };
-    let prefix = format!(".{name}.");
+    let prefix = format!(".{}.", cut_name(name));
     for entry in entries.flatten() {
         let file = entry.file_name().to_string_lossy().into_owned();
         let Some(rest) = file.strip_prefix(&prefix) else { continue };
@@ -105,20 +133,23 @@ pub fn remove_stale_temporaries(dir: &Path, name: &str) {
     }
 }
 
-/// Writes `bytes` to `path` atomically: a temporary file `.NAME.PID.tmp` beside it, then a
-/// rename, so that a crash never leaves a half-written result. The temporary file is removed
-/// on failure and on SIGINT/SIGTERM (see [`remove_temporaries`]); stale ones of killed runs
-/// are removed first ([`remove_stale_temporaries`]).
+/// Writes `bytes` to `path` atomically: a temporary file `.NAME.PID.tmp` beside it
+/// ([`temporary_name`]), then a rename, so that a crash never leaves a half-written result. The
+/// temporary file is removed on failure and on SIGINT/SIGTERM (see [`remove_temporaries`]);
+/// stale ones of killed runs are removed first ([`remove_stale_temporaries`]). Only a regular
+/// file is replaced: a directory, a device, a FIFO or a socket at `path` is refused
+/// ([`check_writable`]), and a symbolic link is followed (its target is replaced, the link stays).
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), Error> {
     let io = |source| Error::from(InputError::Io { path: path.to_path_buf(), source });
-    let (dir, name) = split_path(path);
+    let target = output_target(path)?;
+    let (dir, name) = split_path(&target);
     remove_stale_temporaries(&dir, &name);
-    let tmp = dir.join(format!(".{name}.{}.tmp", std::process::id()));
+    let tmp = dir.join(temporary_name(&name, "tmp"));
     let result = (|| {
         let mut f = create_temporary(&tmp, |p| std::fs::File::create(p))?;
         f.write_all(bytes)?;
         f.sync_all()?;
-        std::fs::rename(&tmp, path)
+        std::fs::rename(&tmp, &target)
     })();
     if result.is_err() {
         let _cleanup = std::fs::remove_file(&tmp);
@@ -127,18 +158,52 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), Error> {
     result.map_err(io)
 }
 
-/// Checks before any work that `path` can be written: its directory exists and is a directory.
-/// (The write itself may still fail, e.g. on a full disk; then it is reported as usual.)
-pub fn check_writable(path: &Path) -> Result<(), Error> {
-    let (dir, _) = split_path(path);
-    match std::fs::metadata(&dir) {
-        Ok(meta) if meta.is_dir() => Ok(()),
-        Ok(_) => Err(Error::from(InputError::Io {
+/// The file that writing `path` replaces: `path`, or the target of a symbolic link. An error
+/// when that is something other than a regular file or nothing (a directory, a device, a FIFO,
+/// a socket, a dangling link): freefloat replaces only regular files.
+fn output_target(path: &Path) -> Result<PathBuf, Error> {
+    let refuse = |what: &str| {
+        Error::from(InputError::Io {
             path: path.to_path_buf(),
-            source: std::io::Error::other(format!("{} is not a directory", dir.display())),
-        })),
+            source: std::io::Error::other(format!(
+                "{what}; freefloat writes only regular files: give the path of a new or a regular file"
+            )),
+        })
+    };
+    let target = match std::fs::symlink_metadata(path) {
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(path.to_path_buf()),
+        Err(source) => return Err(Error::from(InputError::Io { path: path.to_path_buf(), source })),
+        Ok(meta) if meta.is_symlink() => {
+            std::fs::canonicalize(path).map_err(|_| refuse("is a symbolic link to nothing"))?
+        }
+        Ok(_) => path.to_path_buf(),
+    };
+    match std::fs::metadata(&target) {
+        Ok(meta) if meta.is_file() => Ok(target),
+        Ok(meta) if meta.is_dir() => Err(refuse("is a directory")),
+        Ok(_) => Err(refuse("is not a regular file (a device, a FIFO or a socket)")),
         Err(source) => Err(Error::from(InputError::Io { path: path.to_path_buf(), source })),
     }
+}
+
+/// Checks before any work that `path` can be written: it is nothing yet or a regular file (or a
+/// link to one), and its directory exists, is a directory and takes a new file (probed by
+/// creating and removing this process's temporary there). The write itself may still fail, e.g.
+/// on a full disk; then it is reported as usual.
+pub fn check_writable(path: &Path) -> Result<(), Error> {
+    let target = output_target(path)?;
+    let (dir, name) = split_path(&target);
+    let fail = |source| Error::from(InputError::Io { path: path.to_path_buf(), source });
+    match std::fs::metadata(&dir) {
+        Ok(meta) if meta.is_dir() => {}
+        Ok(_) => return Err(fail(std::io::Error::other(format!("{} is not a directory", dir.display())))),
+        Err(source) => return Err(fail(source)),
+    }
+    let probe = dir.join(temporary_name(&name, "tmp"));
+    create_temporary(&probe, |p| std::fs::File::create(p)).map_err(fail)?;
+    let removed = std::fs::remove_file(&probe);
+    forget_temporary(&probe);
+    removed.map_err(fail)
 }
 
 /// The CSV header of docs/spec.md §3.

@@ -21,6 +21,7 @@ pub mod figures;
 pub mod html;
 pub mod io;
 pub mod methods;
+pub mod out_dir;
 pub use crate::numerics::format as numbers;
 pub mod plot;
 pub mod reproduce;

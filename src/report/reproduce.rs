@@ -108,9 +108,13 @@ pub struct Reproduction {
 /// missing). `progress(what, seconds, status)` is called once per finished job ([`job_count`] in
 /// all), from rayon's threads.
 ///
-/// Everything is written into a fresh directory `.OUT.PID.tmpdir` beside `out`, which then
-/// replaces `out` by renames: a killed run leaves the old directory or the new one, never a mix
-/// (an interrupted one removes its temporary directory; a killed one's is removed by the next).
+/// Everything is written into a fresh directory `.OUT.PID.tmpdir` beside `out`, whose files
+/// then replace those of `out` by name, each by one rename ([`super::out_dir::move_into`]).
+/// `out` must not exist, be empty, or hold the marker of an earlier run
+/// ([`super::out_dir::MARKER`]), checked before any work ([`super::out_dir::check_out_dir`]):
+/// nothing freefloat did not write is ever removed or replaced. A run killed before the moves
+/// leaves `out` as it was (an interrupted one removes its temporary directory; a killed one's is
+/// removed by the next); a signal during the moves waits for them to end.
 ///
 /// With `gif`, also an animated GIF of every plan, `anim-CASE.gif` ([`animation_gif`]) and
 /// `anim-arm3.gif` for the 3-link arm ([`arm_animation_gif`]); the page stays self-contained (it does not link them), `summary.md` lists them.
@@ -119,38 +123,28 @@ pub fn reproduce(
     gif: Option<&GifOptions>,
     progress: &(dyn Fn(&str, f64, &str) + Sync),
 ) -> Result<Reproduction, Error> {
-    use super::io::{create_temporary, forget_temporary, remove_stale_temporaries, split_path};
+    use super::io::{create_temporary, forget_temporary, remove_stale_temporaries, split_path, temporary_name};
     let io = |path: &Path| {
         let path = path.to_path_buf();
         move |source| Error::from(InputError::Io { path, source })
     };
+    super::out_dir::check_out_dir(out)?;
     let (parent, name) = split_path(out);
     std::fs::create_dir_all(&parent).map_err(io(&parent))?;
     remove_stale_temporaries(&parent, &name);
-    let fresh = parent.join(format!(".{name}.{}.tmpdir", std::process::id()));
+    let fresh = parent.join(temporary_name(&name, "tmpdir"));
     let result = create_temporary(&fresh, |p| std::fs::create_dir(p))
         .map_err(io(&fresh))
         .and_then(|()| reproduce_into(&fresh, gif, progress));
-    let result = result.and_then(|r| swap_in(&fresh, out).map(|()| r));
+    let result = result.and_then(|r| {
+        super::io::uninterrupted(|| super::out_dir::move_into(&fresh, out)).map_err(io(out))??;
+        Ok(r)
+    });
     if fresh.exists() {
         let _cleanup = std::fs::remove_dir_all(&fresh);
     }
     forget_temporary(&fresh);
     result
-}
-
-/// Puts the directory `fresh` at `out`, moving an old `out` aside first and removing it after.
-fn swap_in(fresh: &Path, out: &Path) -> Result<(), Error> {
-    let io = |source| Error::from(InputError::Io { path: out.to_path_buf(), source });
-    if out.exists() {
-        let (parent, name) = super::io::split_path(out);
-        let old = parent.join(format!(".{name}.{}.old", std::process::id()));
-        std::fs::rename(out, &old).map_err(io)?;
-        std::fs::rename(fresh, out).map_err(io)?;
-        std::fs::remove_dir_all(&old).map_err(io)
-    } else {
-        std::fs::rename(fresh, out).map_err(io)
-    }
 }
 
 fn reproduce_into(

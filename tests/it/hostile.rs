@@ -372,6 +372,8 @@ fn interrupted_reproduce_leaves_the_old_directory() {
     let dir = tempfile::tempdir().expect("temp dir");
     let out = dir.path().join("out");
     std::fs::create_dir(&out).expect("mkdir");
+    // A directory of an earlier run: its marker lists what it wrote (issue 24 item 4).
+    std::fs::write(out.join(".freefloat-out"), "# written by freefloat reproduce\nold.txt\n").expect("write");
     std::fs::write(out.join("old.txt"), "old").expect("write");
     for signal in ["-TERM", "-KILL"] {
         let mut child = bin()
@@ -390,8 +392,9 @@ fn interrupted_reproduce_leaves_the_old_directory() {
             let left: Vec<_> = std::fs::read_dir(dir.path()).expect("dir").flatten().map(|e| e.file_name()).collect();
             assert_eq!(left, vec![std::ffi::OsString::from("out")], "{left:?}");
         }
-        let files: Vec<_> = std::fs::read_dir(&out).expect("out").flatten().map(|e| e.file_name()).collect();
-        assert_eq!(files, vec![std::ffi::OsString::from("old.txt")], "{signal}: {files:?}");
+        let mut files: Vec<_> = std::fs::read_dir(&out).expect("out").flatten().map(|e| e.file_name()).collect();
+        files.sort();
+        assert_eq!(files, [".freefloat-out", "old.txt"].map(std::ffi::OsString::from), "{signal}: {files:?}");
     }
 }
 

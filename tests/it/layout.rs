@@ -156,3 +156,21 @@ fn files_stay_short() {
         .collect();
     assert!(long.is_empty(), "files over {MAX_LINES} lines: {long:?}");
 }
+
+/// The binary never prints with `println!`, `print!`, `eprintln!` or `eprint!` (issue 24 item 6):
+/// they panic on a closed or full stdout or stderr (`track | true`, `track > /dev/full`,
+/// `2>/dev/full`). Output goes through `cli::emit` (checked), `cli::note` and
+/// `cli::report_error` (stderr, failures ignored).
+#[test]
+fn the_binary_has_no_print_macros() {
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let mut files = vec![src.join("main.rs")];
+    rust_files(&src.join("cli"), &mut files);
+    assert!(files.len() > 5, "no CLI files found: the scan is broken");
+    for path in files {
+        let code = code(&path);
+        for name in ["println!", "print!", "eprintln!", "eprint!"] {
+            assert!(!code.contains(name), "{} uses `{name}`: write through `cli::emit` or `cli::note`", path.display());
+        }
+    }
+}

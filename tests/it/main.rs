@@ -5,6 +5,7 @@ mod arm;
 mod arm_cli;
 mod cli;
 mod hostile;
+mod hostile_files;
 mod layout;
 mod precision;
 mod properties;

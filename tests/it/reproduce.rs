@@ -130,7 +130,12 @@ fn reproduce_writes_every_file_whole_and_the_planners_numbers() {
         .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
         .collect();
     found.sort();
+    // The marker of a directory freefloat wrote (issue 24 item 4), listing every file.
+    let marker = std::fs::read_to_string(dir.path().join(".freefloat-out")).expect("the marker");
+    assert_eq!(found.first().map(String::as_str), Some(".freefloat-out"));
+    found.remove(0);
     expected.sort();
+    assert_eq!(marker.lines().skip(1).collect::<Vec<_>>(), expected);
     assert_eq!(found, expected);
     for name in &expected {
         let len = std::fs::metadata(dir.path().join(name)).expect("exists").len();

@@ -38,6 +38,45 @@ use crate::model::{InputError, Mount, excerpt};
 /// length, the `y` of a centre of mass or of a joint on its link \[m\].
 pub const URDF_PLANAR_TOLERANCE: f64 = 1e-9;
 
+/// The deepest nesting of XML elements read from a URDF (`<robot>` is level 1; a URDF needs about
+/// six: `robot`, `link`, `visual`, `geometry`, `mesh`, and a vendor's extension or two).
+pub const MAX_XML_DEPTH: usize = 64;
+
+/// Refuses a text whose elements nest deeper than [`MAX_XML_DEPTH`] (an
+/// [`InputError::NestedTooDeep`] naming the line), or that is not well-formed XML: one linear
+/// scan by quick-xml's streaming reader, which keeps no stack of its own, before the URDF
+/// reader, which recurses into every element (15000 nested elements overflowed its stack).
+fn check_nesting(text: &str, path: &Path) -> Result<(), InputError> {
+    use quick_xml::events::Event;
+    let line_at = |offset: u64| {
+        let end = usize::try_from(offset).unwrap_or(usize::MAX).min(text.len());
+        text.as_bytes()[..end].iter().filter(|&&b| b == b'\n').count() + 1
+    };
+    let mut reader = quick_xml::Reader::from_str(text);
+    let mut depth = 0usize;
+    loop {
+        match reader.read_event() {
+            Ok(Event::Start(_)) => {
+                depth += 1;
+                if depth > MAX_XML_DEPTH {
+                    let line = line_at(reader.buffer_position());
+                    return Err(InputError::NestedTooDeep { path: path.to_path_buf(), line, limit: MAX_XML_DEPTH });
+                }
+            }
+            Ok(Event::End(_)) => depth = depth.saturating_sub(1),
+            Ok(Event::Eof) => return Ok(()),
+            Ok(_) => {}
+            Err(e) => {
+                let line = line_at(reader.error_position());
+                return Err(InputError::RobotFile {
+                    path: path.to_path_buf(),
+                    reason: short_reason(&format!("not a valid URDF: line {line}: {e}")),
+                });
+            }
+        }
+    }
+}
+
 /// One rigid body: a link with its fixed descendants.
 struct Body<'a> {
     /// The link that the entering joint moves (the root link for the base).
@@ -83,6 +122,7 @@ impl Arm {
     /// [`InputError::Urdf`] naming the offending joint or link; a bad value an
     /// [`InputError::InvalidParameter`] naming the key of [`Arm::new`] and the URDF link.
     pub fn from_urdf_str(text: &str, path: &Path) -> Result<Self, InputError> {
+        check_nesting(text, path)?;
         let robot = urdf_rs::read_from_string(text).map_err(|e| InputError::RobotFile {
             path: path.to_path_buf(),
             reason: short_reason(&format!("not a valid URDF: {e}")),
@@ -103,7 +143,11 @@ impl Arm {
                 }
             }
             if let Some(other) = parent_of.insert(&joint.child.link, joint) {
-                let reason = format!("is the child of two joints, `{}` and `{}`: not a tree", other.name, joint.name);
+                let reason = format!(
+                    "is the child of two joints, `{}` and `{}`: not a tree",
+                    excerpt(&other.name),
+                    excerpt(&joint.name)
+                );
                 return Err(fail(link_name(&joint.child.link), reason));
             }
             children.entry(joint.parent.link.as_str()).or_default().push(joint);
@@ -111,7 +155,11 @@ impl Arm {
         let roots: Vec<&str> =
             robot.links.iter().map(|l| l.name.as_str()).filter(|name| !parent_of.contains_key(name)).collect();
         let [mut root] = roots[..] else {
-            let names = roots.iter().map(|r| format!("`{}`", excerpt(r))).collect::<Vec<_>>().join(", ");
+            // At most five names: a file may have thousands of root links.
+            let mut names = roots.iter().take(5).map(|r| format!("`{}`", excerpt(r))).collect::<Vec<_>>().join(", ");
+            if roots.len() > 5 {
+                names += &format!(" and {} more", roots.len() - 5);
+            }
             let reason = format!("{} root links ({names}): expected one tree whose root is the base", roots.len());
             return Err(fail("robot".into(), reason));
         };
@@ -148,8 +196,8 @@ impl Arm {
                     } else if let Some((other, _)) = body.next {
                         let reason = format!(
                             "branches: joints `{}` and `{}` both move off the body of {}; freefloat models one serial arm",
-                            other.name,
-                            joint.name,
+                            excerpt(&other.name),
+                            excerpt(&joint.name),
                             link_name(body_root)
                         );
                         return Err(fail(joint_name(joint), reason));
