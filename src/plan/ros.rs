@@ -235,13 +235,21 @@ pub fn to_text<T: Serialize>(message: &T, encoding: Encoding) -> Result<String, 
     }
 }
 
-/// A message read from text; `name` names the source in messages. A parse error (bad syntax, a
-/// wrong type, an unknown field) is an [`InputError::Trajectory`] quoting at most a few short
+/// A message read from text; `name` names the source in messages. YAML may end with `---` (as
+/// `ros2 topic echo` prints it) but holds one message. A parse error (bad syntax, a wrong type,
+/// an unknown field, several messages) is an [`InputError::Trajectory`] quoting at most a few short
 /// lines of the parser's message.
 pub fn from_text<T: serde::de::DeserializeOwned>(text: &str, encoding: Encoding, name: &str) -> Result<T, InputError> {
     let parsed = match encoding {
         Encoding::Json => serde_json::from_str(text).map_err(|e| e.to_string()),
-        Encoding::Yaml => serde_saphyr::from_str(text).map_err(|e| e.to_string()),
+        // `ros2 topic echo` ends each message with `---`: empty documents are skipped, and the
+        // file must hold one message.
+        Encoding::Yaml => {
+            serde_saphyr::from_multiple(text).map_err(|e| e.to_string()).and_then(|mut all: Vec<T>| match all.len() {
+                1 => Ok(all.remove(0)),
+                n => Err(format!("{n} YAML documents: the file must hold one message")),
+            })
+        }
     };
     parsed.map_err(|reason| InputError::Trajectory {
         path: name.into(),
