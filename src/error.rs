@@ -195,6 +195,22 @@ pub enum Error {
         /// `velocity` or `torque`.
         level: &'static str,
     },
+    /// A checked trajectory (`freefloat check`) does not end at its goal: `element` is the
+    /// coordinate farthest off (`base phi` or ``joint `NAME` ``), with its wrapped error.
+    #[error(
+        "the trajectory misses its goal: {element} ends {} rad ({} deg) from --to, tolerance {} rad",
+        error_number(*final_error),
+        rounded(final_error.to_degrees(), 6),
+        number(*tolerance)
+    )]
+    GoalMissed {
+        /// The coordinate farthest off, e.g. ``joint `joint2` ``.
+        element: String,
+        /// Its wrapped error at the end \[rad\].
+        final_error: f64,
+        /// The tolerance \[rad\].
+        tolerance: f64,
+    },
     /// The ECSA iteration (Jacobian pseudo-inverse) stopped without reaching its residual
     /// tolerance: the iteration limit was hit or the residual became non-finite.
     #[error(

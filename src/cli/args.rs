@@ -29,6 +29,9 @@ pub enum Command {
     MountSweep(SweepArgs),
     /// Track a plan in closed loop on a robot that is not the model (one run, or Monte Carlo).
     Track(TrackArgs),
+    /// Check a joint trajectory from any tool (ROS 2 JointTrajectory YAML/JSON, or a plan CSV)
+    /// on the free-floating robot: the base's attitude and position, the goal, the torques.
+    Check(CheckArgs),
     /// Print a shell completion script (e.g. `freefloat completions bash > /etc/bash_completion.d/freefloat`).
     Completions(CompletionsArgs),
     /// Print the man page (roff; e.g. `freefloat man > freefloat.1`).
@@ -203,6 +206,8 @@ pub enum Format {
     Json,
     /// The trajectory, one row per sample.
     Csv,
+    /// The joints' trajectory as a ROS 2 trajectory_msgs/JointTrajectory message (YAML).
+    JointTrajectory,
 }
 
 #[derive(Debug, Args)]
@@ -215,9 +220,14 @@ pub struct PlanArgs {
     /// Output format on stdout.
     #[arg(long, value_enum, default_value_t = Format::Table)]
     pub format: Format,
-    /// Also write the result to FILE: .json (report with trajectory) or .csv (trajectory).
+    /// Also write the result to FILE: .json (report with trajectory; with --format
+    /// joint-trajectory the message), .csv (trajectory), .yaml/.yml (the JointTrajectory message).
     #[arg(long, value_name = "FILE")]
     pub out: Option<PathBuf>,
+    /// Also write the base's trajectory, the companion of the JointTrajectory, to FILE.yaml|.json:
+    /// a ROS 2 MultiDOFJointTrajectory (base position and attitude phi about z).
+    #[arg(long, value_name = "FILE")]
+    pub base_out: Option<PathBuf>,
     /// Also write an animated GIF of the motion to FILE.gif: the robot (any arm) as the report
     /// page draws it, the horizon played in 5 to 8 s (T clamped to that range), looping.
     #[arg(long, value_name = "FILE.gif")]
@@ -486,5 +496,33 @@ pub struct TrackMergeArgs {
     pub format: DomainFormat,
     /// Also write the merged CSV file (equal to the unsharded run's).
     #[arg(long, value_name = "FILE.csv")]
+    pub out: Option<PathBuf>,
+}
+
+/// Flags of `freefloat check`.
+#[derive(Debug, Args)]
+pub struct CheckArgs {
+    #[command(flatten)]
+    pub robot: RobotArgs,
+    /// The trajectory: a ROS 2 JointTrajectory (.yaml/.yml/.json; joints matched by name: the
+    /// URDF's, else joint1..jointN) or freefloat's plan CSV (.csv).
+    #[arg(long, value_name = "FILE")]
+    pub trajectory: PathBuf,
+    /// The base's start attitude PHI in deg (default: the CSV's phi, else 0), or the whole start
+    /// PHI,TH1,..,THn, whose joints must be the trajectory's first point.
+    #[arg(long, value_name = "PHI[,TH1,..]", allow_hyphen_values = true)]
+    pub from: Option<String>,
+    /// Goal PHI,TH1,..,THn in deg (angles modulo 360): exit 3 when it is missed.
+    #[arg(long, value_name = "PHI,TH1,..", allow_hyphen_values = true)]
+    pub to: Option<String>,
+    /// Largest final error against --to in rad, positive, at most 1e-3.
+    #[arg(long, value_name = "RAD", default_value = "1e-9", allow_hyphen_values = true)]
+    pub tolerance: f64,
+    /// Output format on stdout.
+    #[arg(long, value_enum, default_value_t = DomainFormat::Table)]
+    pub format: DomainFormat,
+    /// Also write to FILE: .json (the report) or .csv (t, phi, xb, yb, the joints, one row per
+    /// point).
+    #[arg(long, value_name = "FILE")]
     pub out: Option<PathBuf>,
 }

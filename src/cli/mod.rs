@@ -1,12 +1,14 @@
 //! The command-line interface: flags ([`args`]) validated into library types, then run.
 
 pub mod args;
+mod check;
 pub mod config;
 mod domain;
 mod output;
 mod plan;
 mod plan_arm;
 mod reproduce;
+mod ros;
 mod sweep;
 mod track;
 
@@ -31,6 +33,7 @@ pub fn run() -> anyhow::Result<ExitCode> {
         Command::Plan(a) => a.format == args::Format::Json,
         Command::Compare(a) => a.format == args::CompareFormat::Json,
         Command::Domain(a) => a.format == args::DomainFormat::Json,
+        Command::Check(a) => a.format == args::DomainFormat::Json,
         _ => false,
     };
     let result = match cli.command {
@@ -40,6 +43,7 @@ pub fn run() -> anyhow::Result<ExitCode> {
         Command::Domain(args) => domain::run(&args),
         Command::MountSweep(args) => sweep::run(&args),
         Command::Track(args) => track::run(&args),
+        Command::Check(args) => check::run(&args),
         Command::Completions(args) => output::completions(args.shell),
         Command::Man => output::man(),
     };

@@ -110,6 +110,10 @@ pub fn error_json(err: &anyhow::Error) -> String {
             "not_certified",
             json!({"final_error": finite(*final_error), "tolerance": finite(*tolerance), "level": level}),
         ),
+        Some(E::GoalMissed { element, final_error, tolerance }) => (
+            "goal_missed",
+            json!({"element": element, "final_error": finite(*final_error), "tolerance": finite(*tolerance)}),
+        ),
         Some(E::Singular { value, t, .. }) => ("singular", json!({"value": finite(*value), "t": t.and_then(finite)})),
         Some(E::NewtonFailed { iterations, residual, t, .. }) => {
             ("newton_failed", json!({"iterations": iterations, "residual": finite(*residual), "t": t.and_then(finite)}))

@@ -11,6 +11,8 @@ pub use freefloat::report::numbers::{error_number, number, rounded, scientific, 
 use freefloat::report::plot::animation_gif;
 use freefloat::track::closed_loop_certificate;
 
+use super::ros::OutKind;
+
 use super::args::{
     CompareArgs, CompareFormat, CostArg, ElbowArg, Format, PlanArgs, ProblemArgs, TransformArg, WindowArg,
 };
@@ -105,29 +107,21 @@ fn method(args: &PlanArgs) -> anyhow::Result<Method> {
     Ok(method)
 }
 
-/// The kind of `--out` file by its extension (any case): `true` for JSON, `false` for CSV.
-fn out_is_json(path: &std::path::Path) -> anyhow::Result<bool> {
-    match path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase).as_deref() {
-        Some("json") => Ok(true),
-        Some("csv") => Ok(false),
-        _ => bail!("--out {}: the file name must end in .json or .csv", path.display()),
-    }
-}
-
 /// Runs `plan`: exit 0 with a certified plan, 3 (numbers on stderr) otherwise. The `--out` file
 /// is checked before planning and written before anything is printed, so that stdout never
 /// shows a result of a run that then fails.
 pub fn run(args: &PlanArgs) -> anyhow::Result<ExitCode> {
     let out = match &args.out {
         Some(path) => {
-            let json = out_is_json(path)?;
+            let kind = super::ros::out_kind(path, args.format)?;
             freefloat::report::io::check_writable(path)?;
-            Some((path, json))
+            Some((path, kind))
         }
         None => None,
     };
+    let base_out = super::ros::checked_base_out(args)?;
     if let super::Robot::Arm(arm) = super::any_robot(&args.problem.robot)? {
-        return super::plan_arm::run(args, &arm, out);
+        return super::plan_arm::run(args, &arm, out, base_out);
     }
     let gif = super::checked_gif(args)?;
     let problem = super::problem(&args.problem)?;
@@ -146,14 +140,23 @@ pub fn run(args: &PlanArgs) -> anyhow::Result<ExitCode> {
         }
     };
     let r = report(false);
-    let text = match args.format {
+    let mut text = match args.format {
         Format::Table => table(plan, &r),
         Format::Json => format!("{}\n", serde_json::to_string_pretty(&r)?),
         Format::Csv => String::from_utf8(trajectory_csv(&plan.trajectory)?)?,
+        Format::JointTrajectory => String::new(),
     };
-    if let Some((path, json)) = out {
-        let bytes = if json { serde_json::to_vec_pretty(&report(true))? } else { trajectory_csv(&plan.trajectory)? };
-        write_atomic(path, &bytes)?;
+    match out {
+        Some((path, OutKind::Report)) => write_atomic(path, &serde_json::to_vec_pretty(&report(true))?)?,
+        Some((path, OutKind::Csv)) => write_atomic(path, &trajectory_csv(&plan.trajectory)?)?,
+        _ => {}
+    }
+    if super::ros::wanted(args.format, out, base_out) {
+        let names = super::ros::joint_names(&args.problem.robot, 2)?;
+        let rows = freefloat::report::ros::MotionRows::from_plan(plan);
+        if let Some(yaml) = super::ros::messages(&rows, &names, args.format, out, base_out)? {
+            text = yaml;
+        }
     }
     if let Some((path, options)) = gif {
         let title = format!("freefloat plan: {}, T = {} s", plan.method.name(), number(plan.problem.horizon));

@@ -14,13 +14,21 @@ use freefloat::report::io::write_atomic;
 use freefloat::report::numbers::{error_number, number, scientific};
 use freefloat::report::plot::arm_animation_gif;
 
+use freefloat::plan::ros::Encoding;
+
 use super::args::{CostArg, Format, PlanArgs, ProblemArgs};
+use super::ros::OutKind;
 
 /// Runs `plan` for `arm`: exit 0 with a certified plan, 2 for bad input (e.g. a flag the
 /// n-joint planner does not take), 3 without a certified plan. `out` is the checked `--out`
 /// file (`true` for JSON). `--gif` is checked before planning, as for the 2-link robot, and
 /// written after `--out`, before anything is printed.
-pub fn run(args: &PlanArgs, arm: &Arm, out: Option<(&PathBuf, bool)>) -> anyhow::Result<ExitCode> {
+pub fn run(
+    args: &PlanArgs,
+    arm: &Arm,
+    out: Option<(&PathBuf, OutKind)>,
+    base_out: Option<(&PathBuf, Encoding)>,
+) -> anyhow::Result<ExitCode> {
     let p = &args.problem;
     refuse_two_link_flags(args)?;
     let gif = super::checked_gif(args)?;
@@ -35,14 +43,23 @@ pub fn run(args: &PlanArgs, arm: &Arm, out: Option<(&PathBuf, bool)>) -> anyhow:
     };
     let planned = plan_arm(arm, method, &request)?;
     let report = |with_trajectory| ArmReport::new(&planned, &problem.start, &problem.goal, with_trajectory);
-    let text = match args.format {
+    let mut text = match args.format {
         Format::Table => table(&planned, &report(false)),
         Format::Json => format!("{}\n", serde_json::to_string_pretty(&report(false))?),
         Format::Csv => String::from_utf8(arm_csv(&planned)?)?,
+        Format::JointTrajectory => String::new(),
     };
-    if let Some((path, json)) = out {
-        let bytes = if json { serde_json::to_vec_pretty(&report(true))? } else { arm_csv(&planned)? };
-        write_atomic(path, &bytes)?;
+    match out {
+        Some((path, OutKind::Report)) => write_atomic(path, &serde_json::to_vec_pretty(&report(true))?)?,
+        Some((path, OutKind::Csv)) => write_atomic(path, &arm_csv(&planned)?)?,
+        _ => {}
+    }
+    if super::ros::wanted(args.format, out, base_out) {
+        let names = super::ros::joint_names(&args.problem.robot, arm.joints())?;
+        let rows = freefloat::report::ros::MotionRows::from_arm(&planned);
+        if let Some(yaml) = super::ros::messages(&rows, &names, args.format, out, base_out)? {
+            text = yaml;
+        }
     }
     if let Some((path, options)) = gif {
         let title = format!(
@@ -111,7 +128,7 @@ fn problem(p: &ProblemArgs, arm: &Arm) -> anyhow::Result<ChainProblem> {
 }
 
 /// A comma-separated list of finite numbers (at most 64), naming the flag on error.
-fn list(flag: &str, text: &str) -> anyhow::Result<Vec<f64>> {
+pub(super) fn list(flag: &str, text: &str) -> anyhow::Result<Vec<f64>> {
     let parts: Vec<&str> = text.split(',').map(str::trim).collect();
     if parts.len() > 64 {
         bail!("{flag} takes at most 64 numbers, got {}", parts.len());

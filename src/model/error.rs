@@ -57,6 +57,18 @@ pub enum InputError {
         #[source]
         source: std::io::Error,
     },
+    /// A trajectory file (`freefloat check`, docs/spec.md §3) that cannot be parsed or does not
+    /// fit the robot: `element` names the point (counted from 0, as ROS indexes `points`), the
+    /// joint or the field at fault.
+    #[error("trajectory {}: {element}: {reason}", path.display())]
+    Trajectory {
+        /// The file.
+        path: PathBuf,
+        /// The offending element, e.g. `point 3` or ``joint `elbow` ``.
+        element: String,
+        /// What is wrong and what is accepted.
+        reason: String,
+    },
     /// An end-effector goal out of the arm's reach.
     #[error(transparent)]
     Unreachable(#[from] super::kinematics::Unreachable),

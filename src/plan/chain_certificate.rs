@@ -85,12 +85,27 @@ pub fn verify_chain(
     ode: &OdeOptions,
     tolerance: f64,
 ) -> Result<ChainVerification, Error> {
+    verify_chain_observed(arm, motion, start, goal, ode, tolerance, &mut |_, _| {})
+}
+
+/// [`verify_chain`], calling `at_breakpoint(t, q)` with the integrated `q = (phi, theta)` at
+/// every breakpoint of `motion` (`t = 0` first, `T` last): the base's attitude along the motion
+/// with the certificate's accuracy (`freefloat check`).
+pub fn verify_chain_observed(
+    arm: &Arm,
+    motion: &dyn JointMotion,
+    start: &[f64],
+    goal: &[f64],
+    ode: &OdeOptions,
+    tolerance: f64,
+    at_breakpoint: &mut dyn FnMut(f64, &[f64]),
+) -> Result<ChainVerification, Error> {
     let n = arm.joints();
     check_lengths(arm, motion, start, goal)?;
     macro_rules! dispatch {
         ($($n:literal => $m:literal),*) => {
             match n {
-                $($n => run::<$m>(arm, motion, start, goal, ode, tolerance),)*
+                $($n => run::<$m>(arm, motion, start, goal, ode, tolerance, at_breakpoint),)*
                 _ => Err(Error::from(InputError::InvalidParameter {
                     name: "joints".into(),
                     value: n as f64,
@@ -111,6 +126,7 @@ fn run<const M: usize>(
     goal: &[f64],
     ode: &OdeOptions,
     tolerance: f64,
+    at_breakpoint: &mut dyn FnMut(f64, &[f64]),
 ) -> Result<ChainVerification, Error> {
     let n = M - 1;
     let (mut theta, mut rate) = ([0.0; M], [0.0; M]);
@@ -142,9 +158,13 @@ fn run<const M: usize>(
         let p: f64 = f * motion.phi_rate(t) + g.iter().zip(&buffers.1[..n]).map(|(g, u)| g * u).sum::<f64>();
         max_momentum = max_momentum.max(p.abs());
     };
+    if let Some(&t0) = b.first() {
+        at_breakpoint(t0, y.as_slice());
+    }
     for w in b.windows(2) {
         let (y1, s) = integrate(&mut rhs, w[0], y, w[1], ode, &mut observe)?;
         y = y1;
+        at_breakpoint(w[1], y.as_slice());
         stats.accepted += s.accepted;
         stats.rejected += s.rejected;
         stats.evaluations += s.evaluations;

@@ -11,6 +11,7 @@ pub mod chain_certificate;
 pub mod chain_torques;
 pub mod motion;
 pub mod problem;
+pub mod ros;
 pub mod torques;
 
 use std::time::Instant;

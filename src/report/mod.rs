@@ -25,6 +25,7 @@ pub mod out_dir;
 pub use crate::numerics::format as numbers;
 pub mod plot;
 pub mod reproduce;
+pub mod ros;
 pub mod summary;
 
 pub use arm3::{ARM3_FIGURE, Arm3Row, arm3_animation, arm3_figure, plan_arm3};

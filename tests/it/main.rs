@@ -3,6 +3,7 @@
 mod animation;
 mod arm;
 mod arm_cli;
+mod check;
 mod cli;
 mod hostile;
 mod hostile_files;

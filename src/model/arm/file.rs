@@ -107,4 +107,26 @@ impl Arm {
         let is_urdf = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("urdf"));
         if is_urdf { Self::from_urdf_str(&text, path) } else { Self::from_toml(&text, path) }
     }
+
+    /// [`Arm::load`] with the joints' names: a URDF's moving joints as it names them
+    /// ([`Arm::from_urdf_str_named`]), else [`default_joint_names`].
+    pub fn load_named(path: &Path) -> Result<(Self, Vec<String>), InputError> {
+        if path.extension().is_some_and(|e| e.eq_ignore_ascii_case("urdf")) {
+            let bytes = read_regular_file(path, ROBOT_FILE_LIMIT)?;
+            let text = String::from_utf8(bytes).map_err(|e| InputError::RobotFile {
+                path: path.to_path_buf(),
+                reason: format!("not UTF-8 text (invalid byte at offset {})", e.utf8_error().valid_up_to()),
+            })?;
+            return Self::from_urdf_str_named(&text, path);
+        }
+        let arm = Self::load(path)?;
+        let names = default_joint_names(arm.joints());
+        Ok((arm, names))
+    }
+}
+
+/// The joint names of a robot without its own (a TOML robot file, the `src` preset):
+/// `joint1`..`jointN` from the base outwards, as [`Arm::to_urdf`] names them.
+pub fn default_joint_names(n: usize) -> Vec<String> {
+    (1..=n).map(|k| format!("joint{k}")).collect()
 }

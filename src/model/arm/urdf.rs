@@ -122,6 +122,12 @@ impl Arm {
     /// [`InputError::Urdf`] naming the offending joint or link; a bad value an
     /// [`InputError::InvalidParameter`] naming the key of [`Arm::new`] and the URDF link.
     pub fn from_urdf_str(text: &str, path: &Path) -> Result<Self, InputError> {
+        Self::from_urdf_str_named(text, path).map(|(arm, _)| arm)
+    }
+
+    /// [`Arm::from_urdf_str`], with the names of the arm's moving joints from the base outwards
+    /// (the URDF's `<joint name>`: the names a ROS 2 `JointTrajectory` of this robot uses).
+    pub fn from_urdf_str_named(text: &str, path: &Path) -> Result<(Self, Vec<String>), InputError> {
         check_nesting(text, path)?;
         let robot = urdf_rs::read_from_string(text).map_err(|e| InputError::RobotFile {
             path: path.to_path_buf(),
@@ -221,7 +227,8 @@ impl Arm {
             return Err(fail("robot".into(), "no revolute or continuous joint: nothing moves".into()));
         }
         let (base, mount, arm_links) = chain(&bodies).map_err(|(element, reason)| fail(element, reason))?;
-        Arm::new(base, mount, arm_links).map_err(|e| match e {
+        let names = entering.iter().map(|j| j.name.clone()).collect();
+        let arm = Arm::new(base, mount, arm_links).map_err(|e| match e {
             InputError::InvalidParameter { name, value, expected } => {
                 let owner = match name.strip_prefix("link[").and_then(|s| s.split(']').next()) {
                     Some(k) => {
@@ -236,7 +243,8 @@ impl Arm {
                 InputError::InvalidParameter { name: format!("{name} (URDF {})", excerpt(&owner)), value, expected }
             }
             other => other,
-        })
+        })?;
+        Ok((arm, names))
     }
 
     /// The arm as a URDF that [`Arm::from_urdf_str`] reads back to the same arm: links `base`,
