@@ -313,4 +313,81 @@ impl Error {
     pub fn is_bad_input(&self) -> bool {
         matches!(self, Error::Input(_) | Error::TransformUnavailable { .. } | Error::HolonomyFixed { .. })
     }
+
+    /// The numbers of the error by the names of its fields (SI units, radians; `q` as `[phi,
+    /// theta_1, ..]`), as one JSON object: the `numbers` of the CLI's JSON error object and of
+    /// the Python exceptions (docs/spec.md §3). Never empty for an error that has numbers; a
+    /// non-finite number is `null`.
+    pub fn numbers(&self) -> serde_json::Value {
+        use crate::model::kinematics::Unreachable;
+        use Error as E;
+        use InputError as I;
+        use serde_json::json;
+        let name = |s: &Singularity| serde_json::to_value(s).unwrap_or(serde_json::Value::Null);
+        match self {
+            E::Input(I::InvalidParameter { name, value, expected }) => {
+                json!({"name": name, "value": value, "expected": expected})
+            }
+            E::Input(I::InvalidText { name, text, expected }) => {
+                json!({"name": name, "value": crate::model::excerpt(text), "expected": expected})
+            }
+            E::Input(I::RobotFile { path, reason }) => json!({"path": path.display().to_string(), "reason": reason}),
+            E::Input(I::Urdf { path, element, reason }) => {
+                json!({"path": path.display().to_string(), "element": element, "reason": reason})
+            }
+            E::Input(I::Io { path, source }) => {
+                json!({"path": path.display().to_string(), "reason": source.to_string()})
+            }
+            E::Input(I::Unreachable(Unreachable { x, y, psi_deg, distance, min, max })) => json!({
+                "x": x, "y": y, "psi": psi_deg.to_radians(), "distance": distance, "min": min, "max": max,
+            }),
+            E::Input(I::NotAFile { path }) => json!({"path": path.display().to_string()}),
+            E::Input(I::TooLarge { path, bytes, limit }) => {
+                json!({"path": path.display().to_string(), "bytes": bytes, "limit": limit})
+            }
+            E::Input(I::TooMuchMemory { what, bytes, limit, .. }) => {
+                json!({"name": what, "bytes": *bytes as f64, "limit": *limit as f64})
+            }
+            E::Input(I::ShardFile { path, line, reason }) => {
+                json!({"path": path.display().to_string(), "line": line, "reason": reason})
+            }
+            E::TransformUnavailable { transform, reason } => json!({"transform": transform, "reason": reason}),
+            E::Singular { which, transform, where_, q, t, value, .. } => json!({
+                "which": name(which), "transform": transform, "where": where_,
+                "q": q.map(|q| q.to_array()), "t": t, "value": value,
+            }),
+            E::DifferentComponents { transform, which, start_sign, goal_sign } => json!({
+                "transform": transform, "which": name(which), "start_sign": start_sign, "goal_sign": goal_sign,
+            }),
+            E::NewtonFailed { iterations, residual, target, guess, t } => json!({
+                "iterations": iterations, "residual": residual, "target": target, "guess": guess, "t": t,
+            }),
+            E::DegenerateSteering { w2 } => json!({ "w2": w2 }),
+            E::Integration(OdeError { t, reason }) | E::TorqueDiverges { t, reason } => {
+                json!({"t": t, "reason": reason})
+            }
+            E::LeavesBand { t, theta1, z2, lower, upper } => json!({
+                "t": t, "theta1": theta1, "z2": z2, "lower": lower, "upper": upper,
+            }),
+            E::NoBandSteering { loops, amplitude } => json!({"loops": loops, "amplitude": amplitude}),
+            E::NotCertified { final_error, tolerance, level } => json!({
+                "final_error": final_error, "tolerance": tolerance, "level": level,
+            }),
+            E::EcsaFailed { stats } => json!({
+                "iterations": stats.iterations, "residual": stats.residual, "tolerance": stats.tolerance,
+                "residual_history": stats.residual_history, "termination": stats.termination,
+            }),
+            E::HolonomyFixed { joints, theta_goal, reachable, goal, gap, tolerance } => json!({
+                "joints": joints, "theta_goal": theta_goal, "reachable": reachable, "goal": goal, "gap": gap,
+                "tolerance": tolerance,
+            }),
+            E::OptimalFailed { iterations, constraint_residual, kkt_residual, effort, seeds, termination } => json!({
+                "iterations": iterations, "constraint_residual": constraint_residual, "kkt_residual": kkt_residual,
+                "effort": effort, "seeds": seeds, "termination": termination,
+            }),
+            E::GoalNotReached { transform, reached, goal, distance } => json!({
+                "transform": transform, "reached": reached.to_array(), "goal": goal.to_array(), "distance": distance,
+            }),
+        }
+    }
 }

@@ -22,7 +22,14 @@
 //! 8. [`report`]: pictures, the JSON/CSV reports, the summary and the report page of
 //!    `freefloat reproduce`.
 
+// The command line names the library `freefloat::`, as any user of it does.
+extern crate self as freefloat;
+
 pub mod analysis;
+/// The command line of the `freefloat` binary, in the library so that the Python package's
+/// `freefloat` command is the same program ([`cli::main_from`]); not a stable API.
+#[doc(hidden)]
+pub mod cli;
 pub mod dynamics;
 pub mod error;
 pub mod model;

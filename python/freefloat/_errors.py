@@ -1,6 +1,7 @@
 """The exceptions of freefloat. Each carries the library's message (``str(e)``, ``e.message``),
 the name of the library's error (``e.kind``, e.g. ``"invalid_parameter"``) and its numbers
-(``e.details``, a dict; radians, seconds)."""
+(``e.numbers``, a dict; radians, seconds: the ``numbers`` of the command line's JSON error
+object; ``e.details`` is the same dict, its earlier name)."""
 
 from __future__ import annotations
 
@@ -12,13 +13,15 @@ class FreefloatError(Exception):
 
     message: str
     kind: str
+    numbers: dict[str, Any]
     details: dict[str, Any]
 
     def __init__(self, message: str, *, kind: str = "", details: Optional[Mapping[str, Any]] = None) -> None:
         super().__init__(message)
         self.message = message
         self.kind = kind
-        self.details = dict(details or {})
+        self.numbers = dict(details or {})
+        self.details = self.numbers
 
 
 class BadInput(FreefloatError):

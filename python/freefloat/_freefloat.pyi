@@ -290,7 +290,7 @@ def plan(
 
     Exactly one of ``goal`` and ``goal_ee`` (else :class:`BadInput`); ``T`` is required
     (``TypeError`` when missing). A pose out of reach is :class:`BadInput` with ``kind ==
-    "unreachable"`` and ``details`` = {``x``, ``y``, ``psi`` [rad], ``distance``, ``min``,
+    "unreachable"`` and ``numbers`` = {``x``, ``y``, ``psi`` [rad], ``distance``, ``min``,
     ``max``} [m]: the wrist point's distance from the centre of mass and the reachable range.
 
     ``method``: ``"optimal"`` (default; the minimum-effort joint path under the base's

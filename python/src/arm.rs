@@ -214,12 +214,29 @@ impl PyArm {
         Ok(list)
     }
 
+    /// Pickling (`pickle`, `copy`, Dask, multiprocessing): the arm is rebuilt from its keywords
+    /// through the validating constructor, equal to this one.
+    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyAny>)> {
+        let kwargs = PyDict::new(py);
+        kwargs.set_item("M", self.inner.base.mass)?;
+        kwargs.set_item("I", self.inner.base.inertia)?;
+        kwargs.set_item("links", self.links(py)?)?;
+        kwargs.set_item("a", self.inner.mount.a)?;
+        kwargs.set_item("b", self.inner.mount.b)?;
+        crate::convert::new_with_keywords(py, py.get_type::<Self>().into_any(), kwargs)
+    }
+
     fn __repr__(&self) -> String {
         let r = &self.inner;
         let links = r
             .links
             .iter()
-            .map(|l| format!("({:?}, {:?}, {:?}, {:?})", l.length, l.com, l.mass, l.inertia))
+            .map(|l| {
+                format!(
+                    "{{'length': {:?}, 'com': {:?}, 'mass': {:?}, 'inertia': {:?}}}",
+                    l.length, l.com, l.mass, l.inertia
+                )
+            })
             .collect::<Vec<_>>()
             .join(", ");
         format!(
@@ -276,6 +293,25 @@ impl PyArmPlan {
     #[getter]
     fn certificate(&self, py: Python<'_>) -> PyResult<Py<PyDict>> {
         report_dict(py, &self.certificate, &self.report)
+    }
+
+    /// Pickling: every array and number, and the report as its JSON text; rebuilt by
+    /// `freefloat._freefloat._arm_plan_from_state`, equal field by field.
+    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<(Bound<'py, PyAny>, (Bound<'py, PyDict>,))> {
+        let state = PyDict::new(py);
+        state.set_item("t", self.t.clone_ref(py))?;
+        state.set_item("q", self.q.clone_ref(py))?;
+        state.set_item("dq", self.dq.clone_ref(py))?;
+        state.set_item("ddtheta", self.ddtheta.clone_ref(py))?;
+        state.set_item("tau", self.tau.as_ref().map(|a| a.clone_ref(py)))?;
+        state.set_item("method", &self.method)?;
+        state.set_item("joints", self.joints)?;
+        state.set_item("effort", self.effort)?;
+        state.set_item("final_error", self.final_error)?;
+        state.set_item("tolerance", self.tolerance)?;
+        state.set_item("certified", self.certified)?;
+        state.set_item("report", self.report.to_string())?;
+        Ok((py.import("freefloat._freefloat")?.getattr("_arm_plan_from_state")?, (state,)))
     }
 
     fn __repr__(&self, py: Python<'_>) -> String {
@@ -407,4 +443,29 @@ pub fn plan_arm<'py>(
         Some(e) => Err(library_error(py, &e, Some(bound.into_any()))),
         None => Ok(bound),
     }
+}
+
+/// The `freefloat.ArmPlan` of a pickled state (see `ArmPlan.__reduce__`).
+#[pyfunction]
+pub fn _arm_plan_from_state(state: &Bound<'_, PyDict>) -> PyResult<PyArmPlan> {
+    let get = |key: &str| -> PyResult<Bound<'_, PyAny>> {
+        state.get_item(key)?.ok_or_else(|| PyTypeError::new_err(format!("ArmPlan state: missing `{key}`")))
+    };
+    let report: String = get("report")?.extract()?;
+    let report = serde_json::from_str(&report).map_err(|e| PyTypeError::new_err(format!("ArmPlan state: {e}")))?;
+    Ok(PyArmPlan {
+        t: get("t")?.extract()?,
+        q: get("q")?.extract()?,
+        dq: get("dq")?.extract()?,
+        ddtheta: get("ddtheta")?.extract()?,
+        tau: get("tau")?.extract()?,
+        method: get("method")?.extract()?,
+        joints: get("joints")?.extract()?,
+        effort: get("effort")?.extract()?,
+        final_error: get("final_error")?.extract()?,
+        tolerance: get("tolerance")?.extract()?,
+        certified: get("certified")?.extract()?,
+        report,
+        certificate: PyOnceLock::new(),
+    })
 }

@@ -4,9 +4,8 @@
 
 pub use freefloat::analysis::domain::{DomainMap, DomainSummary};
 pub use freefloat::model::InputError;
-pub use freefloat::model::kinematics::{Elbow, Unreachable};
+pub use freefloat::model::kinematics::Elbow;
 pub use freefloat::model::system::momentum;
-pub use freefloat::numerics::ode::OdeError;
 pub use freefloat::planners::optimal::{Cost, OptimalOptions};
 pub use freefloat::planners::{PlannerOptions, plan_to_pose, planner};
 pub use freefloat::report::io::PlanReport;

@@ -61,3 +61,15 @@ pub fn report_dict(py: Python<'_>, cell: &PyOnceLock<Py<PyDict>>, report: &Value
     })?;
     Ok(dict.clone_ref(py))
 }
+
+/// The `__reduce__` value that rebuilds an instance of `class` by `class(**kwargs)` (through
+/// `copyreg.__newobj_ex__`, which pickle resolves by name at any protocol).
+pub fn new_with_keywords<'py>(
+    py: Python<'py>,
+    class: Bound<'py, PyAny>,
+    kwargs: Bound<'py, PyDict>,
+) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyAny>)> {
+    let newobj = py.import("copyreg")?.getattr("__newobj_ex__")?;
+    let args = (class, pyo3::types::PyTuple::empty(py), kwargs).into_bound_py_any(py)?;
+    Ok((newobj, args))
+}

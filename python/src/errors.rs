@@ -6,7 +6,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use serde_json::{Value, json};
 
-use crate::compat::{InputError, OdeError, Unreachable};
+use crate::compat::InputError;
 use crate::convert::json_dict;
 
 /// An error of the bindings: the library's, or an option string that names nothing.
@@ -141,67 +141,10 @@ fn kind(e: &freefloat::Error) -> String {
     out
 }
 
-/// The numbers of an error, by the names of its fields (radians, seconds); `q` as
-/// `[phi, theta1, theta2]`.
+/// The numbers of an error, by the names of its fields (radians, seconds): the library's
+/// [`freefloat::Error::numbers`], the `numbers` of the CLI's JSON error object.
 fn details(e: &freefloat::Error) -> Value {
-    use freefloat::Error as E;
-    let name = |s: &freefloat::Singularity| serde_json::to_value(s).unwrap_or(Value::Null);
-    match e {
-        E::Input(InputError::InvalidParameter { name, value, expected }) => {
-            json!({"name": name, "value": value, "expected": expected})
-        }
-        E::Input(InputError::RobotFile { path, reason }) => {
-            json!({"path": path.display().to_string(), "reason": reason})
-        }
-        E::Input(InputError::InvalidText { name, text, expected }) => {
-            json!({"name": name, "value": text, "expected": expected})
-        }
-        E::Input(InputError::Urdf { path, element, reason }) => {
-            json!({"path": path.display().to_string(), "element": element, "reason": reason})
-        }
-        E::Input(InputError::Io { path, source }) => {
-            json!({"path": path.display().to_string(), "reason": source.to_string()})
-        }
-        E::Input(InputError::Unreachable(Unreachable { x, y, psi_deg, distance, min, max })) => json!({
-            "x": x, "y": y, "psi": psi_deg.to_radians(), "distance": distance, "min": min, "max": max,
-        }),
-        E::TransformUnavailable { transform, reason } => json!({"transform": transform, "reason": reason}),
-        E::Singular { which, transform, where_, q, t, value, .. } => json!({
-            "which": name(which), "transform": transform, "where": where_,
-            "q": q.map(|q| q.to_array()), "t": t, "value": value,
-        }),
-        E::DifferentComponents { transform, which, start_sign, goal_sign } => json!({
-            "transform": transform, "which": name(which), "start_sign": start_sign, "goal_sign": goal_sign,
-        }),
-        E::NewtonFailed { iterations, residual, target, guess, t } => json!({
-            "iterations": iterations, "residual": residual, "target": target, "guess": guess, "t": t,
-        }),
-        E::DegenerateSteering { w2 } => json!({ "w2": w2 }),
-        E::Integration(OdeError { t, reason }) | E::TorqueDiverges { t, reason } => json!({"t": t, "reason": reason}),
-        E::LeavesBand { t, theta1, z2, lower, upper } => json!({
-            "t": t, "theta1": theta1, "z2": z2, "lower": lower, "upper": upper,
-        }),
-        E::NoBandSteering { loops, amplitude } => json!({"loops": loops, "amplitude": amplitude}),
-        E::NotCertified { final_error, tolerance, level } => json!({
-            "final_error": final_error, "tolerance": tolerance, "level": level,
-        }),
-        E::EcsaFailed { stats } => json!({
-            "iterations": stats.iterations, "residual": stats.residual, "tolerance": stats.tolerance,
-            "residual_history": stats.residual_history, "termination": stats.termination,
-        }),
-        E::HolonomyFixed { joints, theta_goal, reachable, goal, gap, tolerance } => json!({
-            "joints": joints, "theta_goal": theta_goal, "reachable": reachable, "goal": goal, "gap": gap,
-            "tolerance": tolerance,
-        }),
-        E::OptimalFailed { iterations, constraint_residual, kkt_residual, effort, seeds, termination } => json!({
-            "iterations": iterations, "constraint_residual": constraint_residual, "kkt_residual": kkt_residual,
-            "effort": effort, "seeds": seeds, "termination": termination,
-        }),
-        E::GoalNotReached { transform, reached, goal, distance } => json!({
-            "transform": transform, "reached": reached.to_array(), "goal": goal.to_array(), "distance": distance,
-        }),
-        _ => json!({}),
-    }
+    e.numbers()
 }
 
 /// `Err(library error)` as a Python exception.

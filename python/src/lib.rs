@@ -6,6 +6,7 @@
 //! domain maps run with the GIL released.
 
 mod arm;
+mod cli;
 mod compat;
 mod convert;
 mod domain;
@@ -30,6 +31,9 @@ fn _freefloat(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(domain::domain, m)?)?;
     m.add_function(wrap_pyfunction!(tracking::track, m)?)?;
     m.add_function(wrap_pyfunction!(arm::plan_arm, m)?)?;
+    m.add_function(wrap_pyfunction!(cli::_cli_main, m)?)?;
+    m.add_function(wrap_pyfunction!(planning::_plan_from_state, m)?)?;
+    m.add_function(wrap_pyfunction!(arm::_arm_plan_from_state, m)?)?;
     m.add("METHODS", planning::METHODS.to_vec())?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())

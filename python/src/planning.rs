@@ -341,6 +341,31 @@ impl PyPlan {
         report_dict(py, &self.certificate, &self.report)
     }
 
+    /// Pickling: every array and number, and the report as its JSON text; rebuilt by
+    /// `freefloat._freefloat._plan_from_state`, equal field by field.
+    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<(Bound<'py, PyAny>, (Bound<'py, PyDict>,))> {
+        let state = PyDict::new(py);
+        let optional = |a: &Option<Py<PyArray2<f64>>>| a.as_ref().map(|a| a.clone_ref(py));
+        state.set_item("t", self.t.clone_ref(py))?;
+        state.set_item("q", self.q.clone_ref(py))?;
+        state.set_item("dq", self.dq.clone_ref(py))?;
+        state.set_item("ddq", optional(&self.ddq))?;
+        state.set_item("z", optional(&self.z))?;
+        state.set_item("tau", optional(&self.tau))?;
+        state.set_item("base", self.base.clone_ref(py))?;
+        state.set_item("end_effector", self.end_effector.clone_ref(py))?;
+        state.set_item("end_effector_velocity", self.end_effector_velocity.clone_ref(py))?;
+        state.set_item("method", &self.method)?;
+        state.set_item("transform", &self.transform)?;
+        state.set_item("elbow", &self.elbow)?;
+        state.set_item("effort", self.effort)?;
+        state.set_item("final_error", self.final_error)?;
+        state.set_item("tolerance", self.tolerance)?;
+        state.set_item("certified", self.certified)?;
+        state.set_item("report", self.report.to_string())?;
+        Ok((py.import("freefloat._freefloat")?.getattr("_plan_from_state")?, (state,)))
+    }
+
     fn __repr__(&self, py: Python<'_>) -> String {
         let n = self.t.bind(py).len().unwrap_or(0);
         let transform = self.transform.as_deref().map(|t| format!(", transform='{t}'")).unwrap_or_default();
@@ -623,4 +648,34 @@ pub fn _time_plan(
             .collect::<Result<Vec<f64>, BindingError>>()
     })
     .py_result(py)
+}
+
+/// The `freefloat.Plan` of a pickled state (see `Plan.__reduce__`).
+#[pyfunction]
+pub fn _plan_from_state(state: &Bound<'_, PyDict>) -> PyResult<PyPlan> {
+    let get = |key: &str| -> PyResult<Bound<'_, PyAny>> {
+        state.get_item(key)?.ok_or_else(|| PyTypeError::new_err(format!("Plan state: missing `{key}`")))
+    };
+    let report: String = get("report")?.extract()?;
+    let report = serde_json::from_str(&report).map_err(|e| PyTypeError::new_err(format!("Plan state: {e}")))?;
+    Ok(PyPlan {
+        t: get("t")?.extract()?,
+        q: get("q")?.extract()?,
+        dq: get("dq")?.extract()?,
+        ddq: get("ddq")?.extract()?,
+        z: get("z")?.extract()?,
+        tau: get("tau")?.extract()?,
+        base: get("base")?.extract()?,
+        end_effector: get("end_effector")?.extract()?,
+        end_effector_velocity: get("end_effector_velocity")?.extract()?,
+        method: get("method")?.extract()?,
+        transform: get("transform")?.extract()?,
+        elbow: get("elbow")?.extract()?,
+        effort: get("effort")?.extract()?,
+        final_error: get("final_error")?.extract()?,
+        tolerance: get("tolerance")?.extract()?,
+        certified: get("certified")?.extract()?,
+        report,
+        certificate: PyOnceLock::new(),
+    })
 }

@@ -129,6 +129,30 @@ impl PyRobot {
         self.inner.mount.b
     }
 
+    /// Pickling (`pickle`, `copy`, Dask, multiprocessing): the robot is rebuilt from its
+    /// keywords through the validating constructor, equal to this one.
+    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyAny>)> {
+        let r = &self.inner;
+        let kwargs = pyo3::types::PyDict::new(py);
+        for (key, value) in [
+            ("l1", r.l1),
+            ("l2", r.l2),
+            ("d1", r.d1),
+            ("d2", r.d2),
+            ("M", r.base_mass),
+            ("I", r.base_inertia),
+            ("m1", r.m1),
+            ("m2", r.m2),
+            ("a", r.mount.a),
+            ("b", r.mount.b),
+            ("i1", r.i1),
+            ("i2", r.i2),
+        ] {
+            kwargs.set_item(key, value)?;
+        }
+        crate::convert::new_with_keywords(py, py.get_type::<Self>().into_any(), kwargs)
+    }
+
     fn __repr__(&self) -> String {
         let r = &self.inner;
         format!(

@@ -38,7 +38,8 @@ def test_the_robot_file_loads(three_link):
     assert three_link.M == 12.9 and three_link.I == 0.208 and three_link.a == 0.0 and three_link.b == 0.0
     assert [link["length"] for link in three_link.links] == [0.45, 0.40, 0.35]
     assert three_link.links[0] == {"length": 0.45, "com": 0.225, "mass": 3.0, "inertia": 0.050625}
-    assert repr(three_link).startswith("Arm(M=12.9, I=0.208, links=[(0.45, 0.225, 3.0, 0.050625)")
+    # links print as the dicts arm.links hands out (issue 23), not as tuples
+    assert repr(three_link).startswith("Arm(M=12.9, I=0.208, links=[{'length': 0.45, 'com': 0.225, 'mass': 3.0,")
 
 
 def test_urdf_round_trip(three_link, tmp_path):

@@ -4,9 +4,10 @@ use std::path::PathBuf;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
-/// Motion planning of free-floating space robots with the Normal Form Approach, verified.
+/// Motion planning of free-floating space robots: minimum-effort plans (the default), the Normal
+/// Form Approach and the ECSA, every plan verified.
 #[derive(Debug, Parser)]
-#[command(name = "freefloat", version, about, long_about = None)]
+#[command(name = "freefloat", version, long_about = None)]
 pub struct Cli {
     #[command(subcommand)]
     pub command: Command,
@@ -19,7 +20,7 @@ pub struct Cli {
 pub enum Command {
     /// Plan a motion from --from to --to in --time seconds, verify it, report.
     Plan(PlanArgs),
-    /// Run NFA and ECSA on the same problem, side by side.
+    /// Run the optimal planner, the NFA and the ECSA on the same problem, side by side.
     Compare(CompareArgs),
     /// Regenerate the paper's results (Sec. 5) on the built-in defaults.
     Reproduce(ReproduceArgs),
@@ -32,10 +33,26 @@ pub enum Command {
     /// Check a joint trajectory from any tool (ROS 2 JointTrajectory YAML/JSON, or a plan CSV)
     /// on the free-floating robot: the base's attitude and position, the goal, the torques.
     Check(CheckArgs),
+    /// Print what was read from a robot file: masses, lengths, centres of mass, inertias, the
+    /// mount, the tool point, the joint names (docs/your-robot.md).
+    Robot(RobotInfoArgs),
     /// Print a shell completion script (e.g. `freefloat completions bash > /etc/bash_completion.d/freefloat`).
     Completions(CompletionsArgs),
     /// Print the man page (roff; e.g. `freefloat man > freefloat.1`).
     Man,
+}
+
+/// Flags of `freefloat robot`.
+#[derive(Debug, Args)]
+pub struct RobotInfoArgs {
+    /// The robot file: TOML, or URDF for a name ending in .urdf (or give --robot, --urdf).
+    #[arg(value_name = "FILE", conflicts_with_all = ["robot", "urdf"])]
+    pub file: Option<PathBuf>,
+    #[command(flatten)]
+    pub robot: RobotArgs,
+    /// Output format on stdout.
+    #[arg(long, value_enum, default_value_t = DomainFormat::Table)]
+    pub format: DomainFormat,
 }
 
 /// Flags of `freefloat completions`.
@@ -76,7 +93,8 @@ pub struct EndsArgs {
     /// Start configuration PHI,TH1,TH2 in deg.
     #[arg(long, value_name = "PHI,TH1,TH2", default_value = "45,120,80", allow_hyphen_values = true)]
     pub from: String,
-    /// Goal configuration PHI,TH1,TH2 in deg, taken literally (not modulo 360).
+    /// Goal configuration PHI,TH1,TH2 in deg: the optimal planner counts its angles modulo 360
+    /// (unless --no-wrap), the NFA and the ECSA take them literally.
     #[arg(long, value_name = "PHI,TH1,TH2", default_value = "0,180,140", allow_hyphen_values = true)]
     pub to: String,
     /// Horizon T in s, from 1e-3 to 1e6.
@@ -165,7 +183,7 @@ pub enum CostArg {
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum TransformArg {
-    /// eq12 when a = b = 0, else eq14.
+    /// eq12 when a = b = 0, else eq14; the global form when their path does not exist.
     Auto,
     /// Eq. (11), a = b = 0 only.
     Eq11,
@@ -475,7 +493,7 @@ pub struct TrackArgs {
     /// --trials, one checked row per trial and controller.
     #[arg(long, value_name = "FILE.csv")]
     pub out: Option<PathBuf>,
-    /// Draw reference vs actual angles, torques and errors to FILE (.svg or .png).
+    /// Draw reference vs actual angles, torques and errors of every controller to FILE (.svg or .png).
     #[arg(long, value_name = "FILE")]
     pub plot: Option<PathBuf>,
 }

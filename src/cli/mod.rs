@@ -9,6 +9,7 @@ mod plan;
 mod plan_arm;
 mod reproduce;
 mod ros;
+mod robot;
 mod sweep;
 mod track;
 
@@ -23,10 +24,28 @@ use args::{Cli, Command, CostArg, ProblemArgs, RobotArgs, TransformArg, WindowAr
 
 pub use output::{ClosedPipe, emit, note, report_error};
 
-/// Parses the command line and runs the command. With `--format json`, a failure also prints one
-/// JSON error object on stdout (docs/spec.md §3).
-pub fn run() -> anyhow::Result<ExitCode> {
-    let cli = Cli::parse();
+/// Runs the command line `args` (the program's name first) as the `freefloat` binary does and
+/// returns its exit code: 0 success (or a closed stdout), 2 bad input, 3 no certified plan; an
+/// error is printed on stderr with its cause chain. Usage errors, `--help` and `--version` are
+/// clap's: printed, then the process exits (code 2, resp. 0).
+pub fn main_from<I, T>(args: I) -> u8
+where
+    I: IntoIterator<Item = T>,
+    T: Into<std::ffi::OsString> + Clone,
+{
+    match run(Cli::parse_from(args)) {
+        Ok(code) => (0..=u8::MAX).find(|&c| ExitCode::from(c) == code).unwrap_or(1),
+        Err(err) if err.downcast_ref::<ClosedPipe>().is_some() => 0,
+        Err(err) => {
+            report_error(&format!("error: {err:#}\n"));
+            exit_code(&err)
+        }
+    }
+}
+
+/// Runs the parsed command. With `--format json`, a failure also prints one JSON error object on
+/// stdout (docs/spec.md §3).
+pub fn run(cli: Cli) -> anyhow::Result<ExitCode> {
     output::set_quiet(cli.quiet);
     output::install_signal_handler();
     let json = match &cli.command {
@@ -34,6 +53,7 @@ pub fn run() -> anyhow::Result<ExitCode> {
         Command::Compare(a) => a.format == args::CompareFormat::Json,
         Command::Domain(a) => a.format == args::DomainFormat::Json,
         Command::Check(a) => a.format == args::DomainFormat::Json,
+        Command::Robot(a) => a.format == args::DomainFormat::Json,
         _ => false,
     };
     let result = match cli.command {
@@ -44,6 +64,7 @@ pub fn run() -> anyhow::Result<ExitCode> {
         Command::MountSweep(args) => sweep::run(&args),
         Command::Track(args) => track::run(&args),
         Command::Check(args) => check::run(&args),
+        Command::Robot(args) => robot::run(&args),
         Command::Completions(args) => output::completions(args.shell),
         Command::Man => output::man(),
     };
@@ -98,7 +119,7 @@ pub enum Robot {
 
 /// The robot of the flags (see [`Robot`]).
 pub fn any_robot(args: &RobotArgs) -> anyhow::Result<Robot> {
-    let Some(path) = args.urdf.as_ref().or(args.robot.as_ref()) else { return Ok(Robot::TwoLink) };
+    let Some(path) = robot_file(args)? else { return Ok(Robot::TwoLink) };
     let arm = Arm::load(path)?;
     if arm.as_src().is_some() {
         return Ok(Robot::TwoLink);
@@ -113,10 +134,26 @@ pub fn any_robot(args: &RobotArgs) -> anyhow::Result<Robot> {
     Ok(Robot::Arm(Arm::new(arm.base, mount, arm.links)?))
 }
 
+/// The file of `--robot` or `--urdf`; `--urdf` with a name that does not end in `.urdf` is bad
+/// input (the file would be read by its name's kind, TOML, not as the flag says).
+pub fn robot_file(args: &RobotArgs) -> anyhow::Result<Option<&std::path::PathBuf>> {
+    if let Some(path) = &args.urdf
+        && !path.extension().and_then(|e| e.to_str()).is_some_and(|e| e.eq_ignore_ascii_case("urdf"))
+    {
+        return Err(freefloat::Error::from(freefloat::model::InputError::InvalidText {
+            name: "--urdf".into(),
+            text: path.display().to_string(),
+            expected: "a URDF file whose name ends in .urdf (for a TOML robot file use --robot)",
+        })
+        .into());
+    }
+    Ok(args.urdf.as_ref().or(args.robot.as_ref()))
+}
+
 /// The 2-link robot of `--preset`/`--robot`/`--urdf`, with `--mount` applied; an arm of another
 /// number of links is bad input here (only `plan` serves it).
 pub fn robot(args: &RobotArgs) -> anyhow::Result<RobotParams> {
-    let robot = match args.urdf.as_ref().or(args.robot.as_ref()) {
+    let robot = match robot_file(args)? {
         Some(path) => {
             let arm = Arm::load(path)?;
             match arm.as_src() {

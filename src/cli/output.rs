@@ -92,36 +92,26 @@ pub fn man() -> anyhow::Result<std::process::ExitCode> {
 }
 
 /// The JSON error object printed on stdout under `--format json` (docs/spec.md §3):
-/// `{"error": {"kind", "exit_code", "message", "numbers"}}`.
+/// `{"error": {"kind", "exit_code", "message", "numbers"}}`, the numbers those of
+/// [`freefloat::Error::numbers`] (the same as the Python exceptions' `numbers`).
 pub fn error_json(err: &anyhow::Error) -> String {
     use freefloat::Error as E;
     use freefloat::model::InputError as I;
     use serde_json::json;
-    let (kind, numbers) = match err.downcast_ref::<E>() {
-        Some(E::Input(I::InvalidParameter { name, value, .. })) => {
-            ("invalid_parameter", json!({"name": name, "value": finite(*value)}))
-        }
-        Some(E::Input(I::TooMuchMemory { bytes, limit, .. })) => {
-            ("too_much_memory", json!({"bytes": *bytes as f64, "limit": *limit as f64}))
-        }
-        Some(E::Input(I::TooLarge { bytes, limit, .. })) => ("too_large", json!({"bytes": bytes, "limit": limit})),
-        Some(E::Input(_)) => ("bad_input", json!({})),
-        Some(E::NotCertified { final_error, tolerance, level }) => (
-            "not_certified",
-            json!({"final_error": finite(*final_error), "tolerance": finite(*tolerance), "level": level}),
-        ),
-        Some(E::GoalMissed { element, final_error, tolerance }) => (
-            "goal_missed",
-            json!({"element": element, "final_error": finite(*final_error), "tolerance": finite(*tolerance)}),
-        ),
-        Some(E::Singular { value, t, .. }) => ("singular", json!({"value": finite(*value), "t": t.and_then(finite)})),
-        Some(E::NewtonFailed { iterations, residual, t, .. }) => {
-            ("newton_failed", json!({"iterations": iterations, "residual": finite(*residual), "t": t.and_then(finite)}))
-        }
-        Some(e) if e.is_bad_input() => ("bad_input", json!({})),
-        Some(_) => ("no_certified_plan", json!({})),
-        None => ("bad_input", json!({})),
+    let kind = match err.downcast_ref::<E>() {
+        Some(E::Input(I::InvalidParameter { .. })) => "invalid_parameter",
+        Some(E::Input(I::TooMuchMemory { .. })) => "too_much_memory",
+        Some(E::Input(I::TooLarge { .. })) => "too_large",
+        Some(E::Input(_)) => "bad_input",
+        Some(E::NotCertified { .. }) => "not_certified",
+        Some(E::Singular { .. }) => "singular",
+        Some(E::NewtonFailed { .. }) => "newton_failed",
+        Some(E::GoalMissed { .. }) => "goal_missed",
+        Some(e) if e.is_bad_input() => "bad_input",
+        Some(_) => "no_certified_plan",
+        None => "bad_input",
     };
+    let numbers = err.downcast_ref::<E>().map(E::numbers).unwrap_or_else(|| json!({}));
     let object = json!({"error": {
         "kind": kind,
         "exit_code": super::exit_code(err),
@@ -129,9 +119,4 @@ pub fn error_json(err: &anyhow::Error) -> String {
         "numbers": numbers,
     }});
     object.to_string()
-}
-
-/// `Some(x)` for a finite number: JSON has no NaN or infinity.
-fn finite(x: f64) -> Option<f64> {
-    x.is_finite().then_some(x)
 }

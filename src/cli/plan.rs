@@ -2,7 +2,7 @@
 
 use std::process::ExitCode;
 
-use anyhow::bail;
+use anyhow::{Context, bail};
 use freefloat::model::kinematics::Elbow;
 use freefloat::plan::{Method, Plan, PlanningProblem, TorqueOptions};
 use freefloat::planners::{Planned, PlannerOptions, plan_to_pose, planner};
@@ -196,8 +196,17 @@ pub fn compare(args: &CompareArgs) -> anyhow::Result<ExitCode> {
     } else {
         super::emit(&compare_table(&problem, &reports))?;
     }
-    for result in results {
-        result?.certified()?;
+    for (method, result) in COMPARED.iter().zip(results) {
+        // The ECSA's plain series moves at t = 0: its torques cannot start from rest.
+        let hint = match (method, args.problem.window) {
+            (Method::Ecsa, WindowArg::None) if args.problem.torques => {
+                "; its plain series does not start at rest, --window sin2 does"
+            }
+            _ => "",
+        };
+        let failed =
+            |what: &str| format!("compare: {} {what} (the other methods are in the table{hint})", method.name());
+        result.with_context(|| failed("has no plan"))?.certified().with_context(|| failed("is not certified"))?;
     }
     Ok(ExitCode::SUCCESS)
 }
@@ -229,7 +238,7 @@ fn compare_json(reports: &[Result<PlanReport, String>]) -> anyhow::Result<serde_
 /// The side-by-side table of `compare`.
 fn compare_table(problem: &PlanningProblem, reports: &[Result<PlanReport, String>]) -> String {
     type Row = (&'static str, fn(&PlanReport) -> String);
-    let rows: [Row; 16] = [
+    let rows: [Row; 18] = [
         ("effort [rad^2/s]", |r| number(r.effort)),
         ("verified final error [rad]", |r| error_number(r.final_error)),
         ("certified", |r| if r.certified { "yes".into() } else { "NO".into() }),
@@ -241,6 +250,12 @@ fn compare_table(problem: &PlanningProblem, reports: &[Result<PlanReport, String
         ("u(T) [rad/s]", |r| pair(r.controls_at_ends[1])),
         // Filled by `--torques` (inverse dynamics, torque issue): peak |tau1|, |tau2|.
         ("max |tau1|, |tau2| [N m]", |r| r.max_abs_torque.map(pair).unwrap_or("- (--torques)".into())),
+        ("torque final error [rad]", |r| r.torque_final_error.map(error_number).unwrap_or("- (--torques)".into())),
+        ("torque level certified", |r| match &r.torque_certificate {
+            Some(t) if t.certificate.certified => "yes".into(),
+            Some(_) => "NO".into(),
+            None => "- (--torques)".into(),
+        }),
         ("min |sigma|, min |P|", |r| pair([r.min_abs_sigma, r.min_abs_p])),
         ("max deviation from plan [rad]", |r| error_number(r.max_path_deviation)),
         ("time: plan [ms]", |r| significant(r.seconds.plan * 1e3, 4)),

@@ -12,7 +12,7 @@ use freefloat::report::numbers::{error_number, number, scientific};
 use freefloat::report::plot::{Panel, PictureFormat, PlanFigure, Series, plan_picture};
 use freefloat::track::trials_file::{self, RunSummary};
 use freefloat::track::{
-    Controller, Disturbances, Gains, IdentifyOptions, MonteCarloOptions, Perturbation, ReplanOptions, Summary,
+    Controller, Disturbances, Gains, History, IdentifyOptions, MonteCarloOptions, Perturbation, ReplanOptions, Summary,
     TrackOptions, Tracked, monte_carlo, summarise, track,
 };
 use freefloat::{Method, PlanningProblem, RobotParams};
@@ -136,7 +136,7 @@ pub fn run(args: &TrackArgs) -> anyhow::Result<ExitCode> {
         write_atomic(path, &history_csv(&runs[0])?)?;
     }
     if let (Some(path), Some(format)) = (&args.plot, picture) {
-        write_atomic(path, &plan_picture(&figure(&runs[0]), format, path)?)?;
+        write_atomic(path, &plan_picture(&figure(&runs), format, path)?)?;
     }
     match args.format {
         DomainFormat::Json => super::emit(&format!("{}\n", serde_json::to_string_pretty(&runs)?))?,
@@ -302,11 +302,14 @@ fn history_csv(run: &Tracked) -> anyhow::Result<Vec<u8>> {
     Ok(w.into_inner()?)
 }
 
-fn figure(run: &Tracked) -> PlanFigure {
-    let Some(h) = run.history.as_ref() else { return PlanFigure::default() };
-    let series = |label: &str, f: &dyn Fn(usize) -> f64| Series {
-        label: label.into(),
-        points: (0..h.t.len()).map(|i| (h.t[i], f(i))).collect(),
+/// The picture of `--plot`: the reference once and every controller's run beside it (angles,
+/// torques, tracking errors), each series named by its controller.
+fn figure(runs: &[Tracked]) -> PlanFigure {
+    let recorded: Vec<(&Tracked, &History)> = runs.iter().filter_map(|r| r.history.as_ref().map(|h| (r, h))).collect();
+    let Some(&(_, reference)) = recorded.first() else { return PlanFigure::default() };
+    let series = |label: String, h: &History, f: &dyn Fn(&History, usize) -> f64| Series {
+        label,
+        points: (0..h.t.len()).map(|i| (h.t[i], f(h, i))).collect(),
     };
     let deg = f64::to_degrees;
     let panel = |title: &str, y: &str, series: Vec<Series>| Panel {
@@ -317,42 +320,47 @@ fn figure(run: &Tracked) -> PlanFigure {
         text: Vec::new(),
         include_zero: false,
     };
+    let name = |r: &Tracked, what: &str| {
+        if recorded.len() == 1 { what.to_string() } else { format!("{what} ({})", r.controller.name()) }
+    };
+    let mut base = vec![series("reference".into(), reference, &|h, i| deg(h.reference[i][0]))];
+    let mut joints = vec![
+        series("theta1 ref".into(), reference, &|h, i| deg(h.reference[i][1])),
+        series("theta2 ref".into(), reference, &|h, i| deg(h.reference[i][2])),
+    ];
+    let (mut torques, mut errors) = (Vec::new(), Vec::new());
+    for &(r, h) in &recorded {
+        base.push(series(name(r, "actual"), h, &|h, i| deg(h.actual[i][0])));
+        for (k, axis) in ["theta1", "theta2"].iter().enumerate() {
+            joints.push(series(name(r, axis), h, &|h, i| deg(h.actual[i][k + 1])));
+            torques.push(series(name(r, &format!("tau{}", k + 1)), h, &|h, i| h.tau[i][k]));
+        }
+        for (k, axis) in ["phi", "theta1", "theta2"].iter().enumerate() {
+            errors.push(series(name(r, axis), h, &|h, i| deg(h.actual[i][k] - h.reference[i][k])));
+        }
+    }
+    let names: Vec<&str> = recorded.iter().map(|(r, _)| r.controller.name()).collect();
     PlanFigure {
-        title: format!("closed loop: {}", run.controller.name()),
+        title: format!("closed loop: {}", names.join(", ")),
         panels: vec![
-            panel(
-                "base angle",
-                "phi [deg]",
-                vec![series("reference", &|i| deg(h.reference[i][0])), series("actual", &|i| deg(h.actual[i][0]))],
-            ),
-            panel(
-                "joint angles",
-                "[deg]",
-                vec![
-                    series("theta1 ref", &|i| deg(h.reference[i][1])),
-                    series("theta1", &|i| deg(h.actual[i][1])),
-                    series("theta2 ref", &|i| deg(h.reference[i][2])),
-                    series("theta2", &|i| deg(h.actual[i][2])),
-                ],
-            ),
-            panel("torques", "[N m]", vec![series("tau1", &|i| h.tau[i][0]), series("tau2", &|i| h.tau[i][1])]),
-            panel(
-                "tracking error (actual - reference)",
-                "[deg]",
-                vec![
-                    series("phi", &|i| deg(h.actual[i][0] - h.reference[i][0])),
-                    series("theta1", &|i| deg(h.actual[i][1] - h.reference[i][1])),
-                    series("theta2", &|i| deg(h.actual[i][2] - h.reference[i][2])),
-                ],
-            ),
+            panel("base angle", "phi [deg]", base),
+            panel("joint angles", "[deg]", joints),
+            panel("torques", "[N m]", torques),
+            panel("tracking error (actual - reference)", "[deg]", errors),
         ],
-        caption: vec![format!(
-            "final error {} rad; {} re-plans ({} failed); peak torque {:.3}, {:.3} N m",
-            error_number(run.final_error),
-            run.replans,
-            run.replan_failures,
-            run.peak_torque[0],
-            run.peak_torque[1]
-        )],
+        caption: recorded
+            .iter()
+            .map(|(r, _)| {
+                format!(
+                    "{}: final error {} rad; {} re-plans ({} failed); peak torque {:.3}, {:.3} N m",
+                    r.controller.name(),
+                    error_number(r.final_error),
+                    r.replans,
+                    r.replan_failures,
+                    r.peak_torque[0],
+                    r.peak_torque[1]
+                )
+            })
+            .collect(),
     }
 }

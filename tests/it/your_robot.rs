@@ -1,0 +1,86 @@
+//! `freefloat robot`: what freefloat reads from a robot file (docs/your-robot.md), checked on
+//! the guide's SPART-like 4-link URDF against numbers computed here by hand from the file.
+
+use std::process::{Command, Output};
+
+fn run(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_freefloat")).args(args).output().expect("the binary runs")
+}
+
+fn json(args: &[&str]) -> serde_json::Value {
+    let o = run(args);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    serde_json::from_slice(&o.stdout).expect("one JSON object")
+}
+
+const SPART: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/robots/spart_like_4dof.urdf");
+
+#[track_caller]
+fn close(x: &serde_json::Value, expected: f64) {
+    let x = x.as_f64().unwrap_or_else(|| panic!("not a number: {x}"));
+    assert!((x - expected).abs() <= 1e-12 * expected.abs().max(1.0), "{x} != {expected}");
+}
+
+/// The file's numbers: the camera (2 kg at y = 0.2 m) merged into the 60 kg base by the
+/// parallel-axis theorem, the mount measured from the merged centre of mass, four 0.5 m links
+/// of 3 kg with the centre of mass at 0.25 m, the tool at the end-effector frame's x = 0.5 m.
+#[test]
+fn robot_prints_the_spart_like_arm_as_read() {
+    let v = json(&["robot", SPART, "--format", "json"]);
+    assert_eq!(v["format"], "urdf");
+    assert_eq!(v["joints"], 4);
+    assert_eq!(v["joint_names"], serde_json::json!(["J1", "J2", "J3", "J4"]));
+    let (m_base, m_cam, y_cam): (f64, f64, f64) = (60.0, 2.0, 0.2);
+    let mass = m_base + m_cam;
+    let y_com = m_cam * y_cam / mass;
+    let inertia = 2.5 + m_base * y_com * y_com + 0.01 + m_cam * (y_cam - y_com).powi(2);
+    close(&v["base"]["mass"], mass);
+    close(&v["base"]["inertia"], inertia);
+    close(&v["mount"][0], 0.25);
+    close(&v["mount"][1], -y_com);
+    for (k, link) in v["links"].as_array().expect("links").iter().enumerate() {
+        close(&link["length"], 0.5);
+        close(&link["com"], 0.25);
+        close(&link["mass"], 3.0);
+        close(&link["inertia"], 0.0625);
+        close(&link["com_at_zero"][0], 0.25 + 0.5 * k as f64 + 0.25);
+    }
+    close(&v["total_mass"], mass + 4.0 * 3.0);
+    close(&v["tool"]["x"], 0.5);
+    close(&v["tool"]["at_zero"][0], 0.25 + 4.0 * 0.5);
+    assert_eq!(v["two_link"], false);
+    let table = String::from_utf8_lossy(&run(&["robot", "--urdf", SPART]).stdout).into_owned();
+    for name in ["J1", "J4", "tool point", "mount (a, b)"] {
+        assert!(table.contains(name), "{name}: {table}");
+    }
+}
+
+/// The same arm as TOML and as URDF (examples/robots/three_link.*) reads the same, and the
+/// preset is the paper's SRC robot.
+#[test]
+fn robot_reads_toml_urdf_and_the_preset_alike() {
+    let dir = env!("CARGO_MANIFEST_DIR");
+    let toml = json(&["robot", &format!("{dir}/examples/robots/three_link.toml"), "--format", "json"]);
+    let urdf = json(&["robot", "--urdf", &format!("{dir}/examples/robots/three_link.urdf"), "--format", "json"]);
+    assert_eq!(toml["format"], "toml");
+    for key in ["length", "com", "mass", "inertia"] {
+        for k in 0..3 {
+            let x = urdf["links"][k][key].as_f64().expect("a number");
+            close(&toml["links"][k][key], x);
+        }
+    }
+    let src = json(&["robot", "--format", "json"]);
+    close(&src["links"][0]["length"], 0.619); // the paper's l1 (README, "The robot file")
+    close(&src["base"]["mass"], 12.9);
+    assert_eq!(src["two_link"], true);
+    assert_eq!(run(&["robot", SPART, "--urdf", SPART]).status.code(), Some(2));
+}
+
+/// The guide's worked example plans and certifies on the SPART-like arm.
+#[test]
+fn the_guide_plans_the_spart_like_arm() {
+    let o = run(&["plan", "--urdf", SPART, "--from", "0,30,30,30,30", "--to", "10,60,0,40,20", "--torques"]);
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{}{out}", String::from_utf8_lossy(&o.stderr));
+    assert!(out.contains("4-link arm") && out.contains("CERTIFIED"), "{out}");
+}
