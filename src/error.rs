@@ -341,6 +341,12 @@ impl Error {
             E::Input(I::Unreachable(Unreachable { x, y, psi_deg, distance, min, max })) => json!({
                 "x": x, "y": y, "psi": psi_deg.to_radians(), "distance": distance, "min": min, "max": max,
             }),
+            E::Input(I::Trajectory { path, element, reason }) => {
+                json!({"path": path.display().to_string(), "element": element, "reason": reason})
+            }
+            E::Input(I::NestedTooDeep { path, line, limit }) => {
+                json!({"path": path.display().to_string(), "line": line, "limit": limit})
+            }
             E::Input(I::NotAFile { path }) => json!({"path": path.display().to_string()}),
             E::Input(I::TooLarge { path, bytes, limit }) => {
                 json!({"path": path.display().to_string(), "bytes": bytes, "limit": limit})
@@ -372,6 +378,9 @@ impl Error {
             E::NoBandSteering { loops, amplitude } => json!({"loops": loops, "amplitude": amplitude}),
             E::NotCertified { final_error, tolerance, level } => json!({
                 "final_error": final_error, "tolerance": tolerance, "level": level,
+            }),
+            E::GoalMissed { element, final_error, tolerance } => json!({
+                "element": element, "final_error": final_error, "tolerance": tolerance,
             }),
             E::EcsaFailed { stats } => json!({
                 "iterations": stats.iterations, "residual": stats.residual, "tolerance": stats.tolerance,

@@ -8,8 +8,8 @@ mod output;
 mod plan;
 mod plan_arm;
 mod reproduce;
-mod ros;
 mod robot;
+mod ros;
 mod sweep;
 mod track;
 
