@@ -27,8 +27,11 @@ extern crate self as freefloat;
 
 pub mod analysis;
 /// The command line of the `freefloat` binary, in the library so that the Python package's
-/// `freefloat` command is the same program ([`cli::main_from`]); not a stable API.
+/// `freefloat` command is the same program (`cli::main_from`); not a stable API.
+/// (Its doc comments are clap's help texts, with `[default: ..]` and `[[link]]` brackets that
+/// are not links.)
 #[doc(hidden)]
+#[allow(rustdoc::broken_intra_doc_links, rustdoc::private_intra_doc_links)]
 pub mod cli;
 pub mod dynamics;
 pub mod error;

@@ -109,7 +109,7 @@ pub fn parse_list<const N: usize>(flag: &str, text: &str) -> anyhow::Result<[f64
 }
 
 /// What `--preset`/`--robot`/`--urdf` name: a 2-link arm (the paper's model, link inertias
-/// included; see [`robot`]), or any other planar serial arm.
+/// included; see [`robot()`]), or any other planar serial arm.
 pub enum Robot {
     /// Two links: every method and command serves it.
     TwoLink,
