@@ -50,7 +50,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             let robot = RobotParams::src().with_mount(Mount { a: *a, b: *b }).expect("a mount in range");
             let start = Configuration { phi: q[0], theta1: q[1], theta2: q[2] };
             let goal = Configuration { phi: q[3], theta1: q[4], theta2: q[5] };
-            let problem = PlanningProblem::new(robot.clone(), start, goal, 10.0).expect("a valid problem");
+            let problem = PlanningProblem::new(robot, start, goal, 10.0).expect("a valid problem");
             let clock = std::time::Instant::now();
             let two = match OptimalPlanner::default().plan(&problem) {
                 Ok(p) => (p.plan.effort, p.plan.verification.certified, clock.elapsed().as_secs_f64() * 1e3),
