@@ -162,7 +162,9 @@ impl OptimalPlanner {
             let estimate = line.effort_estimate(coil);
             return Ok(Prepared { estimate, bound, disc, spans, line, x_line, kinds: vec![coil], needed });
         }
-        let kinds: Vec<SeedKind> = [1, -1].map(|side| line.loop_seed(&k, needed, side, 0, o.max_loop_radius)).into();
+        let mut kinds: Vec<SeedKind> =
+            [1, -1].map(|side| line.loop_seed(&k, needed, side, 0, o.max_loop_radius)).into();
+        kinds.push(line.axis_loop_seed(&k, needed, 0, o.max_loop_radius));
         let estimate = kinds.iter().map(|kind| line.effort_estimate(*kind)).fold(f64::INFINITY, f64::min);
         Ok(Prepared { estimate, bound, disc, spans: o.coarse_spans, line, x_line, kinds, needed })
     }

@@ -43,6 +43,20 @@ pub enum SeedKind {
         /// Number of turns.
         turns: usize,
     },
+    /// The line with `turns` closed loops of radius `radius` \[rad\] through the moving line
+    /// point, centred `radius` along joint `axis` (0: `theta1`, 1: `theta2`) of it,
+    /// counter-clockwise when `orientation = +1`: the n-joint planner's loop in the plane of two
+    /// joints. It reaches basins the loops beside the line miss where the line is oblique.
+    AxisLoop {
+        /// The joint along which the centre lies (0 or 1).
+        axis: u8,
+        /// `+1` counter-clockwise, `-1` clockwise in the `(theta1, theta2)` plane.
+        orientation: i8,
+        /// Radius \[rad\].
+        radius: f64,
+        /// Number of turns around the loop.
+        turns: usize,
+    },
     /// The NFA's joint path.
     Nfa,
 }
@@ -53,13 +67,18 @@ impl SeedKind {
         match self {
             SeedKind::Loop { side, orientation, turns, .. } => SeedKind::Loop { side, orientation, radius: r, turns },
             SeedKind::Coil { centre, turns, .. } => SeedKind::Coil { centre, radius: r, turns },
+            SeedKind::AxisLoop { axis, orientation, turns, .. } => {
+                SeedKind::AxisLoop { axis, orientation, radius: r, turns }
+            }
             other => other,
         }
     }
 
     fn radius(self) -> Option<f64> {
         match self {
-            SeedKind::Loop { radius, .. } | SeedKind::Coil { radius, .. } => Some(radius),
+            SeedKind::Loop { radius, .. } | SeedKind::Coil { radius, .. } | SeedKind::AxisLoop { radius, .. } => {
+                Some(radius)
+            }
             _ => None,
         }
     }
@@ -145,6 +164,26 @@ impl Line {
         SeedKind::Loop { side, orientation: orient, radius, turns }
     }
 
+    /// An [`SeedKind::AxisLoop`] along joint `axis` that should turn the base by about `needed`
+    /// \[rad\] more than the line: the radius from the curvature at its centre,
+    /// `pi R^2 |kappa| = |needed|` (several turns above `max_radius`), clamped to
+    /// `[0.05, max_radius]`, the orientation from the signs.
+    pub fn axis_loop_seed(&self, k: &Lumped, needed: f64, axis: u8, max_radius: f64) -> SeedKind {
+        let mid = self.at(self.horizon / 2.0);
+        let (mut radius, mut orientation, mut turns): (f64, i8, usize) = (0.5, 1, 1);
+        for _ in 0..3 {
+            let mut c = mid;
+            c[usize::from(axis.min(1))] += radius;
+            let s = shape(k, c[0], c[1]);
+            let kappa = 2.0 * s.sigma / (s.F * s.F);
+            let area = if kappa.abs() > 1e-12 { (needed / kappa).abs().max(0.01) } else { 0.25 };
+            orientation = if needed * kappa >= 0.0 { 1 } else { -1 };
+            turns = ((area / (PI * max_radius * max_radius)).ceil() as usize).clamp(1, MAX_TURNS);
+            radius = (area / (PI * turns as f64)).sqrt().clamp(0.05, max_radius);
+        }
+        SeedKind::AxisLoop { axis, orientation, radius, turns }
+    }
+
     /// The loop seed `kind` with its radius re-fitted (secant iteration, at most 8 evaluations of
     /// `residual`) so that the residual of the holonomy constraint vanishes; the radius stays in
     /// `[0.05, max_radius]` and the best one seen is returned.
@@ -196,7 +235,9 @@ impl Line {
     pub fn effort_estimate(&self, kind: SeedKind) -> f64 {
         let d = (self.end[0] - self.start[0]).hypot(self.end[1] - self.start[1]);
         let length = match kind {
-            SeedKind::Loop { radius, turns, .. } => d + TAU * radius * turns as f64,
+            SeedKind::Loop { radius, turns, .. } | SeedKind::AxisLoop { radius, turns, .. } => {
+                d + TAU * radius * turns as f64
+            }
             SeedKind::Coil { .. } => self.coil_legs(kind).map_or(d, |(_, _, l1, l2, l3)| l1 + l2 + l3),
             _ => d,
         };
@@ -221,10 +262,17 @@ impl Line {
             return std::array::from_fn(|j| p[j] + self.initial_velocity[j] * h);
         }
         let base = self.at(t);
-        let SeedKind::Loop { side, orientation, radius, turns } = kind else { return base };
-        let n = self.normal();
-        // Centre `side` of the midpoint; on the line (side 0) the loop starts toward the normal.
-        let a = if side == 0 { n } else { [side as f64 * n[0], side as f64 * n[1]] };
+        let (a, orientation, radius, turns) = match kind {
+            SeedKind::Loop { side, orientation, radius, turns } => {
+                let n = self.normal();
+                // Centre `side` of the midpoint; on the line (side 0) the loop starts toward the normal.
+                (if side == 0 { n } else { [side as f64 * n[0], side as f64 * n[1]] }, orientation, radius, turns)
+            }
+            SeedKind::AxisLoop { axis, orientation, radius, turns } => {
+                (if axis == 0 { [1.0, 0.0] } else { [0.0, 1.0] }, orientation, radius, turns)
+            }
+            _ => return base,
+        };
         let b = [-a[1], a[0]];
         let psi = TAU * turns as f64 * smooth_step(t / self.horizon);
         let (sp, cp) = psi.sin_cos();
