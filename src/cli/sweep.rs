@@ -60,9 +60,12 @@ fn sweep(args: &SweepRunArgs) -> anyhow::Result<ExitCode> {
     let options = options(args)?;
     let shard = args.shard.as_deref().map(Shard::parse).transpose()?.unwrap_or(Shard::ALL);
     let picture = args.plot.as_deref().map(PictureFormat::from_path).transpose()?;
+    super::config::distinct_outputs(&[("--out", args.out.as_deref()), ("--plot", args.plot.as_deref())])?;
     if let Some(path) = &args.out {
+        super::config::csv_out("mount-sweep", path)?;
         freefloat::report::io::check_writable(path)?;
     }
+    options.validate()?;
     let count = shard.indices(options.points()).count() as u64;
     let bar = if std::io::stderr().is_terminal() && !super::output::quiet() {
         indicatif::ProgressBar::new(count)
@@ -139,6 +142,8 @@ pub(super) fn read_shard_files<R>(
 
 fn merge(args: &MergeArgs) -> anyhow::Result<ExitCode> {
     let picture = args.plot.as_deref().map(PictureFormat::from_path).transpose()?;
+    super::config::distinct_outputs(&[("--out", Some(args.out.as_path())), ("--plot", args.plot.as_deref())])?;
+    super::config::csv_out("mount-sweep merge", &args.out)?;
     freefloat::report::io::check_writable(&args.out)?;
     let merged = file::merge_files(read_shard_files(&args.files, file::read)?)?;
     write_atomic(&args.out, &file::write(&merged.run, merged.shard, &merged.rows)?)?;
