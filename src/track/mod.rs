@@ -52,8 +52,8 @@ pub use perturb::Perturbation;
 pub use plant::Disturbances;
 pub use replan::ReplanOptions;
 pub use run::{
-    BYTES_PER_TICK, Failure, History, HoldSummary, Identification, MAX_FAILED_REPLANS, MAX_REPLANS, MAX_TICKS,
-    TrackOptions, Tracked, hold_correction, track, track_with,
+    BYTES_PER_TICK, Failure, History, HoldSummary, Identification, MAX_REPLANS, MAX_TICKS, TrackOptions, Tracked,
+    hold_correction, track, track_with,
 };
 
 #[cfg(test)]

@@ -91,7 +91,7 @@ pub struct Summary {
     pub successes: usize,
     /// `successes / trials`.
     pub success_rate: f64,
-    /// Trials whose run failed (diverged, or spent its re-plan budget): their final error
+    /// Trials whose run failed (diverged): their final error
     /// counts as infinite in the quantiles.
     pub failed: usize,
     /// Median final error \[rad\]; `None` without trials, or when it falls on a failed trial

@@ -145,17 +145,11 @@ impl TrackOptions {
 /// Why a closed-loop run stopped before its horizon: a verdict with a reason, not a number.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Failure {
-    /// `diverged` (the simulated motion left the finite numbers) or `replan_budget` (more
-    /// re-plans failed than [`MAX_FAILED_REPLANS`]).
+    /// `diverged`: the simulated motion left the finite numbers.
     pub reason: &'static str,
     /// When it happened \[s\].
     pub t: f64,
 }
-
-/// Most failed re-plans of one run: beyond it the run stops, a failure with the reason
-/// `replan_budget` (a re-plan that fails has spent its whole iteration budget; a model this far
-/// from the robot is not one to re-plan on).
-pub const MAX_FAILED_REPLANS: usize = 25;
 
 /// The motion of a run, tick by tick (when [`TrackOptions::record`] is set).
 #[derive(Debug, Clone, Default, PartialEq, Serialize)]
@@ -244,8 +238,7 @@ pub struct Tracked {
     pub seconds: f64,
     /// Time at which the simulated motion diverged \[s\], if it did.
     pub diverged_at: Option<f64>,
-    /// Why the run stopped before its horizon, if it did (a diverged motion, or the re-plan
-    /// budget spent).
+    /// Why the run stopped before its horizon, if it did (a diverged motion).
     pub failure: Option<Failure>,
     /// The identified model (`adaptive` only).
     pub identification: Option<Identification>,
@@ -259,9 +252,9 @@ pub struct Tracked {
 /// Runs `plan` (planned for `problem`, on the nominal robot `problem.robot`) on the true robot
 /// `truth` under the controller of `options`, from `problem.start` at rest to the horizon.
 /// `seed` keys the plant's noise. The run is checked against the budgets first
-/// ([`TrackOptions::check_budget`]). Re-planning failures are counted, fatal only beyond
-/// [`MAX_FAILED_REPLANS`]; a diverging motion or the re-plan budget spent ends the run with a
-/// [`Failure`] (and an infinite error).
+/// ([`TrackOptions::check_budget`]: its re-plans are bounded before it starts). Re-planning
+/// failures are counted, never fatal; a diverging motion ends the run with a [`Failure`] (and an
+/// infinite error).
 pub fn track(
     problem: &PlanningProblem,
     plan: &(dyn Motion + Sync),
@@ -312,9 +305,6 @@ pub fn track_with(
     let mut diverged_at = None;
     let mut failure = None;
     for i in 0..ticks {
-        if failure.is_some() {
-            break;
-        }
         let t = i as f64 * dt;
         let measured = plant.measure();
         if controller == Controller::Adaptive {
@@ -343,9 +333,6 @@ pub fn track_with(
                     replans += 1;
                 }
                 None => failures += 1,
-            }
-            if failures > MAX_FAILED_REPLANS {
-                failure = Some(Failure { reason: "replan_budget", t });
             }
             let s = started.elapsed().as_secs_f64();
             (replan_seconds, replan_max) = (replan_seconds + s, replan_max.max(s));
