@@ -18,7 +18,7 @@ use pyo3::types::{PyDict, PyList};
 use serde_json::Value;
 
 use crate::compat::InputError;
-use crate::convert::{column, report_dict};
+use crate::convert::{Reals, column, report_dict};
 use crate::errors::{BindingError, IntoPyResult, library_error};
 use crate::planning::{count, parse_method, parse_window};
 use crate::robot::PyRobot;
@@ -111,9 +111,9 @@ fn link_dict<'py>(py: Python<'py>, link: &Link) -> PyResult<Bound<'py, PyDict>> 
 }
 
 /// `n` numbers from a sequence, else `BadInput` naming it.
-fn exactly(py: Python<'_>, name: &str, values: Vec<f64>, n: usize, expected: &'static str) -> PyResult<Vec<f64>> {
+fn exactly(py: Python<'_>, name: &str, values: Reals, n: usize, expected: &'static str) -> PyResult<Vec<f64>> {
     if values.len() == n {
-        Ok(values)
+        Ok(values.0)
     } else {
         Err(bad(format!("{name}.len"), values.len() as f64, expected).into_pyerr(py))
     }
@@ -170,7 +170,7 @@ impl PyArm {
 
     /// The angular momentum `F phi' + G . theta'` [kg m^2/s] at `q` [rad] with velocities `dq`
     /// [rad/s] (n + 1 values each); zero along every plan.
-    fn momentum(&self, py: Python<'_>, q: Vec<f64>, dq: Vec<f64>) -> PyResult<f64> {
+    fn momentum(&self, py: Python<'_>, q: Reals, dq: Reals) -> PyResult<f64> {
         let n = self.inner.joints();
         let expected = "n + 1 numbers (phi, theta_1..theta_n)";
         let q = exactly(py, "q", q, n + 1, expected)?;
@@ -368,13 +368,13 @@ fn python_names(e: freefloat::Error) -> freefloat::Error {
 pub fn plan_arm<'py>(
     py: Python<'py>,
     arm: &Bound<'py, PyAny>,
-    start: Vec<f64>,
-    goal: Vec<f64>,
+    start: Reals,
+    goal: Reals,
     T: f64,
     samples: i64,
     torques: bool,
     wrap: bool,
-    initial_velocity: Option<Vec<f64>>,
+    initial_velocity: Option<Reals>,
     tolerance: f64,
     method: &str,
     harmonics: i64,

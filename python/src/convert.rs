@@ -73,3 +73,47 @@ pub fn new_with_keywords<'py>(
     let args = (class, pyo3::types::PyTuple::empty(py), kwargs).into_bound_py_any(py)?;
     Ok((newobj, args))
 }
+
+/// Real numbers from a Python sequence (a list, a tuple, a NumPy array): a complex number is a
+/// `TypeError` naming the argument, never a warning with the imaginary part dropped.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Reals(pub Vec<f64>);
+
+impl std::ops::Deref for Reals {
+    type Target = [f64];
+    fn deref(&self) -> &[f64] {
+        &self.0
+    }
+}
+
+/// A Python complex number, a NumPy complex scalar or a complex array (`dtype.kind == "c"`).
+fn is_complex(obj: &Bound<'_, PyAny>) -> bool {
+    obj.is_instance_of::<pyo3::types::PyComplex>()
+        || obj
+            .getattr("dtype")
+            .and_then(|d| d.getattr("kind"))
+            .and_then(|k| k.extract::<String>())
+            .is_ok_and(|k| k == "c")
+}
+
+impl<'py> FromPyObject<'_, 'py> for Reals {
+    type Error = PyErr;
+
+    fn extract(obj: Borrowed<'_, 'py, PyAny>) -> PyResult<Self> {
+        let complex = || {
+            pyo3::exceptions::PyTypeError::new_err(
+                "complex numbers are not accepted (angles and velocities are real; the imaginary part would be dropped)",
+            )
+        };
+        let obj: &Bound<'py, PyAny> = &obj;
+        if is_complex(obj) {
+            return Err(complex());
+        }
+        let items: Vec<Bound<'py, PyAny>> = obj.extract()?;
+        items
+            .iter()
+            .map(|x| if is_complex(x) { Err(complex()) } else { x.extract::<f64>() })
+            .collect::<PyResult<_>>()
+            .map(Reals)
+    }
+}

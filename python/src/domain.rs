@@ -10,7 +10,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::compat::{DomainMap, DomainSummary};
-use crate::convert::{column, json_dict};
+use crate::convert::{Reals, column, json_dict};
 use crate::errors::{BindingError, IntoPyResult};
 use crate::planning::{count, parse_transform};
 use crate::robot::{PyRobot, triple};
@@ -94,8 +94,8 @@ pub fn domain<'py>(
     robot: PyRef<'py, PyRobot>,
     transform: &str,
     grid: i64,
-    start: Option<Vec<f64>>,
-    goal: Option<Vec<f64>>,
+    start: Option<Reals>,
+    goal: Option<Reals>,
 ) -> PyResult<Bound<'py, PyDomain>> {
     let robot = robot.inner;
     let transform: Transform = match parse_transform(transform).py_result(py)? {

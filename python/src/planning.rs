@@ -16,7 +16,7 @@ use pyo3::types::PyDict;
 use serde_json::Value;
 
 use crate::compat::{Cost, Elbow, InputError, OptimalOptions, PlanReport, PlannerOptions, plan_to_pose, planner};
-use crate::convert::{column, report_dict, rows};
+use crate::convert::{Reals, column, report_dict, rows};
 use crate::errors::{BindingError, IntoPyResult, library_error};
 use crate::robot::{PyRobot, triple};
 
@@ -53,7 +53,7 @@ pub struct Keywords<'a> {
     /// `smooth_ends` (optimal).
     pub smooth_ends: bool,
     /// `initial_velocity` (optimal): (dtheta1, dtheta2) [rad/s], None for rest.
-    pub initial_velocity: Option<Vec<f64>>,
+    pub initial_velocity: Option<Reals>,
     /// `wrap` (optimal).
     pub wrap: bool,
     /// `cost` (optimal): "effort" or "energy".
@@ -498,10 +498,10 @@ fn pose_triple(py: Python<'_>, pose: &[f64]) -> PyResult<[f64; 3]> {
 pub fn plan<'py>(
     py: Python<'py>,
     robot: PyRef<'py, PyRobot>,
-    start: Vec<f64>,
-    goal: Option<Vec<f64>>,
+    start: Reals,
+    goal: Option<Reals>,
     T: Option<f64>,
-    goal_ee: Option<Vec<f64>>,
+    goal_ee: Option<Reals>,
     elbow: Option<&str>,
     method: &str,
     transform: &str,
@@ -511,7 +511,7 @@ pub fn plan<'py>(
     harmonics: i64,
     window: &str,
     smooth_ends: bool,
-    initial_velocity: Option<Vec<f64>>,
+    initial_velocity: Option<Reals>,
     wrap: bool,
     cost: &str,
 ) -> PyResult<Bound<'py, PyPlan>> {
@@ -548,10 +548,10 @@ pub fn plan<'py>(
 pub fn compare<'py>(
     py: Python<'py>,
     robot: PyRef<'py, PyRobot>,
-    start: Vec<f64>,
-    goal: Option<Vec<f64>>,
+    start: Reals,
+    goal: Option<Reals>,
     T: Option<f64>,
-    goal_ee: Option<Vec<f64>>,
+    goal_ee: Option<Reals>,
     elbow: Option<&str>,
     methods: Option<Vec<String>>,
     transform: &str,
@@ -561,7 +561,7 @@ pub fn compare<'py>(
     harmonics: i64,
     window: &str,
     smooth_ends: bool,
-    initial_velocity: Option<Vec<f64>>,
+    initial_velocity: Option<Reals>,
     wrap: bool,
     cost: &str,
     strict: bool,
@@ -614,17 +614,17 @@ pub fn compare<'py>(
 pub fn _time_plan(
     py: Python<'_>,
     robot: PyRef<'_, PyRobot>,
-    start: Vec<f64>,
-    goal: Option<Vec<f64>>,
+    start: Reals,
+    goal: Option<Reals>,
     T: Option<f64>,
-    goal_ee: Option<Vec<f64>>,
+    goal_ee: Option<Reals>,
     elbow: Option<&str>,
     method: &str,
     transform: &str,
     samples: i64,
     torques: bool,
     smooth_ends: bool,
-    initial_velocity: Option<Vec<f64>>,
+    initial_velocity: Option<Reals>,
     wrap: bool,
     cost: &str,
     repeats: i64,

@@ -6,6 +6,8 @@ use freefloat::model::InputError;
 use freefloat::{Configuration, Mount, RobotParams};
 use pyo3::prelude::*;
 
+use crate::convert::Reals;
+
 use crate::errors::{BindingError, IntoPyResult};
 
 /// A planar free-floating robot (SI units): base of mass `M` and inertia `I`, two links
@@ -72,7 +74,7 @@ impl PyRobot {
 
     /// The angular momentum `F phi' + G theta1' + H theta2'` (Eqs. 4-5) [kg m^2/s] at `q`
     /// [rad] with velocities `dq` [rad/s]; zero along every plan.
-    fn momentum(&self, py: Python<'_>, q: Vec<f64>, dq: Vec<f64>) -> PyResult<f64> {
+    fn momentum(&self, py: Python<'_>, q: Reals, dq: Reals) -> PyResult<f64> {
         let q = triple(py, "q", &q)?;
         let dq = triple(py, "dq", &dq)?;
         Ok(crate::compat::momentum(&self.inner.lumped(), &Configuration::from_array(q), dq))

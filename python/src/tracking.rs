@@ -7,7 +7,7 @@ use freefloat::{Configuration, Method, PlanningProblem};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::convert::json_dict;
+use crate::convert::{Reals, json_dict};
 use crate::errors::{BindingError, IntoPyResult};
 use crate::robot::{PyRobot, triple};
 
@@ -41,8 +41,8 @@ fn controller(name: &str) -> Result<Controller, BindingError> {
 pub fn track<'py>(
     py: Python<'py>,
     robot: PyRef<'py, PyRobot>,
-    start: Vec<f64>,
-    goal: Vec<f64>,
+    start: Reals,
+    goal: Reals,
     T: f64,
     controller: &str,
     true_robot: Option<PyRef<'py, PyRobot>>,
@@ -62,6 +62,9 @@ pub fn track<'py>(
     let mut options = TrackOptions { controller, rate, ..Default::default() };
     options.replan.rate = replan_rate;
     options.disturbances = Disturbances { torque_noise, q_noise, dq_noise, ..Default::default() };
+    // Every option and budget before planning (the library's checks, as the command line's).
+    options.validate().py_result(py)?;
+    options.check_budget(problem.horizon).py_result(py)?;
     let truth = true_robot.map(|r| r.inner);
     let perturbation = Perturbation { relative: perturb, mount: perturb_mount };
     let tracked = py

@@ -4,19 +4,10 @@
 
 use freefloat::model::{InputError, excerpt};
 
-/// The most memory a request may need \[bytes\]: beyond it, freefloat refuses up front instead of
-/// growing until the system kills it.
-pub const MEMORY_LIMIT: u128 = 1 << 30;
-
-/// Memory of one trajectory sample, everything counted \[bytes\]: the trajectory's 15 columns,
-/// the planners' work arrays, and the CSV or JSON text of the sample (generous).
-pub const BYTES_PER_SAMPLE: u128 = 1024;
+pub use freefloat::plan::limits::MEMORY_LIMIT;
 
 /// Memory of one mounting point of a sweep \[bytes\]: its row and its CSV line (generous).
 pub const BYTES_PER_POINT: u128 = 1024;
-
-/// Largest verified final error a certificate may accept \[rad\] (`--tolerance`).
-pub const MAX_TOLERANCE: f64 = 1e-3;
 
 /// Accepted `--max-velocity` caps \[rad/s\].
 pub const MAX_VELOCITY_RANGE: (f64, f64) = (1e-3, 1e3);
@@ -28,31 +19,14 @@ fn bad(name: &str, value: f64, expected: &'static str) -> anyhow::Error {
     freefloat::Error::from(InputError::InvalidParameter { name: name.into(), value, expected }).into()
 }
 
-/// `--samples N`: at least 2 (both ends), at most what [`MEMORY_LIMIT`] holds.
+/// `--samples N`: the library's bound ([`freefloat::plan::limits::check_samples`]).
 pub fn samples(n: u64) -> anyhow::Result<usize> {
-    if n < 2 {
-        return Err(bad("--samples", n as f64, "at least 2 samples (both ends of the trajectory)"));
-    }
-    let bytes = u128::from(n) * BYTES_PER_SAMPLE;
-    if bytes > MEMORY_LIMIT {
-        return Err(freefloat::Error::from(InputError::TooMuchMemory {
-            what: format!("--samples {n}"),
-            bytes,
-            limit: MEMORY_LIMIT,
-            hint: format!("at most {} samples", MEMORY_LIMIT / BYTES_PER_SAMPLE),
-        })
-        .into());
-    }
-    usize::try_from(n).map_err(|_| bad("--samples", n as f64, "a count this machine can address"))
+    Ok(freefloat::plan::limits::check_samples("--samples", n)?)
 }
 
-/// `--tolerance RAD`: finite, positive, at most [`MAX_TOLERANCE`].
+/// `--tolerance RAD`: the library's bound ([`freefloat::plan::limits::check_tolerance`]).
 pub fn tolerance(x: f64) -> anyhow::Result<f64> {
-    if x.is_finite() && x > 0.0 && x <= MAX_TOLERANCE {
-        Ok(x)
-    } else {
-        Err(bad("--tolerance", x, "a positive tolerance of at most 1e-3 rad (docs/spec.md §2)"))
-    }
+    Ok(freefloat::plan::limits::check_tolerance("--tolerance", x)?)
 }
 
 /// `--time T`: within [`freefloat::plan::HORIZON_RANGE`].
@@ -128,4 +102,51 @@ pub fn sweep_points(na: usize, nb: usize) -> anyhow::Result<()> {
 /// The text of a flag as an error quotes it: cut to a few dozen characters.
 pub fn quote(text: &str) -> String {
     excerpt(text)
+}
+
+/// The path as the file system resolves it, for comparing outputs: the file itself when it
+/// exists (symbolic links followed), else its resolved directory joined with its name.
+fn resolved(path: &std::path::Path) -> std::path::PathBuf {
+    if let Ok(p) = path.canonicalize() {
+        return p;
+    }
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => std::path::Path::new("."),
+    };
+    match (dir.canonicalize(), path.file_name()) {
+        (Ok(d), Some(name)) => d.join(name),
+        _ => path.to_path_buf(),
+    }
+}
+
+/// The output files of one command, `(flag, path)`, on distinct paths (after resolving `.`,
+/// `..` and symbolic links): two outputs on one path would overwrite each other (exit 2).
+pub fn distinct_outputs(outputs: &[(&str, Option<&std::path::Path>)]) -> anyhow::Result<()> {
+    let given: Vec<(&str, &std::path::Path, std::path::PathBuf)> =
+        outputs.iter().filter_map(|(flag, p)| p.map(|p| (*flag, p, resolved(p)))).collect();
+    for (i, (flag, path, r)) in given.iter().enumerate() {
+        if let Some((first, _, _)) = given[..i].iter().find(|(_, _, q)| q == r) {
+            return Err(anyhow::Error::from(freefloat::Error::from(InputError::InvalidText {
+                name: (*flag).into(),
+                text: path.display().to_string(),
+                expected: "another file than the command's other outputs (two outputs on one path overwrite each other)",
+            }))
+            .context(format!("{flag} and {first} name the same file")));
+        }
+    }
+    Ok(())
+}
+
+/// A CSV output `--out FILE.csv` (any case) of `command`, else bad input naming it.
+pub fn csv_out(command: &str, path: &std::path::Path) -> anyhow::Result<()> {
+    if path.extension().and_then(|e| e.to_str()).is_some_and(|e| e.eq_ignore_ascii_case("csv")) {
+        return Ok(());
+    }
+    Err(anyhow::Error::from(freefloat::Error::from(InputError::InvalidText {
+        name: "--out".into(),
+        text: path.display().to_string(),
+        expected: "a file name ending in .csv",
+    }))
+    .context(format!("{command} writes CSV")))
 }

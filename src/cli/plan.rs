@@ -36,6 +36,9 @@ fn plan_with(
     args: &ProblemArgs,
     problem: &PlanningProblem,
 ) -> anyhow::Result<Result<Planned, freefloat::Error>> {
+    if args.elbow.is_some() && args.to_ee.is_none() {
+        bail!("--elbow chooses the inverse-kinematics solution of --to-ee: give --to-ee X,Y,PSI, or drop --elbow");
+    }
     let planner = planner(method, &planner_options(args)?);
     let pose = match &args.to_ee {
         Some(text) => {
@@ -111,6 +114,7 @@ fn method(args: &PlanArgs) -> anyhow::Result<Method> {
 /// is checked before planning and written before anything is printed, so that stdout never
 /// shows a result of a run that then fails.
 pub fn run(args: &PlanArgs) -> anyhow::Result<ExitCode> {
+    super::config::distinct_outputs(&[("--out", args.out.as_deref()), ("--gif", args.gif.as_deref())])?;
     let out = match &args.out {
         Some(path) => {
             let kind = super::ros::out_kind(path, args.format)?;

@@ -16,7 +16,7 @@ use freefloat::report::plot::arm_animation_gif;
 
 use freefloat::plan::ros::Encoding;
 
-use super::args::{CostArg, Format, PlanArgs, ProblemArgs};
+use super::args::{CostArg, Format, PlanArgs, ProblemArgs, TransformArg};
 use super::ros::OutKind;
 
 /// Runs `plan` for `arm`: exit 0 with a certified plan, 2 for bad input (e.g. a flag the
@@ -75,11 +75,15 @@ pub fn run(
     Ok(ExitCode::SUCCESS)
 }
 
-/// The flags of the 2-link pipeline that an n-link arm cannot take: bad input, not ignored.
+/// The flags of the 2-link pipeline that an n-link arm cannot take: bad input, not ignored
+/// (docs/spec.md §3 has the table of every flag: honoured or refused). `--harmonics` and
+/// `--window` with another method than the ECSA are the library's refusal ([`plan_arm`]).
 fn refuse_two_link_flags(args: &PlanArgs) -> anyhow::Result<()> {
     let p = &args.problem;
     let given = [
         (p.to_ee.is_some(), "--to-ee (task-space goals are for 2-link arms)"),
+        (p.elbow.is_some(), "--elbow (it chooses the inverse kinematics of --to-ee, a 2-link goal)"),
+        (p.transform != TransformArg::Auto, "--transform (the NFA's feedback transformations are the 2-link robot's)"),
         (p.max_velocity.is_some(), "--max-velocity"),
         (p.smooth_ends, "--smooth-ends"),
         (p.cost != CostArg::Effort, "--cost energy"),
@@ -117,9 +121,10 @@ fn problem(p: &ProblemArgs, arm: &Arm) -> anyhow::Result<ChainProblem> {
     };
     let start = angles("--from", &p.ends.from, n + 1)?;
     let goal = angles("--to", &p.ends.to, n + 1)?;
+    // The default `0,0` is rest for any arm; any other text gives one velocity per joint.
     let initial_velocity = match list("--from-velocity", &p.from_velocity)? {
-        v if v.iter().all(|x| *x == 0.0) => vec![0.0; n],
         v if v.len() == n => v.iter().map(|x| x.to_radians()).collect(),
+        v if v.len() == 2 && v.iter().all(|x| *x == 0.0) => vec![0.0; n],
         v => bail!("--from-velocity takes {n} joint velocities DTH1,..,DTH{n} in deg/s for this arm, got {}", v.len()),
     };
     // Checked here, naming the flags; the planner checks again under its own names.

@@ -61,6 +61,11 @@ fn sweep(args: &SweepRunArgs) -> anyhow::Result<ExitCode> {
     let shard = args.shard.as_deref().map(Shard::parse).transpose()?.unwrap_or(Shard::ALL);
     let picture = args.plot.as_deref().map(PictureFormat::from_path).transpose()?;
     super::check_outputs(&[args.out.as_ref(), args.plot.as_ref()])?;
+    super::config::distinct_outputs(&[("--out", args.out.as_deref()), ("--plot", args.plot.as_deref())])?;
+    if let Some(path) = &args.out {
+        super::config::csv_out("mount-sweep", path)?;
+    }
+    options.validate()?;
     let count = shard.indices(options.points()).count() as u64;
     let bar = if std::io::stderr().is_terminal() && !super::output::quiet() {
         indicatif::ProgressBar::new(count)
@@ -138,6 +143,8 @@ pub(super) fn read_shard_files<R>(
 fn merge(args: &MergeArgs) -> anyhow::Result<ExitCode> {
     let picture = args.plot.as_deref().map(PictureFormat::from_path).transpose()?;
     super::check_outputs(&[Some(&args.out), args.plot.as_ref()])?;
+    super::config::distinct_outputs(&[("--out", Some(args.out.as_path())), ("--plot", args.plot.as_deref())])?;
+    super::config::csv_out("mount-sweep merge", &args.out)?;
     let merged = file::merge_files(read_shard_files(&args.files, file::read)?)?;
     write_atomic(&args.out, &file::write(&merged.run, merged.shard, &merged.rows)?)?;
     if let (Some(path), Some(format)) = (&args.plot, picture) {

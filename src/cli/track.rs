@@ -87,6 +87,7 @@ pub fn run(args: &TrackArgs) -> anyhow::Result<ExitCode> {
         return merge(m);
     }
     let shard = shard(args)?;
+    super::config::distinct_outputs(&[("--out", args.out.as_deref()), ("--plot", args.plot.as_deref())])?;
     if let (Some(path), Some(_)) = (&args.out, args.trials) {
         trials_out(path)?;
     }
@@ -106,6 +107,11 @@ pub fn run(args: &TrackArgs) -> anyhow::Result<ExitCode> {
     let picture = args.plot.as_deref().map(PictureFormat::from_path).transpose()?;
     super::check_outputs(&[args.out.as_ref(), args.plot.as_ref()])?;
     let controllers: Vec<Controller> = args.controller.iter().map(|&c| controller(c)).collect();
+    // The budgets (ticks, re-plans, recorded memory) before planning, from the request alone.
+    for &controller in &controllers {
+        TrackOptions { controller, record: options.record && args.trials.is_none(), ..options.clone() }
+            .check_budget(problem.horizon)?;
+    }
     let planned = planner(Method::Optimal, &PlannerOptions::default()).plan(&problem)?;
     planned.certified()?;
     if let Some(trials) = args.trials {
@@ -207,9 +213,9 @@ fn print_summaries(
             s.controller.name(),
             100.0 * s.success_rate,
             s.successes,
-            scientific(s.median_error, 2),
-            scientific(s.p95_error, 2),
-            scientific(s.max_error, 2),
+            quantile(s, s.median_error),
+            quantile(s, s.p95_error),
+            quantile(s, s.max_error),
             s.replan_failures,
         );
     }
@@ -235,6 +241,26 @@ fn merge(args: &TrackMergeArgs) -> anyhow::Result<ExitCode> {
     print_summaries(args.format, &format!("{trials} trials"), seed, success_tolerance, &summaries)
 }
 
+/// A quantile of a summary: the number, `-` without trials, `failed` when it falls on a
+/// failed (diverged) trial.
+fn quantile(s: &Summary, q: Option<f64>) -> String {
+    match q {
+        Some(e) => scientific(e, 2),
+        None if s.trials == 0 => "-".into(),
+        None => "failed".into(),
+    }
+}
+
+/// The verdict of a failed run: a word and the time (`diverged at 3.21 s`).
+fn failure(r: &Tracked) -> Option<String> {
+    r.failure.map(|f| format!("{} at {} s", f.reason.replace('_', " "), number(f.t)))
+}
+
+/// A torque as the table prints it: 4 decimals, or 4 significant digits when large.
+fn torque(x: f64) -> String {
+    if x.abs() < 1e6 { format!("{x:.4}") } else { scientific(x, 3) }
+}
+
 /// An error with its sign (`+4.349e-9`, `-0.0121`).
 fn signed(x: f64) -> String {
     if x >= 0.0 { format!("+{}", error_number(x)) } else { error_number(x) }
@@ -253,12 +279,12 @@ fn table(runs: &[Tracked], truth: &RobotParams, nominal: &RobotParams) -> String
         out.push('\n');
     };
     row("controller", &|r| r.controller.name().to_string());
-    row("final error [rad]", &|r| error_number(r.final_error));
+    row("final error [rad]", &|r| failure(r).unwrap_or_else(|| error_number(r.final_error)));
     for (i, axis) in ["phi", "theta1", "theta2"].iter().enumerate() {
-        row(&format!("  {axis} [rad]"), &|r| signed(r.final_errors[i]));
+        row(&format!("  {axis} [rad]"), &|r| if r.failure.is_some() { "-".into() } else { signed(r.final_errors[i]) });
     }
-    row("peak |tau1| [N m]", &|r| format!("{:.4}", r.peak_torque[0]));
-    row("peak |tau2| [N m]", &|r| format!("{:.4}", r.peak_torque[1]));
+    row("peak |tau1| [N m]", &|r| torque(r.peak_torque[0]));
+    row("peak |tau2| [N m]", &|r| torque(r.peak_torque[1]));
     row("saturated ticks", &|r| format!("{:.1} %", 100.0 * r.saturated_fraction));
     row("re-plans (failed)", &|r| format!("{} ({})", r.replans, r.replan_failures));
     row("re-plan time [s]", &|r| format!("{:.3}", r.replan_seconds));
@@ -352,13 +378,13 @@ fn figure(runs: &[Tracked]) -> PlanFigure {
             .iter()
             .map(|(r, _)| {
                 format!(
-                    "{}: final error {} rad; {} re-plans ({} failed); peak torque {:.3}, {:.3} N m",
+                    "{}: {}; {} re-plans ({} failed); peak torque {}, {} N m",
                     r.controller.name(),
-                    error_number(r.final_error),
+                    failure(r).unwrap_or_else(|| format!("final error {} rad", error_number(r.final_error))),
                     r.replans,
                     r.replan_failures,
-                    r.peak_torque[0],
-                    r.peak_torque[1]
+                    torque(r.peak_torque[0]),
+                    torque(r.peak_torque[1])
                 )
             })
             .collect(),

@@ -105,6 +105,21 @@ pub enum InputError {
         /// What is accepted, e.g. `at most 1048576 samples`.
         hint: String,
     },
+    /// A request would take more time than freefloat allows itself (docs/spec.md §3,
+    /// "Budgets"): `work` units of `unit` (e.g. control ticks) against the budget `limit`.
+    #[error("{what} would take about {} {unit}; the budget is {} {unit} ({hint})", fmt_count(*work), fmt_count(*limit))]
+    TooMuchWork {
+        /// What was asked, e.g. `--time 1e6 at --rate 1e6`.
+        what: String,
+        /// The estimated work, in `unit`.
+        work: f64,
+        /// The budget, in `unit`.
+        limit: f64,
+        /// The unit of work, e.g. `control ticks`.
+        unit: &'static str,
+        /// What is accepted.
+        hint: String,
+    },
     /// A shard file (of `mount-sweep` or `track --trials`) is damaged, from another run, or does
     /// not fit with the other shards.
     #[error("{}{}: {reason}", path.display(), line.map(|l| format!(", line {l}")).unwrap_or_default())]
@@ -146,6 +161,11 @@ pub fn excerpt(text: &str) -> String {
 pub fn fmt_value(x: f64) -> String {
     let a = x.abs();
     if x == 0.0 || (1e-4..1e9).contains(&a) || !x.is_finite() { format!("{x}") } else { format!("{x:e}") }
+}
+
+/// A count of work (ticks, plans) as people read it: whole below a million, else `1.00e12`.
+pub fn fmt_count(x: f64) -> String {
+    if x.is_finite() && x.abs() < 1e6 { format!("{}", x.round()) } else { format!("{x:.2e}") }
 }
 
 /// A size in bytes in binary units (KiB to EiB).

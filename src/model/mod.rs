@@ -7,7 +7,7 @@ pub mod kinematics;
 mod robot_file;
 pub mod system;
 
-pub use error::{ECHO_LIMIT, InputError, excerpt, fmt_bytes, fmt_value};
+pub use error::{ECHO_LIMIT, InputError, excerpt, fmt_bytes, fmt_count, fmt_value};
 pub use robot_file::{ROBOT_FILE_LIMIT, read_regular_file};
 
 use serde::{Deserialize, Serialize};

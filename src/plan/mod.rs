@@ -9,6 +9,7 @@
 pub mod certificate;
 pub mod chain_certificate;
 pub mod chain_torques;
+pub mod limits;
 pub mod motion;
 pub mod problem;
 pub mod ros;

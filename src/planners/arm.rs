@@ -13,7 +13,7 @@ use std::time::Instant;
 use serde::Serialize;
 
 use super::chain::{ChainOptions, ChainPlan, ChainPlanner, ChainPoint, ChainProblem, ChainStats};
-use super::ecsa::{ChainEcsaPlan, ChainEcsaPlanner, ChainEcsaStats, EcsaOptions};
+use super::ecsa::{ChainEcsaPlan, ChainEcsaPlanner, ChainEcsaStats, EcsaOptions, Window};
 use crate::error::Error;
 use crate::model::InputError;
 use crate::model::arm::Arm;
@@ -35,6 +35,17 @@ pub struct ArmRequest {
     pub torques: bool,
     /// The ECSA's harmonics and window (its tolerance is `tolerance`), for [`Method::Ecsa`].
     pub ecsa: EcsaOptions,
+}
+
+impl ArmRequest {
+    /// Checks the request against the bounds of every request ([`crate::plan::limits`]):
+    /// samples, tolerance, and the ECSA's options (harmonics, window). The problem itself is
+    /// checked against the arm by the planner ([`ChainProblem::validate`]).
+    pub fn validate(&self) -> Result<(), Error> {
+        crate::plan::limits::check_samples("samples", self.samples as u64)?;
+        crate::plan::limits::check_tolerance("tolerance", self.tolerance)?;
+        EcsaOptions { tolerance: self.tolerance, samples: self.samples, ..self.ecsa }.validate()
+    }
 }
 
 /// The torque level of an arm's plan.
@@ -179,11 +190,12 @@ pub fn plan_arm(arm: &Arm, method: Method, request: &ArmRequest) -> Result<ArmPl
              and this arm has another number of links",
         );
     }
-    if request.samples < 2 {
+    request.validate()?;
+    if method != Method::Ecsa && (request.ecsa.harmonics != 1 || request.ecsa.window != Window::None) {
         return Err(Error::from(InputError::InvalidParameter {
-            name: "samples".into(),
-            value: request.samples as f64,
-            expected: "at least 2",
+            name: "harmonics/window".into(),
+            value: request.ecsa.harmonics as f64,
+            expected: "the defaults (1 harmonic, no window) for another method than the ECSA: they shape the ECSA's controls only",
         }));
     }
     let clock = Instant::now();

@@ -82,6 +82,41 @@ impl Gains {
     }
 }
 
+/// Largest gains accepted: `kp` \[1/s^2\] and `kd` \[1/s\] (with the sampled-loop bounds of
+/// [`Gains::validate_sampled`]).
+pub const MAX_GAINS: (f64, f64) = (1e10, 1e6);
+
+impl Gains {
+    /// Checks the gains against the control rate \[Hz\] so that the sampled loop stays finite.
+    /// The joint error under a held PD law at tick `dt = 1 / rate` is stable on the model when
+    /// `kd dt < 2` and `kp dt < 2 kd` (Jury's test on the zero-order-held double integrator);
+    /// freefloat asks for half of each margin, `kd dt <= 1` and `kp dt <= kd`, and
+    /// `kp <= 1e10`, `kd <= 1e6` (docs/spec.md §3). Defaults: `kd dt = 0.1`, `kp dt = 2.5`.
+    pub fn validate_sampled(&self, rate: f64) -> Result<(), Error> {
+        let dt = 1.0 / rate;
+        let bad = |name: &str, value: f64, expected: &'static str| -> Result<(), Error> {
+            Err(InputError::InvalidParameter { name: name.into(), value, expected }.into())
+        };
+        if self.kp > MAX_GAINS.0 {
+            return bad("kp", self.kp, "a gain of at most 1e10 1/s^2");
+        }
+        if self.kd > MAX_GAINS.1 {
+            return bad("kd", self.kd, "a gain of at most 1e6 1/s");
+        }
+        if self.kd * dt > 1.0 {
+            return bad("kd", self.kd, "kd / rate <= 1 for a stable sampled loop: a lower kd or a higher control rate");
+        }
+        if self.kp * dt > self.kd {
+            return bad(
+                "kp",
+                self.kp,
+                "kp / rate <= kd for a stable sampled loop: a lower kp, a higher kd or a higher control rate",
+            );
+        }
+        Ok(())
+    }
+}
+
 /// Computed torque on the model `k` with PD feedback on the joint angles, for a torque held
 /// over a control tick.
 ///

@@ -51,7 +51,10 @@ pub use monte_carlo::{MonteCarloOptions, Summary, Trial, monte_carlo, summarise}
 pub use perturb::Perturbation;
 pub use plant::Disturbances;
 pub use replan::ReplanOptions;
-pub use run::{History, HoldSummary, Identification, TrackOptions, Tracked, hold_correction, track, track_with};
+pub use run::{
+    BYTES_PER_TICK, Failure, History, HoldSummary, Identification, MAX_REPLANS, MAX_TICKS, TrackOptions, Tracked,
+    hold_correction, track, track_with,
+};
 
 #[cfg(test)]
 mod tests;

@@ -22,6 +22,10 @@ use crate::plan::{Motion, PlanningProblem};
 /// a second each a million trials take days on a workstation.
 pub const MAX_TRIALS: usize = 1_000_000;
 
+/// Most control ticks of one Monte Carlo run or shard (trials x controllers x ticks per run):
+/// the default run at [`MAX_TRIALS`] has 1e10 (days on a workstation); docs/spec.md §3.
+pub const MAX_MONTE_CARLO_TICKS: f64 = 1e11;
+
 /// Options of a Monte Carlo run.
 #[derive(Debug, Clone, PartialEq)]
 pub struct MonteCarloOptions {
@@ -87,12 +91,16 @@ pub struct Summary {
     pub successes: usize,
     /// `successes / trials`.
     pub success_rate: f64,
-    /// Median final error \[rad\].
-    pub median_error: f64,
-    /// 95th percentile of the final error \[rad\].
-    pub p95_error: f64,
-    /// Largest final error \[rad\].
-    pub max_error: f64,
+    /// Trials whose run failed (diverged): their final error
+    /// counts as infinite in the quantiles.
+    pub failed: usize,
+    /// Median final error \[rad\]; `None` without trials, or when it falls on a failed trial
+    /// (never a non-finite number).
+    pub median_error: Option<f64>,
+    /// 95th percentile of the final error \[rad\]; `None` as for the median.
+    pub p95_error: Option<f64>,
+    /// Largest final error \[rad\]; `None` as for the median.
+    pub max_error: Option<f64>,
     /// Re-plans that failed, over all trials.
     pub replan_failures: usize,
 }
@@ -125,6 +133,21 @@ pub fn monte_carlo(
     }
     mc.perturbation.validate()?;
     options.validate()?;
+    for &controller in &mc.controllers {
+        TrackOptions { controller, record: false, ..options.clone() }.check_budget(problem.horizon)?;
+    }
+    let runs = mc.shard.indices(mc.trials).count() as f64 * mc.controllers.len() as f64;
+    let ticks = runs * options.ticks(problem.horizon);
+    if ticks > MAX_MONTE_CARLO_TICKS {
+        return Err(InputError::TooMuchWork {
+            what: format!("{runs} runs of {} s at {} Hz", problem.horizon, options.rate),
+            work: ticks,
+            limit: MAX_MONTE_CARLO_TICKS,
+            unit: "control ticks",
+            hint: "fewer trials or controllers, shards, a shorter --time or a lower --rate".into(),
+        }
+        .into());
+    }
     let correction = if mc.controllers.iter().all(|&c| c == Controller::Open) {
         None
     } else {
@@ -176,16 +199,18 @@ fn summary(controller: Controller, trials: &[Trial], tolerance: f64) -> Summary 
         mine.iter().map(|t| if t.final_error.is_nan() { f64::INFINITY } else { t.final_error }).collect();
     errors.sort_by(f64::total_cmp);
     let n = errors.len();
-    let quantile = |p: f64| errors.get(((n as f64 - 1.0) * p).round() as usize).copied().unwrap_or(f64::NAN);
+    let finite = |e: Option<&f64>| e.copied().filter(|e| e.is_finite());
+    let quantile = |p: f64| finite(errors.get(((n as f64 - 1.0).max(0.0) * p).round() as usize));
     let successes = errors.iter().filter(|&&e| e <= tolerance).count();
     Summary {
         controller,
         trials: n,
         successes,
         success_rate: successes as f64 / n.max(1) as f64,
+        failed: errors.iter().filter(|e| !e.is_finite()).count(),
         median_error: quantile(0.5),
         p95_error: quantile(0.95),
-        max_error: errors.last().copied().unwrap_or(f64::NAN),
+        max_error: finite(errors.last()),
         replan_failures: mine.iter().map(|t| t.replan_failures).sum(),
     }
 }

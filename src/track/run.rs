@@ -76,10 +76,79 @@ impl TrackOptions {
             .into());
         }
         self.gains.validate()?;
+        if self.controller != Controller::Open {
+            self.gains.validate_sampled(self.rate)?;
+        }
         self.replan.validate(self.rate)?;
         self.identify.validate()?;
         self.disturbances.validate()
     }
+}
+
+/// Most control ticks of one run (`T * rate`): about a quarter of an hour of one thread at
+/// about 10 µs a tick (docs/spec.md §3, "Budgets").
+pub const MAX_TICKS: f64 = 1e8;
+
+/// Most re-plans of one run (`T * replan rate`, checked before the run): each is bounded by
+/// the re-planner's iteration and integration limits ([`ReplanOptions::planner`]), so a run's
+/// re-planning is too. The default run has 500.
+pub const MAX_REPLANS: f64 = 10_000.0;
+
+/// Memory of one recorded tick ([`TrackOptions::record`]) with its CSV row and plot points
+/// \[bytes\] (generous): a recorded run keeps at most `MEMORY_LIMIT / BYTES_PER_TICK` ticks.
+pub const BYTES_PER_TICK: u128 = 512;
+
+impl TrackOptions {
+    /// The number of control ticks of a run of `horizon` \[s\]: `T * rate` rounded, at least 1.
+    pub fn ticks(&self, horizon: f64) -> f64 {
+        (horizon * self.rate).round().max(1.0)
+    }
+
+    /// Checks a run of `horizon` \[s\] against the budgets before it starts: at most
+    /// [`MAX_TICKS`] ticks, at most [`MAX_REPLANS`] re-plans (re-planning controllers), and when recorded, their memory ([`BYTES_PER_TICK`] each) within
+    /// [`crate::plan::limits::MEMORY_LIMIT`]. Errors carry the estimate.
+    pub fn check_budget(&self, horizon: f64) -> Result<(), Error> {
+        let ticks = self.ticks(horizon);
+        if !(ticks <= MAX_TICKS) {
+            return Err(InputError::TooMuchWork {
+                what: format!("a run of {horizon} s at a control rate of {} Hz", self.rate),
+                work: ticks,
+                limit: MAX_TICKS,
+                unit: "control ticks",
+                hint: "a shorter --time or a lower --rate".into(),
+            }
+            .into());
+        }
+        let replans = (horizon * self.replan.rate).floor();
+        if self.controller.replans() && replans > MAX_REPLANS {
+            return Err(InputError::TooMuchWork {
+                what: format!("a run of {horizon} s re-planning at {} Hz", self.replan.rate),
+                work: replans,
+                limit: MAX_REPLANS,
+                unit: "re-plans",
+                hint: "a lower --replan-rate or a shorter --time".into(),
+            }
+            .into());
+        }
+        if self.record {
+            let limit = crate::plan::limits::MEMORY_LIMIT;
+            crate::plan::limits::check_memory(
+                &format!("recording {ticks} control ticks (--out/--plot of one run)"),
+                ticks as u128 * BYTES_PER_TICK,
+                &format!("at most {} recorded ticks: a lower --rate or a shorter --time", limit / BYTES_PER_TICK),
+            )?;
+        }
+        Ok(())
+    }
+}
+
+/// Why a closed-loop run stopped before its horizon: a verdict with a reason, not a number.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Failure {
+    /// `diverged`: the simulated motion left the finite numbers.
+    pub reason: &'static str,
+    /// When it happened \[s\].
+    pub t: f64,
 }
 
 /// The motion of a run, tick by tick (when [`TrackOptions::record`] is set).
@@ -146,7 +215,8 @@ pub fn hold_correction(
 pub struct Tracked {
     /// The controller.
     pub controller: Controller,
-    /// `max_i |wrap(q_i(T) - qd_i)|` \[rad\]; infinite when the motion diverged.
+    /// `max_i |wrap(q_i(T) - qd_i)|` \[rad\]; infinite when the run failed ([`Tracked::failure`]):
+    /// JSON writes it as `null`, the table and the plot the failure.
     pub final_error: f64,
     /// `wrap(q_i(T) - qd_i)` per coordinate `(phi, theta1, theta2)` \[rad\].
     pub final_errors: [f64; 3],
@@ -168,6 +238,8 @@ pub struct Tracked {
     pub seconds: f64,
     /// Time at which the simulated motion diverged \[s\], if it did.
     pub diverged_at: Option<f64>,
+    /// Why the run stopped before its horizon, if it did (a diverged motion).
+    pub failure: Option<Failure>,
     /// The identified model (`adaptive` only).
     pub identification: Option<Identification>,
     /// The hold correction of the first plan's feedforward, where the run used one.
@@ -179,8 +251,10 @@ pub struct Tracked {
 
 /// Runs `plan` (planned for `problem`, on the nominal robot `problem.robot`) on the true robot
 /// `truth` under the controller of `options`, from `problem.start` at rest to the horizon.
-/// `seed` keys the plant's noise. Re-planning failures are counted, never fatal; a diverging
-/// motion ends the run with an infinite error.
+/// `seed` keys the plant's noise. The run is checked against the budgets first
+/// ([`TrackOptions::check_budget`]: its re-plans are bounded before it starts). Re-planning
+/// failures are counted, never fatal; a diverging motion ends the run with a [`Failure`] (and an
+/// infinite error).
 pub fn track(
     problem: &PlanningProblem,
     plan: &(dyn Motion + Sync),
@@ -213,7 +287,8 @@ pub fn track_with(
     let clock = Instant::now();
     let correction = correction.filter(|_| options.controller != Controller::Open);
     let horizon = problem.horizon;
-    let ticks = (horizon * options.rate).round().max(1.0) as usize;
+    options.check_budget(horizon)?;
+    let ticks = options.ticks(horizon) as usize;
     let dt = horizon / ticks as f64;
     let every = (options.rate / options.replan.rate).round().max(1.0) as usize;
     let controller = options.controller;
@@ -228,6 +303,7 @@ pub fn track_with(
     let (mut peak, mut saturated, mut replans, mut failures) = ([0.0_f64; 2], 0usize, 0usize, 0usize);
     let (mut replan_seconds, mut replan_max) = (0.0_f64, 0.0_f64);
     let mut diverged_at = None;
+    let mut failure = None;
     for i in 0..ticks {
         let t = i as f64 * dt;
         let measured = plant.measure();
@@ -272,26 +348,32 @@ pub fn track_with(
         };
         let before = plant.state().q.to_array();
         let applied = plant.step(command, dt, options.substeps);
-        peak = [peak[0].max(applied.tau[0].abs()), peak[1].max(applied.tau[1].abs())];
+        // A command that left the finite numbers is the divergence below, not a torque.
+        let finite = applied.tau.iter().all(|x| x.is_finite());
+        if finite {
+            peak = [peak[0].max(applied.tau[0].abs()), peak[1].max(applied.tau[1].abs())];
+        }
         saturated += usize::from(applied.saturated);
-        if let Some(h) = history.as_mut() {
+        if let Some(h) = history.as_mut().filter(|_| finite) {
             h.t.push(t);
             h.reference.push(reference.at(t)?.q.to_array());
             h.actual.push(before);
             h.tau.push(applied.tau);
         }
-        if !plant.is_finite() {
+        if !finite || !plant.is_finite() {
             diverged_at = Some(t + dt);
+            failure = Some(Failure { reason: "diverged", t: t + dt });
             break;
         }
     }
     let end = plant.state();
-    let final_errors: [f64; 3] = if diverged_at.is_some() {
+    let final_errors: [f64; 3] = if failure.is_some() {
         [f64::INFINITY; 3]
     } else {
         std::array::from_fn(|i| wrap_angle(end.q.to_array()[i] - problem.goal.to_array()[i]))
     };
-    if let Some(h) = history.as_mut() {
+    // The last recorded row is the end state: only a finite one (a diverged run's is not).
+    if let Some(h) = history.as_mut().filter(|_| failure.is_none()) {
         h.t.push(horizon);
         h.reference.push(reference.at(horizon)?.q.to_array());
         h.actual.push(end.q.to_array());
@@ -321,6 +403,7 @@ pub fn track_with(
         replan_max_seconds: replan_max,
         seconds: clock.elapsed().as_secs_f64(),
         diverged_at,
+        failure,
         identification,
         hold_correction: correction.map(HoldSummary::from),
         history,

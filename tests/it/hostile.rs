@@ -10,6 +10,8 @@ use std::time::{Duration, Instant};
 
 use proptest::prelude::*;
 
+mod inputs;
+
 fn bin() -> Command {
     Command::new(env!("CARGO_BIN_EXE_freefloat"))
 }

@@ -117,7 +117,51 @@ impl Default for SweepOptions {
     }
 }
 
+/// Most NFA plans of one sweep (points x trials x the transformations rated): about a day of
+/// one thread at a millisecond per plan (docs/spec.md §3, "Budgets").
+pub const MAX_SWEEP_PLANS: f64 = 1e8;
+
 impl SweepOptions {
+    /// Checks the request against the budgets before any work: at least one trial per point,
+    /// at most [`MAX_SWEEP_PLANS`] plans, one domain map within the memory budget
+    /// ([`crate::analysis::domain::check_map_memory`]).
+    pub fn validate(&self) -> Result<(), Error> {
+        if self.trials == 0 {
+            return Err(Error::from(InputError::InvalidParameter {
+                name: "trials".into(),
+                value: 0.0,
+                expected: "at least 1 trial per mounting point (a success rate of no trials is no rate)",
+            }));
+        }
+        let rated = 1.0 + f64::from(u8::from(self.global));
+        let plans = self.points() as f64 * self.trials as f64 * rated;
+        if plans > MAX_SWEEP_PLANS {
+            return Err(Error::from(InputError::TooMuchWork {
+                what: format!("{} mounting points x {} trials", self.points(), self.trials),
+                work: plans,
+                limit: MAX_SWEEP_PLANS,
+                unit: "NFA plans",
+                hint: "fewer points or trials".into(),
+            }));
+        }
+        if !(3..=crate::analysis::domain::MAX_GRID).contains(&self.grid) {
+            return Err(Error::from(InputError::InvalidParameter {
+                name: "grid".into(),
+                value: self.grid as f64,
+                expected: "a grid size between 3 and 8192",
+            }));
+        }
+        crate::analysis::domain::check_map_memory(self.grid)
+    }
+
+    /// How many maps of this sweep may be built at once within the memory budget (at least 1,
+    /// at most `threads`): the sweep runs on that many threads.
+    pub fn concurrent_maps(&self, threads: usize) -> usize {
+        let map = self.grid as u128 * self.grid as u128 * crate::analysis::domain::BYTES_PER_CELL;
+        let fit = (crate::plan::limits::MEMORY_LIMIT / map.max(1)).max(1);
+        threads.min(usize::try_from(fit).unwrap_or(usize::MAX)).max(1)
+    }
+
     /// Number of mounting points.
     pub fn points(&self) -> usize {
         self.a.steps * self.b.steps
@@ -284,8 +328,9 @@ pub fn run_point(robot: &RobotParams, options: &SweepOptions, index: usize) -> R
     })
 }
 
-/// Runs the points of `shard` on all of rayon's threads, calling `progress` after each point.
-/// Rows come back in index order.
+/// Runs the points of `shard` on rayon's threads (fewer when the maps are large:
+/// [`SweepOptions::concurrent_maps`]), calling `progress` after each point, after checking the
+/// budgets ([`SweepOptions::validate`]). Rows come back in index order.
 pub fn run(
     robot: &RobotParams,
     options: &SweepOptions,
@@ -294,15 +339,27 @@ pub fn run(
 ) -> Result<Vec<SweepRow>, Error> {
     use rayon::prelude::*;
     robot.validate()?;
+    options.validate()?;
     let indices: Vec<usize> = shard.indices(options.points()).collect();
-    indices
-        .par_iter()
-        .map(|&i| {
-            let row = run_point(robot, options, i);
-            progress();
-            row
-        })
-        .collect()
+    let work = || {
+        indices
+            .par_iter()
+            .map(|&i| {
+                let row = run_point(robot, options, i);
+                progress();
+                row
+            })
+            .collect()
+    };
+    // Each thread holds one map: fewer threads when the maps are large (the memory budget).
+    let threads = options.concurrent_maps(rayon::current_num_threads());
+    if threads == rayon::current_num_threads() {
+        return work();
+    }
+    match rayon::ThreadPoolBuilder::new().num_threads(threads).build() {
+        Ok(pool) => pool.install(work),
+        Err(_) => indices.iter().map(|&i| run_point(robot, options, i).inspect(|_| progress())).collect(),
+    }
 }
 
 fn csv_error(path: &std::path::Path, e: csv::Error) -> Error {

@@ -108,6 +108,28 @@ impl Body<'_> {
     }
 }
 
+/// The name of the root element of an XML text: after the declaration, comments, processing
+/// instructions and the document type; `None` when there is none (the reader then refuses it).
+fn root_element(text: &str) -> Option<&str> {
+    let mut rest = text.trim_start_matches('\u{feff}');
+    loop {
+        rest = rest.trim_start();
+        let close = if rest.starts_with("<?") {
+            "?>"
+        } else if rest.starts_with("<!--") {
+            "-->"
+        } else if rest.starts_with("<!") {
+            ">"
+        } else {
+            break;
+        };
+        rest = &rest[rest.find(close)? + close.len()..];
+    }
+    let tag = rest.strip_prefix('<')?;
+    let end = tag.find(|c: char| c.is_whitespace() || c == '>' || c == '/').unwrap_or(tag.len());
+    Some(&tag[..end])
+}
+
 fn link_name(name: &str) -> String {
     format!("link `{}`", excerpt(name))
 }
@@ -134,6 +156,13 @@ impl Arm {
             reason: short_reason(&format!("not a valid URDF: {e}")),
         })?;
         let fail = |element: String, reason: String| InputError::Urdf { path: path.to_path_buf(), element, reason };
+        // The reader takes any root element's children: only `<robot>` is a URDF.
+        if let Some(name) = root_element(text).filter(|name| *name != "robot") {
+            return Err(fail(
+                format!("element `<{}>`", excerpt(name)),
+                "the root element of a URDF is `<robot>`".into(),
+            ));
+        }
         let mut links = HashMap::new();
         for link in &robot.links {
             if links.insert(link.name.as_str(), link).is_some() {
@@ -143,6 +172,14 @@ impl Arm {
         let mut parent_of: HashMap<&str, &Joint> = HashMap::new();
         let mut children: HashMap<&str, Vec<&Joint>> = HashMap::new();
         for joint in &robot.joints {
+            if let Some(mimic) = &joint.mimic {
+                let reason = format!(
+                    "mimics joint `{}`: mimic joints are not supported (every joint of the arm moves on its own); \
+                     remove the <mimic> or the joint",
+                    excerpt(&mimic.joint)
+                );
+                return Err(fail(joint_name(joint), reason));
+            }
             for end in [&joint.parent.link, &joint.child.link] {
                 if !links.contains_key(end.as_str()) {
                     return Err(fail(joint_name(joint), format!("names {}, which is not defined", link_name(end))));
@@ -315,6 +352,11 @@ fn check_joint(joint: &Joint) -> Result<(), String> {
         JointType::Revolute | JointType::Continuous => {
             let [x, y, z] = *joint.axis.xyz;
             let norm = (x * x + y * y + z * z).sqrt();
+            if !norm.is_finite() {
+                return Err(format!(
+                    "axis ({x}, {y}, {z}) is not finite: a planar arm's joints turn about +z (axis \"0 0 1\")"
+                ));
+            }
             if !(x.abs() <= tol * norm && y.abs() <= tol * norm && z > 0.0) {
                 return Err(format!(
                     "axis ({x}, {y}, {z}): a planar arm's joints turn about +z (axis \"0 0 1\"; for \"0 0 -1\" \

@@ -147,9 +147,7 @@ impl ChainOptions {
         let bad = |name: &str, value: f64, expected: &'static str| {
             Err(Error::from(InputError::InvalidParameter { name: name.into(), value, expected }))
         };
-        if !(self.tolerance > 0.0) {
-            return bad("tolerance", self.tolerance, "a positive number [rad]");
-        }
+        crate::plan::limits::check_tolerance("tolerance", self.tolerance)?;
         if self.coarse_spans < 2 || self.max_spans < self.coarse_spans || self.max_spans > 4096 {
             return bad("max_spans", self.max_spans as f64, "2 <= coarse_spans <= max_spans <= 4096");
         }

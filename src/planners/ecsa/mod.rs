@@ -128,12 +128,8 @@ impl EcsaOptions {
         if !(self.damping >= 0.0 && self.damping.is_finite()) {
             return bad("damping", self.damping, "a finite number >= 0");
         }
-        if self.samples < 2 {
-            return bad("samples", self.samples as f64, "at least 2");
-        }
-        if !(self.tolerance > 0.0) {
-            return bad("tolerance", self.tolerance, "a positive number [rad]");
-        }
+        crate::plan::limits::check_samples("samples", self.samples as u64)?;
+        crate::plan::limits::check_tolerance("tolerance", self.tolerance)?;
         Ok(())
     }
 }

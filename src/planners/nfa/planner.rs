@@ -6,7 +6,6 @@ use super::motion::NfaMotion;
 use super::normal_form::{NewtonOptions, NormalForm, Transform};
 use super::steering::{BandOptions, BandSteering, PolynomialSteering, Steering, keeps_to_band};
 use crate::error::Error;
-use crate::model::InputError;
 use crate::numerics::ode::OdeOptions;
 use serde::Serialize;
 
@@ -49,22 +48,11 @@ impl Default for NfaOptions {
 }
 
 impl NfaOptions {
-    /// Checks the options (at least two samples, a positive tolerance).
+    /// Checks the options: samples and tolerance within the bounds of every request
+    /// ([`crate::plan::limits`]).
     pub fn validate(&self) -> Result<(), Error> {
-        if self.samples < 2 {
-            return Err(Error::from(InputError::InvalidParameter {
-                name: "samples".into(),
-                value: self.samples as f64,
-                expected: "at least 2",
-            }));
-        }
-        if !(self.tolerance > 0.0) {
-            return Err(Error::from(InputError::InvalidParameter {
-                name: "tolerance".into(),
-                value: self.tolerance,
-                expected: "a positive number [rad]",
-            }));
-        }
+        crate::plan::limits::check_samples("samples", self.samples as u64)?;
+        crate::plan::limits::check_tolerance("tolerance", self.tolerance)?;
         Ok(())
     }
 }
