@@ -344,6 +344,9 @@ impl Error {
             E::Input(I::Trajectory { path, element, reason }) => {
                 json!({"path": path.display().to_string(), "element": element, "reason": reason})
             }
+            E::Input(I::TooMuchWork { what, work, limit, unit, hint }) => {
+                json!({"name": what, "work": work, "limit": limit, "unit": unit, "hint": hint})
+            }
             E::Input(I::NestedTooDeep { path, line, limit }) => {
                 json!({"path": path.display().to_string(), "line": line, "limit": limit})
             }
