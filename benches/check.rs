@@ -29,6 +29,8 @@ fn bench_check(c: &mut Criterion) {
         tolerance: 1e-9,
         torques: false,
         ecsa: Default::default(),
+        cost: Default::default(),
+        smooth_ends: false,
     };
     let planned = plan_arm(&arm, Method::Optimal, &request).expect("a certified plan");
     let names = default_joint_names(4);

@@ -413,7 +413,7 @@ pub fn plan_arm<'py>(
     };
     let problem = ChainProblem { start, goal, horizon: T, initial_velocity, wrap };
     problem.validate(&arm).py_result(py)?;
-    let request = ArmRequest { problem, samples, tolerance, torques, ecsa };
+    let request = ArmRequest { samples, tolerance, torques, ecsa, ..ArmRequest::new(problem) };
     let planned = py.detach(|| library_plan_arm(&arm, method, &request)).map_err(python_names).py_result(py)?;
 
     let report = ArmReport::new(&planned, &request.problem.start, &request.problem.goal, false);

@@ -40,6 +40,8 @@ pub fn run(
         tolerance: super::config::tolerance(p.tolerance)?,
         torques: p.torques,
         ecsa: super::ecsa_options(p)?,
+        cost: Default::default(),
+        smooth_ends: false,
     };
     let planned = plan_arm(arm, method, &request)?;
     let report = |with_trajectory| ArmReport::new(&planned, &problem.start, &problem.goal, with_trajectory);

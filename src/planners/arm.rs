@@ -14,6 +14,7 @@ use serde::Serialize;
 
 use super::chain::{ChainOptions, ChainPlan, ChainPlanner, ChainPoint, ChainProblem, ChainStats};
 use super::ecsa::{ChainEcsaPlan, ChainEcsaPlanner, ChainEcsaStats, EcsaOptions, Window};
+use super::optimal::Cost;
 use crate::error::Error;
 use crate::model::InputError;
 use crate::model::arm::Arm;
@@ -35,9 +36,28 @@ pub struct ArmRequest {
     pub torques: bool,
     /// The ECSA's harmonics and window (its tolerance is `tolerance`), for [`Method::Ecsa`].
     pub ecsa: EcsaOptions,
+    /// The cost the minimum-effort planner minimises, for [`Method::Optimal`] (default effort).
+    pub cost: Cost,
+    /// Quintic ends (`theta'' = 0` at both ends, torques from and to zero), for
+    /// [`Method::Optimal`] (default false).
+    pub smooth_ends: bool,
 }
 
 impl ArmRequest {
+    /// A request with the defaults: 1001 samples, tolerance 1e-9, no torques, the ECSA's and the
+    /// minimum-effort planner's default options.
+    pub fn new(problem: ChainProblem) -> Self {
+        Self {
+            problem,
+            samples: 1001,
+            tolerance: 1e-9,
+            torques: false,
+            ecsa: EcsaOptions::default(),
+            cost: Cost::Effort,
+            smooth_ends: false,
+        }
+    }
+
     /// Checks the request against the bounds of every request ([`crate::plan::limits`]):
     /// samples, tolerance, and the ECSA's options (harmonics, window). The problem itself is
     /// checked against the arm by the planner ([`ChainProblem::validate`]).
@@ -196,6 +216,14 @@ pub fn plan_arm(arm: &Arm, method: Method, request: &ArmRequest) -> Result<ArmPl
             name: "harmonics/window".into(),
             value: request.ecsa.harmonics as f64,
             expected: "the defaults (1 harmonic, no window) for another method than the ECSA: they shape the ECSA's controls only",
+        }));
+    }
+    if request.cost != Cost::Effort || request.smooth_ends {
+        return Err(Error::from(InputError::InvalidParameter {
+            name: if request.smooth_ends { "smooth_ends".into() } else { "cost".into() },
+            value: arm.joints() as f64,
+            expected: "the effort cost with cubic ends for this arm: the n-joint planner does not yet minimise \
+                       the energy or plan quintic ends (issue 19)",
         }));
     }
     let clock = Instant::now();

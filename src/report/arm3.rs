@@ -51,6 +51,8 @@ pub fn plan_arm3() -> Result<ArmPlanned, Error> {
         tolerance: 1e-9,
         torques: true,
         ecsa: Default::default(),
+        cost: Default::default(),
+        smooth_ends: false,
     };
     plan_arm(&three_link_arm()?, Method::Optimal, &request)
 }

@@ -148,7 +148,7 @@ fn arm_frames_show_every_link_where_the_joint_positions_put_it() {
     arm.mount = Mount::new(0.2, 0.1).expect("mount");
     let rad = |v: [f64; 4]| v.iter().map(|x: &f64| x.to_radians()).collect::<Vec<_>>();
     let problem = ChainProblem::rest_to_rest(rad([0.0, 60.0, -30.0, -30.0]), rad([30.0, 120.0, 40.0, -60.0]), 10.0);
-    let request = ArmRequest { problem, samples: 401, tolerance: 1e-9, torques: false, ecsa: Default::default() };
+    let request = ArmRequest { samples: 401, ..ArmRequest::new(problem) };
     let planned = plan_arm(&arm, Method::Optimal, &request).expect("a plan");
     let options = GifOptions::new(480, 480, 4).expect("valid");
     let clock = Instant::now();

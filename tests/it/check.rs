@@ -39,7 +39,7 @@ fn three_link_plan() -> (Arm, freefloat::planners::arm::ArmPlanned) {
     let arm = Arm::load(Path::new(&example("three_link.toml"))).expect("the example arm");
     let deg = |v: &[f64]| v.iter().map(|x| x.to_radians()).collect::<Vec<_>>();
     let problem = ChainProblem::rest_to_rest(deg(&[0.0, 30.0, 60.0, 45.0]), deg(&[30.0, 75.0, 20.0, 90.0]), 7.3);
-    let request = ArmRequest { problem, samples: 101, tolerance: 1e-9, torques: true, ecsa: Default::default() };
+    let request = ArmRequest { samples: 101, torques: true, ..ArmRequest::new(problem) };
     let planned = plan_arm(&arm, Method::Optimal, &request).expect("certified");
     (arm, planned)
 }

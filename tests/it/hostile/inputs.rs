@@ -81,6 +81,8 @@ fn library_options_carry_the_command_lines_bounds() {
         tolerance: 1e-9,
         torques: false,
         ecsa: freefloat::EcsaOptions::default(),
+        cost: Default::default(),
+        smooth_ends: false,
     };
     let e = plan_arm(&arm, Method::Optimal, &request).map(drop).expect_err("refused");
     assert!(e.is_bad_input() && e.to_string().contains("memory"), "{e}");
