@@ -120,6 +120,63 @@ pub struct ChainOptions {
     pub max_loop_radius: f64,
     /// SQP options of the refined solves.
     pub sqp: SqpOptions,
+    /// A path to start from (a re-plan's rest of the current reference): projected on the coarse
+    /// basis, solved and refined on the goal representative it ends at; when that converges and
+    /// certifies it is the plan, else the full search runs. Default none.
+    pub warm_start: Option<WarmStart>,
+}
+
+/// Sampled `(t, theta, theta')` of `n` joints, interpolated by cubic Hermite polynomials.
+#[derive(Debug, Clone, PartialEq)]
+pub struct WarmStart {
+    /// Equally spaced times from 0 \[s\].
+    pub t: Vec<f64>,
+    /// Joint angles at the times \[rad\], `n` per sample.
+    pub theta: Vec<Vec<f64>>,
+    /// Joint velocities at the times \[rad/s\], `n` per sample.
+    pub rate: Vec<Vec<f64>>,
+}
+
+impl WarmStart {
+    /// Checks the shape against `n` joints: at least 2 samples from `t = 0`, increasing times,
+    /// `n` finite angles and velocities per sample.
+    pub fn validate(&self, n: usize) -> Result<(), Error> {
+        let rows = |v: &Vec<Vec<f64>>| {
+            v.len() == self.t.len() && v.iter().all(|r| r.len() == n && r.iter().all(|x| x.is_finite()))
+        };
+        let times = self.t.first() == Some(&0.0)
+            && self.t.windows(2).all(|w| w[1] > w[0])
+            && self.t.iter().all(|x| x.is_finite());
+        if self.t.len() >= 2 && times && rows(&self.theta) && rows(&self.rate) {
+            Ok(())
+        } else {
+            Err(Error::from(InputError::InvalidParameter {
+                name: "warm_start".into(),
+                value: self.t.len() as f64,
+                expected: "at least 2 samples from t = 0 at increasing times, n finite angles and velocities each",
+            }))
+        }
+    }
+
+    /// The interpolated joint angles at `t` \[s\] (clamped to the samples' span) into `out`.
+    pub fn at(&self, t: f64, out: &mut [f64]) {
+        let m = self.t.len();
+        let i = self.t.partition_point(|&s| s <= t).clamp(1, m - 1) - 1;
+        let h = self.t[i + 1] - self.t[i];
+        let s = ((t - self.t[i]) / h).clamp(0.0, 1.0);
+        let (h00, h10, h01, h11) = (
+            2.0 * s * s * s - 3.0 * s * s + 1.0,
+            s * s * s - 2.0 * s * s + s,
+            -2.0 * s * s * s + 3.0 * s * s,
+            s * s * s - s * s,
+        );
+        for (j, o) in out.iter_mut().enumerate() {
+            *o = h00 * self.theta[i][j]
+                + h10 * h * self.rate[i][j]
+                + h01 * self.theta[i + 1][j]
+                + h11 * h * self.rate[i + 1][j];
+        }
+    }
 }
 
 impl Default for ChainOptions {
@@ -137,6 +194,7 @@ impl Default for ChainOptions {
             loop_planes: 2,
             max_loop_radius: 2.0,
             sqp: SqpOptions::default(),
+            warm_start: None,
         }
     }
 }

@@ -59,6 +59,11 @@ impl ChainPlanner {
             return self.single_joint(problem, prepared, &tables, clock);
         }
         let o = &self.options;
+        if let Some(path) = &o.warm_start
+            && let Some(plan) = self.warm(problem, path, &prepared, &tables, clock)?
+        {
+            return Ok(plan);
+        }
         let (mut seeds, mut iterations) = (0, 0);
         let mut best_failure: Option<Candidate> = None;
         let mut not_certified: Option<Error> = None;
@@ -139,6 +144,37 @@ impl ChainPlanner {
                 termination: "no_candidate",
             },
         })
+    }
+
+    /// The warm start's plan: its projection on the coarse basis of the representative it ends
+    /// at, solved, refined and certified; `None` when no representative matches or any step
+    /// fails (the full search follows).
+    fn warm(
+        &self,
+        problem: &ChainProblem,
+        path: &super::WarmStart,
+        prepared: &[Prepared],
+        tables: &Tables,
+        clock: Instant,
+    ) -> Result<Option<ChainPlan>, Error> {
+        path.validate(self.arm.joints())?;
+        let o = &self.options;
+        let Some(end) = path.theta.last() else { return Ok(None) };
+        let near = |p: &&Prepared| p.targets.end.iter().zip(end).all(|(a, b)| (a - b).abs() <= 1e-6);
+        let Some(p) = prepared.iter().find(near) else { return Ok(None) };
+        let disc = self.discretise(problem, p.targets.clone(), o.coarse_spans, o.quadrature_nodes, tables)?;
+        let Ok(x0) = disc.project(|t, out| path.at(t, out)) else { return Ok(None) };
+        let Ok(result) = sqp::solve(&disc, x0, &COARSE_SQP, None) else { return Ok(None) };
+        if !(result.c.abs() <= 1e-6 && result.f.is_finite()) {
+            return Ok(None);
+        }
+        let (spans, nodes, iterations) = (o.coarse_spans, o.quadrature_nodes, result.iterations);
+        let c = self.refine(problem, Candidate { disc, result, spans, nodes, iterations }, tables)?;
+        if !c.result.converged() {
+            return Ok(None);
+        }
+        let iterations = c.iterations;
+        Ok(self.certified(problem, &c, 1, iterations, clock).ok())
     }
 
     /// The discretisation of `targets` on `spans` uniform spans and `nodes` nodes per span.

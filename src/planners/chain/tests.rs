@@ -298,3 +298,35 @@ fn chain_torques_reproduce_the_plan() {
     assert!(c.certified, "{c:?}");
     assert!(c.max_abs_momentum <= 1e-10, "momentum {}", c.max_abs_momentum);
 }
+
+/// A warm start from a certified plan's own path returns that plan (the same minimum, a
+/// fraction of the search's work), whatever representative search would have tried first; a
+/// warm start ending at no representative falls back to the full search; a malformed one is bad
+/// input.
+#[test]
+fn chain_warm_start_from_the_plan_returns_it() {
+    let arm = three_link();
+    let problem = ChainProblem::rest_to_rest(vec![0.3, 0.5, -0.4, 0.8], vec![-0.2, 1.4, 0.3, -0.6], 10.0);
+    let cold = ChainPlanner::new(arm.clone(), ChainOptions::default()).plan(&problem).unwrap();
+    let points = cold.sample(129);
+    let path = WarmStart {
+        t: points.iter().map(|p| p.t).collect(),
+        theta: points.iter().map(|p| p.theta.clone()).collect(),
+        rate: points.iter().map(|p| p.rate.clone()).collect(),
+    };
+    let warm_options = ChainOptions { warm_start: Some(path.clone()), ..ChainOptions::default() };
+    let warm = ChainPlanner::new(arm.clone(), warm_options).plan(&problem).unwrap();
+    assert!(warm.verification.certified);
+    assert!((warm.effort() - cold.effort()).abs() <= 1e-6 * cold.effort(), "{} vs {}", warm.effort(), cold.effort());
+    assert_eq!(warm.stats.seeds, 1, "the warm start alone");
+    let mut elsewhere = path.clone();
+    for row in elsewhere.theta.iter_mut() {
+        row[0] += 1.0;
+    }
+    let fallback = ChainOptions { warm_start: Some(elsewhere), ..ChainOptions::default() };
+    let searched = ChainPlanner::new(arm.clone(), fallback).plan(&problem).unwrap();
+    assert!((searched.effort() - cold.effort()).abs() <= 1e-9 * cold.effort());
+    let broken = WarmStart { t: vec![0.0], theta: vec![vec![f64::NAN; 3]], rate: vec![vec![0.0; 3]] };
+    let bad = ChainOptions { warm_start: Some(broken), ..ChainOptions::default() };
+    assert!(matches!(ChainPlanner::new(arm, bad).plan(&problem), Err(Error::Input(_))));
+}
