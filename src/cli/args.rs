@@ -372,18 +372,20 @@ pub struct SweepRunArgs {
     /// Number of values of a and of b (both ends included): NA or NA,NB, each 1 to 100000.
     #[arg(long, value_name = "NA[,NB]", default_value = "41", allow_hyphen_values = true)]
     pub steps: String,
-    /// Grid size of each domain map, 3 to 8192.
-    #[arg(long, value_name = "N", default_value_t = 256, allow_hyphen_values = true)]
-    pub grid: usize,
-    /// Random start/goal pairs per mounting point.
-    #[arg(long, value_name = "K", default_value_t = 100, allow_hyphen_values = true)]
-    pub trials: usize,
-    /// Seed of the random pairs (the same pairs at every mounting point).
-    #[arg(long, default_value_t = 0, allow_hyphen_values = true)]
-    pub seed: u64,
-    /// NFA samples per plan, 2 to 1048576 (the verification is exact at any sample count).
-    #[arg(long, value_name = "N", default_value_t = 201, allow_hyphen_values = true)]
-    pub samples: u64,
+    /// Grid size of each domain map, 3 to 8192 [default: 256] (the NFA's metric: 2-link arms).
+    #[arg(long, value_name = "N", allow_hyphen_values = true)]
+    pub grid: Option<usize>,
+    /// Random start/goal pairs per mounting point [default: 100] (the NFA's metric).
+    #[arg(long, value_name = "K", allow_hyphen_values = true)]
+    pub trials: Option<usize>,
+    /// Seed of the random pairs (the same pairs at every mounting point) [default: 0] (the NFA's
+    /// metric).
+    #[arg(long, allow_hyphen_values = true)]
+    pub seed: Option<u64>,
+    /// NFA samples per plan, 2 to 1048576 (the verification is exact at any sample count)
+    /// [default: 201].
+    #[arg(long, value_name = "N", allow_hyphen_values = true)]
+    pub samples: Option<u64>,
     /// The start whose component is measured, the goal checked for connection with it, and the
     /// horizon of every plan.
     #[command(flatten)]
@@ -402,6 +404,10 @@ pub struct SweepRunArgs {
     /// milliseconds more each: use fewer points or trials).
     #[arg(long)]
     pub global: bool,
+    /// Also plan --from -> --to with the minimum-effort planner at each point and record its
+    /// effort (always, and alone, for an arm of another number of links than two).
+    #[arg(long)]
+    pub effort: bool,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]

@@ -236,7 +236,12 @@ fn reproduce_into(
         },
         || {
             let clock = Instant::now();
-            let rows = crate::analysis::sweep::run(&robot, &sweep_opts, Shard::ALL, &|| {});
+            let rows = crate::analysis::sweep::run(
+                &crate::model::arm::Arm::from_params(&robot),
+                &sweep_opts,
+                Shard::ALL,
+                &|| {},
+            );
             let seconds = clock.elapsed().as_secs_f64();
             progress(
                 &format!("{:<14} mount sweep, {} points", "fig16", sweep_opts.points()),

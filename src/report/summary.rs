@@ -247,9 +247,9 @@ impl SweepSummary {
             steps: options.a.steps,
             grid: options.grid,
             trials: options.trials,
-            best: crate::analysis::sweep::best(rows).map(|r| (r.a, r.b, r.best_rate())),
-            mean_rate: rows.iter().map(SweepRow::best_rate).sum::<f64>() / n,
-            connected_share: rows.iter().filter(|r| r.start_goal_connected).count() as f64 / n,
+            best: crate::analysis::sweep::best(rows).map(|r| (r.a, r.b, r.best_rate().unwrap_or(0.0))),
+            mean_rate: rows.iter().filter_map(SweepRow::best_rate).sum::<f64>() / n,
+            connected_share: rows.iter().filter(|r| r.start_goal_connected == Some(true)).count() as f64 / n,
             seconds,
         }
     }

@@ -104,7 +104,7 @@ fn empty_shard_writes_its_header() {
     let text = std::fs::read_to_string(path).expect("written");
     let lines: Vec<&str> = text.lines().collect();
     assert_eq!(lines.len(), 3, "{text}");
-    assert!(lines[0].starts_with("# freefloat-sweep v1 ") && lines[0].contains("shard=10/10 rows=0"), "{text}");
+    assert!(lines[0].starts_with("# freefloat-sweep v2 ") && lines[0].contains("shard=10/10 rows=0"), "{text}");
     assert!(lines[2].starts_with("index,points,a,b,"), "{text}");
 }
 

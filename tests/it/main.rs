@@ -12,5 +12,6 @@ mod layout;
 mod precision;
 mod properties;
 mod reproduce;
+mod sweep_cli;
 mod track;
 mod your_robot;

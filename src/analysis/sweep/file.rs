@@ -3,10 +3,10 @@
 //! and its checks are [`crate::analysis::shards`]'s).
 //!
 //! ```text
-//! # freefloat-sweep v1 run=<hash> shard=K/N rows=<count> checksum=<hash>
+//! # freefloat-sweep v2 run=<hash> shard=K/N rows=<count> checksum=<hash>
 //! # run: <every option of the sweep and the robot, in canonical form>
-//! index,points,a,b,...,global_rate,check
-//! 0,9,-0.3,-0.2,...,,<hash>
+//! index,points,a,b,...,global_rate,planned,effort,check
+//! 0,9,-0.3,-0.2,...,,,,<hash>
 //! ```
 //!
 //! A merged file is written by the same routine with `shard=1/1`, so it equals the unsharded run
@@ -17,13 +17,14 @@ use std::path::{Path, PathBuf};
 use super::{Shard, SweepOptions, SweepRow};
 use crate::analysis::shards::{self, FileKind, ShardFile, finite};
 use crate::error::Error;
-use crate::model::RobotParams;
+use crate::model::arm::Arm;
 
-/// The first words of a sweep file.
-pub const MAGIC: &str = "# freefloat-sweep v1";
+/// The first words of a sweep file (v2: the metrics optional, the effort columns; a v1 file of
+/// an earlier freefloat is refused as another format).
+pub const MAGIC: &str = "# freefloat-sweep v2";
 
 /// The CSV columns: [`SweepRow`]'s fields, then the row's `check`.
-pub const COLUMNS: [&str; 18] = [
+pub const COLUMNS: [&str; 20] = [
     "index",
     "points",
     "a",
@@ -42,23 +43,20 @@ pub const COLUMNS: [&str; 18] = [
     "eq11_rate",
     "global_successes",
     "global_rate",
+    "planned",
+    "effort",
 ];
 
-/// The canonical description of a run: every option that changes a row and the robot (without
-/// its mount, which the sweep chooses), floats in shortest round-trip form. The links' own
-/// inertias follow only when one is not zero, so that runs of point-mass robots keep the
-/// identity they had before link inertias existed.
-pub fn run_description(robot: &RobotParams, options: &SweepOptions) -> String {
+/// The canonical description of a run: every option that changes a row and the arm (without
+/// its mount, which the sweep chooses), floats in shortest round-trip form.
+pub fn run_description(arm: &Arm, options: &SweepOptions) -> String {
     let o = options;
-    let q = |c: crate::model::Configuration| format!("{:?},{:?},{:?}", c.phi, c.theta1, c.theta2);
-    let inertias = if robot.i1 == 0.0 && robot.i2 == 0.0 {
-        String::new()
-    } else {
-        format!(",i1:{:?},i2:{:?}", robot.i1, robot.i2)
-    };
+    let list = |v: &[f64]| v.iter().map(|x| format!("{x:?}")).collect::<Vec<_>>().join(",");
+    let links: Vec<String> =
+        arm.links.iter().map(|l| format!("l:{:?},d:{:?},m:{:?},i:{:?}", l.length, l.com, l.mass, l.inertia)).collect();
     format!(
         "a={:?},{:?},{} b={:?},{:?},{} grid={} trials={} seed={} samples={} horizon={:?} tolerance={:?} \
-         start={} goal={} global={} robot=l1:{:?},l2:{:?},d1:{:?},d2:{:?},M:{:?},I:{:?},m1:{:?},m2:{:?}{inertias}",
+         start={} goal={} global={} nfa={} effort={} robot=M:{:?},I:{:?};{}",
         o.a.min,
         o.a.max,
         o.a.steps,
@@ -71,17 +69,14 @@ pub fn run_description(robot: &RobotParams, options: &SweepOptions) -> String {
         o.samples,
         o.horizon,
         o.tolerance,
-        q(o.start),
-        q(o.goal),
+        list(&o.start),
+        list(&o.goal),
         o.global,
-        robot.l1,
-        robot.l2,
-        robot.d1,
-        robot.d2,
-        robot.base_mass,
-        robot.base_inertia,
-        robot.m1,
-        robot.m2,
+        o.nfa,
+        o.effort,
+        arm.base.mass,
+        arm.base.inertia,
+        links.join(";"),
     )
 }
 
@@ -111,23 +106,35 @@ fn check_row(r: &SweepRow, shard: Shard) -> Result<(), String> {
     let floats = [
         ("a", Some(r.a)),
         ("b", Some(r.b)),
-        ("start_component_fraction", Some(r.start_component_fraction)),
-        ("eq14_rate", Some(r.eq14_rate)),
+        ("start_component_fraction", r.start_component_fraction),
+        ("eq14_rate", r.eq14_rate),
         ("eq12_rate", r.eq12_rate),
         ("eq11_rate", r.eq11_rate),
         ("global_rate", r.global_rate),
+        ("effort", r.effort),
     ];
     for (name, x) in floats {
         x.map_or(Ok(()), |x| finite(name, x)).map_err(at)?;
     }
-    if !(0.0..=1.0).contains(&r.start_component_fraction) {
-        return Err(at(format!("start_component_fraction = {} is outside [0, 1]", r.start_component_fraction)));
+    if let Some(f) = r.start_component_fraction
+        && !(0.0..=1.0).contains(&f)
+    {
+        return Err(at(format!("start_component_fraction = {f} is outside [0, 1]")));
+    }
+    let nfa = [r.components.is_some(), r.start_component_fraction.is_some(), r.start_goal_connected.is_some()];
+    if nfa.iter().any(|&x| x != r.eq14_rate.is_some()) {
+        return Err(at("the NFA's columns are partly empty".into()));
+    }
+    match (r.planned, r.effort) {
+        (None, None) | (Some(false), None) => {}
+        (Some(true), Some(e)) if e >= 0.0 => {}
+        _ => return Err(at("planned and effort disagree (a certified plan has a non-negative effort)".into())),
     }
     if r.index >= r.points || !shard.holds(r.index) {
         return Err(at(format!("the index is not one of shard {}/{} of {} points", shard.k, shard.n, r.points)));
     }
     let rates = [
-        ("eq14", Some(r.eq14_successes), Some(r.eq14_rate)),
+        ("eq14", r.eq14_successes, r.eq14_rate),
         ("eq12", r.eq12_successes, r.eq12_rate),
         ("eq11", r.eq11_successes, r.eq11_rate),
         ("global", r.global_successes, r.global_rate),

@@ -1,6 +1,11 @@
 //! Mounting-point design (Sec. 6, item 3: "mount the on-board manipulator appropriately"): a grid
-//! of mounting points `(a, b)`, and at each the domain of Eq. (14) seen from `q0` and the success
-//! rate of the Normal Form Approach on random start/goal pairs.
+//! of mounting points `(a, b)`, and at each two metrics:
+//! - for the paper's 2-link robot, the domain of Eq. (14) seen from `q0` and the success rate of
+//!   the Normal Form Approach on random start/goal pairs ([`SweepOptions::nfa`]; the normal form
+//!   is the 2-joint robot's, so an arm of another number of links is refused with the reason);
+//! - for any arm, the effort `integral |theta'|^2 dt` of the certified minimum-effort plan of
+//!   the reference problem `start -> goal` ([`SweepOptions::effort`]): what the mount costs the
+//!   motion that matters to the user.
 //!
 //! A sweep is split into points numbered row-major (`index = ib * steps_a + ia`); every point is
 //! computed independently and deterministically from the options and its index, so a sweep can be
@@ -19,9 +24,12 @@ use serde::{Deserialize, Serialize};
 
 use crate::analysis::domain::DomainMap;
 use crate::error::Error;
+use crate::model::arm::Arm;
 use crate::model::{Configuration, Mount, RobotParams, paper_problem};
-use crate::plan::PlanningProblem;
+use crate::plan::{Method, PlanningProblem};
 use crate::planners::Planner;
+use crate::planners::arm::{ArmRequest, plan_arm};
+use crate::planners::chain::ChainProblem;
 use crate::planners::nfa::normal_form::Transform;
 use crate::planners::nfa::{NfaOptions, NormalFormPlanner};
 
@@ -69,7 +77,7 @@ impl Span {
 }
 
 /// What a sweep computes.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct SweepOptions {
     /// Values of `a` \[m\].
     pub a: Span,
@@ -88,13 +96,20 @@ pub struct SweepOptions {
     pub horizon: f64,
     /// Largest verified final error of a success \[rad\]; default 1e-9.
     pub tolerance: f64,
-    /// The configuration whose component is measured; default the paper's `q0`.
-    pub start: Configuration,
-    /// The goal checked for connection with `start`; default the paper's `qd`.
-    pub goal: Configuration,
+    /// `(phi, theta_1..theta_n)`: the configuration whose component is measured and the start
+    /// of the reference problem; default the paper's `q0`.
+    pub start: Vec<f64>,
+    /// The goal checked for connection with `start` and of the reference problem; default the
+    /// paper's `qd`.
+    pub goal: Vec<f64>,
     /// Also rate the global normal form (beyond the paper; band steering where needed, so each
     /// trial costs milliseconds more); default false.
     pub global: bool,
+    /// Map the domain of Eq. (14) and rate the NFA (2-link arms only); default true.
+    pub nfa: bool,
+    /// Plan the reference problem `start -> goal` in `horizon` with the minimum-effort planner at
+    /// every point and record its effort (any arm); default false.
+    pub effort: bool,
 }
 
 impl Default for SweepOptions {
@@ -110,9 +125,11 @@ impl Default for SweepOptions {
             samples: 201,
             horizon,
             tolerance: 1e-9,
-            start,
-            goal,
+            start: start.to_array().to_vec(),
+            goal: goal.to_array().to_vec(),
             global: false,
+            nfa: true,
+            effort: false,
         }
     }
 }
@@ -126,6 +143,13 @@ impl SweepOptions {
     /// at most [`MAX_SWEEP_PLANS`] plans, one domain map within the memory budget
     /// ([`crate::analysis::domain::check_map_memory`]).
     pub fn validate(&self) -> Result<(), Error> {
+        if !(self.nfa || self.effort) {
+            return Err(Error::from(InputError::InvalidParameter {
+                name: "metric".into(),
+                value: 0.0,
+                expected: "at least one metric: the NFA's domain and success rate (2-link arms) or the effort",
+            }));
+        }
         if self.trials == 0 {
             return Err(Error::from(InputError::InvalidParameter {
                 name: "trials".into(),
@@ -133,14 +157,14 @@ impl SweepOptions {
                 expected: "at least 1 trial per mounting point (a success rate of no trials is no rate)",
             }));
         }
-        let rated = 1.0 + f64::from(u8::from(self.global));
-        let plans = self.points() as f64 * self.trials as f64 * rated;
+        let rated = f64::from(u8::from(self.nfa)) * (1.0 + f64::from(u8::from(self.global)));
+        let plans = self.points() as f64 * (self.trials as f64 * rated + f64::from(u8::from(self.effort)));
         if plans > MAX_SWEEP_PLANS {
             return Err(Error::from(InputError::TooMuchWork {
                 what: format!("{} mounting points x {} trials", self.points(), self.trials),
                 work: plans,
                 limit: MAX_SWEEP_PLANS,
-                unit: "NFA plans",
+                unit: if self.effort { "plans (NFA and minimum-effort)" } else { "NFA plans" },
                 hint: "fewer points or trials".into(),
             }));
         }
@@ -151,12 +175,29 @@ impl SweepOptions {
                 expected: "a grid size between 3 and 8192",
             }));
         }
-        crate::analysis::domain::check_map_memory(self.grid)
+        if self.start.len() != self.goal.len() || self.start.len() < 2 {
+            return Err(Error::from(InputError::InvalidParameter {
+                name: "goal".into(),
+                value: self.goal.len() as f64,
+                expected: "a start and a goal of n + 1 angles each (phi, theta_1..theta_n)",
+            }));
+        }
+        if let Some(x) = self.start.iter().chain(&self.goal).find(|x| !x.is_finite()) {
+            return Err(Error::from(InputError::InvalidParameter {
+                name: "start/goal".into(),
+                value: *x,
+                expected: "finite angles [rad]",
+            }));
+        }
+        if self.nfa { crate::analysis::domain::check_map_memory(self.grid) } else { Ok(()) }
     }
 
     /// How many maps of this sweep may be built at once within the memory budget (at least 1,
     /// at most `threads`): the sweep runs on that many threads.
     pub fn concurrent_maps(&self, threads: usize) -> usize {
+        if !self.nfa {
+            return threads.max(1);
+        }
         let map = self.grid as u128 * self.grid as u128 * crate::analysis::domain::BYTES_PER_CELL;
         let fit = (crate::plan::limits::MEMORY_LIMIT / map.max(1)).max(1);
         threads.min(usize::try_from(fit).unwrap_or(usize::MAX)).max(1)
@@ -173,8 +214,11 @@ impl SweepOptions {
     }
 }
 
-/// One mounting point's results: one CSV row. Columns are the field names; `eq11_*`, `eq12_*`
-/// are empty where those transformations do not apply (`a, b != 0`).
+/// One mounting point's results: one CSV row. Columns are the field names; a metric that was
+/// not computed is empty: the NFA's (`components` .. `global_rate`) without
+/// [`SweepOptions::nfa`], `eq11_*`, `eq12_*` where those transformations do not apply
+/// (`a, b != 0`), `global_*` without [`SweepOptions::global`], `planned`, `effort` without
+/// [`SweepOptions::effort`].
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct SweepRow {
     /// Point index (row-major, `a` fastest).
@@ -192,15 +236,15 @@ pub struct SweepRow {
     /// Random pairs tried.
     pub trials: usize,
     /// Resolved components of the domain of Eq. (14).
-    pub components: usize,
+    pub components: Option<usize>,
     /// Area share of the component of `start` (the paper's `q0` by default).
-    pub start_component_fraction: f64,
+    pub start_component_fraction: Option<f64>,
     /// `start` and `goal` in one component.
-    pub start_goal_connected: bool,
+    pub start_goal_connected: Option<bool>,
     /// Certified NFA plans with Eq. (14).
-    pub eq14_successes: usize,
+    pub eq14_successes: Option<usize>,
     /// `eq14_successes / trials`.
-    pub eq14_rate: f64,
+    pub eq14_rate: Option<f64>,
     /// Certified NFA plans with Eq. (12) (`a = b = 0` only).
     pub eq12_successes: Option<usize>,
     /// `eq12_successes / trials`.
@@ -213,20 +257,23 @@ pub struct SweepRow {
     pub global_successes: Option<usize>,
     /// `global_successes / trials`.
     pub global_rate: Option<f64>,
+    /// The minimum-effort planner certified a plan of the reference problem here.
+    pub planned: Option<bool>,
+    /// That plan's effort `integral |theta'|^2 dt` \[rad^2/s\] (empty without a certified plan).
+    pub effort: Option<f64>,
 }
 
 impl SweepRow {
-    /// The best success rate over the transformations available at this point.
-    pub fn best_rate(&self) -> f64 {
-        [Some(self.eq14_rate), self.eq12_rate, self.eq11_rate, self.global_rate]
-            .into_iter()
-            .flatten()
-            .fold(0.0, f64::max)
+    /// The best NFA success rate over the transformations available at this point (`None`
+    /// without the NFA's metric).
+    pub fn best_rate(&self) -> Option<f64> {
+        let eq14 = self.eq14_rate?;
+        Some([self.eq12_rate, self.eq11_rate, self.global_rate].into_iter().flatten().fold(eq14, f64::max))
     }
 
     /// The transformation with [`SweepRow::best_rate`] (Eq. 14 on ties).
     pub fn best_transform(&self) -> Transform {
-        let mut best = (self.eq14_rate, Transform::Eq14);
+        let mut best = (self.eq14_rate.unwrap_or(0.0), Transform::Eq14);
         let rates = [
             (self.eq12_rate, Transform::Eq12),
             (self.eq11_rate, Transform::Eq11),
@@ -291,61 +338,128 @@ fn successes(robot: &RobotParams, transform: Transform, options: &SweepOptions) 
         .count()
 }
 
-/// Computes one point of the sweep.
-pub fn run_point(robot: &RobotParams, options: &SweepOptions, index: usize) -> Result<SweepRow, Error> {
+/// Computes one point of the sweep for `arm` (its mount replaced by the point's).
+pub fn run_point(arm: &Arm, options: &SweepOptions, index: usize) -> Result<SweepRow, Error> {
     let (a, b) = options.mount(index);
-    let robot = robot.with_mount(Mount::new(a, b)?)?;
-    let map = DomainMap::new(&robot, Transform::Eq14, options.grid)?;
-    let summary = map.summary(&options.start, &options.goal);
-    let trials = options.trials;
-    let rate = |s: usize| if trials == 0 { 0.0 } else { s as f64 / trials as f64 };
-    let eq14 = successes(&robot, Transform::Eq14, options);
-    let (eq12, eq11) = if robot.mount.is_centred() {
-        (Some(successes(&robot, Transform::Eq12, options)), Some(successes(&robot, Transform::Eq11, options)))
-    } else {
-        (None, None)
-    };
-    let global = options.global.then(|| successes(&robot, Transform::Global, options));
-    Ok(SweepRow {
+    let arm = Arm::new(arm.base, Mount::new(a, b)?, arm.links.clone())?;
+    let mut row = SweepRow {
         index,
         points: options.points(),
         a,
         b,
         grid: options.grid,
         seed: options.seed,
-        trials,
-        components: summary.components,
-        start_component_fraction: summary.start_component_fraction,
-        start_goal_connected: summary.start_goal_connected,
-        eq14_successes: eq14,
-        eq14_rate: rate(eq14),
-        eq12_successes: eq12,
-        eq12_rate: eq12.map(rate),
-        eq11_successes: eq11,
-        eq11_rate: eq11.map(rate),
-        global_successes: global,
-        global_rate: global.map(rate),
+        trials: options.trials,
+        components: None,
+        start_component_fraction: None,
+        start_goal_connected: None,
+        eq14_successes: None,
+        eq14_rate: None,
+        eq12_successes: None,
+        eq12_rate: None,
+        eq11_successes: None,
+        eq11_rate: None,
+        global_successes: None,
+        global_rate: None,
+        planned: None,
+        effort: None,
+    };
+    if options.nfa {
+        nfa_metrics(&nfa_robot(&arm)?, options, &mut row)?;
+    }
+    if options.effort {
+        let problem = ChainProblem::rest_to_rest(options.start.clone(), options.goal.clone(), options.horizon);
+        let request = ArmRequest { samples: 2, tolerance: options.tolerance, ..ArmRequest::new(problem) };
+        match plan_arm(&arm, Method::Optimal, &request) {
+            Ok(planned) if planned.certified().is_ok() => {
+                (row.planned, row.effort) = (Some(true), Some(planned.effort()))
+            }
+            Ok(_) | Err(Error::NotCertified { .. } | Error::OptimalFailed { .. } | Error::HolonomyFixed { .. }) => {
+                row.planned = Some(false)
+            }
+            Err(e) => return Err(e),
+        }
+    }
+    Ok(row)
+}
+
+/// The paper's 2-link model of `arm`, for the NFA's metric; another arm is bad input naming the
+/// reason.
+pub fn nfa_robot(arm: &Arm) -> Result<RobotParams, Error> {
+    arm.as_src().ok_or_else(|| {
+        Error::from(InputError::InvalidParameter {
+            name: "mount-sweep".into(),
+            value: arm.joints() as f64,
+            expected: "a 2-link arm with each centre of mass off its joint for the NFA's domain and success rate \
+                       (the paper's normal form, Eq. 10, is for two joints): sweep the effort instead (--effort)",
+        })
     })
+}
+
+/// The NFA's metrics at `robot`'s mount: the domain of Eq. (14) and the success rates.
+fn nfa_metrics(robot: &RobotParams, options: &SweepOptions, row: &mut SweepRow) -> Result<(), Error> {
+    let (start, goal) = (configuration(&options.start)?, configuration(&options.goal)?);
+    let map = DomainMap::new(robot, Transform::Eq14, options.grid)?;
+    let summary = map.summary(&start, &goal);
+    let trials = options.trials;
+    let rate = |s: usize| if trials == 0 { 0.0 } else { s as f64 / trials as f64 };
+    let eq14 = successes(robot, Transform::Eq14, options);
+    let (eq12, eq11) = if robot.mount.is_centred() {
+        (Some(successes(robot, Transform::Eq12, options)), Some(successes(robot, Transform::Eq11, options)))
+    } else {
+        (None, None)
+    };
+    let global = options.global.then(|| successes(robot, Transform::Global, options));
+    row.components = Some(summary.components);
+    row.start_component_fraction = Some(summary.start_component_fraction);
+    row.start_goal_connected = Some(summary.start_goal_connected);
+    (row.eq14_successes, row.eq14_rate) = (Some(eq14), Some(rate(eq14)));
+    (row.eq12_successes, row.eq12_rate) = (eq12, eq12.map(rate));
+    (row.eq11_successes, row.eq11_rate) = (eq11, eq11.map(rate));
+    (row.global_successes, row.global_rate) = (global, global.map(rate));
+    Ok(())
+}
+
+/// A 2-link configuration of three angles.
+fn configuration(q: &[f64]) -> Result<Configuration, Error> {
+    match q {
+        [phi, t1, t2] => Ok(Configuration::new(*phi, *t1, *t2)),
+        _ => Err(Error::from(InputError::InvalidParameter {
+            name: "start/goal".into(),
+            value: q.len() as f64,
+            expected: "3 angles (phi, theta1, theta2) for the 2-link robot's NFA metric",
+        })),
+    }
 }
 
 /// Runs the points of `shard` on rayon's threads (fewer when the maps are large:
 /// [`SweepOptions::concurrent_maps`]), calling `progress` after each point, after checking the
 /// budgets ([`SweepOptions::validate`]). Rows come back in index order.
 pub fn run(
-    robot: &RobotParams,
+    arm: &Arm,
     options: &SweepOptions,
     shard: Shard,
     progress: &(dyn Fn() + Sync),
 ) -> Result<Vec<SweepRow>, Error> {
     use rayon::prelude::*;
-    robot.validate()?;
+    arm.validate()?;
     options.validate()?;
+    if options.nfa {
+        nfa_robot(arm)?;
+    }
+    if options.start.len() != arm.joints() + 1 {
+        return Err(Error::from(InputError::InvalidParameter {
+            name: "start".into(),
+            value: options.start.len() as f64,
+            expected: "n + 1 angles (phi, theta_1..theta_n) for this arm",
+        }));
+    }
     let indices: Vec<usize> = shard.indices(options.points()).collect();
     let work = || {
         indices
             .par_iter()
             .map(|&i| {
-                let row = run_point(robot, options, i);
+                let row = run_point(arm, options, i);
                 progress();
                 row
             })
@@ -358,7 +472,7 @@ pub fn run(
     }
     match rayon::ThreadPoolBuilder::new().num_threads(threads).build() {
         Ok(pool) => pool.install(work),
-        Err(_) => indices.iter().map(|&i| run_point(robot, options, i).inspect(|_| progress())).collect(),
+        Err(_) => indices.iter().map(|&i| run_point(arm, options, i).inspect(|_| progress())).collect(),
     }
 }
 
@@ -423,13 +537,19 @@ pub fn merge(parts: impl IntoIterator<Item = SweepRow>) -> Result<Vec<SweepRow>,
     Ok(rows)
 }
 
-/// The best mounting point: the highest [`SweepRow::best_rate`], then the largest
-/// start-component fraction, then the lowest index.
+/// The best mounting point by the NFA: the highest [`SweepRow::best_rate`], then the largest
+/// start-component fraction, then the lowest index (`None` without the NFA's metric).
 pub fn best(rows: &[SweepRow]) -> Option<&SweepRow> {
-    rows.iter().reduce(|best, r| {
+    rows.iter().filter(|r| r.best_rate().is_some()).reduce(|best, r| {
         let key = |r: &SweepRow| (r.best_rate(), r.start_component_fraction);
         if key(r) > key(best) { r } else { best }
     })
+}
+
+/// The mounting point of least certified effort (the lowest index on ties; `None` without the
+/// effort metric or a certified plan).
+pub fn least_effort(rows: &[SweepRow]) -> Option<&SweepRow> {
+    rows.iter().filter(|r| r.effort.is_some()).reduce(|best, r| if r.effort < best.effort { r } else { best })
 }
 
 #[cfg(test)]

@@ -10,28 +10,68 @@ use super::{FONT, Painter, PictureFormat, picture_error, render, round_label, vi
 use crate::analysis::sweep::SweepRow;
 use crate::error::Error;
 
-/// The size \[px\] of a sweep picture ([`sweep_picture`]).
+/// The size \[px\] of a sweep picture of the NFA's two panels ([`sweep_picture`]); each more
+/// panel adds half the width.
 pub const SWEEP_SIZE: (u32, u32) = (1300, 620);
 
-/// The heat maps of a mount sweep: start-component fraction and best NFA success rate over
-/// `(a, b)`, each coloured from its smallest to its largest value, the best point marked.
+/// One heat map: its title, its colour bar's title, the value of a row (`None`: not computed or
+/// no certified plan, drawn grey) and the point it marks.
+struct Panel<'a> {
+    title: String,
+    bar: &'static str,
+    value: fn(&SweepRow) -> Option<f64>,
+    mark: Option<(&'a SweepRow, &'static str)>,
+}
+
+/// The heat maps of a mount sweep over `(a, b)`, each coloured from its smallest to its largest
+/// value: with the NFA's metric the start-component fraction and the best NFA success rate (the
+/// best point marked), with the effort metric the effort of the reference plan (the least marked,
+/// points without a certified plan grey).
 pub fn sweep_picture(rows: &[SweepRow], format: PictureFormat, path: &Path) -> Result<Vec<u8>, Error> {
-    if rows.is_empty() {
+    let Some(first) = rows.first() else {
         return Err(picture_error(path, "no sweep rows to draw"));
+    };
+    let mut panels = Vec::new();
+    if first.eq14_rate.is_some() {
+        let best = crate::analysis::sweep::best(rows).map(|r| (r, "best"));
+        panels.push(Panel {
+            title: format!("Start-component fraction (grid {})", first.grid),
+            bar: "fraction of the torus",
+            value: |r| r.start_component_fraction,
+            mark: best,
+        });
+        panels.push(Panel {
+            title: format!("Best NFA success rate ({} random pairs)", first.trials),
+            bar: "success rate",
+            value: SweepRow::best_rate,
+            mark: best,
+        });
     }
-    struct Sweep<'a>(&'a [SweepRow], Option<&'a SweepRow>);
+    if first.planned.is_some() {
+        panels.push(Panel {
+            title: "Effort of the minimum-effort plan".into(),
+            bar: "effort [rad^2/s]",
+            value: |r| r.effort,
+            mark: crate::analysis::sweep::least_effort(rows).map(|r| (r, "least")),
+        });
+    }
+    if panels.is_empty() {
+        return Err(picture_error(path, "the sweep rows hold no metric to draw"));
+    }
+    struct Sweep<'a>(&'a [SweepRow], Vec<Panel<'a>>);
     impl Painter for Sweep<'_> {
         fn paint<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), String> {
-            draw_sweep(root, self.0, self.1)
+            draw_sweep(root, self.0, &self.1)
         }
     }
-    render(path, format, SWEEP_SIZE, &Sweep(rows, crate::analysis::sweep::best(rows)))
+    let width = SWEEP_SIZE.0 / 2 * panels.len() as u32;
+    render(path, format, (width, SWEEP_SIZE.1), &Sweep(rows, panels))
 }
 
 fn draw_sweep<DB: DrawingBackend>(
     root: &DrawingArea<DB, Shift>,
     rows: &[SweepRow],
-    best: Option<&SweepRow>,
+    panels: &[Panel<'_>],
 ) -> Result<(), String> {
     let e = |x: DrawingAreaErrorKind<DB::ErrorType>| x.to_string();
     root.fill(&WHITE).map_err(e)?;
@@ -45,20 +85,17 @@ fn draw_sweep<DB: DrawingBackend>(
     let (da, db) = (step(&a_values), step(&b_values));
     let a_range = (a_values[0] - da / 2.0)..(a_values[a_values.len() - 1] + da / 2.0);
     let b_range = (b_values[0] - db / 2.0)..(b_values[b_values.len() - 1] + db / 2.0);
-    let trials = rows[0].trials;
-    let root = root
-        .titled("Fig. 16: mounting-point map of the domain of Eq. (14) and of the NFA's success", (FONT, 22))
-        .map_err(e)?;
-    let panels = root.split_evenly((1, 2));
-    let bar_titles = ["fraction of the torus", "success rate"];
-    let titles = [
-        format!("Start-component fraction (grid {})", rows[0].grid),
-        format!("Best NFA success rate ({trials} random pairs)"),
-    ];
-    for (k, panel) in panels.iter().enumerate() {
-        let (plot, bar) = panel.split_horizontally(560);
+    let title = if rows[0].eq14_rate.is_some() {
+        "Fig. 16: mounting-point map of the domain of Eq. (14) and of the NFA's success"
+    } else {
+        "Mounting-point map of the minimum-effort plan's effort"
+    };
+    let root = root.titled(title, (FONT, 22)).map_err(e)?;
+    let areas = root.split_evenly((1, panels.len()));
+    for (panel, area) in panels.iter().zip(&areas) {
+        let (plot, bar) = area.split_horizontally(560);
         let mut chart = ChartBuilder::on(&plot)
-            .caption(&titles[k], (FONT, 19))
+            .caption(&panel.title, (FONT, 19))
             .margin(12)
             .x_label_area_size(45)
             .y_label_area_size(60)
@@ -75,29 +112,28 @@ fn draw_sweep<DB: DrawingBackend>(
             .y_label_formatter(&|y| format!("{:.2}", round_label(*y)))
             .draw()
             .map_err(e)?;
-        let value = |r: &SweepRow| if k == 0 { r.start_component_fraction } else { r.best_rate() };
-        let max = rows.iter().map(value).fold(f64::NEG_INFINITY, f64::max);
-        let min = rows.iter().map(value).fold(f64::INFINITY, f64::min);
+        let value = panel.value;
+        let max = rows.iter().filter_map(value).fold(f64::NEG_INFINITY, f64::max);
+        let min = rows.iter().filter_map(value).fold(f64::INFINITY, f64::min);
+        let (min, max) = if min <= max { (min, max) } else { (0.0, 1.0) };
         let span = (max - min).max(1e-12);
         chart
             .draw_series(rows.iter().map(|r| {
-                Rectangle::new(
-                    [(r.a - da / 2.0, r.b - db / 2.0), (r.a + da / 2.0, r.b + db / 2.0)],
-                    viridis((value(r) - min) / span).filled(),
-                )
+                let colour = value(r).map_or(RGBColor(190, 190, 190), |v| viridis((v - min) / span));
+                Rectangle::new([(r.a - da / 2.0, r.b - db / 2.0), (r.a + da / 2.0, r.b + db / 2.0)], colour.filled())
             }))
             .map_err(e)?;
-        if let Some(b) = best {
+        if let Some((b, label)) = panel.mark {
             chart
                 .draw_series(std::iter::once(
                     EmptyElement::at((b.a, b.b))
                         + Circle::new((0, 0), 8, RED.stroke_width(3))
-                        + Text::new("best", (10, -20), (FONT, 15).into_font().color(&RED)),
+                        + Text::new(label, (10, -20), (FONT, 15).into_font().color(&RED)),
                 ))
                 .map_err(e)?;
         }
         // Colour bar from the panel's smallest to its largest value, with what it measures.
-        bar.draw(&Text::new(bar_titles[k], (4, 24), (FONT, 14).into_font().color(&BLACK))).map_err(e)?;
+        bar.draw(&Text::new(panel.bar, (4, 24), (FONT, 14).into_font().color(&BLACK))).map_err(e)?;
         let (_, height) = bar.dim_in_pixel();
         let (top, bottom) = (60i32, height as i32 - 60);
         for y in top..bottom {
