@@ -176,7 +176,7 @@ pub fn run(args: &PlanArgs) -> anyhow::Result<ExitCode> {
 /// shown); 2 for bad input.
 pub fn compare(args: &CompareArgs) -> anyhow::Result<ExitCode> {
     if let super::Robot::Arm(arm) = super::any_robot(&args.problem.robot)? {
-        return super::plan_arm::compare(args, &arm);
+        return super::compare_arm::compare(args, &arm);
     }
     let problem = super::problem(&args.problem)?;
     let mut results = Vec::new();
