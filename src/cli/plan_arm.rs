@@ -19,7 +19,7 @@ use freefloat::report::plot::arm_animation_gif;
 
 use freefloat::plan::ros::Encoding;
 
-use super::args::{CostArg, ElbowArg, Format, PlanArgs, ProblemArgs, RobotArgs, TransformArg};
+use super::args::{CostArg, ElbowArg, Format, PlanArgs, ProblemArgs, RobotArgs, TransformArg, WindowArg};
 use super::ros::OutKind;
 
 /// Runs `plan` for `arm`: exit 0 with a certified plan, 2 for bad input (e.g. a flag the
@@ -38,6 +38,9 @@ pub fn run(
     let method = args.method.map(Method::from).unwrap_or(Method::Optimal);
     if method == Method::Ecsa && (p.smooth_ends || p.cost != CostArg::Effort || p.no_wrap) {
         bail!("--smooth-ends/--cost/--no-wrap apply to --method optimal, not to --method ecsa");
+    }
+    if method != Method::Ecsa && (p.harmonics != 1 || p.window != WindowArg::None) {
+        bail!("--harmonics/--window apply to --method ecsa, not to --method {}", method.name());
     }
     let Planning { planned, problem, notes, to_ee } = plan_problem(p, arm, method)?.map_err(|e| name_flag(e, p))?;
     let report = |with_trajectory| {
@@ -273,6 +276,9 @@ fn tool_note(robot: &RobotArgs, arm: &Arm) -> anyhow::Result<String> {
 /// every flag). `--harmonics` and `--window` with another method than the ECSA are the
 /// library's refusal ([`plan_arm`]).
 pub(super) fn refuse_flags(p: &ProblemArgs, arm: &Arm) -> anyhow::Result<()> {
+    if p.elbow.is_some() && p.to_ee.is_none() {
+        bail!("--elbow chooses the inverse-kinematics solution of --to-ee: give --to-ee X,Y,PSI, or drop --elbow");
+    }
     if p.transform != TransformArg::Auto {
         bail!(
             "--transform: the NFA's feedback transformations are the 2-link robot's (its normal form is for two \
