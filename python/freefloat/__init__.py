@@ -12,13 +12,21 @@ Angles in radians, SI units, results as NumPy arrays::
     ee = ff.plan(robot, p.q[0], T=10.0, goal_ee=(0.3, 0.4, np.radians(100)))  # task space
 
 Any planar serial arm (n links with inertias, from a TOML ``[[link]]`` file or a URDF) is an
-:class:`Arm`, planned by :func:`plan_arm` (the minimum-effort planner; ``q = (phi, theta_1..
-theta_n)``, relative joint angles)::
+:class:`Arm`, planned by the same :func:`plan` (the minimum-effort planner or the ECSA; ``q =
+(phi, theta_1..theta_n)``, relative joint angles); the result, an :class:`ArmPlan`, has the same
+arrays as a :class:`Plan` (``t, q, dq, ddq, tau, base, end_effector, end_effector_velocity``)::
 
     arm = ff.Arm.from_file("examples/robots/three_link.toml")
-    a = ff.plan_arm(arm, [0, 0.3, -0.4, 0.2], [0.5, 0.8, 0.2, -0.3], 10.0, torques=True)
-    a.q.shape, a.tau.shape, a.final_error, a.certificate["torque_certificate"]["certified"]
+    a = ff.plan(arm, [0, 0.3, -0.4, 0.2], [0.5, 0.8, 0.2, -0.3], 10.0, torques=True)
+    a.q.shape, a.tau.shape, a.end_effector[-1], a.certificate["torque_certificate"]["certified"]
+
+``plan_arm`` is kept as a deprecated alias of :func:`plan` for arms.
 """
+
+import warnings as _warnings
+from typing import Any as _Any
+from typing import Union as _Union
+
 
 from ._errors import BadInput, FreefloatError, NoPlan, NotCertified
 from ._freefloat import (
@@ -31,10 +39,54 @@ from ._freefloat import (
     __version__,
     compare,
     domain,
-    plan,
-    plan_arm,
     track,
 )
+from ._freefloat import plan as _plan_robot
+from ._freefloat import plan_arm as _plan_arm
+
+#: Keywords of :func:`plan` that an arm of another number of links than 2 takes.
+_ARM_KEYWORDS = frozenset(
+    ("samples", "torques", "wrap", "initial_velocity", "tolerance", "method", "harmonics", "window",
+     "smooth_ends", "cost")
+)
+
+
+def plan(robot: _Union[Robot, Arm], start: _Any, goal: _Any = None, T: _Any = None, **kwargs: _Any) -> _Any:
+    """Plans a motion of ``robot`` (a :class:`Robot`, or an :class:`Arm` of any number of
+    links) from ``start`` to ``goal`` in ``T`` seconds and certifies it.
+
+    A :class:`Robot`, or a 2-link :class:`Arm` that is the paper's model, takes every method and
+    keyword and returns a :class:`Plan`; any other :class:`Arm` takes ``method="optimal"`` or
+    ``"ecsa"`` and the keywords ``samples, torques, wrap, initial_velocity, tolerance,
+    harmonics, window, smooth_ends, cost`` and returns an :class:`ArmPlan` with the same arrays
+    (``goal_ee`` for such an arm is the command line's ``--to-ee`` for now). Bad input raises
+    :class:`BadInput`, a plan that is not certified :class:`NotCertified`.
+    """
+    if isinstance(robot, Arm):
+        if robot.joints == 2:
+            try:
+                robot = robot.to_robot()
+            except BadInput:
+                pass
+        if isinstance(robot, Arm):
+            unknown = sorted(set(kwargs) - _ARM_KEYWORDS)
+            if unknown:
+                raise BadInput(
+                    f"plan: {', '.join(unknown)} not available for an arm of {robot.joints} link(s): "
+                    f"expected only {', '.join(sorted(_ARM_KEYWORDS))} (goal_ee: freefloat plan --to-ee)"
+                )
+            if goal is None or T is None:
+                raise BadInput("plan: an arm takes start, goal and T (n + 1 angles each, T in s)")
+            return _plan_arm(robot, start, goal, T, **kwargs)
+    return _plan_robot(robot, start, goal, T, **kwargs)
+
+
+def plan_arm(arm: _Union[Robot, Arm], start: _Any, goal: _Any, T: float, **kwargs: _Any) -> ArmPlan:
+    """Deprecated alias: :func:`plan` takes any arm."""
+    _warnings.warn("freefloat.plan_arm is deprecated: use freefloat.plan(arm, ...)", DeprecationWarning, stacklevel=2)
+    return _plan_arm(arm, start, goal, T, **kwargs)
+
+
 
 __all__ = [
     "METHODS",

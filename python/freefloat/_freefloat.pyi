@@ -525,6 +525,21 @@ class ArmPlan:
     def ddtheta(self) -> npt.NDArray[np.float64]:
         """Joint accelerations [rad/s^2], shape (S, n), exact."""
     @property
+    def ddq(self) -> npt.NDArray[np.float64]:
+        """Accelerations (phi'', theta_1''..theta_n'') [rad/s^2], shape (S, n + 1): the base's
+        Eq. 7 differentiated along the motion, then ``ddtheta``."""
+    @property
+    def base(self) -> npt.NDArray[np.float64]:
+        """The base's centre of mass (xb, yb) [m], shape (S, 2), inertial frame with the
+        system's centre of mass at the origin (its angle is ``q[:, 0]``)."""
+    @property
+    def end_effector(self) -> npt.NDArray[np.float64]:
+        """The tool's pose (xe, ye, psie) [m, m, rad], shape (S, 3): the tip of link n (a URDF's
+        tool frame), ``psie = phi + theta_1 + .. + theta_n``."""
+    @property
+    def end_effector_velocity(self) -> npt.NDArray[np.float64]:
+        """Its velocity [m/s, m/s, rad/s], shape (S, 3), exact."""
+    @property
     def tau(self) -> Optional[npt.NDArray[np.float64]]:
         """Joint torques [N m], shape (S, n), with ``torques=True``, else None."""
     @property
@@ -571,8 +586,14 @@ def plan_arm(
     method: _Method = "optimal",
     harmonics: int = 1,
     window: Literal["none", "sin2"] = "none",
+    smooth_ends: bool = False,
+    cost: _CostName = "effort",
 ) -> ArmPlan:
-    """Plans the minimum-effort motion of ``arm`` from ``start`` to ``goal`` = (phi,
+    """Deprecated as ``freefloat.plan_arm`` (a ``DeprecationWarning``): ``freefloat.plan(arm,
+    ...)`` takes any arm and calls this. ``smooth_ends`` and ``cost="energy"`` are refused
+    (:class:`BadInput`) until the one minimum-effort planner carries them (issue 19).
+
+    Plans the minimum-effort motion of ``arm`` from ``start`` to ``goal`` = (phi,
     theta_1..theta_n) [rad, relative joint angles; n + 1 values] in ``T`` [s] at zero angular
     momentum, to rest at the goal, and certifies it (the planner of ``freefloat plan`` for an
     arm of any ``n``). A 2-link :class:`Robot` is accepted and planned as an arm;

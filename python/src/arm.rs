@@ -7,6 +7,7 @@ use std::path::PathBuf;
 
 use freefloat::planners::arm::{ArmRequest, plan_arm as library_plan_arm};
 use freefloat::planners::chain::ChainProblem;
+use freefloat::planners::optimal::Cost;
 use freefloat::report::arm::{ArmReport, trajectory};
 use freefloat::{Arm, Base, EcsaOptions, Link, Method, Mount, Window};
 use numpy::ndarray::Array2;
@@ -262,6 +263,18 @@ pub struct PyArmPlan {
     /// Joint accelerations [rad/s^2], shape (S, n).
     #[pyo3(get)]
     ddtheta: Py<PyArray2<f64>>,
+    /// Accelerations (phi'', theta_1''..theta_n'') [rad/s^2], shape (S, n + 1).
+    #[pyo3(get)]
+    ddq: Py<PyArray2<f64>>,
+    /// The base's centre of mass (xb, yb) [m], shape (S, 2), the system's centre of mass at 0.
+    #[pyo3(get)]
+    base: Py<PyArray2<f64>>,
+    /// The tool's pose (xe, ye, psie) [m, m, rad], shape (S, 3).
+    #[pyo3(get)]
+    end_effector: Py<PyArray2<f64>>,
+    /// Its velocity [m/s, m/s, rad/s], shape (S, 3).
+    #[pyo3(get)]
+    end_effector_velocity: Py<PyArray2<f64>>,
     /// Joint torques [N m], shape (S, n), with torques=True, else None.
     #[pyo3(get)]
     tau: Option<Py<PyArray2<f64>>>,
@@ -303,6 +316,10 @@ impl PyArmPlan {
         state.set_item("q", self.q.clone_ref(py))?;
         state.set_item("dq", self.dq.clone_ref(py))?;
         state.set_item("ddtheta", self.ddtheta.clone_ref(py))?;
+        state.set_item("ddq", self.ddq.clone_ref(py))?;
+        state.set_item("base", self.base.clone_ref(py))?;
+        state.set_item("end_effector", self.end_effector.clone_ref(py))?;
+        state.set_item("end_effector_velocity", self.end_effector_velocity.clone_ref(py))?;
         state.set_item("tau", self.tau.as_ref().map(|a| a.clone_ref(py)))?;
         state.set_item("method", &self.method)?;
         state.set_item("joints", self.joints)?;
@@ -336,6 +353,11 @@ fn matrix<'py>(py: Python<'py>, rows: &[Vec<f64>], width: usize) -> PyResult<Bou
     Ok(array.into_pyarray(py))
 }
 
+/// Fixed-size rows as rows of a matrix.
+fn rows<const N: usize>(v: &[[f64; N]]) -> Vec<Vec<f64>> {
+    v.iter().map(|r| r.to_vec()).collect()
+}
+
 /// The arm of `plan_arm(arm, ...)`: an `Arm`, or a 2-link `Robot` converted.
 fn any_arm(arm: &Bound<'_, PyAny>) -> PyResult<Arm> {
     if let Ok(arm) = arm.cast::<PyArm>() {
@@ -362,7 +384,7 @@ fn python_names(e: freefloat::Error) -> freefloat::Error {
 #[pyfunction]
 #[pyo3(signature = (
     arm, start, goal, T, *, samples = 1001, torques = false, wrap = true, initial_velocity = None,
-    tolerance = 1e-9, method = "optimal", harmonics = 1, window = "none"
+    tolerance = 1e-9, method = "optimal", harmonics = 1, window = "none", smooth_ends = false, cost = "effort"
 ))]
 #[allow(non_snake_case, clippy::too_many_arguments)]
 pub fn plan_arm<'py>(
@@ -379,6 +401,8 @@ pub fn plan_arm<'py>(
     method: &str,
     harmonics: i64,
     window: &str,
+    smooth_ends: bool,
+    cost: &str,
 ) -> PyResult<Bound<'py, PyArmPlan>> {
     let arm = any_arm(arm)?;
     let n = arm.joints();
@@ -413,7 +437,18 @@ pub fn plan_arm<'py>(
     };
     let problem = ChainProblem { start, goal, horizon: T, initial_velocity, wrap };
     problem.validate(&arm).py_result(py)?;
-    let request = ArmRequest { samples, tolerance, torques, ecsa, ..ArmRequest::new(problem) };
+    let cost = match cost {
+        "effort" => Cost::Effort,
+        "energy" => Cost::Energy,
+        other => {
+            let message = format!("unknown cost {other:?}");
+            let expected = "\"effort\" or \"energy\"";
+            return Err(
+                BindingError::Key { kind: "invalid_parameter", name: "cost".into(), message, expected }.into_pyerr(py)
+            );
+        }
+    };
+    let request = ArmRequest { samples, tolerance, torques, ecsa, cost, smooth_ends, ..ArmRequest::new(problem) };
     let planned = py.detach(|| library_plan_arm(&arm, method, &request)).map_err(python_names).py_result(py)?;
 
     let report = ArmReport::new(&planned, &request.problem.start, &request.problem.goal, false);
@@ -427,6 +462,10 @@ pub fn plan_arm<'py>(
         q: matrix(py, &tr.q, n + 1)?.unbind(),
         dq: matrix(py, &tr.dq, n + 1)?.unbind(),
         ddtheta: matrix(py, &tr.ddtheta, n)?.unbind(),
+        ddq: matrix(py, &tr.ddq, n + 1)?.unbind(),
+        base: matrix(py, &rows(&tr.base), 2)?.unbind(),
+        end_effector: matrix(py, &rows(&tr.end_effector), 3)?.unbind(),
+        end_effector_velocity: matrix(py, &rows(&tr.end_effector_velocity), 3)?.unbind(),
         tau: tr.tau.as_deref().map(|tau| matrix(py, tau, n).map(Bound::unbind)).transpose()?,
         method: planned.method.name().to_string(),
         joints: n,
@@ -458,6 +497,10 @@ pub fn _arm_plan_from_state(state: &Bound<'_, PyDict>) -> PyResult<PyArmPlan> {
         q: get("q")?.extract()?,
         dq: get("dq")?.extract()?,
         ddtheta: get("ddtheta")?.extract()?,
+        ddq: get("ddq")?.extract()?,
+        base: get("base")?.extract()?,
+        end_effector: get("end_effector")?.extract()?,
+        end_effector_velocity: get("end_effector_velocity")?.extract()?,
         tau: get("tau")?.extract()?,
         method: get("method")?.extract()?,
         joints: get("joints")?.extract()?,

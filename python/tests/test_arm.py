@@ -30,7 +30,7 @@ def three_link():
 
 @pytest.fixture(scope="module")
 def three_link_plan(three_link):
-    return ff.plan_arm(three_link, ARM_START, ARM_GOAL, 10.0, torques=True)
+    return ff.plan(three_link, ARM_START, ARM_GOAL, 10.0, torques=True)
 
 
 def test_the_robot_file_loads(three_link):
@@ -87,7 +87,7 @@ def test_three_link_rest_to_rest_is_certified(three_link, three_link_plan):
 
 
 def test_without_torques_there_are_none(three_link):
-    p = ff.plan_arm(three_link, ARM_START, ARM_GOAL, 10.0, samples=51)
+    p = ff.plan(three_link, ARM_START, ARM_GOAL, 10.0, samples=51)
     assert p.tau is None and p.q.shape == (51, 4) and p.ddtheta.shape == (51, 3)
     assert "torque_certificate" not in p.certificate
     assert repr(p).startswith("ArmPlan(method='optimal', joints=3, samples=51, final_error=")
@@ -95,11 +95,11 @@ def test_without_torques_there_are_none(three_link):
 
 def test_planning_in_threads(three_link):
     # The GIL is released while planning; two threads give the plan of one.
-    expected = ff.plan_arm(three_link, ARM_START, ARM_GOAL, 10.0, samples=101).q
+    expected = ff.plan(three_link, ARM_START, ARM_GOAL, 10.0, samples=101).q
     results = [None, None]
 
     def work(i):
-        results[i] = ff.plan_arm(three_link, ARM_START, ARM_GOAL, 10.0, samples=101).q
+        results[i] = ff.plan(three_link, ARM_START, ARM_GOAL, 10.0, samples=101).q
 
     threads = [threading.Thread(target=work, args=(i,)) for i in range(2)]
     for t in threads:
@@ -143,7 +143,7 @@ def test_constructor_takes_dicts_and_tuples():
     assert (moved.a, moved.b) == (0.2, 0.3) and moved.links == by_dict.links
     # A seven-link arm plans too.
     seven = ff.Arm(M=20.0, I=0.6, links=[LINK] * 7)
-    p = ff.plan_arm(seven, [0.0] * 8, [0.3] + [0.2, -0.1] * 3 + [0.1], 10.0, samples=101)
+    p = ff.plan(seven, [0.0] * 8, [0.3] + [0.2, -0.1] * 3 + [0.1], 10.0, samples=101)
     assert p.final_error <= 1e-9 and p.q.shape == (101, 8)
 
 
@@ -193,30 +193,30 @@ def test_bad_base_and_mount():
 )
 def test_bad_problems(three_link, start, goal, keywords, key):
     with pytest.raises(ff.BadInput) as e:
-        ff.plan_arm(three_link, start, goal, 10.0, **keywords)
+        ff.plan(three_link, start, goal, 10.0, **keywords)
     assert e.value.name == key and key in str(e.value)
 
 
 def test_method_refusals_give_the_reason(three_link, src):
     with pytest.raises(ff.BadInput, match="chained form"):
-        ff.plan_arm(three_link, ARM_START, ARM_GOAL, 10.0, method="nfa")
+        ff.plan(three_link, ARM_START, ARM_GOAL, 10.0, method="nfa")
     # The ECSA plans any arm (issue 14); from rest only.
     # (The CLI test's problem: from ARM_START the iteration ends on a motion whose certificate
     # at rtol 1e-12 misses 1e-9 rad, NotCertified.)
     start = [math.radians(x) for x in (0, 60, -30, -30)]
     goal = [math.radians(x) for x in (30, 120, 40, -60)]
-    plan = ff.plan_arm(three_link, start, goal, 10.0, method="ecsa")
+    plan = ff.plan(three_link, start, goal, 10.0, method="ecsa")
     assert plan.certified and plan.method == "ecsa"
     # Its harmonics and window, as for plan; given to another method they are misplaced.
-    two = ff.plan_arm(three_link, start, goal, 10.0, method="ecsa", harmonics=2, window="sin2")
+    two = ff.plan(three_link, start, goal, 10.0, method="ecsa", harmonics=2, window="sin2")
     assert two.certified and two.certificate["ecsa"]["harmonics"] == 2
     assert two.certificate["ecsa"]["window"] == "sin_squared"
     with pytest.raises(ff.BadInput, match="harmonics"):
-        ff.plan_arm(three_link, start, goal, 10.0, harmonics=2)
+        ff.plan(three_link, start, goal, 10.0, harmonics=2)
     with pytest.raises(ff.BadInput, match="window"):
-        ff.plan_arm(three_link, start, goal, 10.0, method="ecsa", window="hann")
+        ff.plan(three_link, start, goal, 10.0, method="ecsa", window="hann")
     with pytest.raises(ff.BadInput, match="from rest"):
-        ff.plan_arm(three_link, start, goal, 10.0, method="ecsa", initial_velocity=[0.1, 0.0, 0.0])
+        ff.plan(three_link, start, goal, 10.0, method="ecsa", initial_velocity=[0.1, 0.0, 0.0])
     # A 2-link arm is pointed to plan, which has both.
     with pytest.raises(ff.BadInput, match=r"freefloat\.plan"):
         ff.plan_arm(src, START, GOAL, HORIZON, method="nfa")
@@ -236,7 +236,7 @@ def test_one_link_goal_off_its_holonomy_is_bad_input():
 
 def test_bad_horizon_and_bad_urdf(three_link, tmp_path):
     with pytest.raises(ff.BadInput) as e:
-        ff.plan_arm(three_link, ARM_START, ARM_GOAL, float("nan"))
+        ff.plan(three_link, ARM_START, ARM_GOAL, float("nan"))
     assert e.value.name == "horizon"
     # A prismatic joint is no planar revolute chain: the error names the joint.
     urdf = three_link.to_urdf()
@@ -246,3 +246,43 @@ def test_bad_horizon_and_bad_urdf(three_link, tmp_path):
     with pytest.raises(ff.BadInput) as e:
         ff.Arm.from_file(tmp_path / "bad.urdf")
     assert e.value.kind == "urdf" and "joint2" in e.value.details["element"]
+
+
+def test_plan_serves_every_arm_with_the_task_space_arrays(three_link):
+    # One `plan` for every robot: an Arm of 3 links gets the arrays of a 2-link Plan, the end
+    # effector the tool point of the arm's own forward kinematics (recomputed here from the
+    # links: the centre of mass at the origin), the base's rate and acceleration consistent.
+    p = ff.plan(three_link, ARM_START, ARM_GOAL, 10.0, samples=201)
+    s, n = 201, 3
+    assert isinstance(p, ff.ArmPlan)
+    assert p.ddq.shape == (s, n + 1) and p.base.shape == (s, 2)
+    assert p.end_effector.shape == (s, 3) and p.end_effector_velocity.shape == (s, 3)
+    np.testing.assert_array_equal(p.ddq[:, 1:], p.ddtheta)
+    links = three_link.links
+    for i in range(0, s, 50):
+        q = p.q[i]
+        psi = np.cumsum(q)[1:]
+        e = np.stack([np.cos(psi), np.sin(psi)], axis=1)
+        mount = np.array([np.cos(q[0]) * three_link.a - np.sin(q[0]) * three_link.b,
+                          np.sin(q[0]) * three_link.a + np.cos(q[0]) * three_link.b])
+        joint = mount.copy()
+        moment = np.zeros(2)
+        for k, link in enumerate(links):
+            moment += link["mass"] * (joint + link["com"] * e[k])
+            joint = joint + link["length"] * e[k]
+        base = -moment / (three_link.M + sum(l["mass"] for l in links))
+        np.testing.assert_allclose(p.base[i], base, atol=1e-12)
+        np.testing.assert_allclose(p.end_effector[i, :2], joint + base, atol=1e-12)
+        assert p.end_effector[i, 2] == pytest.approx(q.sum(), abs=1e-12)
+    # A 2-link paper-model Arm goes the 2-link way: a Plan, every method.
+    src_arm = ff.Arm.from_robot(ff.Robot.src())
+    assert isinstance(ff.plan(src_arm, START, GOAL, HORIZON, method="nfa"), ff.Plan)
+
+
+def test_plan_arm_is_a_deprecated_alias(three_link):
+    with pytest.warns(DeprecationWarning, match="plan_arm is deprecated"):
+        old = ff.plan_arm(three_link, ARM_START, ARM_GOAL, 10.0, samples=51)
+    new = ff.plan(three_link, ARM_START, ARM_GOAL, 10.0, samples=51)
+    np.testing.assert_array_equal(old.q, new.q)
+    with pytest.raises(ff.BadInput, match="transform"):
+        ff.plan(three_link, ARM_START, ARM_GOAL, 10.0, transform="eq14")

@@ -37,15 +37,15 @@ def test_plan_samples_are_bounded(src, method):
 
 def test_compare_and_plan_arm_samples_are_bounded(src, arm):
     _refused_quickly(lambda: ff.compare(src, START, GOAL, HORIZON, samples=10**9))
-    _refused_quickly(lambda: ff.plan_arm(arm, ARM_START, ARM_GOAL, HORIZON, samples=10**9))
-    _refused_quickly(lambda: ff.plan_arm(arm, ARM_START, ARM_GOAL, HORIZON, method="ecsa", samples=10**9))
+    _refused_quickly(lambda: ff.plan(arm, ARM_START, ARM_GOAL, HORIZON, samples=10**9))
+    _refused_quickly(lambda: ff.plan(arm, ARM_START, ARM_GOAL, HORIZON, method="ecsa", samples=10**9))
 
 
 @pytest.mark.parametrize("tolerance", [0.5, 1e-2, float("inf")])
 def test_tolerances_are_bounded(src, arm, tolerance):
     # The command line's --tolerance is at most 1e-3 rad: a looser certificate certifies nothing.
     _refused_quickly(lambda: ff.plan(src, START, GOAL, HORIZON, tolerance=tolerance))
-    _refused_quickly(lambda: ff.plan_arm(arm, ARM_START, ARM_GOAL, HORIZON, tolerance=tolerance))
+    _refused_quickly(lambda: ff.plan(arm, ARM_START, ARM_GOAL, HORIZON, tolerance=tolerance))
 
 
 def test_domain_memory_is_bounded(src):
@@ -70,7 +70,7 @@ def test_track_budgets_and_stability_are_bounded(src, kwargs):
 def test_plan_arm_harmonics_need_the_ecsa(arm):
     for kwargs in (dict(harmonics=3), dict(window="sin2")):
         with pytest.raises(ff.BadInput):
-            ff.plan_arm(arm, ARM_START, ARM_GOAL, HORIZON, **kwargs)
+            ff.plan(arm, ARM_START, ARM_GOAL, HORIZON, **kwargs)
 
 
 @pytest.mark.parametrize(
@@ -93,4 +93,4 @@ def test_complex_numbers_are_refused(src, arm, start):
     with pytest.raises(TypeError, match="complex"):
         src.momentum(start, [0.0, 0.0, 0.0])
     with pytest.raises(TypeError, match="complex"):
-        ff.plan_arm(arm, np.array(ARM_START, dtype=complex), ARM_GOAL, HORIZON)
+        ff.plan(arm, np.array(ARM_START, dtype=complex), ARM_GOAL, HORIZON)

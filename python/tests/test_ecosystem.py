@@ -49,7 +49,7 @@ def test_plans_pickle_round_trip_equal(src):
     nfa = ff.plan(src, START, GOAL, HORIZON, method="nfa")  # z set, tau None
     _same_plan(pickle.loads(pickle.dumps(nfa)), nfa)
     arm = ff.Arm.from_file(THREE_LINK)
-    arm_plan = ff.plan_arm(arm, [0, 0.3, -0.4, 0.2], [0.3, 0.8, 0.2, -0.3], 10.0)
+    arm_plan = ff.plan(arm, [0, 0.3, -0.4, 0.2], [0.3, 0.8, 0.2, -0.3], 10.0)
     _same_plan(pickle.loads(pickle.dumps(arm_plan)), arm_plan)
 
 

@@ -2,6 +2,7 @@
 
 pub mod args;
 mod check;
+mod compare_arm;
 pub mod config;
 mod domain;
 mod output;

@@ -175,6 +175,9 @@ pub fn run(args: &PlanArgs) -> anyhow::Result<ExitCode> {
 /// Exit 0 when every plan is certified; 3 when one has no certified plan (the others are still
 /// shown); 2 for bad input.
 pub fn compare(args: &CompareArgs) -> anyhow::Result<ExitCode> {
+    if let super::Robot::Arm(arm) = super::any_robot(&args.problem.robot)? {
+        return super::compare_arm::compare(args, &arm);
+    }
     let problem = super::problem(&args.problem)?;
     let mut results = Vec::new();
     for method in COMPARED {

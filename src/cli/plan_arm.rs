@@ -1,28 +1,31 @@
-//! `freefloat plan` for an arm of another number of links than the paper's two (docs/spec.md
-//! §1, §3): the same flags, `n + 1` angles in `--from`/`--to`, the minimum-effort planner.
+//! `freefloat plan` and `freefloat compare` for an arm of another number of links than the
+//! paper's two (docs/spec.md §1, §3): the same flags but the NFA's, `n + 1` angles in
+//! `--from`/`--to`, `n` in `--from-velocity`, `--to-ee` by the inverse kinematics of `n` links.
 
 use std::path::PathBuf;
 use std::process::ExitCode;
 
 use anyhow::bail;
+use freefloat::model::InputError;
 use freefloat::model::arm::Arm;
 use freefloat::plan::Method;
 use freefloat::planners::arm::{ArmPlanned, ArmRequest, plan_arm};
 use freefloat::planners::chain::ChainProblem;
-use freefloat::report::arm::{ArmReport, arm_csv};
+use freefloat::planners::optimal::Cost;
+use freefloat::report::arm::{ArmReport, PoseBranch, PoseGoal, arm_csv};
 use freefloat::report::io::write_atomic;
-use freefloat::report::numbers::{error_number, number, scientific};
+use freefloat::report::numbers::{error_number, number, rounded, scientific};
 use freefloat::report::plot::arm_animation_gif;
 
 use freefloat::plan::ros::Encoding;
 
-use super::args::{CostArg, Format, PlanArgs, ProblemArgs, TransformArg};
+use super::args::{CostArg, ElbowArg, Format, PlanArgs, ProblemArgs, RobotArgs, TransformArg, WindowArg};
 use super::ros::OutKind;
 
 /// Runs `plan` for `arm`: exit 0 with a certified plan, 2 for bad input (e.g. a flag the
-/// n-joint planner does not take), 3 without a certified plan. `out` is the checked `--out`
-/// file (`true` for JSON). `--gif` is checked before planning, as for the 2-link robot, and
-/// written after `--out`, before anything is printed.
+/// arm cannot take), 3 without a certified plan. `out` is the checked `--out` file. `--gif` is
+/// checked before planning, as for the 2-link robot, and written after `--out`, before anything
+/// is printed.
 pub fn run(
     args: &PlanArgs,
     arm: &Arm,
@@ -30,21 +33,22 @@ pub fn run(
     base_out: Option<(&PathBuf, Encoding)>,
 ) -> anyhow::Result<ExitCode> {
     let p = &args.problem;
-    refuse_two_link_flags(args)?;
+    refuse_flags(p, arm)?;
     let gif = super::checked_gif(args)?;
     let method = args.method.map(Method::from).unwrap_or(Method::Optimal);
-    let problem = problem(p, arm)?;
-    let request = ArmRequest {
-        problem: problem.clone(),
-        samples: super::config::samples(p.samples)?,
-        tolerance: super::config::tolerance(p.tolerance)?,
-        torques: p.torques,
-        ecsa: super::ecsa_options(p)?,
-        cost: Default::default(),
-        smooth_ends: false,
+    if method == Method::Ecsa && (p.smooth_ends || p.cost != CostArg::Effort || p.no_wrap) {
+        bail!("--smooth-ends/--cost/--no-wrap apply to --method optimal, not to --method ecsa");
+    }
+    if method != Method::Ecsa && (p.harmonics != 1 || p.window != WindowArg::None) {
+        bail!("--harmonics/--window apply to --method ecsa, not to --method {}", method.name());
+    }
+    let Planning { planned, problem, notes, to_ee } = plan_problem(p, arm, method)?.map_err(|e| name_flag(e, p))?;
+    let report = |with_trajectory| {
+        let mut r = ArmReport::new(&planned, &problem.start, &problem.goal, with_trajectory);
+        r.notes = notes.clone();
+        r.to_ee = to_ee.clone();
+        r
     };
-    let planned = plan_arm(arm, method, &request)?;
-    let report = |with_trajectory| ArmReport::new(&planned, &problem.start, &problem.goal, with_trajectory);
     let mut text = match args.format {
         Format::Table => table(&planned, &report(false)),
         Format::Json => format!("{}\n", serde_json::to_string_pretty(&report(false))?),
@@ -77,30 +81,217 @@ pub fn run(
     Ok(ExitCode::SUCCESS)
 }
 
-/// The flags of the 2-link pipeline that an n-link arm cannot take: bad input, not ignored
-/// (docs/spec.md §3 has the table of every flag: honoured or refused). `--harmonics` and
-/// `--window` with another method than the ECSA are the library's refusal ([`plan_arm`]).
-fn refuse_two_link_flags(args: &PlanArgs) -> anyhow::Result<()> {
-    let p = &args.problem;
-    let given = [
-        (p.to_ee.is_some(), "--to-ee (task-space goals are for 2-link arms)"),
-        (p.elbow.is_some(), "--elbow (it chooses the inverse kinematics of --to-ee, a 2-link goal)"),
-        (p.transform != TransformArg::Auto, "--transform (the NFA's feedback transformations are the 2-link robot's)"),
-        (p.max_velocity.is_some(), "--max-velocity"),
-        (p.smooth_ends, "--smooth-ends"),
-        (p.cost != CostArg::Effort, "--cost energy"),
-    ];
-    for (given, flag) in given {
-        if given {
-            bail!("{flag} is not available for an arm of another number of links than 2 (docs/spec.md §3)");
+/// An arm's plan with what the report says about it.
+pub(super) struct Planning {
+    pub(super) planned: ArmPlanned,
+    /// The problem planned (the goal of `--to-ee`'s kept branch, the horizon of `--max-velocity`).
+    pub(super) problem: ChainProblem,
+    /// The report's notes.
+    pub(super) notes: Vec<String>,
+    /// The report's `to_ee`.
+    pub(super) to_ee: Option<PoseGoal>,
+}
+
+/// Plans the flags' problem for `arm` with `method`: the goal of `--to`, or of every branch of
+/// the inverse kinematics of `--to-ee` (the certified plan of least effort kept); then, with
+/// `--max-velocity`, again with the horizon stretched when the plan's peak joint velocity exceeds
+/// the cap (velocities scale as 1/T along the same path, as for the 2-link robot). Bad flags are
+/// the outer error, a problem without a plan the inner one.
+pub(super) fn plan_problem(
+    p: &ProblemArgs,
+    arm: &Arm,
+    method: Method,
+) -> anyhow::Result<Result<Planning, freefloat::Error>> {
+    let mut problem = problem(p, arm)?;
+    let cap = super::config::max_velocity(p.max_velocity)?;
+    let optimal = method == Method::Optimal;
+    let request = |problem: &ChainProblem| ArmRequest {
+        problem: problem.clone(),
+        samples: super::config::samples(p.samples).unwrap_or(1001),
+        tolerance: super::config::tolerance(p.tolerance).unwrap_or(1e-9),
+        torques: p.torques,
+        ecsa: if method == Method::Ecsa { super::ecsa_options(p).unwrap_or_default() } else { Default::default() },
+        cost: match p.cost {
+            CostArg::Energy if optimal => Cost::Energy,
+            _ => Cost::Effort,
+        },
+        smooth_ends: p.smooth_ends && optimal,
+    };
+    // Checked here so that the closure above cannot fail.
+    super::config::samples(p.samples)?;
+    super::config::tolerance(p.tolerance)?;
+    if method == Method::Ecsa {
+        super::ecsa_options(p)?;
+    }
+    let mut notes = vec![tool_note(&p.robot, arm)?];
+    let mut to_ee = None;
+    let first = match &p.to_ee {
+        None => plan_arm(arm, method, &request(&problem)),
+        Some(text) => {
+            let [x, y, psi] = super::parse_list::<3>("--to-ee", text)?;
+            let pose = (x, y, psi.to_radians());
+            let want = match (p.elbow, arm.joints()) {
+                (None, _) => None,
+                (Some(e), 2) => Some(if e == ElbowArg::Up { "up" } else { "down" }),
+                (Some(_), n) => bail!(
+                    "--elbow chooses between the two inverse-kinematics solutions of a 2-link arm; this arm has {n} \
+                     links: drop --elbow (every branch is tried and the certified plan of least effort kept)"
+                ),
+            };
+            let solutions = arm.inverse_kinematics(pose, &problem.start).map_err(InputError::from)?;
+            let mut best: Option<(usize, ArmPlanned)> = None;
+            let mut first_error = None;
+            let mut branches = Vec::with_capacity(solutions.len());
+            for solution in solutions {
+                let mut branch = PoseBranch { solution, effort: None, error: None, kept: false };
+                if want.is_some_and(|w| w != branch.solution.branch) {
+                    branch.error = Some("not the --elbow asked for".into());
+                } else if !branch.solution.reached {
+                    branch.error = Some(format!(
+                        "the inverse kinematics stopped {} m from the pose",
+                        scientific(branch.solution.residual, 2)
+                    ));
+                } else {
+                    let goal = ChainProblem { goal: branch.solution.q.clone(), ..problem.clone() };
+                    match plan_arm(arm, method, &request(&goal)) {
+                        Ok(planned) if planned.certified().is_ok() => {
+                            branch.effort = Some(planned.effort());
+                            if best.as_ref().is_none_or(|(_, b)| planned.effort() < b.effort()) {
+                                best = Some((branches.len(), planned));
+                            }
+                        }
+                        Ok(planned) => {
+                            let e = planned.certified().err();
+                            branch.error = e.as_ref().map(|e| e.to_string());
+                            first_error = first_error.or(e);
+                        }
+                        Err(e) if e.is_bad_input() => return Ok(Err(e)),
+                        Err(e) => {
+                            branch.error = Some(e.to_string());
+                            first_error = first_error.or(Some(e));
+                        }
+                    }
+                }
+                branches.push(branch);
+            }
+            let tried = branches.len();
+            let reached = branches.iter().filter(|b| b.solution.reached).count();
+            let result = match (best, first_error) {
+                (Some((k, planned)), _) => {
+                    branches[k].kept = true;
+                    problem.goal = branches[k].solution.q.clone();
+                    notes.push(format!(
+                        "--to-ee: {tried} inverse-kinematics branch(es) tried, {reached} reached the pose; kept `{}`, \
+                         the certified plan of least effort",
+                        branches[k].solution.branch
+                    ));
+                    Ok(planned)
+                }
+                (None, Some(e)) => Err(e),
+                (None, None) => {
+                    let residual = branches.iter().map(|b| b.solution.residual).fold(f64::INFINITY, f64::min);
+                    bail!(
+                        "--to-ee {}: none of the {tried} inverse-kinematics branch(es) reached the pose (best residual \
+                         {} m); the pose is inside the reach but at its edge or a singular configuration: move it \
+                         inwards",
+                        super::config::quote(text),
+                        scientific(residual, 2)
+                    )
+                }
+            };
+            to_ee = Some(PoseGoal { pose: [pose.0, pose.1, pose.2], branches });
+            result
         }
+    };
+    let planned = match (cap, first) {
+        (Some(cap), Ok(first)) if peak_velocity(&first) > cap => {
+            let peak = peak_velocity(&first);
+            let start = problem.initial_velocity.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+            if start > cap {
+                bail!(
+                    "--max-velocity {}: the start velocity (--from-velocity) has |theta_k'| = {} rad/s already; \
+                     raise the cap or slow the start",
+                    number(cap),
+                    rounded(start, 4)
+                );
+            }
+            let stretched = problem.horizon * peak / cap;
+            freefloat::plan::check_horizon("the horizon stretched by --max-velocity", stretched)?;
+            let note = format!(
+                "peak |theta_k'| = {} rad/s exceeds --max-velocity {}: horizon stretched from {} s to {} s",
+                rounded(peak, 4),
+                number(cap),
+                number(problem.horizon),
+                number(stretched)
+            );
+            super::note(&format!("note: {note}\n"));
+            notes.push(note);
+            problem.horizon = stretched;
+            plan_arm(arm, method, &request(&problem))
+        }
+        (_, result) => result,
+    };
+    Ok(planned.map(|planned| Planning { planned, problem, notes, to_ee }))
+}
+
+/// The library's refusal of `smooth_ends`/`cost` (until the one planner carries them, issue 19)
+/// under the flag's name.
+fn name_flag(e: freefloat::Error, p: &ProblemArgs) -> anyhow::Error {
+    let text = e.to_string();
+    let flag = match () {
+        _ if p.smooth_ends && text.contains("`smooth_ends`") => "--smooth-ends",
+        _ if p.cost != CostArg::Effort && text.contains("`cost`") => "--cost energy",
+        _ => return e.into(),
+    };
+    anyhow::Error::from(e).context(format!("{flag} is not available for this arm yet"))
+}
+
+/// The largest `|theta_k'|` of a plan \[rad/s\]: the samples', or the minimum-effort planner's
+/// (sampled finely), whichever is larger.
+fn peak_velocity(planned: &ArmPlanned) -> f64 {
+    let sampled = planned.trajectory.iter().flat_map(|p| p.rate.iter()).fold(0.0_f64, |m, r| m.max(r.abs()));
+    sampled.max(planned.stats().map_or(0.0, |s| s.peak_velocity))
+}
+
+/// The plan's note on the tool frame: for a URDF the frame that ends the last link
+/// ([`Arm::load_tool_frame`]), for a robot file the tip of the last link.
+fn tool_note(robot: &RobotArgs, arm: &Arm) -> anyhow::Result<String> {
+    let n = arm.joints();
+    let length = number(arm.links[n - 1].length);
+    let urdf = super::robot_file(robot)?
+        .filter(|path| path.extension().and_then(|e| e.to_str()).is_some_and(|e| e.eq_ignore_ascii_case("urdf")));
+    let Some(path) = urdf else {
+        return Ok(format!("end effector: the tip of link {n}, {length} m from joint {n}"));
+    };
+    Ok(match Arm::load_tool_frame(path)? {
+        Some(frame) => format!("end effector: frame `{frame}`, {length} m along link {n} (the URDF's tool frame)"),
+        None => format!(
+            "end effector: the centre of mass of link {n}, {length} m along it (the URDF has no fixed frame beyond \
+             the last joint)"
+        ),
+    })
+}
+
+/// The flags that an arm cannot take: bad input, not ignored (docs/spec.md §3 has the table of
+/// every flag). `--harmonics` and `--window` with another method than the ECSA are the
+/// library's refusal ([`plan_arm`]).
+pub(super) fn refuse_flags(p: &ProblemArgs, arm: &Arm) -> anyhow::Result<()> {
+    if p.elbow.is_some() && p.to_ee.is_none() {
+        bail!("--elbow chooses the inverse-kinematics solution of --to-ee: give --to-ee X,Y,PSI, or drop --elbow");
+    }
+    if p.transform != TransformArg::Auto {
+        bail!(
+            "--transform: the NFA's feedback transformations are the 2-link robot's (its normal form is for two \
+             joints), and this arm has {} links (docs/spec.md §3)",
+            arm.joints()
+        );
     }
     Ok(())
 }
 
 /// The problem of the flags for an `n`-link arm: `--from`/`--to` with `n + 1` angles
 /// `PHI,TH1,..,THn` in degrees, `--from-velocity` with `n` (or the default `0,0`: at rest).
-fn problem(p: &ProblemArgs, arm: &Arm) -> anyhow::Result<ChainProblem> {
+pub(super) fn problem(p: &ProblemArgs, arm: &Arm) -> anyhow::Result<ChainProblem> {
     let n = arm.joints();
     let angles = |flag: &str, text: &str, count: usize| -> anyhow::Result<Vec<f64>> {
         let values = list(flag, text)?;
@@ -122,7 +313,8 @@ fn problem(p: &ProblemArgs, arm: &Arm) -> anyhow::Result<ChainProblem> {
         Ok(values.iter().map(|x| x.to_radians()).collect())
     };
     let start = angles("--from", &p.ends.from, n + 1)?;
-    let goal = angles("--to", &p.ends.to, n + 1)?;
+    // With --to-ee the goal is the inverse kinematics' (`--to` conflicts with it and is unread).
+    let goal = if p.to_ee.is_some() { start.clone() } else { angles("--to", &p.ends.to, n + 1)? };
     // The default `0,0` is rest for any arm; any other text gives one velocity per joint.
     let initial_velocity = match list("--from-velocity", &p.from_velocity)? {
         v if v.len() == n => v.iter().map(|x| x.to_radians()).collect(),
@@ -195,6 +387,31 @@ fn table(planned: &ArmPlanned, r: &ArmReport) -> String {
     s += &format!("  max |angular momentum|   {} kg m^2/s\n", scientific(v.max_abs_momentum, 2));
     s += &format!("  effort                   {} rad^2/s (integral of |u|^2 dt)\n", number(r.effort));
     s += &format!("  max |u_k| [rad/s]        {}\n", list(&r.max_abs_u));
+    if let Some(last) = planned.trajectory.last() {
+        let q: Vec<f64> = std::iter::once(last.phi).chain(last.theta.iter().copied()).collect();
+        let e = planned.arm.task_point(&q, &vec![0.0; q.len()]).end_effector;
+        s += &format!(
+            "  end effector at T        ({} m, {} m, {} deg)\n",
+            rounded(e[0], 6),
+            rounded(e[1], 6),
+            rounded(e[2].to_degrees(), 4)
+        );
+    }
+    if let Some(goal) = &r.to_ee {
+        for b in &goal.branches {
+            let outcome = match (b.effort, &b.error) {
+                (Some(effort), _) => format!("effort {}{}", number(effort), if b.kept { "  (kept)" } else { "" }),
+                (None, Some(e)) => e.clone(),
+                (None, None) => "-".into(),
+            };
+            s += &format!(
+                "  --to-ee branch           {}: residual {} m, {}\n",
+                b.solution.branch,
+                scientific(b.solution.residual, 1),
+                outcome
+            );
+        }
+    }
     if let Some(o) = &r.optimal {
         s += &format!(
             "  optimality               KKT residual {}, holonomy residual {} rad, {} spline spans\n",
@@ -229,5 +446,8 @@ fn table(planned: &ArmPlanned, r: &ArmReport) -> String {
         number(r.seconds.plan * 1e3),
         planned.torques.as_ref().map_or(String::new(), |t| format!(", torques {} ms", number(t.seconds * 1e3)))
     );
+    for note in &r.notes {
+        s += &format!("  note: {note}\n");
+    }
     s
 }

@@ -213,37 +213,10 @@ pub const CSV_HEADER: [&str; 23] = [
 ];
 
 /// The trajectory as CSV (docs/spec.md §3): one row per sample, SI units, radians, empty cells where a
-/// column does not apply.
+/// column does not apply; the header [`CSV_HEADER`]. The writer of every arm,
+/// [`crate::report::arm::rows_csv`], on the 2-link trajectory's rows.
 pub fn trajectory_csv(trajectory: &Trajectory) -> Result<Vec<u8>, Error> {
-    let mut w = csv::Writer::from_writer(Vec::new());
-    let csv_err = |e: csv::Error| {
-        Error::from(InputError::Io { path: PathBuf::from("<csv>"), source: std::io::Error::other(e.to_string()) })
-    };
-    w.write_record(CSV_HEADER).map_err(csv_err)?;
-    let cell = |x: Option<f64>| x.map(|v| format!("{v:.17e}")).unwrap_or_default();
-    for i in 0..trajectory.t.len() {
-        let mut row = Vec::with_capacity(CSV_HEADER.len());
-        row.push(cell(Some(trajectory.t[i])));
-        row.extend(trajectory.q[i].iter().map(|&x| cell(Some(x))));
-        row.extend(trajectory.dq[i].iter().map(|&x| cell(Some(x))));
-        for j in 0..3 {
-            row.push(cell(trajectory.ddq.as_ref().map(|a| a[i][j])));
-        }
-        for j in 0..3 {
-            row.push(cell(trajectory.z.as_ref().map(|a| a[i][j])));
-        }
-        for j in 0..2 {
-            row.push(cell(trajectory.tau.as_ref().map(|a| a[i][j])));
-        }
-        let task = |column: &Vec<[f64; 3]>, j: usize| cell(column.get(i).map(|p| p[j]));
-        row.extend((0..2).map(|j| cell(trajectory.base.get(i).map(|p| p[j]))));
-        row.extend((0..3).map(|j| task(&trajectory.end_effector, j)));
-        row.extend((0..3).map(|j| task(&trajectory.end_effector_velocity, j)));
-        w.write_record(&row).map_err(csv_err)?;
-    }
-    w.into_inner().map_err(|e| {
-        Error::from(InputError::Io { path: PathBuf::from("<csv>"), source: std::io::Error::other(e.to_string()) })
-    })
+    crate::report::arm::rows_csv(&crate::report::arm::TrajectoryRows::from_trajectory(trajectory))
 }
 
 /// The JSON report of a plan (docs/spec.md §3: every required key, radians inside).

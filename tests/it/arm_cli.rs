@@ -205,3 +205,301 @@ fn two_link_arm_with_inertia_takes_the_nfa() {
     let (a, b) = (with["max_abs_u"][0].as_f64().unwrap(), without["max_abs_u"][0].as_f64().unwrap());
     assert!((a - b).abs() > 1e-6 * b, "the link inertias changed nothing: {a} vs {b}");
 }
+
+// ---------------------------------------------------------------------------------------------
+// Issue 19, items 4-6: every `plan` flag, `compare`, `--to-ee` and every output for any arm.
+
+const FROM4: &str = "0,30,30,30,30";
+const TO4: &str = "20,60,-30,40,10";
+
+/// The arms of the tests: the 3-link TOML and the SPART-like 4-link URDF, with their problems.
+fn arms() -> [([String; 2], &'static str, &'static str); 2] {
+    [
+        (["--robot".into(), example("three_link.toml")], FROM, TO),
+        (["--urdf".into(), example("spart_like_4dof.urdf")], FROM4, TO4),
+    ]
+}
+
+/// A free-floating forward kinematics of the test's own, from the robot's parameters alone:
+/// every body's position relative to the base's centre of mass, then the whole shifted so that
+/// the system's centre of mass is at the origin. Returns the base's centre of mass and the tool point `tool` m along the last link.
+fn own_fk(arm: &Arm, q: &[f64], tool: f64) -> ([f64; 2], [f64; 2]) {
+    let (sp, cp) = q[0].sin_cos();
+    let mut joint = [cp * arm.mount.a - sp * arm.mount.b, sp * arm.mount.a + cp * arm.mount.b];
+    let mut psi = q[0];
+    let mut moment = [0.0, 0.0];
+    let mut mass = arm.base.mass;
+    let mut tip = joint;
+    for (k, link) in arm.links.iter().enumerate() {
+        psi += q[k + 1];
+        let e = [psi.cos(), psi.sin()];
+        moment = [
+            moment[0] + link.mass * (joint[0] + link.com * e[0]),
+            moment[1] + link.mass * (joint[1] + link.com * e[1]),
+        ];
+        mass += link.mass;
+        if k + 1 == arm.links.len() {
+            tip = [joint[0] + tool * e[0], joint[1] + tool * e[1]];
+        }
+        joint = [joint[0] + link.length * e[0], joint[1] + link.length * e[1]];
+    }
+    let base = [-moment[0] / mass, -moment[1] / mass];
+    (base, [tip[0] + base[0], tip[1] + base[1]])
+}
+
+/// The CSV as a header and rows of numbers (empty cells as NaN).
+fn csv_table(text: &str) -> (Vec<String>, Vec<Vec<f64>>) {
+    let mut lines = text.lines();
+    let header = lines.next().expect("a header").split(',').map(String::from).collect();
+    let rows = lines.map(|l| l.split(',').map(|x| x.parse().unwrap_or(f64::NAN)).collect()).collect();
+    (header, rows)
+}
+
+/// The CSV of a 3-link and a 4-link arm has the base and end-effector columns of the 2-link CSV
+/// (`xb, yb, xe, ye, psie, dxe, dye, dpsie`), `ddphi` and `n` torques; the end effector is the
+/// tool point of the test's own forward kinematics at every sample (to 1e-12 m), its velocity
+/// the central difference of the positions (to 1e-4 m/s at dt = 0.01 s: the difference's
+/// truncation), and `ddphi` the central difference of `dphi`.
+#[test]
+fn arm_csv_has_base_and_end_effector_columns_checked_by_forward_kinematics() {
+    for (robot, from, to) in arms() {
+        let args = ["plan", &robot[0], &robot[1], "--from", from, "--to", to, "--torques", "--format", "csv"];
+        let o = freefloat(&args);
+        assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+        let (header, rows) = csv_table(&String::from_utf8_lossy(&o.stdout));
+        let arm = Arm::load(robot[1].as_ref()).unwrap();
+        let n = arm.joints();
+        let col = |name: &str| header.iter().position(|h| h == name).unwrap_or_else(|| panic!("{name} in {header:?}"));
+        for name in ["xb", "yb", "xe", "ye", "psie", "dxe", "dye", "dpsie", "ddphi", &format!("tau{n}")] {
+            col(name);
+        }
+        assert!(!header.iter().any(|h| h == "z1"), "{header:?}");
+        assert!(rows.iter().all(|r| r.len() == header.len() && r.iter().all(|x| x.is_finite())));
+        let tool = arm.links[n - 1].length;
+        for r in rows.iter().step_by(97) {
+            let q: Vec<f64> = (0..=n).map(|k| r[col("phi") + k]).collect();
+            let (base, tip) = own_fk(&arm, &q, tool);
+            assert!((r[col("xb")] - base[0]).abs() < 1e-12 && (r[col("yb")] - base[1]).abs() < 1e-12, "{r:?}");
+            assert!((r[col("xe")] - tip[0]).abs() < 1e-12 && (r[col("ye")] - tip[1]).abs() < 1e-12, "{r:?}");
+            assert!((r[col("psie")] - q.iter().sum::<f64>()).abs() < 1e-12);
+        }
+        let i = rows.len() / 2;
+        let dt = rows[i + 1][0] - rows[i - 1][0];
+        let miss = |x: &str, v: &str| ((rows[i + 1][col(x)] - rows[i - 1][col(x)]) / dt - rows[i][col(v)]).abs();
+        for (x, v) in [("xe", "dxe"), ("ye", "dye")] {
+            assert!(miss(x, v) < 1e-4, "{x}: {}", miss(x, v));
+        }
+        // The plan's splines have jumps of the jerk at their knots (t = T/2 among them), so the
+        // joints' own accelerations miss their differences there by O(dt); ddphi, a combination of
+        // them through Eq. 7, may miss by a few times theirs, not more.
+        let joints = (1..=n).map(|k| miss(&format!("dtheta{k}"), &format!("ddtheta{k}"))).fold(0.0, f64::max);
+        assert!(miss("dphi", "ddphi") <= 20.0 * joints + 1e-9, "ddphi: {} vs joints' {joints}", miss("dphi", "ddphi"));
+    }
+}
+
+/// `--max-velocity` stretches the horizon until the peak joint velocity is the cap (velocities
+/// scale as 1/T along the same path), says so in the notes, and the plan stays certified;
+/// `--from-velocity` with `n` values starts there; `--format joint-trajectory` names the joints.
+#[test]
+fn arm_plan_takes_max_velocity_from_velocity_and_joint_trajectory() {
+    for (robot, from, to) in arms() {
+        let base = ["plan", &robot[0], &robot[1], "--from", from, "--to", to, "--quiet"];
+        let free = json(&freefloat(&[&base[..], &["--format", "json"]].concat()));
+        let peak = free["max_abs_u"].as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).fold(0.0, f64::max);
+        let cap = 0.5 * peak;
+        let capped = json(&freefloat(&[&base[..], &["--format", "json", "--max-velocity", &cap.to_string()]].concat()));
+        assert_eq!(capped["certified"], true, "{capped}");
+        let time = capped["time"].as_f64().unwrap();
+        assert!(time > 1.9 * 10.0 && time < 2.1 * 10.0, "{time}");
+        let peak2 = capped["max_abs_u"].as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).fold(0.0, f64::max);
+        assert!(peak2 <= cap * (1.0 + 1e-6), "{peak2} > {cap}");
+        assert!(capped["notes"].to_string().contains("--max-velocity"), "{capped}");
+        let n = capped["joints"].as_u64().unwrap() as usize;
+        let velocity = (1..=n).map(|k| (2 * k).to_string()).collect::<Vec<_>>().join(",");
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("moving.json");
+        let moving = ["--from-velocity", &velocity, "--out", out.to_str().unwrap(), "--format", "json"];
+        let m = json(&freefloat(&[&base[..], &moving[..]].concat()));
+        assert_eq!(m["certified"], true, "{m}");
+        let written: serde_json::Value = serde_json::from_slice(&std::fs::read(&out).unwrap()).unwrap();
+        let dq0 = &written["trajectory"]["dq"][0];
+        for k in 1..=n {
+            let expected = (2.0 * k as f64).to_radians();
+            assert!((dq0[k].as_f64().unwrap() - expected).abs() < 1e-9, "{dq0}");
+        }
+        let o = freefloat(&[&base[..], &["--format", "joint-trajectory"]].concat());
+        assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+        let yaml = String::from_utf8_lossy(&o.stdout);
+        assert!(yaml.contains("joint_names") && yaml.contains("points"), "{yaml}");
+    }
+}
+
+/// `compare` on a 3-link and a 4-link arm: the optimal planner and the ECSA, both certified, the
+/// NFA listed as refused with the reason (its chained form is the 2-link robot's); exit 0.
+#[test]
+fn arm_compare_lists_every_method() {
+    for (robot, from, to) in arms() {
+        let base = ["compare", &robot[0], &robot[1], "--from", from, "--to", to, "--torques"];
+        let r = json(&freefloat(&[&base[..], &["--format", "json"]].concat()));
+        for method in ["optimal", "ecsa"] {
+            assert_eq!(r[method]["certified"], true, "{method}: {r}");
+            assert_eq!(r[method]["torque_certificate"]["certified"], true, "{method}: {r}");
+        }
+        assert!(r["nfa"].is_null() && r["errors"]["nfa"].as_str().unwrap().contains("chained form"), "{r}");
+        // The minimum-effort plan's effort is at most the ECSA's (same problem, same goal).
+        assert!(r["optimal"]["effort"].as_f64() <= r["ecsa"]["effort"].as_f64(), "{r}");
+        let o = freefloat(&base);
+        assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+        let text = String::from_utf8_lossy(&o.stdout);
+        assert!(text.contains("(refused)") && text.contains("optimal") && text.contains("ECSA"), "{text}");
+    }
+}
+
+/// `--to-ee` on the SPART-like 4-link URDF: the final sample's tool point (the test's own
+/// forward kinematics) is the pose, every inverse-kinematics branch tried is listed with its
+/// residual and effort, and the plan kept is the certified one of least effort; the notes name
+/// the tool frame `EE`, 0.5 m along link 4. A pose out of reach exits 2 naming the reach.
+#[test]
+fn to_ee_on_the_four_link_urdf_reaches_the_pose() {
+    let urdf = example("spart_like_4dof.urdf");
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("pose.json");
+    let (x, y, psi) = (0.3, 1.5, 120.0_f64);
+    let args = ["plan", "--urdf", &urdf, "--from", FROM4, "--to-ee", "0.3,1.5,120", "--format", "json"];
+    let r = json(&freefloat(&[&args[..], &["--out", out.to_str().unwrap()]].concat()));
+    assert_eq!(r["certified"], true, "{r}");
+    let branches = r["to_ee"]["branches"].as_array().unwrap();
+    assert!(branches.len() >= 2, "{r}");
+    let efforts: Vec<f64> = branches.iter().filter_map(|b| b["effort"].as_f64()).collect();
+    assert!(!efforts.is_empty());
+    for b in branches {
+        assert!(b["branch"].is_string() && b["residual"].is_f64() && b["reached"].is_boolean(), "{b}");
+    }
+    let kept: Vec<_> = branches.iter().filter(|b| b["kept"] == true).collect();
+    assert_eq!(kept.len(), 1, "{r}");
+    let least = efforts.iter().copied().fold(f64::INFINITY, f64::min);
+    assert_eq!(kept[0]["effort"].as_f64(), Some(least));
+    assert!((r["effort"].as_f64().unwrap() - least).abs() <= 1e-12 * least);
+    assert!(r["notes"].to_string().contains("frame `EE`, 0.5 m along link 4"), "{}", r["notes"]);
+    let written: serde_json::Value = serde_json::from_slice(&std::fs::read(&out).unwrap()).unwrap();
+    let q: Vec<f64> = written["trajectory"]["q"]
+        .as_array()
+        .unwrap()
+        .last()
+        .unwrap()
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_f64().unwrap())
+        .collect();
+    let arm = Arm::load(urdf.as_ref()).unwrap();
+    let (_, tip) = own_fk(&arm, &q, 0.5);
+    assert!((tip[0] - x).abs() < 1e-8 && (tip[1] - y).abs() < 1e-8, "{tip:?}");
+    let turn = (q.iter().sum::<f64>() - psi.to_radians()).rem_euclid(std::f64::consts::TAU);
+    assert!(turn.min(std::f64::consts::TAU - turn) < 1e-9, "{q:?}");
+
+    let far = freefloat(&["plan", "--urdf", &urdf, "--from", FROM4, "--to-ee", "5,1.5,120"]);
+    assert_eq!(far.status.code(), Some(2), "{}", stderr(&far));
+    assert!(stderr(&far).contains("out of reach") && stderr(&far).contains("reachable is"), "{}", stderr(&far));
+    // `--elbow` picks one of a 2-link arm's two solutions: for 4 links it is refused.
+    let elbow = freefloat(&["plan", "--urdf", &urdf, "--from", FROM4, "--to-ee", "0.3,1.5,120", "--elbow", "up"]);
+    assert_eq!(elbow.status.code(), Some(2), "{}", stderr(&elbow));
+    assert!(stderr(&elbow).contains("--elbow"), "{}", stderr(&elbow));
+}
+
+/// A URDF whose last link carries a massive end-effector link (2 kg) fixed 0.5 m along it: the
+/// tool point is 0.5 m along the link (the test's own forward kinematics), not at the merged
+/// centre of mass, and the notes name the frame (issue 19, item 6).
+#[test]
+fn a_massive_end_effector_link_puts_the_tool_at_half_a_metre() {
+    let link = |name: &str, x: f64, mass: f64| {
+        format!(
+            "<link name=\"{name}\"><inertial><origin xyz=\"{x} 0 0\"/><mass value=\"{mass}\"/>\
+             <inertia ixx=\"0.01\" ixy=\"0\" ixz=\"0\" iyy=\"0.01\" iyz=\"0\" izz=\"0.01\"/></inertial></link>"
+        )
+    };
+    let joint = |name: &str, kind: &str, parent: &str, child: &str, x: f64| {
+        format!(
+            "<joint name=\"{name}\" type=\"{kind}\"><parent link=\"{parent}\"/><child link=\"{child}\"/>\
+             <origin xyz=\"{x} 0 0\" rpy=\"0 0 0\"/><axis xyz=\"0 0 1\"/></joint>"
+        )
+    };
+    let urdf = format!(
+        "<?xml version=\"1.0\"?><robot name=\"heavy_tool\">{}{}{}{}{}{}{}{}{}</robot>",
+        link("base", 0.0, 40.0),
+        link("l1", 0.2, 3.0),
+        link("l2", 0.2, 3.0),
+        link("l3", 0.25, 2.0),
+        link("ee_link", 0.0, 2.0),
+        joint("j1", "continuous", "base", "l1", 0.3),
+        joint("j2", "continuous", "l1", "l2", 0.4),
+        joint("j3", "continuous", "l2", "l3", 0.4),
+        joint("tool", "fixed", "l3", "ee_link", 0.5),
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("heavy_tool.urdf");
+    std::fs::write(&path, urdf).unwrap();
+    let path = path.to_str().unwrap();
+    let arm = Arm::load(path.as_ref()).unwrap();
+    assert!((arm.links[2].length - 0.5).abs() < 1e-15, "{:?}", arm.links[2]);
+    // The merged centre of mass: (2 * 0.25 + 2 * 0.5) / 4 = 0.375 m along link 3.
+    assert!((arm.links[2].com - 0.375).abs() < 1e-12, "{:?}", arm.links[2]);
+    let o = freefloat(&["plan", "--urdf", path, "--from", FROM, "--to", TO, "--format", "csv"]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let (header, rows) = csv_table(&String::from_utf8_lossy(&o.stdout));
+    let col = |name: &str| header.iter().position(|h| h == name).unwrap();
+    for r in rows.iter().step_by(250) {
+        let q = &r[col("phi")..col("phi") + 4];
+        let (_, tip) = own_fk(&arm, q, 0.5);
+        assert!((r[col("xe")] - tip[0]).abs() < 1e-12 && (r[col("ye")] - tip[1]).abs() < 1e-12, "{r:?}");
+        // The joint 3 to tool distance is 0.5 m, not the 0.375 m of the merged centre of mass.
+        let (_, at_com) = own_fk(&arm, q, 0.375);
+        assert!(((tip[0] - at_com[0]).hypot(tip[1] - at_com[1]) - 0.125).abs() < 1e-12);
+    }
+    let r = json(&freefloat(&["plan", "--urdf", path, "--from", FROM, "--to", TO, "--format", "json"]));
+    assert!(r["notes"].to_string().contains("frame `ee_link`, 0.5 m along link 3"), "{}", r["notes"]);
+    let toml = json(&freefloat(&[
+        "plan",
+        "--robot",
+        &example("three_link.toml"),
+        "--from",
+        FROM,
+        "--to",
+        TO,
+        "--format",
+        "json",
+    ]));
+    assert!(toml["notes"].to_string().contains("the tip of link 3"), "{}", toml["notes"]);
+}
+
+/// `--smooth-ends` on the 3-link and 4-link arms: at rest with zero accelerations at both ends,
+/// certified at both levels, effort at least the cubic ends' (a constrained problem).
+#[test]
+#[ignore = "needs the one planner (issue 19 item 2)"]
+fn arm_plan_takes_smooth_ends() {
+    for (robot, from, to) in arms() {
+        let base = ["plan", &robot[0], &robot[1], "--from", from, "--to", to, "--torques", "--format", "csv"];
+        let o = freefloat(&[&base[..], &["--smooth-ends"]].concat());
+        assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+        let (header, rows) = csv_table(&String::from_utf8_lossy(&o.stdout));
+        let first = header.iter().position(|h| h == "ddtheta1").unwrap();
+        let n = header.iter().filter(|h| h.starts_with("ddtheta")).count();
+        for r in [&rows[0], &rows[rows.len() - 1]] {
+            assert!(r[first..first + n].iter().all(|a| a.abs() < 1e-9), "{r:?}");
+        }
+    }
+}
+
+/// `--cost energy` on the 3-link and 4-link arms: certified, and its effort at least the
+/// minimum-effort plan's (the effort plan minimises the effort).
+#[test]
+#[ignore = "needs the one planner (issue 19 item 2)"]
+fn arm_plan_takes_cost_energy() {
+    for (robot, from, to) in arms() {
+        let base = ["plan", &robot[0], &robot[1], "--from", from, "--to", to, "--format", "json"];
+        let effort = json(&freefloat(&base));
+        let energy = json(&freefloat(&[&base[..], &["--cost", "energy"]].concat()));
+        assert_eq!(energy["certified"], true, "{energy}");
+        assert!(energy["effort"].as_f64().unwrap() >= effort["effort"].as_f64().unwrap() * (1.0 - 1e-9));
+    }
+}

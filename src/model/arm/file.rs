@@ -108,6 +108,17 @@ impl Arm {
         if is_urdf { Self::from_urdf_str(&text, path) } else { Self::from_toml(&text, path) }
     }
 
+    /// The tool frame of a URDF file ([`Arm::from_urdf_str_described`]): `None` for a robot file
+    /// or a URDF whose last link has no fixed child.
+    pub fn load_tool_frame(path: &Path) -> Result<Option<String>, InputError> {
+        if !path.extension().is_some_and(|e| e.eq_ignore_ascii_case("urdf")) {
+            return Ok(None);
+        }
+        let bytes = read_regular_file(path, ROBOT_FILE_LIMIT)?;
+        let text = String::from_utf8_lossy(&bytes);
+        Ok(Self::from_urdf_str_described(&text, path)?.2)
+    }
+
     /// [`Arm::load`] with the joints' names: a URDF's moving joints as it names them
     /// ([`Arm::from_urdf_str_named`]), else [`default_joint_names`].
     pub fn load_named(path: &Path) -> Result<(Self, Vec<String>), InputError> {

@@ -14,6 +14,7 @@
 //! exactly.
 
 pub mod file;
+pub mod kinematics;
 pub mod urdf;
 
 pub use urdf::URDF_PLANAR_TOLERANCE;

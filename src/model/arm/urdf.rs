@@ -150,6 +150,13 @@ impl Arm {
     /// [`Arm::from_urdf_str`], with the names of the arm's moving joints from the base outwards
     /// (the URDF's `<joint name>`: the names a ROS 2 `JointTrajectory` of this robot uses).
     pub fn from_urdf_str_named(text: &str, path: &Path) -> Result<(Self, Vec<String>), InputError> {
+        Self::from_urdf_str_described(text, path).map(|(arm, names, _)| (arm, names))
+    }
+
+    /// [`Arm::from_urdf_str_named`], with the name of the tool frame that ends the last link
+    /// (the module doc's rule); `None` when the last link has no fixed child (its tip is then its
+    /// centre of mass).
+    pub fn from_urdf_str_described(text: &str, path: &Path) -> Result<(Self, Vec<String>, Option<String>), InputError> {
         check_nesting(text, path)?;
         let robot = urdf_rs::read_from_string(text).map_err(|e| InputError::RobotFile {
             path: path.to_path_buf(),
@@ -281,7 +288,8 @@ impl Arm {
             }
             other => other,
         })?;
-        Ok((arm, names))
+        let tool = bodies.last().and_then(tool_frame).map(|(name, _)| name.to_string());
+        Ok((arm, names, tool))
     }
 
     /// The arm as a URDF that [`Arm::from_urdf_str`] reads back to the same arm: links `base`,
