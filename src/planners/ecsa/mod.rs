@@ -40,9 +40,8 @@
 //! entry of the residual history, which can therefore rise after a small residual. The plan is returned only when certified by
 //! [`verify_chain`] (the system integrated with the planned controls by the adaptive
 //! integrator), independent of the rule.
-
 //!
-//! The 2-link robot ([`EcsaPlanner`] on a [`PlanningProblem`], `paper.rs`) is this engine on
+//! The 2-link robot ([`EcsaPlanner`] on a [`crate::plan::PlanningProblem`], `paper.rs`) is this engine on
 //! [`Arm::from_params`] with the pseudo-inverse iteration; its motion ([`EcsaMotion`]) is the
 //! engine's plan seen as a 2-link [`crate::plan::Motion`].
 //!
