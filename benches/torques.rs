@@ -6,6 +6,7 @@ use std::hint::black_box;
 use std::time::Duration;
 
 use criterion::{Criterion, criterion_group, criterion_main};
+use freefloat::model::arm::Arm;
 use freefloat::plan::{TorqueOptions, certify_torques, torques_at};
 use freefloat::{Mount, NfaOptions, NormalFormPlanner, PlanningProblem, RobotParams, Transform};
 
@@ -22,10 +23,10 @@ fn bench_torques(c: &mut Criterion) {
         let p = problem(a);
         let planner = NormalFormPlanner::new(NfaOptions { transform: Some(transform), ..Default::default() });
         let (plan, motion) = planner.plan_with_motion(&p).expect("plan");
-        let k = p.robot.lumped();
+        let arm = Arm::from_params(&p.robot);
         let times = plan.trajectory.t.clone();
         group.bench_function(format!("inverse_dynamics_1001/{name}"), |b| {
-            b.iter(|| black_box(torques_at(&k, &motion, black_box(&times)).expect("torques")))
+            b.iter(|| black_box(torques_at(&arm, &motion, black_box(&times)).expect("torques")))
         });
         group.bench_function(format!("forward_certificate/{name}"), |b| {
             b.iter(|| black_box(certify_torques(&motion, &p, &TorqueOptions::default()).expect("certificate")))

@@ -10,6 +10,11 @@
 //!
 //! whose first row is `d/dt (F phi' + G theta1' + H theta2') = 0`, the conservation of angular
 //! momentum (5) (the base is not actuated), and whose last two rows are Eq. (6).
+//!
+//! These closed forms are the paper's formulas, kept as the reference the arm's dynamics
+//! ([`arm`], which computes the torque level of every plan) is tested against at `n = 2`
+//! (`dynamics/arm/tests.rs`, to 1e-12), and for the closed loop of `track` until it runs on
+//! [`arm`] too ([`inertia_matrix`], [`coriolis`], [`joint_torques`], [`forward_dynamics`]).
 
 pub mod arm;
 

@@ -1,22 +1,354 @@
-//! Certificates (docs/spec.md, Sec. 2): a plan is a success only when the original system, or
-//! the full dynamics, integrated with the planned controls or torques, reaches the goal.
+//! The velocity-level certificate (docs/spec.md, Sec. 2), one routine for every arm and method:
+//! the original system, `phi' = -(G . u)/F`, `theta' = u` (Eq. 7 with the arm's momentum
+//! coefficients, [`Arm::momentum_coefficients`]; at `n = 2` the paper's `F, G, H` of Eq. 8),
+//! integrated from the start with the planned controls `u(t)` one piece between breakpoints at a
+//! time, compared with the goal.
 //!
-//! Both levels run one routine, [`follow`]: integrate from the start, measure the deviation
-//! from the planned path at every accepted step, and the final error against the goal.
+//! Any plan that is a [`JointMotion`] is certified by [`verify_chain`]; a 2-link [`Motion`]
+//! through its view [`MotionView`] ([`verify`], which fills the 2-link [`Verification`]). The
+//! torque level ([`super::torques`]) integrates the full dynamics by the same piecewise scheme.
 
-use nalgebra::{SVector, Vector3, Vector6};
+use std::cell::RefCell;
+
+use nalgebra::SVector;
 use serde::Serialize;
 
-use super::motion::Motion;
+use super::motion::{Motion, MotionPoint};
 use super::problem::PlanningProblem;
-use super::torques::TorqueOptions;
-use crate::dynamics::{forward_dynamics, joint_torques};
 use crate::error::Error;
-use crate::model::Configuration;
-use crate::model::system::{momentum, velocity};
-use crate::numerics::ode::{OdeError, OdeOptions, OdeStats, integrate};
+use crate::model::arm::Arm;
+use crate::model::{Configuration, InputError, wrap_angle};
+use crate::numerics::ode::{OdeOptions, OdeStats, integrate};
 
-/// The certificate of a plan: system (7) integrated from `q0` with the planned controls.
+/// A planned joint motion of an `n`-joint arm, exact at any time.
+pub trait JointMotion {
+    /// The number `n` of joints.
+    fn joints(&self) -> usize;
+    /// Times \[s\] where the controls may lose smoothness, `0` first and `T` last.
+    fn breakpoints(&self) -> &[f64];
+    /// The joint angles \[rad\] and velocities `u = theta'` \[rad/s\] at `t` into the buffers.
+    fn joint_state(&self, t: f64, theta: &mut [f64], rate: &mut [f64]);
+    /// The plan's own base rate `phi'(t)` \[rad/s\] (for the momentum check).
+    fn phi_rate(&self, t: f64) -> f64;
+    /// The joint accelerations \[rad/s^2\] at `t` into `out` (for the torques).
+    fn joint_acceleration(&self, t: f64, out: &mut [f64]);
+    /// The joint velocities `u(t)` \[rad/s\] alone into `rate` (`n` values), the control signal
+    /// of the velocity-level certificate; by default from [`JointMotion::joint_state`]. Motions
+    /// whose angles cost more than their velocities override it.
+    fn joint_rate(&self, t: f64, rate: &mut [f64]) {
+        let mut theta = [0.0; MAX_CERTIFIED_JOINTS];
+        let n = rate.len().min(MAX_CERTIFIED_JOINTS);
+        self.joint_state(t, &mut theta[..n], rate);
+    }
+    /// The planned configuration `(phi, theta_1..n)` \[rad\] at `t` into `q` (`n + 1` values), if
+    /// the motion knows it: the certificates then report the largest deviation of the integrated
+    /// path from it. Default: unknown (`false`, `q` untouched).
+    fn planned_configuration(&self, _t: f64, _q: &mut [f64]) -> bool {
+        false
+    }
+    /// An error the motion met while evaluated (the methods above cannot fail): the certificates
+    /// stop with it. Default: none.
+    fn check(&self) -> Result<(), Error> {
+        Ok(())
+    }
+}
+
+/// The certificate of an `n`-joint plan.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ChainVerification {
+    /// `max_i |wrap(q_i(T) - qd_i)|` over `q = (phi, theta_1..n)` \[rad\].
+    pub final_error: f64,
+    /// `q(T)` reached by the integration \[rad\].
+    pub reached: Vec<f64>,
+    /// Largest `|F phi'_plan + G . u|` over the integrator's accepted steps, with the model's
+    /// `F, G` at the integrated joint angles and the plan's base rate \[kg m^2/s\].
+    pub max_abs_momentum: f64,
+    /// Largest `max_i |q_i(t) - q_plan_i(t)|` over the integrator's accepted steps \[rad\], when
+    /// the motion knows its configuration ([`JointMotion::planned_configuration`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub max_path_deviation: Option<f64>,
+    /// Tolerance of the final error \[rad\].
+    pub tolerance: f64,
+    /// `final_error <= tolerance` (and finite).
+    pub certified: bool,
+    /// Integrator work.
+    pub stats: OdeStats,
+}
+
+impl ChainVerification {
+    /// The certificate of a motion not yet verified: not certified, errors unknown (NaN), to be
+    /// replaced by [`verify_chain`]'s before the plan is returned.
+    pub fn pending() -> Self {
+        Self {
+            final_error: f64::NAN,
+            reached: Vec::new(),
+            max_abs_momentum: f64::NAN,
+            max_path_deviation: None,
+            tolerance: f64::NAN,
+            certified: false,
+            stats: OdeStats::default(),
+        }
+    }
+}
+
+/// Checks that `motion`, `start` and `goal` (`n + 1` values each) have the joint count of `arm`.
+pub fn check_lengths(arm: &Arm, motion: &dyn JointMotion, start: &[f64], goal: &[f64]) -> Result<(), Error> {
+    let n = arm.joints();
+    if motion.joints() != n || start.len() != n + 1 || goal.len() != n + 1 {
+        return Err(Error::from(InputError::InvalidParameter {
+            name: "joints".into(),
+            value: motion.joints() as f64,
+            expected: "a motion, start and goal of the arm's joint count",
+        }));
+    }
+    Ok(())
+}
+
+/// Largest number of joints [`verify_chain`] takes.
+pub const MAX_CERTIFIED_JOINTS: usize = 15;
+
+/// The error of a joint count out of `1..=`[`MAX_CERTIFIED_JOINTS`].
+pub(crate) fn joints_error(n: usize) -> Error {
+    Error::from(InputError::InvalidParameter { name: "joints".into(), value: n as f64, expected: "1 to 15 joints" })
+}
+
+/// Calls `$f::<M>(args)` with the static state size `M = $scale (n + 1)` of an `n`-joint arm,
+/// `n` in `1..=15` (the one dispatch of both certificates); another `n` is [`joints_error`].
+macro_rules! by_joints {
+    ($n:expr, $scale:literal, $f:ident ( $($arg:expr),* $(,)? )) => {
+        $crate::plan::certificate::by_joints!(@arms $n, $scale, $f, ($($arg),*), 1 2 3 4 5 6 7 8 9 10 11 12 13 14 15)
+    };
+    (@arms $n:expr, $scale:literal, $f:ident, $args:tt, $($k:literal)*) => {
+        match $n {
+            $($k => $crate::plan::certificate::by_joints!(@call $f, { $scale * ($k + 1) }, $args),)*
+            n => Err($crate::plan::certificate::joints_error(n)),
+        }
+    };
+    (@call $f:ident, $m:block, ($($arg:expr),*)) => { $f::<$m>($($arg),*) };
+}
+pub(crate) use by_joints;
+
+/// Integrates `y' = rhs(t, y)` from `y` over each span between the `breakpoints` (`0` first,
+/// `T` last), calling `observe(t, y)` at every accepted step and `at_breakpoint(t, y)` at every
+/// breakpoint; returns `y(T)` and the integrator's work: the piecewise scheme of both
+/// certificates (the adaptive steps never straddle a point where the controls lose smoothness).
+pub(crate) fn piecewise<const M: usize>(
+    breakpoints: &[f64],
+    mut y: SVector<f64, M>,
+    ode: &OdeOptions,
+    mut rhs: impl FnMut(f64, &SVector<f64, M>) -> Result<SVector<f64, M>, Error>,
+    mut observe: impl FnMut(f64, &SVector<f64, M>),
+    mut at_breakpoint: impl FnMut(f64, &SVector<f64, M>),
+) -> Result<(SVector<f64, M>, OdeStats), Error> {
+    let mut stats = OdeStats::default();
+    if let Some(&t0) = breakpoints.first() {
+        at_breakpoint(t0, &y);
+    }
+    for w in breakpoints.windows(2) {
+        if !(w[1] > w[0]) {
+            continue;
+        }
+        let (y1, s) = integrate(&mut rhs, w[0], y, w[1], ode, &mut observe)?;
+        y = y1;
+        at_breakpoint(w[1], &y);
+        stats.accepted += s.accepted;
+        stats.rejected += s.rejected;
+        stats.evaluations += s.evaluations;
+    }
+    Ok((y, stats))
+}
+
+/// `max_i |wrap(q_i - goal_i)|` \[rad\] over the first `goal.len()` values of `q`.
+pub(crate) fn final_error(q: &[f64], goal: &[f64]) -> f64 {
+    q.iter().zip(goal).map(|(q, g)| wrap_angle(q - g).abs()).fold(0.0, f64::max)
+}
+
+/// Integrates the original system with the controls of `motion` from `start` (`n + 1` values,
+/// `(phi, theta)`) and compares with `goal` (angles modulo 2 pi), to `tolerance` \[rad\].
+pub fn verify_chain(
+    arm: &Arm,
+    motion: &dyn JointMotion,
+    start: &[f64],
+    goal: &[f64],
+    ode: &OdeOptions,
+    tolerance: f64,
+) -> Result<ChainVerification, Error> {
+    verify_chain_observed(arm, motion, start, goal, ode, tolerance, &mut |_, _| {})
+}
+
+/// [`verify_chain`], calling `at_breakpoint(t, q)` with the integrated `q = (phi, theta)` at
+/// every breakpoint of `motion` (`t = 0` first, `T` last): the base's attitude along the motion
+/// with the certificate's accuracy (`freefloat check`).
+pub fn verify_chain_observed(
+    arm: &Arm,
+    motion: &dyn JointMotion,
+    start: &[f64],
+    goal: &[f64],
+    ode: &OdeOptions,
+    tolerance: f64,
+    at_breakpoint: &mut dyn FnMut(f64, &[f64]),
+) -> Result<ChainVerification, Error> {
+    check_lengths(arm, motion, start, goal)?;
+    by_joints!(arm.joints(), 1, run(arm, motion, start, goal, ode, tolerance, at_breakpoint))
+}
+
+/// [`verify_chain`] with the state `(phi, theta)` of static size `M = n + 1`.
+fn run<const M: usize>(
+    arm: &Arm,
+    motion: &dyn JointMotion,
+    start: &[f64],
+    goal: &[f64],
+    ode: &OdeOptions,
+    tolerance: f64,
+    at_breakpoint: &mut dyn FnMut(f64, &[f64]),
+) -> Result<ChainVerification, Error> {
+    let n = M - 1;
+    let mut rate = [0.0; M];
+    let rhs = |t: f64, y: &SVector<f64, M>| -> Result<SVector<f64, M>, Error> {
+        motion.joint_rate(t, &mut rate[..n]);
+        motion.check()?;
+        let (f, g) = arm.momentum_coefficients(&y.as_slice()[1..]);
+        let mut dy = SVector::<f64, M>::zeros();
+        let mut s = 0.0;
+        for j in 0..n {
+            s += g[j] * rate[j];
+            dy[j + 1] = rate[j];
+        }
+        dy[0] = -s / f;
+        Ok(dy)
+    };
+    let mut max_momentum: f64 = 0.0;
+    let mut deviation: Option<f64> = None;
+    let (mut theta, mut u, mut planned) = ([0.0; M], [0.0; M], [0.0; M]);
+    // The plan's momentum at every accepted step, with the model's F, G at the integrated angles,
+    // and the integrated path's distance from the plan's where the motion knows it.
+    let observe = |t: f64, state: &SVector<f64, M>| {
+        let (f, g) = arm.momentum_coefficients(&state.as_slice()[1..]);
+        motion.joint_state(t, &mut theta[..n], &mut u[..n]);
+        let p: f64 = f * motion.phi_rate(t) + g.iter().zip(&u[..n]).map(|(g, u)| g * u).sum::<f64>();
+        max_momentum = max_momentum.max(p.abs());
+        if motion.planned_configuration(t, &mut planned) {
+            let d = state.iter().zip(&planned).map(|(y, q)| (y - q).abs()).fold(0.0, f64::max);
+            deviation = Some(deviation.map_or(d, |m: f64| m.max(d)));
+        }
+    };
+    let y0 = SVector::<f64, M>::from_column_slice(start);
+    let (y, stats) = piecewise(motion.breakpoints(), y0, ode, rhs, observe, |t, y: &SVector<f64, M>| {
+        at_breakpoint(t, y.as_slice())
+    })?;
+    motion.check()?;
+    let final_error = final_error(y.as_slice(), goal);
+    Ok(ChainVerification {
+        final_error,
+        reached: y.iter().copied().collect(),
+        max_abs_momentum: max_momentum,
+        max_path_deviation: deviation,
+        tolerance,
+        certified: final_error.is_finite() && final_error <= tolerance,
+        stats,
+    })
+}
+
+/// A 2-link [`Motion`] as a [`JointMotion`] of its robot's [`Arm`] ([`Arm::from_params`]), so
+/// that the one certificate routine serves the NFA, the ECSA and the optimal 2-link plans alike.
+///
+/// Breakpoints: `0`, the motion's [`Motion::breakpoints`] inside `(0, T)`, `T`. The joint
+/// velocities are [`Motion::controls`]; the angles, the base rate (Eq. 7) and the accelerations
+/// come from [`Motion::at`] (the last point is kept, since the certificates ask for it several
+/// times at each step). The first error a [`Motion`] method returns is kept and reported by
+/// [`JointMotion::check`] (the values are then NaN).
+pub struct MotionView<'a> {
+    motion: &'a dyn Motion,
+    arm: Arm,
+    breakpoints: Vec<f64>,
+    last: RefCell<Option<(f64, MotionPoint)>>,
+    error: RefCell<Option<Error>>,
+}
+
+impl<'a> MotionView<'a> {
+    /// The view of `motion` planned for `problem`'s robot over its horizon.
+    pub fn new(motion: &'a dyn Motion, problem: &PlanningProblem) -> Self {
+        let horizon = problem.horizon;
+        let mut breakpoints = vec![0.0];
+        breakpoints.extend(motion.breakpoints().into_iter().filter(|&t| t > 0.0 && t < horizon));
+        breakpoints.push(horizon);
+        Self {
+            motion,
+            arm: Arm::from_params(&problem.robot),
+            breakpoints,
+            last: RefCell::new(None),
+            error: RefCell::new(None),
+        }
+    }
+
+    /// The robot as an arm.
+    pub fn arm(&self) -> &Arm {
+        &self.arm
+    }
+
+    fn keep<T>(&self, value: Result<T, Error>, fallback: T) -> T {
+        value.unwrap_or_else(|e| {
+            self.error.borrow_mut().get_or_insert(e);
+            fallback
+        })
+    }
+
+    fn point(&self, t: f64) -> MotionPoint {
+        if let Some((s, p)) = *self.last.borrow()
+            && s.to_bits() == t.to_bits()
+        {
+            return p;
+        }
+        let nan =
+            MotionPoint { q: Configuration::new(f64::NAN, f64::NAN, f64::NAN), u: [f64::NAN; 2], du: [f64::NAN; 2] };
+        let p = self.keep(self.motion.at(t), nan);
+        *self.last.borrow_mut() = Some((t, p));
+        p
+    }
+}
+
+impl JointMotion for MotionView<'_> {
+    fn joints(&self) -> usize {
+        2
+    }
+
+    fn breakpoints(&self) -> &[f64] {
+        &self.breakpoints
+    }
+
+    fn joint_state(&self, t: f64, theta: &mut [f64], rate: &mut [f64]) {
+        let p = self.point(t);
+        theta.copy_from_slice(&[p.q.theta1, p.q.theta2]);
+        rate.copy_from_slice(&p.u);
+    }
+
+    fn phi_rate(&self, t: f64) -> f64 {
+        let p = self.point(t);
+        self.arm.base_rate(&[p.q.theta1, p.q.theta2], &p.u)
+    }
+
+    fn joint_acceleration(&self, t: f64, out: &mut [f64]) {
+        out.copy_from_slice(&self.point(t).du);
+    }
+
+    fn joint_rate(&self, t: f64, rate: &mut [f64]) {
+        rate.copy_from_slice(&self.keep(self.motion.controls(t), [f64::NAN; 2]));
+    }
+
+    fn planned_configuration(&self, t: f64, q: &mut [f64]) -> bool {
+        q[..3].copy_from_slice(&self.point(t).q.to_array());
+        true
+    }
+
+    fn check(&self) -> Result<(), Error> {
+        match self.error.borrow_mut().take() {
+            Some(e) => Err(e),
+            None => Ok(()),
+        }
+    }
+}
+
+/// The certificate of a 2-link plan: system (7) integrated from `q0` with the planned controls.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Verification {
     /// `max_i |wrap(q_i(T) - qd_i)|` \[rad\] (docs/spec.md §2).
@@ -33,153 +365,24 @@ pub struct Verification {
     pub stats: OdeStats,
 }
 
-/// What an integration meant to follow `motion` reached: the common part of both certificates.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Followed {
-    /// `q(T)` reached \[rad\] (the first three components of the state).
-    pub reached: Configuration,
-    /// `max_i |wrap(q_i(T) - qd_i)|` \[rad\].
-    pub final_error: f64,
-    /// Largest `max_i |q_i(t) - q_plan_i(t)|` over the integrator's accepted steps \[rad\].
-    pub max_path_deviation: f64,
-    /// Integrator work.
-    pub stats: OdeStats,
-}
-
-/// Integrates `y' = rhs(t, y)` from `y0` over `[0, T]` of `problem`, one piece between
-/// [`Motion::breakpoints`] at a time, where `y` starts with
-/// `q = (phi, theta1, theta2)`; measures the deviation of `q` from `motion` at every accepted step
-/// (after `observe(y)`) and the final error of `q(T)` against the goal.
-pub fn follow<const N: usize>(
-    motion: &dyn Motion,
-    problem: &PlanningProblem,
-    y0: SVector<f64, N>,
-    ode: &OdeOptions,
-    mut rhs: impl FnMut(f64, &SVector<f64, N>) -> Result<SVector<f64, N>, Error>,
-    mut observe: impl FnMut(&SVector<f64, N>),
-) -> Result<Followed, Error> {
-    let mut deviation: f64 = 0.0;
-    let mut observe_error = None;
-    // One integration per piece between the motion's breakpoints: the adaptive steps never
-    // straddle a point where the controls lose smoothness.
-    let mut ends: Vec<f64> = motion.breakpoints().into_iter().filter(|&t| t > 0.0 && t < problem.horizon).collect();
-    ends.push(problem.horizon);
-    let (mut y, mut t0, mut stats) = (y0, 0.0, OdeStats::default());
-    for t1 in ends {
-        if !(t1 > t0) {
-            continue;
-        }
-        let (y1, piece) = integrate(&mut rhs, t0, y, t1, ode, |t, y| {
-            observe(y);
-            match motion.at(t) {
-                Ok(p) => {
-                    let d = (Vector3::new(y[0], y[1], y[2]) - Vector3::from(p.q.to_array())).abs().max();
-                    deviation = deviation.max(d);
-                }
-                Err(e) => observe_error = Some(e),
-            }
-        })?;
-        stats.accepted += piece.accepted;
-        stats.rejected += piece.rejected;
-        stats.evaluations += piece.evaluations;
-        (y, t0) = (y1, t1);
-    }
-    if let Some(e) = observe_error {
-        return Err(e);
-    }
-    let reached = Configuration::new(y[0], y[1], y[2]);
-    Ok(Followed { reached, final_error: reached.distance(&problem.goal), max_path_deviation: deviation, stats })
-}
-
-/// The velocity-level certificate: integrates system (7) from `q0` with `u(t)` of `motion`
-/// (evaluated exactly at every stage time) and measures the final error against the goal.
+/// The velocity-level certificate of a 2-link plan: [`verify_chain`] of the [`MotionView`] of
+/// `motion` on the problem's robot, `u(t)` evaluated exactly at every stage time, the final error
+/// against the goal and the deviation from the planned path.
 pub fn verify(
     motion: &dyn Motion,
     problem: &PlanningProblem,
     ode: &OdeOptions,
     tolerance: f64,
 ) -> Result<Verification, Error> {
-    let k = problem.robot.lumped();
-    let y0 = Vector3::from(problem.start.to_array());
-    let rhs = |t, y: &Vector3<f64>| {
-        let u = motion.controls(t)?;
-        Ok(Vector3::from(velocity(&k, [y[0], y[1], y[2]], u)))
-    };
-    let f = follow(motion, problem, y0, ode, rhs, |_| {})?;
+    let view = MotionView::new(motion, problem);
+    let (start, goal) = (problem.start.to_array(), problem.goal.to_array());
+    let v = verify_chain(view.arm(), &view, &start, &goal, ode, tolerance)?;
     Ok(Verification {
-        final_error: f.final_error,
-        reached: f.reached,
-        max_path_deviation: f.max_path_deviation,
+        final_error: v.final_error,
+        reached: Configuration::new(v.reached[0], v.reached[1], v.reached[2]),
+        max_path_deviation: v.max_path_deviation.unwrap_or(f64::NAN),
         tolerance,
-        certified: f.final_error.is_finite() && f.final_error <= tolerance,
-        stats: f.stats,
-    })
-}
-
-/// The forward-dynamics certificate of a torque plan.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-pub struct TorqueCertificate {
-    /// `max_i |wrap(q_i(T) - qd_i)|` \[rad\] of the forward dynamics (docs/spec.md §2).
-    pub final_error: f64,
-    /// `q(T)` reached by the forward dynamics \[rad\].
-    pub reached: Configuration,
-    /// Largest `max_i |q_i(t) - q_plan_i(t)|` over the integrator's steps \[rad\].
-    pub max_path_deviation: f64,
-    /// Largest `|F phi' + G theta1' + H theta2'|` (Eq. 5) over the integrator's steps
-    /// [kg m^2/s]: the angular momentum, zero for the plan.
-    pub max_abs_momentum: f64,
-    /// Tolerance the final error is held to \[rad\].
-    pub tolerance: f64,
-    /// `final_error <= tolerance`.
-    pub certified: bool,
-    /// Integrator work.
-    pub stats: OdeStats,
-}
-
-/// The forward-dynamics certificate: integrates `M q'' + c = (0, tau1(t), tau2(t))` (base
-/// unactuated) from `q0` with the problem's start velocity (at rest unless set; the base at
-/// zero angular momentum, Eq. 7), with the torques of `motion` evaluated exactly at every stage
-/// time ([`joint_torques`] of [`Motion::at`]), and measures the final error against the goal,
-/// the deviation from the planned path and the angular momentum along the way.
-///
-/// The start velocity is the problem's (docs/spec.md, Sec. 2), whatever the motion's `u(0)`: a
-/// motion whose joint velocities do not vanish at `t = 0` on a rest-to-rest problem (ECSA's
-/// trigonometric controls, docs/spec.md, Sec. 6, item 8) cannot be followed from rest, and the
-/// certificate shows it.
-pub fn certify_torques(
-    motion: &dyn Motion,
-    problem: &PlanningProblem,
-    options: &TorqueOptions,
-) -> Result<TorqueCertificate, Error> {
-    options.validate()?;
-    let k = problem.robot.lumped();
-    let q0 = problem.start.to_array();
-    let [w1, w2] = problem.start_velocity;
-    let base = velocity(&k, q0, [w1, w2])[0];
-    let y0 = Vector6::new(q0[0], q0[1], q0[2], base, w1, w2);
-    let split = |y: &Vector6<f64>| (Configuration::new(y[0], y[1], y[2]), [y[3], y[4], y[5]]);
-    let mut max_momentum: f64 = 0.0;
-    let rhs = |t, y: &Vector6<f64>| {
-        let tau = joint_torques(&k, &motion.at(t)?);
-        let (q, dq) = split(y);
-        let ddq = forward_dynamics(&k, &q, dq, [0.0, tau[0], tau[1]]);
-        Ok(Vector6::new(dq[0], dq[1], dq[2], ddq[0], ddq[1], ddq[2]))
-    };
-    let observe = |y: &Vector6<f64>| {
-        let (q, dq) = split(y);
-        max_momentum = max_momentum.max(momentum(&k, &q, dq).abs());
-    };
-    let f = follow(motion, problem, y0, &options.ode, rhs, observe).map_err(|e| match e {
-        Error::Integration(OdeError { t, reason }) => Error::TorqueDiverges { t, reason },
-        e => e,
-    })?;
-    Ok(TorqueCertificate {
-        final_error: f.final_error,
-        reached: f.reached,
-        max_path_deviation: f.max_path_deviation,
-        max_abs_momentum: max_momentum,
-        tolerance: options.tolerance,
-        certified: f.final_error.is_finite() && f.final_error <= options.tolerance,
-        stats: f.stats,
+        certified: v.certified,
+        stats: v.stats,
     })
 }

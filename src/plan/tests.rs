@@ -52,14 +52,16 @@ fn paper_cases_torque_plans_are_certified() {
     }
 }
 
-/// The samples' torques (stored Newton solutions, [`Motion::points`]) equal those of
-/// [`Motion::at`] (fresh Newton runs) at the same times, and at times between samples too.
+/// The samples' torques by the arm's inverse dynamics (stored Newton solutions,
+/// [`Motion::points`]) equal the paper's closed form (Eq. 6, [`inverse_dynamics`] of the lumped
+/// constants) at [`Motion::at`] (fresh Newton runs) at the same times, and at times between
+/// samples too: the one torque level at `n = 2` is the paper's.
 #[test]
 fn sampled_torques_agree_with_motion_at() {
     let (plan, motion) = paper_motion(0.2, Transform::Eq14);
     let k = plan.problem.robot.lumped();
     let times: Vec<f64> = plan.trajectory.t.iter().copied().step_by(97).chain([0.123, 5.4321, 9.999]).collect();
-    let sampled = torques_at(&k, &motion, &times).unwrap();
+    let sampled = torques_at(&crate::model::arm::Arm::from_params(&plan.problem.robot), &motion, &times).unwrap();
     for (t, s) in times.iter().zip(&sampled) {
         let fresh = inverse_dynamics(&k, &motion.at(*t).unwrap());
         for (x, y) in s.iter().zip(fresh.tau) {
@@ -82,6 +84,61 @@ fn failed_torque_certificate_is_an_error() {
         certify_torques(&motion, &plan.problem, &bad),
         Err(Error::Input(InputError::InvalidParameter { .. }))
     ));
+}
+
+/// The one velocity certificate at `n = 2` (the arm's momentum coefficients) reaches the same
+/// `q(T)` as system (7) with the paper's closed-form `F, G, H` (Eq. 8, `velocity`) integrated
+/// directly with the same controls and breakpoints, to 1e-10 rad (both integrate at rtol = atol
+/// = 1e-12 over 10 s; they differ only by rounding of `F, G, H`), for the paper's NFA cases.
+#[test]
+fn one_certificate_at_two_links_is_system_seven() {
+    use crate::model::system::velocity;
+    for (a, transform) in PAPER_CASES {
+        let (plan, motion) = paper_motion(a, transform);
+        let p = &plan.problem;
+        let k = p.robot.lumped();
+        let rhs = |t: f64, y: &nalgebra::Vector3<f64>| {
+            let u = motion.controls(t)?;
+            Ok::<_, Error>(nalgebra::Vector3::from(velocity(&k, [y[0], y[1], y[2]], u)))
+        };
+        let (direct, _) = integrate(
+            rhs,
+            0.0,
+            nalgebra::Vector3::from(p.start.to_array()),
+            p.horizon,
+            &OdeOptions::default(),
+            |_, _| {},
+        )
+        .unwrap();
+        let v = verify(&motion, p, &OdeOptions::default(), 1e-9).unwrap();
+        let d = Configuration::from_array([direct[0], direct[1], direct[2]]).distance(&v.reached);
+        assert!(d <= 1e-10, "a = {a}, {transform:?}: {d:e}");
+        assert!(v.certified && v.max_path_deviation <= 1e-8, "{v:?}");
+    }
+}
+
+/// A motion that fails to evaluate midway: both certificates return its error (typed), never a
+/// certificate of NaN numbers.
+#[test]
+fn a_motion_error_stops_the_certificates() {
+    struct Broken(NfaMotion);
+    impl Motion for Broken {
+        fn horizon(&self) -> f64 {
+            self.0.horizon()
+        }
+        fn at(&self, t: f64) -> Result<MotionPoint, Error> {
+            if t > 5.0 { Err(Error::from(crate::numerics::ode::OdeError { t, reason: "test" })) } else { self.0.at(t) }
+        }
+        fn controls(&self, t: f64) -> Result<[f64; 2], Error> {
+            Ok(self.at(t)?.u)
+        }
+    }
+    let (plan, motion) = paper_motion(0.1, Transform::Eq14);
+    let broken = Broken(motion);
+    let e = verify(&broken, &plan.problem, &OdeOptions::default(), 1e-9).unwrap_err();
+    assert!(matches!(e, Error::Integration(crate::numerics::ode::OdeError { reason: "test", t }) if t > 5.0), "{e:?}");
+    let e = certify_torques(&broken, &plan.problem, &TorqueOptions::default()).unwrap_err();
+    assert!(matches!(e, Error::TorqueDiverges { reason: "test", .. }), "{e:?}");
 }
 
 /// A random smooth joint motion starting at rest: `theta_i(t) = theta_i0 + sum_n c_in (1 -

@@ -2,7 +2,7 @@
 //! line, the report and Python use for an arm that is not the paper's 2-link robot.
 //!
 //! The methods are the minimum-effort planner for `n` joints ([`super::chain`], the default) and
-//! the ECSA for `n` joints ([`super::ecsa::chain`]): the holonomy constraint `phi(T) = phid` is
+//! the ECSA for `n` joints ([`super::ecsa`]): the holonomy constraint `phi(T) = phid` is
 //! one scalar for any `n` (Eq. 7 with `G = (G_1..G_n)`). The NFA's chained form (Eq. 10) is the
 //! 2-link robot's; for other arms it is refused with the reason. Every plan is certified at the velocity level (the
 //! system integrated with the planned joint velocities), and with `torques` at the torque level

@@ -1,19 +1,15 @@
 //! The Endogenous Configuration Space Approach (ECSA), the paper's reference method (Sec. 5,
-//! Figs. 9-12): trigonometric controls with constant terms and the first harmonics, steered to
-//! the goal by the Jacobian pseudo-inverse of the end-point map.
-//!
-//! The controls `u(t) = (theta1', theta2')` of system (7) are parametrised by a coefficient
-//! vector `c` in the [`Basis`] (the endogenous configuration). The end-point map
-//! `K(c) = q(T)` integrates (7) from `q0`; its Jacobian `J(c) = dK/dc` comes from the
-//! variational equations
-//! $$\dot{\xi} = \frac{\partial (g(q) u)}{\partial q} \xi + g(q) \frac{\partial u}{\partial c},
-//! \quad \xi(0) = 0,$$
-//! integrated alongside (7): the state is carried as vector dual numbers
-//! ([`num_dual::DualSVec64`]), so `dg/dq` is exact (AD) and the dual parts are the exact
-//! derivative of the discrete solution. The iteration is
+//! Figs. 9-12), one engine for any planar serial arm of `n` joints, `n = 2` included: the
+//! controls `u_i(t) = theta_i'` of each joint are a trigonometric series (constant terms and the
+//! first harmonics, [`Basis`]) with coefficient vector `c` (the endogenous configuration), and
+//! `c` solves the end-point equation `K(c) = q_d` by one of two [`ChainSolver`]s: the paper's
+//! damped pseudo-inverse iteration
 //! $$c \leftarrow c - \gamma J^{\#}(c)\, \mathrm{wrap}(K(c) - q_d), \quad
 //! J^{\#} = J^\top (J J^\top + \lambda^2 I)^{-1},$$
-//! the damped Moore–Penrose pseudo-inverse, with the angle errors wrapped to (-pi, pi].
+//! from the straight line ([`ChainSolver::PseudoInverse`], the 2-link [`EcsaPlanner`]'s, the
+//! paper's reproduction), or the least-norm solution (`min_norm.rs`,
+//! [`ChainSolver::MinimumNorm`], the default for other arms: the pseudo-inverse's first step
+//! overshoots into large harmonics when the base must turn by loops).
 //!
 //! **Initial guess**: all harmonics zero and the constant terms that move each joint from
 //! `theta_i0` to `theta_id` ([`Basis::initial_guess`]): a linear joint motion (or its
@@ -24,31 +20,412 @@
 //! plan's `trajectory.dq` shows the jump. [`Window::SinSquared`] gives plans that start and end
 //! at rest, like the NFA's.
 //!
+//! **The end-point map is a quadrature along an explicit path.** With `theta' = u` the joint
+//! angles are explicit functions of the coefficients,
+//! `theta_i(t) = theta_i0 + sum_j c_ij A_j(t)` with the closed-form antiderivatives
+//! [`Basis::antiderivatives`], so `theta(T) = theta0 + sum_j c_ij A_j(T)` is linear in `c`, and
+//! Eq. (7) at zero momentum integrates to
+//! $$\varphi(T) = \varphi_0 - \int_0^T a(\theta(t)) \cdot u(t)\, dt, \quad a = G/F,$$
+//! one scalar for any `n`. No ODE is solved: the integral is a composite Gauss–Legendre rule
+//! ([`NODES`] nodes on each of `pieces` equal pieces), and its gradient in `c` is exact,
+//! `d phi(T)/d c_ij = -int (dg/dtheta_i A_j + a_i phi_j) dt` with `g = a . u` and `dg/dtheta`
+//! in closed form ([`Connection::local`], held to num-dual's derivatives of
+//! [`Arm::momentum_coefficients`] by its tests and by `gradient_matches_num_dual_and_differences`
+//! here).
+//!
+//! **Quadrature rule**: the iteration starts with `64 H` pieces of [`NODES`] nodes. When it has
+//! converged the holonomy integral is recomputed with twice the pieces; if the two differ by more
+//! than 1% of the residual tolerance the pieces are doubled and the iteration continues from
+//! the current `c` (up to [`MAX_PIECES`]); the residual on the finer rule then replaces the last
+//! entry of the residual history, which can therefore rise after a small residual. The plan is returned only when certified by
+//! [`verify_chain`] (the system integrated with the planned controls by the adaptive
+//! integrator), independent of the rule.
+//!
+//! The 2-link robot ([`EcsaPlanner`] on a [`crate::plan::PlanningProblem`], `paper.rs`) is this engine on
+//! [`Arm::from_params`] with the pseudo-inverse iteration; its motion ([`EcsaMotion`]) is the
+//! engine's plan seen as a 2-link [`crate::plan::Motion`].
+//!
 //! ## Reference
 //! K. Tchoń, J. Jakubiak, *Endogenous configuration space approach to mobile manipulators: a
 //! derivation and performance assessment of Jacobian inverse kinematics algorithms*,
 //! Int. J. Control 76(14) (2003) 1387–1419, doi:10.1080/0020717031000099029.
 
 pub mod basis;
-pub mod chain;
+mod min_norm;
 mod motion;
+mod paper;
+mod plan;
 
+pub use crate::numerics::iteration::{IterationStats, Termination};
+pub use basis::{Basis, MAX_HARMONICS, Window};
+pub use motion::EcsaMotion;
+pub use paper::{EcsaPlanner, EcsaSolution, EndPoint};
+pub use plan::ChainEcsaPlan;
+
+use std::sync::Arc;
 use std::time::Instant;
 
-use nalgebra::{Const, Matrix3, SMatrix, SVector, U1, Vector3};
-use num_dual::{Derivative, DualSVec64};
-
-pub use basis::{Basis, MAX_HARMONICS, Window};
-pub use chain::{ChainEcsaPlan, ChainEcsaPlanner, ChainEcsaStats, ChainSolver};
-pub use motion::EcsaMotion;
+use nalgebra::{DMatrix, DVector};
+use serde::Serialize;
 
 use crate::error::Error;
-use crate::model::system::velocity;
-use crate::model::{Configuration, InputError, Lumped, wrap_angle};
-pub use crate::numerics::iteration::{IterationStats, Termination};
-use crate::numerics::ode::{OdeOptions, OdeStats, integrate};
-use crate::plan::{Method, Plan, PlanningProblem};
-use crate::planners::{Details, Planned, Planner};
+use crate::model::InputError;
+use crate::model::arm::Arm;
+use crate::model::wrap_angle;
+use crate::numerics::ode::{OdeOptions, OdeStats};
+use crate::numerics::quadrature::GaussLegendre;
+use crate::plan::certificate::verify_chain;
+use crate::planners::chain::connection::{Connection, Local};
+use crate::planners::chain::{ChainProblem, MAX_JOINTS};
+
+/// Gauss–Legendre nodes per piece of the holonomy integral.
+pub const NODES: usize = 16;
+/// The largest number of pieces of the holonomy integral.
+pub const MAX_PIECES: usize = 1024;
+
+/// The [`NODES`]-node rule, computed once.
+fn rule() -> &'static GaussLegendre {
+    static RULE: std::sync::OnceLock<GaussLegendre> = std::sync::OnceLock::new();
+    RULE.get_or_init(|| GaussLegendre::new(NODES))
+}
+
+/// The end-point map of an `n`-joint arm at one `c` and its exact Jacobian.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ChainEndPoint {
+    /// `K(c) = (phi(T), theta(T))` \[rad\].
+    pub q: Vec<f64>,
+    /// `dK/dc`, `n + 1` rows by `n (2H + 1)` columns.
+    pub jacobian: DMatrix<f64>,
+}
+
+/// How the `n`-joint ECSA solves `K(c) = q_d`.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ChainSolver {
+    /// `min |c|^2` s.t. `K(c) = q_d` by Lagrange–Newton with continuation in the base's target
+    /// from the straight line (`min_norm.rs`). Default.
+    #[default]
+    MinimumNorm,
+    /// The 2-joint ECSA's damped pseudo-inverse iteration from its initial guess (the paper's; the 2-link
+    /// [`EcsaPlanner`]'s).
+    PseudoInverse,
+}
+
+impl ChainSolver {
+    /// `minimum-norm` or `pseudo-inverse`.
+    pub fn name(self) -> &'static str {
+        match self {
+            ChainSolver::MinimumNorm => "minimum-norm",
+            ChainSolver::PseudoInverse => "pseudo-inverse",
+        }
+    }
+}
+
+/// What a solver returns.
+struct Solved {
+    c: DVector<f64>,
+    iteration: IterationStats,
+    pieces: usize,
+    change: f64,
+    continuation_steps: usize,
+}
+
+/// The account of an `n`-joint ECSA plan.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ChainEcsaStats {
+    /// Harmonics `H` of the basis.
+    pub harmonics: usize,
+    /// The window of the series.
+    pub window: Window,
+    /// The solver.
+    pub solver: ChainSolver,
+    /// `c = (c_10, .., c_1,2H, .., c_n0, .., c_n,2H)` \[rad/s\].
+    pub coefficients: Vec<f64>,
+    /// Iterations (Newton steps), residual history `|K(c) - q_s|_inf` (for the minimum-norm
+    /// solver at the continuation's current target), termination (`ode` is zero: no ODE is
+    /// solved).
+    pub iteration: IterationStats,
+    /// Steps of the continuation in the base's target (0 for the pseudo-inverse iteration).
+    pub continuation_steps: usize,
+    /// Pieces of the composite Gauss–Legendre rule of the holonomy integral.
+    pub quadrature_pieces: usize,
+    /// Nodes per piece.
+    pub quadrature_nodes: usize,
+    /// `|phi(T)|` with twice the pieces minus with the pieces, at the solution \[rad\].
+    pub quadrature_change: f64,
+    /// The effort `integral_0^T |u|^2 dt` \[rad^2/s\].
+    pub effort: f64,
+    /// Wall time of the iteration \[s\].
+    pub plan_seconds: f64,
+}
+
+/// The ECSA for an `n`-joint arm (see the [module docs](self)).
+#[derive(Debug, Clone)]
+pub struct ChainEcsaPlanner {
+    arm: Arm,
+    connection: Arc<Connection>,
+    /// Options (`samples` is not used: the caller samples the plan; `gamma` and `damping` are
+    /// the pseudo-inverse iteration's).
+    pub options: EcsaOptions,
+    /// The solver; default [`ChainSolver::MinimumNorm`].
+    pub solver: ChainSolver,
+}
+
+impl ChainEcsaPlanner {
+    /// A planner for `arm`.
+    pub fn new(arm: Arm, options: EcsaOptions) -> Self {
+        let connection = Arc::new(Connection::new(&arm));
+        Self { arm, connection, options, solver: ChainSolver::default() }
+    }
+
+    /// This planner with `solver`.
+    pub fn with_solver(self, solver: ChainSolver) -> Self {
+        Self { solver, ..self }
+    }
+
+    /// The arm.
+    pub fn arm(&self) -> &Arm {
+        &self.arm
+    }
+
+    /// The arm's connection (shared with the plans).
+    fn connection(&self) -> Arc<Connection> {
+        self.connection.clone()
+    }
+
+    fn basis(&self, horizon: f64) -> Result<Basis, Error> {
+        self.options.validate()?;
+        Basis::new(self.options.harmonics, horizon, self.options.window)
+    }
+
+    fn check(&self, start: &[f64], coefficients: Option<(&Basis, &[f64])>) -> Result<(), Error> {
+        let n = self.arm.joints();
+        let bad = |name: &str, value: usize, expected: &'static str| {
+            Err(Error::from(InputError::InvalidParameter { name: name.into(), value: value as f64, expected }))
+        };
+        if !(1..=MAX_JOINTS).contains(&n) {
+            return bad("joints", n, "an arm of 1 to 15 joints");
+        }
+        if start.len() != n + 1 {
+            return bad("start.len", start.len(), "n + 1 values (phi, theta_1..theta_n)");
+        }
+        match coefficients {
+            Some((basis, c)) if c.len() != n * basis.terms() => {
+                bad("coefficients", c.len(), "n (2H + 1) coefficients for n joints and H harmonics")
+            }
+            _ => Ok(()),
+        }
+    }
+
+    /// `K(c)` and its exact Jacobian from `start` (`n + 1` angles) over `horizon` \[s\], with
+    /// `pieces` pieces of the quadrature.
+    pub fn end_point(&self, start: &[f64], horizon: f64, c: &[f64], pieces: usize) -> Result<ChainEndPoint, Error> {
+        let basis = self.basis(horizon)?;
+        self.check(start, Some((&basis, c)))?;
+        Ok(self.evaluate(&basis, start, c, pieces, true))
+    }
+
+    /// `K(c)` alone.
+    pub fn end_point_map(&self, start: &[f64], horizon: f64, c: &[f64], pieces: usize) -> Result<Vec<f64>, Error> {
+        let basis = self.basis(horizon)?;
+        self.check(start, Some((&basis, c)))?;
+        Ok(self.evaluate(&basis, start, c, pieces, false).q)
+    }
+
+    fn evaluate(&self, basis: &Basis, start: &[f64], c: &[f64], pieces: usize, with_jacobian: bool) -> ChainEndPoint {
+        let n = self.arm.joints();
+        let m = basis.terms();
+        let pieces = pieces.clamp(1, MAX_PIECES);
+        let h = basis.horizon() / pieces as f64;
+        let (mut theta, mut u) = (vec![0.0; n], vec![0.0; n]);
+        let mut local = Local::new(n);
+        let mut integral = 0.0;
+        let mut gradient = vec![0.0; if with_jacobian { n * m } else { 0 }];
+        let r = rule();
+        for piece in 0..pieces {
+            let a = piece as f64 * h;
+            for (x, w) in r.nodes.iter().zip(&r.weights) {
+                let t = a + 0.5 * h * (1.0 + x);
+                let weight = 0.5 * h * w;
+                let (b, anti) = (basis.values(t), basis.antiderivatives(t));
+                path(start, c, m, &b, &anti, &mut theta, &mut u);
+                if with_jacobian {
+                    self.connection.local(&theta, &u, &mut local);
+                    integral += weight * local.value;
+                    for i in 0..n {
+                        let (gi, ai) = (weight * local.gradient[i], weight * local.a[i]);
+                        for j in 0..m {
+                            gradient[i * m + j] += gi * anti[j] + ai * b[j];
+                        }
+                    }
+                } else {
+                    integral += weight * self.connection.value(&theta, &u);
+                }
+            }
+        }
+        let ends = basis.integrals();
+        let mut q = vec![start[0] - integral];
+        let mut jacobian = DMatrix::zeros(if with_jacobian { n + 1 } else { 0 }, n * m);
+        for i in 0..n {
+            q.push(start[i + 1] + (0..m).map(|j| c[i * m + j] * ends[j]).sum::<f64>());
+            if with_jacobian {
+                for j in 0..m {
+                    jacobian[(0, i * m + j)] = -gradient[i * m + j];
+                    jacobian[(i + 1, i * m + j)] = ends[j];
+                }
+            }
+        }
+        ChainEndPoint { q, jacobian }
+    }
+
+    /// Solves `K(c) = q_d` with the planner's [`ChainSolver`] to the residual tolerance, with
+    /// the quadrature rule of the [module docs](self). Non-convergence is
+    /// [`Error::EcsaFailed`] with the statistics.
+    pub fn solve(&self, problem: &ChainProblem) -> Result<ChainEcsaStats, Error> {
+        let clock = Instant::now();
+        problem.validate(&self.arm)?;
+        if let Some(&value) = problem.initial_velocity.iter().find(|v| **v != 0.0) {
+            return Err(Error::from(InputError::InvalidParameter {
+                name: "start velocity".into(),
+                value,
+                expected: "zero: the ECSA plans from rest; the optimal planner takes a moving start",
+            }));
+        }
+        let basis = self.basis(problem.horizon)?;
+        let solved = match self.solver {
+            ChainSolver::MinimumNorm => self.minimum_norm(&basis, problem)?,
+            ChainSolver::PseudoInverse => self.pseudo_inverse(&basis, problem)?,
+        };
+        let coefficients = solved.c.as_slice().to_vec();
+        let effort = effort(&basis, self.arm.joints(), &coefficients, solved.pieces);
+        Ok(ChainEcsaStats {
+            harmonics: basis.harmonics(),
+            window: basis.window(),
+            solver: self.solver,
+            coefficients,
+            iteration: solved.iteration,
+            continuation_steps: solved.continuation_steps,
+            quadrature_pieces: solved.pieces,
+            quadrature_nodes: NODES,
+            quadrature_change: solved.change,
+            effort,
+            plan_seconds: clock.elapsed().as_secs_f64(),
+        })
+    }
+
+    /// [`ChainSolver::PseudoInverse`]: the 2-joint ECSA's iteration from its initial guess
+    /// (constant terms moving each joint from `theta_i0` to `theta_id` literally).
+    fn pseudo_inverse(&self, basis: &Basis, problem: &ChainProblem) -> Result<Solved, Error> {
+        let o = &self.options;
+        let (n, m) = (self.arm.joints(), basis.terms());
+        let (start, goal) = (&problem.start, &problem.goal);
+        let integral = basis.integrals()[0];
+        let mut c = DVector::<f64>::zeros(n * m);
+        for i in 0..n {
+            c[i * m] = (goal[i + 1] - start[i + 1]) / integral;
+        }
+        let mut pieces = (64 * basis.harmonics()).min(MAX_PIECES);
+        let mut history = Vec::new();
+        let mut iterations = 0;
+        let mut change = f64::NAN;
+        loop {
+            let k = self.evaluate(basis, start, c.as_slice(), pieces, true);
+            // `wrap`: angles modulo 2 pi (as the 2-joint ECSA); else the goal literally.
+            let error =
+                DVector::from_fn(
+                    n + 1,
+                    |i, _| {
+                        if problem.wrap { wrap_angle(k.q[i] - goal[i]) } else { k.q[i] - goal[i] }
+                    },
+                );
+            let finite = error.iter().all(|e| e.is_finite());
+            let residual = if finite { error.amax() } else { f64::NAN };
+            history.push(residual);
+            let mut stop = if !finite {
+                Some(Termination::NonFinite)
+            } else if residual <= o.residual_tolerance {
+                // Converged on this rule: check it against twice the pieces.
+                let fine = self.evaluate(basis, start, c.as_slice(), 2 * pieces, false);
+                change = (fine.q[0] - k.q[0]).abs();
+                if change <= 0.01 * o.residual_tolerance || 2 * pieces > MAX_PIECES {
+                    Some(Termination::Converged)
+                } else {
+                    pieces *= 2;
+                    history.pop();
+                    continue;
+                }
+            } else if iterations >= o.max_iterations {
+                Some(Termination::MaxIterations)
+            } else {
+                None
+            };
+            let mut step = None;
+            if stop.is_none() {
+                let j = &k.jacobian;
+                let gram = j * j.transpose() + DMatrix::<f64>::identity(n + 1, n + 1) * (o.damping * o.damping);
+                match gram.cholesky() {
+                    Some(cholesky) => step = Some(j.transpose() * cholesky.solve(&error)),
+                    None => stop = Some(Termination::SingularJacobian),
+                }
+            }
+            if let Some(termination) = stop {
+                let iteration = IterationStats {
+                    iterations,
+                    residual,
+                    tolerance: o.residual_tolerance,
+                    residual_history: history,
+                    termination,
+                    ode: OdeStats::default(),
+                };
+                if termination != Termination::Converged {
+                    return Err(Error::EcsaFailed { stats: iteration });
+                }
+                return Ok(Solved { c, iteration, pieces, change, continuation_steps: 0 });
+            }
+            if let Some(step) = step {
+                c -= step * o.gamma;
+            }
+            iterations += 1;
+        }
+    }
+
+    /// Solves, and certifies the motion with [`verify_chain`] to `options.tolerance`; a motion
+    /// that fails its certificate is [`Error::NotCertified`].
+    pub fn plan(&self, problem: &ChainProblem) -> Result<ChainEcsaPlan, Error> {
+        let stats = self.solve(problem)?;
+        let basis = self.basis(problem.horizon)?;
+        let mut plan = ChainEcsaPlan::new(self.connection.clone(), basis, &problem.start, stats);
+        let o = &self.options;
+        let verification = verify_chain(&self.arm, &plan, &problem.start, &problem.goal, &o.ode, o.tolerance)?;
+        if !verification.certified {
+            return Err(Error::NotCertified {
+                final_error: verification.final_error,
+                tolerance: verification.tolerance,
+                level: "velocity",
+            });
+        }
+        plan.verification = verification;
+        Ok(plan)
+    }
+}
+
+/// `theta = theta0 + C A`, `u = C b` for the basis values `b` and antiderivatives `anti`.
+fn path(start: &[f64], c: &[f64], m: usize, b: &[f64], anti: &[f64], theta: &mut [f64], u: &mut [f64]) {
+    for i in 0..theta.len() {
+        let ci = &c[i * m..(i + 1) * m];
+        theta[i] = start[i + 1] + ci.iter().zip(anti).map(|(c, a)| c * a).sum::<f64>();
+        u[i] = ci.iter().zip(b).map(|(c, b)| c * b).sum();
+    }
+}
+
+/// `integral_0^T |u|^2 dt` by the composite rule (exact for the trigonometric polynomials).
+fn effort(basis: &Basis, n: usize, c: &[f64], pieces: usize) -> f64 {
+    let m = basis.terms();
+    rule().integrate_composite(0.0, basis.horizon(), pieces, |t| {
+        let b = basis.values(t);
+        (0..n).map(|i| (0..m).map(|j| c[i * m + j] * b[j]).sum::<f64>().powi(2)).sum()
+    })
+}
 
 /// Options of the [`EcsaPlanner`]; every default is the one documented on its field.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -134,299 +511,7 @@ impl EcsaOptions {
     }
 }
 
-/// The result of the ECSA iteration: the controls' coefficients and the statistics.
-#[derive(Debug, Clone, PartialEq)]
-pub struct EcsaSolution {
-    /// The control basis.
-    pub basis: Basis,
-    /// `c = (c_10, ..., c_1,2H, c_20, ..., c_2,2H)` \[rad/s\].
-    pub coefficients: Vec<f64>,
-    /// `K(c)`, the end point reached by the iteration's last integration \[rad\].
-    pub reached: Configuration,
-    /// Iterations, residuals, termination.
-    pub stats: IterationStats,
-}
-
-/// The end-point map and its Jacobian at one `c`.
-#[derive(Debug, Clone, PartialEq)]
-pub struct EndPoint {
-    /// `K(c) = q(T)` \[rad\].
-    pub q: Configuration,
-    /// `J = dK/dc`, 3 rows (`phi, theta1, theta2`) by `2 (2H + 1)` columns.
-    pub jacobian: nalgebra::DMatrix<f64>,
-    /// Integrator work.
-    pub ode: OdeStats,
-}
-
-/// The Endogenous Configuration Space Approach (see the [module docs](self)).
-///
-/// ```
-/// use freefloat::{EcsaOptions, EcsaPlanner, Planner, PlanningProblem, RobotParams};
-/// let problem = PlanningProblem::paper(RobotParams::src());
-/// let plan = EcsaPlanner::new(EcsaOptions::default()).plan(&problem).unwrap().plan;
-/// assert!(plan.verification.final_error <= 1e-9);
-/// assert!(plan.iterations.unwrap() < 20);
-/// ```
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
-pub struct EcsaPlanner {
-    /// Options.
-    pub options: EcsaOptions,
-}
-
-impl EcsaPlanner {
-    /// A planner with these options.
-    pub fn new(options: EcsaOptions) -> Self {
-        Self { options }
-    }
-
-    fn basis(&self, problem: &PlanningProblem) -> Result<Basis, Error> {
-        self.options.validate()?;
-        Basis::new(self.options.harmonics, problem.horizon, self.options.window)
-    }
-
-    /// The end-point map `K(c)` and its Jacobian from the variational equations, for
-    /// coefficients `c` of length `2 (2H + 1)`.
-    pub fn end_point(&self, problem: &PlanningProblem, coefficients: &[f64]) -> Result<EndPoint, Error> {
-        let basis = self.basis(problem)?;
-        check_length(&basis, coefficients)?;
-        let k = problem.robot.lumped();
-        macro_rules! dispatch {
-            ($($h:literal => $p:literal),*) => {
-                match basis.harmonics() {
-                    $($h => {
-                        let (q, j, ode) =
-                            end_point_dual::<$p>(&k, &basis, &problem.start, coefficients, &self.options.ode)?;
-                        Ok(EndPoint {
-                            q: Configuration::from_array(q),
-                            jacobian: nalgebra::DMatrix::from_fn(3, $p, |r, c| j[(r, c)]),
-                            ode,
-                        })
-                    })*
-                    h => Err(harmonics_error(h)),
-                }
-            };
-        }
-        dispatch!(1 => 6, 2 => 10, 3 => 14, 4 => 18)
-    }
-
-    /// The end-point map `K(c)` alone, by integrating (7) in `f64`.
-    pub fn end_point_map(&self, problem: &PlanningProblem, coefficients: &[f64]) -> Result<Configuration, Error> {
-        let basis = self.basis(problem)?;
-        check_length(&basis, coefficients)?;
-        let flow = Flow { k: problem.robot.lumped(), basis, coefficients, ode: self.options.ode };
-        Ok(Configuration::from_array(flow.advance(0.0, problem.start.to_array(), problem.horizon)?))
-    }
-
-    /// Runs the pseudo-inverse iteration from the initial guess to the residual tolerance.
-    /// Non-convergence is [`Error::EcsaFailed`] with the statistics.
-    pub fn solve(&self, problem: &PlanningProblem) -> Result<EcsaSolution, Error> {
-        let basis = self.basis(problem)?;
-        match basis.harmonics() {
-            1 => self.iterate::<6>(problem, basis),
-            2 => self.iterate::<10>(problem, basis),
-            3 => self.iterate::<14>(problem, basis),
-            4 => self.iterate::<18>(problem, basis),
-            h => Err(harmonics_error(h)),
-        }
-    }
-
-    fn iterate<const P: usize>(&self, problem: &PlanningProblem, basis: Basis) -> Result<EcsaSolution, Error> {
-        let o = &self.options;
-        let k = problem.robot.lumped();
-        let (start, goal) = (problem.start, problem.goal);
-        let displacement = [goal.theta1 - start.theta1, goal.theta2 - start.theta2];
-        let mut c = SVector::<f64, P>::from_column_slice(&basis.initial_guess(displacement));
-        let goal = Vector3::from(goal.to_array());
-        let mut history = Vec::new();
-        let mut ode = OdeStats::default();
-        let mut iterations = 0;
-        loop {
-            let (q, jacobian, stats) = end_point_dual::<P>(&k, &basis, &start, c.as_slice(), &o.ode)?;
-            ode.accepted += stats.accepted;
-            ode.rejected += stats.rejected;
-            ode.evaluations += stats.evaluations;
-            let error = Vector3::from_fn(|i, _| wrap_angle(q[i] - goal[i]));
-            let finite = error.iter().all(|e| e.is_finite());
-            let residual = if finite { error.amax() } else { f64::NAN };
-            history.push(residual);
-            let mut stop = if !finite {
-                Some(Termination::NonFinite)
-            } else if residual <= o.residual_tolerance {
-                Some(Termination::Converged)
-            } else if iterations >= o.max_iterations {
-                Some(Termination::MaxIterations)
-            } else {
-                None
-            };
-            let mut step = None;
-            if stop.is_none() {
-                let gram = jacobian * jacobian.transpose() + Matrix3::identity() * (o.damping * o.damping);
-                match gram.cholesky() {
-                    Some(cholesky) => step = Some(jacobian.transpose() * cholesky.solve(&error)),
-                    None => stop = Some(Termination::SingularJacobian),
-                }
-            }
-            if let Some(termination) = stop {
-                let stats = IterationStats {
-                    iterations,
-                    residual,
-                    tolerance: o.residual_tolerance,
-                    residual_history: history,
-                    termination,
-                    ode,
-                };
-                if termination != Termination::Converged {
-                    return Err(Error::EcsaFailed { stats });
-                }
-                return Ok(EcsaSolution {
-                    basis,
-                    coefficients: c.as_slice().to_vec(),
-                    reached: Configuration::from_array(q),
-                    stats,
-                });
-            }
-            if let Some(step) = step {
-                c -= step * o.gamma;
-            }
-            iterations += 1;
-        }
-    }
-
-    /// The planned motion of a solution: its controls, and the configurations at `samples`
-    /// equally spaced times from a dense integration of (7).
-    pub fn motion(&self, problem: &PlanningProblem, solution: &EcsaSolution) -> Result<EcsaMotion, Error> {
-        self.options.validate()?;
-        check_length(&solution.basis, &solution.coefficients)?;
-        let n = self.options.samples;
-        let horizon = solution.basis.horizon();
-        let flow = Flow {
-            k: problem.robot.lumped(),
-            basis: solution.basis,
-            coefficients: &solution.coefficients,
-            ode: self.options.ode,
-        };
-        let dt = horizon / (n - 1) as f64;
-        let mut t = Vec::with_capacity(n);
-        let mut q = Vec::with_capacity(n);
-        t.push(0.0);
-        q.push(problem.start.to_array());
-        for i in 1..n {
-            let ti = if i + 1 == n { horizon } else { i as f64 * dt };
-            let qi = flow.advance(t[i - 1], q[i - 1], ti)?;
-            t.push(ti);
-            q.push(qi);
-        }
-        Ok(EcsaMotion {
-            k: flow.k,
-            basis: solution.basis,
-            coefficients: solution.coefficients.clone(),
-            ode: self.options.ode,
-            t,
-            q,
-        })
-    }
-
-    /// Plans, samples and verifies, returning the solution's statistics beside the plan.
-    pub fn plan_with_solution(&self, problem: &PlanningProblem) -> Result<(Plan, EcsaSolution, EcsaMotion), Error> {
-        let clock = Instant::now();
-        let solution = self.solve(problem)?;
-        let motion = self.motion(problem, &solution)?;
-        let trajectory = motion.trajectory()?;
-        let plan_seconds = clock.elapsed().as_secs_f64();
-        let (ode, tolerance) = (&self.options.ode, self.options.tolerance);
-        let mut plan =
-            Plan::verified(Method::Ecsa, problem, &motion, trajectory, motion.margins(), plan_seconds, ode, tolerance)?;
-        plan.iterations = Some(solution.stats.iterations);
-        Ok((plan, solution, motion))
-    }
-}
-
-impl Planner for EcsaPlanner {
-    fn method(&self) -> Method {
-        Method::Ecsa
-    }
-
-    fn plan(&self, problem: &PlanningProblem) -> Result<Planned, Error> {
-        problem.require_rest("ecsa")?;
-        let (plan, solution, motion) = self.plan_with_solution(problem)?;
-        Ok(Planned::new(plan, Box::new(motion), Details::Ecsa(solution)))
-    }
-}
-
-fn harmonics_error(h: usize) -> Error {
-    Error::from(InputError::InvalidParameter {
-        name: "harmonics".into(),
-        value: h as f64,
-        expected: "1 to 4 harmonics",
-    })
-}
-
-fn check_length(basis: &Basis, coefficients: &[f64]) -> Result<(), Error> {
-    if coefficients.len() != 2 * basis.terms() {
-        return Err(Error::from(InputError::InvalidParameter {
-            name: "coefficients".into(),
-            value: coefficients.len() as f64,
-            expected: "2 (2H + 1) coefficients for H harmonics",
-        }));
-    }
-    Ok(())
-}
-
-/// `K(c)` and `J(c)`: system (7) with its variational equations, as one integration of a
-/// state of vector dual numbers whose `P` derivative parts are `dq/dc`.
-fn end_point_dual<const P: usize>(
-    k: &Lumped,
-    basis: &Basis,
-    start: &Configuration,
-    c: &[f64],
-    ode: &OdeOptions,
-) -> Result<([f64; 3], SMatrix<f64, 3, P>, OdeStats), Error> {
-    let m = basis.terms();
-    let y0 = SVector::<DualSVec64<P>, 3>::from(start.to_array().map(DualSVec64::from_re));
-    let rhs = |t: f64, y: &SVector<DualSVec64<P>, 3>| {
-        let phi = basis.values(t);
-        // u_i = sum_j c_ij phi_j(t), du_i/dc_ij = phi_j(t).
-        let u: [DualSVec64<P>; 2] = std::array::from_fn(|i| {
-            let mut re = 0.0;
-            let mut eps = SVector::<f64, P>::zeros();
-            for (j, p) in phi.iter().enumerate().take(m) {
-                re += *p * c[i * m + j];
-                eps[i * m + j] = *p;
-            }
-            DualSVec64::new(re, Derivative::some(eps))
-        });
-        Ok::<_, Error>(SVector::from(velocity(k, [y[0], y[1], y[2]], u)))
-    };
-    let (y, stats) = integrate(rhs, 0.0, y0, basis.horizon(), ode, |_, _| {})?;
-    let mut jacobian = SMatrix::<f64, 3, P>::zeros();
-    for i in 0..3 {
-        jacobian.set_row(i, &y[i].eps.unwrap_generic(Const::<P>, U1).transpose());
-    }
-    Ok(([y[0].re, y[1].re, y[2].re], jacobian, stats))
-}
-
-/// System (7) under the controls of fixed coefficients, in `f64`.
-struct Flow<'a> {
-    k: Lumped,
-    basis: Basis,
-    coefficients: &'a [f64],
-    ode: OdeOptions,
-}
-
-impl Flow<'_> {
-    /// `q(t1)` from `q(t0) = q0`, `t1 >= t0`.
-    fn advance(&self, t0: f64, q0: [f64; 3], t1: f64) -> Result<[f64; 3], Error> {
-        if t1 <= t0 {
-            return Ok(q0);
-        }
-        let rhs = |t: f64, y: &Vector3<f64>| {
-            let u = self.basis.controls(self.coefficients, t);
-            Ok::<_, Error>(Vector3::from(velocity(&self.k, [y[0], y[1], y[2]], u)))
-        };
-        let (y, _) = integrate(rhs, t0, Vector3::from(q0), t1, &self.ode, |_, _| {})?;
-        Ok([y[0], y[1], y[2]])
-    }
-}
-
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tests_n;

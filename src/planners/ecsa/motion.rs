@@ -1,51 +1,53 @@
-//! The ECSA's planned motion (Sec. 5, Figs. 9-12): the analytic controls and the configurations
-//! from a dense integration of system (7).
+//! The ECSA's planned motion for the 2-link robot (Sec. 5, Figs. 9-12): the engine's plan
+//! ([`ChainEcsaPlan`], analytic controls and joint angles, the base angle by the holonomy
+//! integral) as a 2-link [`Motion`], with its samples.
 
-use num_dual::Dual64;
-
-use super::{Basis, Flow};
+use super::ChainEcsaPlan;
 use crate::error::Error;
 use crate::model::system::{shape, velocity_acceleration};
 use crate::model::{Configuration, Lumped};
-use crate::numerics::ode::{OdeError, OdeOptions};
+use crate::numerics::ode::OdeError;
 use crate::plan::{Motion, MotionPoint, Trajectory};
 
-/// The ECSA's planned motion: analytic controls, configurations from the stored samples of a
-/// dense integration of (7), advanced from the nearest earlier sample (cheap).
+/// The ECSA's planned motion of the 2-link robot: the engine's plan, exact at any time, and
+/// its configurations at equally spaced samples.
 #[derive(Debug, Clone)]
 pub struct EcsaMotion {
-    pub(super) k: Lumped,
-    pub(super) basis: Basis,
-    pub(super) coefficients: Vec<f64>,
-    pub(super) ode: OdeOptions,
-    pub(super) t: Vec<f64>,
-    pub(super) q: Vec<[f64; 3]>,
+    plan: ChainEcsaPlan,
+    k: Lumped,
+    t: Vec<f64>,
+    q: Vec<[f64; 3]>,
 }
 
 impl EcsaMotion {
+    /// The motion of `plan` (2 joints) of the robot of lumped constants `k`, sampled at
+    /// `samples >= 2` equally spaced times, the last exactly at `T`.
+    pub(super) fn new(plan: ChainEcsaPlan, k: Lumped, samples: usize) -> Self {
+        let points = plan.sample(samples);
+        let t = points.iter().map(|p| p.t).collect();
+        let q = points.iter().map(|p| [p.phi, p.theta[0], p.theta[1]]).collect();
+        Self { plan, k, t, q }
+    }
+
     /// The coefficients of the controls \[rad/s\].
     pub fn coefficients(&self) -> &[f64] {
-        &self.coefficients
+        &self.plan.stats.coefficients
     }
 
-    fn flow(&self) -> Flow<'_> {
-        Flow { k: self.k, basis: self.basis, coefficients: &self.coefficients, ode: self.ode }
+    /// The engine's plan.
+    pub fn plan(&self) -> &ChainEcsaPlan {
+        &self.plan
     }
 
-    /// The controls and their exact time derivatives at `t`.
-    fn controls_and_rates(&self, t: f64) -> ([f64; 2], [f64; 2]) {
-        let u = self.basis.controls(&self.coefficients, Dual64::new(t, 1.0));
-        ([u[0].re, u[1].re], [u[0].eps, u[1].eps])
-    }
-
-    /// The sampled trajectory: `q` from the integration, `dq = g(q) u`, `ddq` exact (dual
-    /// numbers through (7) with the analytic `du/dt`); `z` is `None`.
+    /// The sampled trajectory: `q` from the plan, `dq = g(q) u`, `ddq` exact (dual numbers
+    /// through (7) with the analytic `du/dt`); `z` is `None`.
     pub fn trajectory(&self) -> Result<Trajectory, Error> {
         let n = self.t.len();
         let mut dq = Vec::with_capacity(n);
         let mut ddq = Vec::with_capacity(n);
         for (q, &t) in self.q.iter().zip(&self.t) {
-            let (u, du) = self.controls_and_rates(t);
+            let p = self.plan.at(t);
+            let (u, du) = ([p.rate[0], p.rate[1]], [p.acceleration[0], p.acceleration[1]]);
             let (v, a) = velocity_acceleration(&self.k, &Configuration::from_array(*q), u, du);
             dq.push(v);
             ddq.push(a);
@@ -66,26 +68,23 @@ impl EcsaMotion {
 
 impl Motion for EcsaMotion {
     fn horizon(&self) -> f64 {
-        self.basis.horizon()
+        self.plan.horizon()
     }
 
     fn at(&self, t: f64) -> Result<MotionPoint, Error> {
-        let n = self.t.len();
-        let horizon = self.basis.horizon();
+        let horizon = self.plan.horizon();
         if !(t >= 0.0 && t <= horizon * (1.0 + 1e-14)) {
             return Err(OdeError { t, reason: "time outside [0, T] of the plan" }.into());
         }
-        let dt = horizon / (n - 1) as f64;
-        let mut i = ((t / dt).floor() as usize).min(n - 1);
-        while i > 0 && self.t[i] > t {
-            i -= 1;
-        }
-        let q = self.flow().advance(self.t[i], self.q[i], t)?;
-        let (u, du) = self.controls_and_rates(t);
-        Ok(MotionPoint { q: Configuration::from_array(q), u, du })
+        let p = self.plan.at(t);
+        Ok(MotionPoint {
+            q: Configuration::new(p.phi, p.theta[0], p.theta[1]),
+            u: [p.rate[0], p.rate[1]],
+            du: [p.acceleration[0], p.acceleration[1]],
+        })
     }
 
     fn controls(&self, t: f64) -> Result<[f64; 2], Error> {
-        Ok(self.basis.controls(&self.coefficients, t))
+        Ok(self.plan.basis().controls(self.coefficients(), t))
     }
 }
