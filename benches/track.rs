@@ -1,45 +1,66 @@
 //! Criterion benches of closed-loop execution (issue 12; docs/spec.md §5): one 10 s run of the
 //! paper's problem at 1 kHz per controller, and of the adaptive controller at a = 1, b = -1
-//! (target: <= 0.5 s). Before timing, the final errors
-//! of `ct` and `replan` on the nominal robot without noise are printed for the paper's five
-//! cases and for a = 1, b = -1 (target: <= 1e-8 rad); they are reported, not gated.
+//! (target: <= 0.5 s), and of `ct` and `adaptive` on the 3-link example arm. Before timing, the
+//! final errors of `ct` and `replan` on the nominal robot without noise are printed for the
+//! paper's five cases and for a = 1, b = -1 (target: <= 1e-8 rad); they are reported, not gated.
 
 use std::hint::black_box;
 use std::time::Duration;
 
 use criterion::{Criterion, criterion_group, criterion_main};
+use freefloat::planners::arm::{ArmPlan, ArmRequest, plan_arm};
+use freefloat::planners::chain::ChainProblem;
 use freefloat::planners::{PlannerOptions, planner};
-use freefloat::track::{Controller, Disturbances, Perturbation, TrackOptions, track};
-use freefloat::{Method, Mount, NfaOptions, PlanningProblem, RobotParams, Transform};
+use freefloat::track::{
+    ArmMotion, Controller, Disturbances, Perturbation, TrackOptions, TwoLinkMotion, track, two_link,
+};
+use freefloat::{Arm, Method, Mount, NfaOptions, PlanningProblem, RobotParams, Transform};
 
 fn problem(a: f64, b: f64) -> PlanningProblem {
     PlanningProblem::paper(RobotParams::src().with_mount(Mount::new(a, b).expect("finite")).expect("valid"))
 }
 
-/// The paper's five NFA cases (Figs. 4-8) and the optimal plan at a = 1, b = -1.
-fn cases() -> Vec<(&'static str, PlanningProblem, Method, Option<Transform>)> {
-    vec![
-        ("fig04 eq11", problem(0.0, 0.0), Method::Nfa, Some(Transform::Eq11)),
-        ("fig05 eq12", problem(0.0, 0.0), Method::Nfa, Some(Transform::Eq12)),
-        ("fig06 eq14 a=b=0.1", problem(0.1, 0.1), Method::Nfa, Some(Transform::Eq14)),
-        ("fig07 eq14 a=b=0.2", problem(0.2, 0.2), Method::Nfa, Some(Transform::Eq14)),
-        ("fig08 eq14 a=b=0.3", problem(0.3, 0.3), Method::Nfa, Some(Transform::Eq14)),
-        ("optimal a=1 b=-1", problem(1.0, -1.0), Method::Optimal, None),
-    ]
+/// The minimum-effort plan of `problem` for `arm` (the n-joint pipeline).
+fn optimal(arm: &Arm, problem: &ChainProblem) -> ArmPlan {
+    plan_arm(arm, Method::Optimal, &ArmRequest::new(problem.clone())).expect("plan").plan
 }
 
 fn nominal_errors() {
-    for (name, p, method, transform) in cases() {
-        let options = PlannerOptions { nfa: NfaOptions { transform, ..Default::default() }, ..Default::default() };
-        let planned = planner(method, &options).plan(&p).expect("plan");
-        let mut line = format!("nominal, no noise, {name}:");
-        for controller in [Controller::Open, Controller::Ct, Controller::Replan] {
-            let o = TrackOptions { controller, ..Default::default() };
-            let run = track(&p, planned.motion.as_ref(), &p.robot, &o, 0).expect("run");
-            line += &format!(" {} {:.2e}", controller.name(), run.final_error);
-        }
-        eprintln!("{line} rad");
+    for (name, a, transform) in [
+        ("fig04 eq11", 0.0, Transform::Eq11),
+        ("fig05 eq12", 0.0, Transform::Eq12),
+        ("fig06 eq14 a=b=0.1", 0.1, Transform::Eq14),
+        ("fig07 eq14 a=b=0.2", 0.2, Transform::Eq14),
+        ("fig08 eq14 a=b=0.3", 0.3, Transform::Eq14),
+    ] {
+        let p = problem(a, a);
+        let options = PlannerOptions {
+            nfa: NfaOptions { transform: Some(transform), ..Default::default() },
+            ..Default::default()
+        };
+        let planned = planner(Method::Nfa, &options).plan(&p).expect("plan");
+        let (arm, chain) = two_link(&p);
+        errors(name, &arm, &chain, &TwoLinkMotion(planned.motion.as_ref()));
     }
+    let (arm, chain) = two_link(&problem(1.0, -1.0));
+    errors("optimal a=1 b=-1", &arm, &chain, &optimal(&arm, &chain));
+}
+
+fn errors(name: &str, arm: &Arm, problem: &ChainProblem, plan: &dyn ArmMotion) {
+    let mut line = format!("nominal, no noise, {name}:");
+    for controller in [Controller::Open, Controller::Ct, Controller::Replan] {
+        let o = TrackOptions { controller, ..Default::default() };
+        let run = track(arm, problem, plan, arm, &o, 0).expect("run");
+        line += &format!(" {} {:.2e}", controller.name(), run.final_error);
+    }
+    eprintln!("{line} rad");
+}
+
+fn three_link() -> (Arm, ChainProblem) {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/robots/three_link.toml");
+    let arm = Arm::load(std::path::Path::new(path)).expect("the example arm");
+    let rad = |v: [f64; 4]| v.map(f64::to_radians).to_vec();
+    (arm, ChainProblem::rest_to_rest(rad([0.0, 60.0, -30.0, -30.0]), rad([30.0, 120.0, 40.0, -60.0]), 10.0))
 }
 
 fn bench_track(c: &mut Criterion) {
@@ -47,16 +68,18 @@ fn bench_track(c: &mut Criterion) {
     let mut group = c.benchmark_group("track");
     group.sample_size(10).measurement_time(Duration::from_secs(8));
     let disturbances = Disturbances { torque_noise: 0.01, q_noise: 1e-5, dq_noise: 1e-5, ..Default::default() };
-    for (name, a, b, controllers) in
-        [("", 0.1, 0.1, &Controller::ALL[..]), ("_a1_b-1", 1.0, -1.0, &[Controller::Adaptive][..])]
-    {
-        let p = problem(a, b);
-        let planned = planner(Method::Optimal, &PlannerOptions::default()).plan(&p).expect("plan");
-        let truth = Perturbation { relative: 0.05, mount: 0.01 }.apply(&p.robot, 1).expect("robot");
+    let paper = |a, b| two_link(&problem(a, b));
+    for (name, (arm, chain), controllers) in [
+        ("", paper(0.1, 0.1), &Controller::ALL[..]),
+        ("_a1_b-1", paper(1.0, -1.0), &[Controller::Adaptive][..]),
+        ("_3link", three_link(), &[Controller::Ct, Controller::Adaptive][..]),
+    ] {
+        let plan = optimal(&arm, &chain);
+        let truth = Perturbation { relative: 0.05, mount: 0.01 }.apply(&arm, 1).expect("robot");
         for &controller in controllers {
-            let o = TrackOptions { controller, disturbances, ..Default::default() };
+            let o = TrackOptions { controller, disturbances: disturbances.clone(), ..Default::default() };
             group.bench_function(format!("run_10s_1kHz{name}/{}", controller.name()), |bench| {
-                bench.iter(|| black_box(track(&p, planned.motion.as_ref(), &truth, &o, 1).expect("run")))
+                bench.iter(|| black_box(track(&arm, &chain, &plan, &truth, &o, 1).expect("run")))
             });
         }
     }

@@ -398,13 +398,13 @@ def _time_plan(
     once per repeat: the reference of ``bench/plan_overhead.py``."""
 
 def track(
-    robot: Robot,
+    robot: Union[Robot, "Arm"],
     start: _Angles,
     goal: _Angles,
     T: float,
     *,
     controller: Literal["open", "ct", "replan", "adaptive"] = "adaptive",
-    true_robot: Optional[Robot] = None,
+    true_robot: Optional[Union[Robot, "Arm"]] = None,
     perturb: float = 0.0,
     perturb_mount: float = 0.0,
     torque_noise: float = 0.0,
@@ -414,8 +414,8 @@ def track(
     replan_rate: float = 50.0,
     seed: int = 0,
 ) -> dict[str, Any]:
-    """Plans ``start -> goal`` [rad] in ``T`` [s] with the optimal planner on ``robot`` (the
-    model), then executes the plan in closed loop, in simulation, on the true robot:
+    """Plans ``start -> goal`` [rad] (``n + 1`` angles each) in ``T`` [s] with the minimum-effort
+    planner on ``robot`` (a :class:`Robot` or an :class:`Arm` of any number of links: the model), then executes the plan in closed loop, in simulation, on the true robot:
     ``true_robot``, or ``robot`` with each mass, inertia, length and centre-of-mass distance
     perturbed by up to ``perturb`` (relative) and the mount by up to ``perturb_mount`` [m],
     seeded by ``seed``. ``controller``: ``"open"`` (the planned torques), ``"ct"`` (computed

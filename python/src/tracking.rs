@@ -1,15 +1,29 @@
 //! `freefloat.track`: a plan executed in closed loop on a robot that may differ from the model
-//! (the library's `track` module), results as a dict with NumPy arrays of the motion.
+//! (the library's `track` module, one code path for every arm), results as a dict.
 
-use freefloat::planners::{PlannerOptions, planner};
+use freefloat::planners::arm::{ArmRequest, plan_arm};
+use freefloat::planners::chain::ChainProblem;
 use freefloat::track::{Controller, Disturbances, Perturbation, TrackOptions, track as run_track};
-use freefloat::{Configuration, Method, PlanningProblem};
+use freefloat::{Arm, Method};
+use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
+use crate::arm::PyArm;
 use crate::convert::{Reals, json_dict};
 use crate::errors::{BindingError, IntoPyResult};
-use crate::robot::{PyRobot, triple};
+use crate::robot::PyRobot;
+
+/// The arm of a `Robot` (the 2-link robot, [`Arm::from_params`]) or an `Arm`, else `TypeError`.
+fn arm_of(name: &str, robot: &Bound<'_, PyAny>) -> PyResult<Arm> {
+    if let Ok(r) = robot.extract::<PyRef<'_, PyRobot>>() {
+        return Ok(Arm::from_params(&r.inner));
+    }
+    if let Ok(a) = robot.extract::<PyRef<'_, PyArm>>() {
+        return Ok(a.inner.clone());
+    }
+    Err(PyTypeError::new_err(format!("{name}: expected a freefloat.Robot or a freefloat.Arm")))
+}
 
 /// The controller by its name.
 fn controller(name: &str) -> Result<Controller, BindingError> {
@@ -28,7 +42,8 @@ fn controller(name: &str) -> Result<Controller, BindingError> {
     })
 }
 
-/// Plans `start -> goal` in `T` with the optimal planner on `robot` (the model), then executes
+/// Plans `start -> goal` (`n + 1` angles each) in `T` with the minimum-effort planner on `robot`
+/// (a `Robot` or an `Arm`: the model), then executes
 /// the plan in closed loop on the true robot (`true_robot`, or `robot` perturbed by `perturb`
 /// relative and `perturb_mount` metres, seeded by `seed`) with `controller`; see the stub.
 #[pyfunction]
@@ -40,12 +55,12 @@ fn controller(name: &str) -> Result<Controller, BindingError> {
 #[allow(non_snake_case, clippy::too_many_arguments)]
 pub fn track<'py>(
     py: Python<'py>,
-    robot: PyRef<'py, PyRobot>,
+    robot: Bound<'py, PyAny>,
     start: Reals,
     goal: Reals,
     T: f64,
     controller: &str,
-    true_robot: Option<PyRef<'py, PyRobot>>,
+    true_robot: Option<Bound<'py, PyAny>>,
     perturb: f64,
     perturb_mount: f64,
     torque_noise: f64,
@@ -55,9 +70,9 @@ pub fn track<'py>(
     replan_rate: f64,
     seed: u64,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let start = Configuration::from_array(triple(py, "start", &start)?);
-    let goal = Configuration::from_array(triple(py, "goal", &goal)?);
-    let problem = PlanningProblem::new(robot.inner, start, goal, T).py_result(py)?;
+    let model = arm_of("robot", &robot)?;
+    let problem = ChainProblem::rest_to_rest(start.0, goal.0, T);
+    problem.validate(&model).py_result(py)?;
     let controller = self::controller(controller).py_result(py)?;
     let mut options = TrackOptions { controller, rate, ..Default::default() };
     options.replan.rate = replan_rate;
@@ -65,17 +80,17 @@ pub fn track<'py>(
     // Every option and budget before planning (the library's checks, as the command line's).
     options.validate().py_result(py)?;
     options.check_budget(problem.horizon).py_result(py)?;
-    let truth = true_robot.map(|r| r.inner);
+    let truth = true_robot.map(|r| arm_of("true_robot", &r)).transpose()?;
     let perturbation = Perturbation { relative: perturb, mount: perturb_mount };
     let tracked = py
         .detach(|| -> Result<_, BindingError> {
             let truth = match truth {
                 Some(t) => t,
-                None => perturbation.apply(&problem.robot, seed)?,
+                None => perturbation.apply(&model, seed)?,
             };
-            let planned = planner(Method::Optimal, &PlannerOptions::default()).plan(&problem)?;
+            let planned = plan_arm(&model, Method::Optimal, &ArmRequest::new(problem.clone()))?;
             planned.certified()?;
-            Ok(run_track(&problem, planned.motion.as_ref(), &truth, &options, seed)?)
+            Ok(run_track(&model, &problem, &planned.plan, &truth, &options, seed)?)
         })
         .py_result(py)?;
     let value = serde_json::to_value(&tracked).map_err(|e| {

@@ -436,7 +436,8 @@ pub struct TrackArgs {
     /// Controllers, comma-separated; several run side by side on the same robot and noise.
     #[arg(long, value_enum, value_delimiter = ',', default_value = "adaptive")]
     pub controller: Vec<ControllerArg>,
-    /// The true robot (TOML, docs/spec.md §1) [default: the nominal robot, or --perturb].
+    /// The true robot (TOML or URDF, docs/spec.md §1; the model's links) [default: the nominal
+    /// robot, or --perturb].
     #[arg(long, value_name = "FILE", conflicts_with = "perturb")]
     pub true_robot: Option<PathBuf>,
     /// Perturb each mass, inertia, length and CoM distance by up to this fraction (seeded).
@@ -451,9 +452,9 @@ pub struct TrackArgs {
     /// Relative torque noise (standard deviation).
     #[arg(long, value_name = "REL", default_value_t = 0.0, allow_hyphen_values = true)]
     pub torque_noise: f64,
-    /// Torque bias TAU1,TAU2 in N m.
-    #[arg(long, value_name = "TAU1,TAU2", default_value = "0,0", allow_hyphen_values = true)]
-    pub torque_bias: String,
+    /// Torque bias TAU1,..,TAUn in N m, one per joint [default: none].
+    #[arg(long, value_name = "TAU1,..,TAUn", allow_hyphen_values = true)]
+    pub torque_bias: Option<String>,
     /// Torque limit in N m (saturation) [default: none].
     #[arg(long, value_name = "NM", allow_hyphen_values = true)]
     pub torque_limit: Option<f64>,

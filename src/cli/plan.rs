@@ -138,8 +138,8 @@ pub fn run(args: &PlanArgs) -> anyhow::Result<ExitCode> {
     };
     let report = |with_trajectory| {
         let r = PlanReport::new(&planned, with_trajectory);
-        match closed_loop {
-            Some(c) => r.with_closed_loop(c),
+        match &closed_loop {
+            Some(c) => r.with_closed_loop(c.clone()),
             None => r,
         }
     };

@@ -1,23 +1,27 @@
 //! `freefloat track`: a plan tracked in closed loop on a robot that is not the model, once per
-//! controller side by side, or as a Monte Carlo run (docs/spec.md §3).
+//! controller side by side, or as a Monte Carlo run (docs/spec.md §3), for every robot the other
+//! commands read (the preset, a TOML robot file with the 2-link keys or `[[link]]`, a URDF).
 
 use std::io::IsTerminal;
 use std::process::ExitCode;
 
 use anyhow::Context;
+use freefloat::Method;
 use freefloat::analysis::shards::Shard;
-use freefloat::planners::{PlannerOptions, planner};
+use freefloat::model::arm::Arm;
+use freefloat::planners::arm::{ArmRequest, plan_arm};
+use freefloat::planners::chain::ChainProblem;
 use freefloat::report::io::write_atomic;
 use freefloat::report::numbers::{error_number, number, scientific};
 use freefloat::report::plot::{Panel, PictureFormat, PlanFigure, Series, plan_picture};
+use freefloat::track::ArmMotion;
 use freefloat::track::trials_file::{self, RunSummary};
 use freefloat::track::{
     Controller, Disturbances, Gains, History, IdentifyOptions, MonteCarloOptions, Perturbation, ReplanOptions, Summary,
     TrackOptions, Tracked, monte_carlo, summarise, track,
 };
-use freefloat::{Method, PlanningProblem, RobotParams};
 
-use super::args::{ControllerArg, DomainFormat, TrackArgs, TrackCommand, TrackMergeArgs};
+use super::args::{ControllerArg, DomainFormat, RobotArgs, TrackArgs, TrackCommand, TrackMergeArgs};
 
 fn controller(c: ControllerArg) -> Controller {
     match c {
@@ -28,9 +32,52 @@ fn controller(c: ControllerArg) -> Controller {
     }
 }
 
-/// The validated options of the flags (exit 2 on any bad value).
-fn options(args: &TrackArgs) -> anyhow::Result<TrackOptions> {
-    let torque_bias = super::parse_list::<2>("--torque-bias", &args.torque_bias)?;
+/// The nominal arm of the flags: any robot the other commands read, `--mount` applied (a 2-link
+/// robot file or the preset through the 2-link reader, its checks and messages).
+fn model(args: &RobotArgs) -> anyhow::Result<Arm> {
+    match super::any_robot(args)? {
+        super::Robot::TwoLink => Ok(Arm::from_params(&super::robot(args)?)),
+        super::Robot::Arm(arm) => Ok(arm),
+    }
+}
+
+/// `count` angles in degrees of `flag` (`PHI,TH1,..,THn`), in radians.
+fn angles(flag: &str, text: &str, count: usize) -> anyhow::Result<Vec<f64>> {
+    let values = super::plan_arm::list(flag, text)?;
+    let n = count - 1;
+    if values.len() != count {
+        anyhow::bail!(
+            "{flag} takes {count} comma-separated angles for this {n}-link arm (PHI,TH1,..,TH{n} in deg), got {}{}",
+            values.len(),
+            if values.len() == 3 { "; the default is the 2-link paper's problem" } else { "" }
+        );
+    }
+    if let Some(&x) = values.iter().find(|x| x.abs() > super::config::max_angle_deg()) {
+        return Err(freefloat::Error::from(freefloat::model::InputError::InvalidParameter {
+            name: flag.into(),
+            value: x,
+            expected: "angles with |angle| <= 572957 deg (1e4 rad, docs/spec.md §2)",
+        })
+        .into());
+    }
+    Ok(values.iter().map(|x| x.to_radians()).collect())
+}
+
+/// The validated options of the flags for an arm of `n` joints (exit 2 on any bad value).
+fn options(args: &TrackArgs, n: usize) -> anyhow::Result<TrackOptions> {
+    let torque_bias = match &args.torque_bias {
+        None => Vec::new(),
+        Some(text) => {
+            let bias = super::plan_arm::list("--torque-bias", text)?;
+            if bias.len() != n {
+                anyhow::bail!(
+                    "--torque-bias takes {n} comma-separated torques TAU1,..,TAU{n} in N m for this {n}-link arm, got {}",
+                    bias.len()
+                );
+            }
+            bias
+        }
+    };
     let options = TrackOptions {
         controller: Controller::Adaptive,
         rate: args.rate,
@@ -91,19 +138,25 @@ pub fn run(args: &TrackArgs) -> anyhow::Result<ExitCode> {
     if let (Some(path), Some(_)) = (&args.out, args.trials) {
         trials_out(path)?;
     }
-    let robot = super::robot(&args.robot)?;
-    let [p0, a0, b0] = super::parse_list::<3>("--from", &args.ends.from)?;
-    let [p1, a1, b1] = super::parse_list::<3>("--to", &args.ends.to)?;
-    let problem = PlanningProblem::new(
-        robot,
-        freefloat::Configuration::from_degrees(p0, a0, b0),
-        freefloat::Configuration::from_degrees(p1, a1, b1),
-        args.ends.time,
-    )?;
-    let options = options(args)?;
+    let robot = model(&args.robot)?;
+    let n = robot.joints();
+    let start = angles("--from", &args.ends.from, n + 1)?;
+    let goal = angles("--to", &args.ends.to, n + 1)?;
+    let problem = ChainProblem::rest_to_rest(start, goal, super::config::time(args.ends.time)?);
+    problem.validate(&robot)?;
+    let options = options(args, n)?;
     let perturbation = Perturbation { relative: args.perturb, mount: args.perturb_mount };
     perturbation.validate()?;
-    let truth = args.true_robot.as_deref().map(RobotParams::load).transpose()?;
+    let truth = args.true_robot.as_deref().map(Arm::load).transpose()?;
+    if let (Some(t), Some(path)) = (&truth, &args.true_robot)
+        && t.joints() != n
+    {
+        anyhow::bail!(
+            "--true-robot {}: an arm of {} link(s), the model has {n}: the true robot must have the model's links",
+            path.display(),
+            t.joints()
+        );
+    }
     let picture = args.plot.as_deref().map(PictureFormat::from_path).transpose()?;
     super::check_outputs(&[args.out.as_ref(), args.plot.as_ref()])?;
     let controllers: Vec<Controller> = args.controller.iter().map(|&c| controller(c)).collect();
@@ -112,8 +165,9 @@ pub fn run(args: &TrackArgs) -> anyhow::Result<ExitCode> {
         TrackOptions { controller, record: options.record && args.trials.is_none(), ..options.clone() }
             .check_budget(problem.horizon)?;
     }
-    let planned = planner(Method::Optimal, &PlannerOptions::default()).plan(&problem)?;
+    let planned = plan_arm(&robot, Method::Optimal, &ArmRequest::new(problem.clone()))?;
     planned.certified()?;
+    let plan = &planned.plan;
     if let Some(trials) = args.trials {
         let mc = MonteCarloOptions {
             trials,
@@ -124,7 +178,7 @@ pub fn run(args: &TrackArgs) -> anyhow::Result<ExitCode> {
             shard,
             ..Default::default()
         };
-        return monte(args, &problem, planned.motion.as_ref(), &options, &mc);
+        return monte(args, &robot, &problem, plan, &options, &mc);
     }
     let truth = match truth {
         Some(t) => t,
@@ -134,7 +188,7 @@ pub fn run(args: &TrackArgs) -> anyhow::Result<ExitCode> {
         .iter()
         .map(|&controller| {
             let o = TrackOptions { controller, ..options.clone() };
-            track(&problem, planned.motion.as_ref(), &truth, &o, args.seed)
+            track(&robot, &problem, plan, &truth, &o, args.seed)
         })
         .collect::<Result<Vec<Tracked>, _>>()?;
     // The files first: stdout never shows a run whose files then fail.
@@ -153,8 +207,9 @@ pub fn run(args: &TrackArgs) -> anyhow::Result<ExitCode> {
 
 fn monte(
     args: &TrackArgs,
-    problem: &PlanningProblem,
-    plan: &(dyn freefloat::Motion + Sync),
+    model: &Arm,
+    problem: &ChainProblem,
+    plan: &dyn ArmMotion,
     options: &TrackOptions,
     mc: &MonteCarloOptions,
 ) -> anyhow::Result<ExitCode> {
@@ -170,11 +225,11 @@ fn monte(
         bar.set_style(style);
     }
     let clock = std::time::Instant::now();
-    let (trials, summaries) = monte_carlo(problem, plan, options, mc, &|| bar.inc(1))?;
+    let (trials, summaries) = monte_carlo(model, problem, plan, options, mc, &|| bar.inc(1))?;
     bar.finish_and_clear();
     let seconds = clock.elapsed().as_secs_f64();
     if let Some(path) = &args.out {
-        let run = trials_file::run_description(problem, options, mc, Method::Optimal.name());
+        let run = trials_file::run_description(model, problem, options, mc, Method::Optimal.name());
         write_atomic(path, &trials_file::write(&run, mc.shard, &trials)?)?;
     }
     let runs = trials.len().max(1) as f64;
@@ -266,9 +321,10 @@ fn signed(x: f64) -> String {
     if x >= 0.0 { format!("+{}", error_number(x)) } else { error_number(x) }
 }
 
-fn table(runs: &[Tracked], truth: &RobotParams, nominal: &RobotParams) -> String {
+fn table(runs: &[Tracked], truth: &Arm, nominal: &Arm) -> String {
     use std::fmt::Write;
     let mut out = String::new();
+    let n = nominal.joints();
     let same = truth == nominal;
     let _ = writeln!(out, "true robot: {}", if same { "the model" } else { "differs from the model" });
     let mut row = |name: &str, f: &dyn Fn(&Tracked) -> String| {
@@ -280,11 +336,13 @@ fn table(runs: &[Tracked], truth: &RobotParams, nominal: &RobotParams) -> String
     };
     row("controller", &|r| r.controller.name().to_string());
     row("final error [rad]", &|r| failure(r).unwrap_or_else(|| error_number(r.final_error)));
-    for (i, axis) in ["phi", "theta1", "theta2"].iter().enumerate() {
+    for i in 0..=n {
+        let axis = if i == 0 { "phi".to_string() } else { format!("theta{i}") };
         row(&format!("  {axis} [rad]"), &|r| if r.failure.is_some() { "-".into() } else { signed(r.final_errors[i]) });
     }
-    row("peak |tau1| [N m]", &|r| torque(r.peak_torque[0]));
-    row("peak |tau2| [N m]", &|r| torque(r.peak_torque[1]));
+    for k in 0..n {
+        row(&format!("peak |tau{}| [N m]", k + 1), &|r| torque(r.peak_torque[k]));
+    }
     row("saturated ticks", &|r| format!("{:.1} %", 100.0 * r.saturated_fraction));
     row("re-plans (failed)", &|r| format!("{} ({})", r.replans, r.replan_failures));
     row("re-plan time [s]", &|r| format!("{:.3}", r.replan_seconds));
@@ -292,12 +350,12 @@ fn table(runs: &[Tracked], truth: &RobotParams, nominal: &RobotParams) -> String
     row("wall time [s]", &|r| format!("{:.3}", r.seconds));
     for r in runs {
         if let Some(id) = &r.identification {
-            let _ = writeln!(out, "identified constants ({}), kg m^2:", r.controller.name());
-            let _ = writeln!(out, "  {:<8}{:>12}{:>12}{:>12}", "", "nominal", "identified", "true");
-            for (i, name) in ["A", "B", "C", "D a", "D b", "E a", "E b", "I_P"].iter().enumerate() {
+            let _ = writeln!(out, "identified inertial parameters ({}), kg m^2:", r.controller.name());
+            let _ = writeln!(out, "  {:<16}{:>12}{:>12}{:>12}", "", "nominal", "identified", "true");
+            for (i, name) in id.names.iter().enumerate() {
                 let _ = writeln!(
                     out,
-                    "  {name:<8}{:>12}{:>12}{:>12}",
+                    "  {name:<16}{:>12}{:>12}{:>12}",
                     number(id.nominal[i]),
                     number(id.identified[i]),
                     number(id.truth[i])
@@ -305,7 +363,7 @@ fn table(runs: &[Tracked], truth: &RobotParams, nominal: &RobotParams) -> String
             }
             let _ = writeln!(
                 out,
-                "  momentum-map error (G/F, H/F) against the truth: nominal {}, identified {}",
+                "  momentum-map error (G_k/F) against the truth: nominal {}, identified {}",
                 error_number(id.nominal_map_error),
                 error_number(id.identified_map_error)
             );
@@ -314,15 +372,25 @@ fn table(runs: &[Tracked], truth: &RobotParams, nominal: &RobotParams) -> String
     out
 }
 
+/// The names of `q`'s coordinates: `phi`, `theta1`, .., `theta{n}`.
+fn axes(n: usize) -> Vec<String> {
+    std::iter::once("phi".to_string()).chain((1..=n).map(|k| format!("theta{k}"))).collect()
+}
+
 fn history_csv(run: &Tracked) -> anyhow::Result<Vec<u8>> {
     let h = run.history.as_ref().context("the run was not recorded")?;
+    let n = run.peak_torque.len();
     let mut w = csv::Writer::from_writer(Vec::new());
-    w.write_record(["t_s", "phi_ref", "theta1_ref", "theta2_ref", "phi", "theta1", "theta2", "tau1_Nm", "tau2_Nm"])?;
+    let mut header = vec!["t_s".to_string()];
+    header.extend(axes(n).iter().map(|a| format!("{a}_ref")));
+    header.extend(axes(n));
+    header.extend((1..=n).map(|k| format!("tau{k}_Nm")));
+    w.write_record(&header)?;
     for i in 0..h.t.len() {
         let mut rec = vec![h.t[i]];
-        rec.extend(h.reference[i]);
-        rec.extend(h.actual[i]);
-        rec.extend(h.tau[i]);
+        rec.extend(&h.reference[i]);
+        rec.extend(&h.actual[i]);
+        rec.extend(&h.tau[i]);
         w.write_record(rec.iter().map(|x| format!("{x:.12e}")))?;
     }
     Ok(w.into_inner()?)
@@ -332,7 +400,9 @@ fn history_csv(run: &Tracked) -> anyhow::Result<Vec<u8>> {
 /// torques, tracking errors), each series named by its controller.
 fn figure(runs: &[Tracked]) -> PlanFigure {
     let recorded: Vec<(&Tracked, &History)> = runs.iter().filter_map(|r| r.history.as_ref().map(|h| (r, h))).collect();
-    let Some(&(_, reference)) = recorded.first() else { return PlanFigure::default() };
+    let Some(&(first, reference)) = recorded.first() else { return PlanFigure::default() };
+    let n = first.peak_torque.len();
+    let axes = axes(n);
     let series = |label: String, h: &History, f: &dyn Fn(&History, usize) -> f64| Series {
         label,
         points: (0..h.t.len()).map(|i| (h.t[i], f(h, i))).collect(),
@@ -350,18 +420,16 @@ fn figure(runs: &[Tracked]) -> PlanFigure {
         if recorded.len() == 1 { what.to_string() } else { format!("{what} ({})", r.controller.name()) }
     };
     let mut base = vec![series("reference".into(), reference, &|h, i| deg(h.reference[i][0]))];
-    let mut joints = vec![
-        series("theta1 ref".into(), reference, &|h, i| deg(h.reference[i][1])),
-        series("theta2 ref".into(), reference, &|h, i| deg(h.reference[i][2])),
-    ];
+    let mut joints: Vec<Series> =
+        (1..=n).map(|k| series(format!("{} ref", axes[k]), reference, &|h, i| deg(h.reference[i][k]))).collect();
     let (mut torques, mut errors) = (Vec::new(), Vec::new());
     for &(r, h) in &recorded {
         base.push(series(name(r, "actual"), h, &|h, i| deg(h.actual[i][0])));
-        for (k, axis) in ["theta1", "theta2"].iter().enumerate() {
-            joints.push(series(name(r, axis), h, &|h, i| deg(h.actual[i][k + 1])));
+        for k in 0..n {
+            joints.push(series(name(r, &axes[k + 1]), h, &|h, i| deg(h.actual[i][k + 1])));
             torques.push(series(name(r, &format!("tau{}", k + 1)), h, &|h, i| h.tau[i][k]));
         }
-        for (k, axis) in ["phi", "theta1", "theta2"].iter().enumerate() {
+        for (k, axis) in axes.iter().enumerate() {
             errors.push(series(name(r, axis), h, &|h, i| deg(h.actual[i][k] - h.reference[i][k])));
         }
     }
@@ -377,14 +445,14 @@ fn figure(runs: &[Tracked]) -> PlanFigure {
         caption: recorded
             .iter()
             .map(|(r, _)| {
+                let peaks: Vec<String> = r.peak_torque.iter().map(|t| torque(*t)).collect();
                 format!(
-                    "{}: {}; {} re-plans ({} failed); peak torque {}, {} N m",
+                    "{}: {}; {} re-plans ({} failed); peak torque {} N m",
                     r.controller.name(),
                     failure(r).unwrap_or_else(|| format!("final error {} rad", error_number(r.final_error))),
                     r.replans,
                     r.replan_failures,
-                    torque(r.peak_torque[0]),
-                    torque(r.peak_torque[1])
+                    peaks.join(", ")
                 )
             })
             .collect(),

@@ -1,13 +1,17 @@
 //! The control laws, all on a model of the robot (the nominal one, or the identified one): the
-//! planned torques alone, and computed torque with PD feedback on the joint angles.
+//! planned torques alone, and computed torque with PD feedback on the joint angles, for an arm of
+//! any number of joints.
 
 use serde::{Deserialize, Serialize};
 
+use nalgebra::{DMatrix, DVector};
+
+use super::motion::JointPoint;
 use super::plant::State;
-use crate::dynamics::{coriolis, inertia_matrix, joint_torques};
+use crate::dynamics::arm::{inertia_matrix_derivatives, inverse_dynamics};
 use crate::error::Error;
-use crate::model::{Configuration, InputError, Lumped};
-use crate::plan::MotionPoint;
+use crate::model::InputError;
+use crate::model::arm::Arm;
 
 /// The controller of a closed-loop run.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
@@ -117,13 +121,13 @@ impl Gains {
     }
 }
 
-/// Computed torque on the model `k` with PD feedback on the joint angles, for a torque held
+/// Computed torque on the model `arm` with PD feedback on the joint angles, for a torque held
 /// over a control tick.
 ///
 /// The joints get the acceleration `a = theta''_ref + kd (theta'_ref - theta') + kp (theta_ref -
 /// theta)`; the base, unactuated, takes the acceleration that conserves the angular momentum
-/// (the first row of `M q'' + c = (0, tau)`: `phi'' = -(G a1 + H a2 + c_phi)/F`), and the
-/// torques are the last two rows of `M q'' + c` (Eqs. 3, 6). On the model, with exact
+/// (the first row of `M q'' + c = (0, tau)`: `phi'' = -(G . a + c_phi)/F`), and the torques are
+/// the last `n` rows of `M q'' + c` (Eqs. 3, 6 for `n` links). On the model, with exact
 /// measurements and a continuous loop, the joint errors obey `e'' + kd e' + kp e = 0`.
 ///
 /// The law is evaluated at the centre of the tick, `half_tick` \[s\] after the measurement
@@ -133,36 +137,53 @@ impl Gains {
 ///
 /// The base angle is not fed back: no joint loop can correct it (only the holonomy of the joint
 /// path moves it), which re-planning does.
-pub fn computed_torque(k: &Lumped, from: &State, centre: &MotionPoint, half_tick: f64, gains: &Gains) -> [f64; 2] {
+pub fn computed_torque(arm: &Arm, from: &State, centre: &JointPoint, half_tick: f64, gains: &Gains) -> Vec<f64> {
+    let n = arm.joints();
     // The prediction uses the planned acceleration alone: feedback against a plan half a tick
     // ahead would bias it by `kp u dt / 2`.
-    let planned = accelerations(k, from, centre.du);
-    let (q, dq, h) = (from.q.to_array(), from.dq, half_tick);
-    let mid = State {
-        q: Configuration::from_array(std::array::from_fn(|i| q[i] + h * dq[i] + 0.5 * h * h * planned[i])),
-        dq: std::array::from_fn(|i| dq[i] + h * planned[i]),
-    };
-    let (mq, mdq) = (mid.q.to_array(), mid.dq);
-    let a: [f64; 2] = std::array::from_fn(|i| {
-        centre.du[i] + gains.kd * (centre.u[i] - mdq[i + 1]) + gains.kp * (centre.q.to_array()[i + 1] - mq[i + 1])
-    });
-    let ddq = accelerations(k, &mid, a);
-    let m = inertia_matrix(k, mid.q.theta1, mid.q.theta2);
-    let c = coriolis(k, &mid.q, mid.dq);
-    let row = |r: usize| m[(r, 0)] * ddq[0] + m[(r, 1)] * ddq[1] + m[(r, 2)] * ddq[2] + c[r];
-    [row(1), row(2)]
+    let (m, c) = model_terms(arm, from.theta(), &from.dq);
+    let planned = accelerations(&m, &c, &centre.acceleration);
+    let h = half_tick;
+    let mid_q: Vec<f64> = (0..=n).map(|i| from.q[i] + h * from.dq[i] + 0.5 * h * h * planned[i]).collect();
+    let mid_dq = DVector::from_iterator(n + 1, (0..=n).map(|i| from.dq[i] + h * planned[i]));
+    let a: Vec<f64> = (0..n)
+        .map(|i| {
+            centre.acceleration[i]
+                + gains.kd * (centre.rate[i] - mid_dq[i + 1])
+                + gains.kp * (centre.theta[i] - mid_q[i + 1])
+        })
+        .collect();
+    let (m, c) = model_terms(arm, &mid_q[1..], mid_dq.as_slice());
+    let ddq = accelerations(&m, &c, &a);
+    let forces = &m * &ddq + &c;
+    forces.rows(1, n).iter().copied().collect()
 }
 
-/// The planned torques held over a tick: the inverse dynamics on the model `k` (Eq. 6) at
-/// `centre`, the plan at the centre of the tick (open loop).
-pub fn feedforward(k: &Lumped, centre: &MotionPoint) -> [f64; 2] {
-    joint_torques(k, centre)
+/// The planned torques held over a tick: the inverse dynamics on the model `arm` (Eq. 6 for `n`
+/// links, the base at zero momentum) at `centre`, the plan at the centre of the tick (open loop).
+pub fn feedforward(arm: &Arm, centre: &JointPoint) -> Vec<f64> {
+    inverse_dynamics(arm, &centre.theta, &centre.rate, &centre.acceleration).tau.iter().copied().collect()
 }
 
-/// `q'' = (phi'', a1, a2)` at `state` on the model when the joints accelerate by `a`: the base
-/// takes `phi'' = -(G a1 + H a2 + c_phi)/F`, the first row of `M q'' + c = (0, tau)`.
-fn accelerations(k: &Lumped, state: &State, a: [f64; 2]) -> [f64; 3] {
-    let m = inertia_matrix(k, state.q.theta1, state.q.theta2);
-    let c = coriolis(k, &state.q, state.dq);
-    [-(m[(0, 1)] * a[0] + m[(0, 2)] * a[1] + c[0]) / m[(0, 0)], a[0], a[1]]
+/// `M(theta)` and the Coriolis terms `c(theta, q')` of the model.
+fn model_terms(arm: &Arm, theta: &[f64], dq: &[f64]) -> (DMatrix<f64>, DVector<f64>) {
+    let (m, partials) = inertia_matrix_derivatives(arm, theta);
+    let dq = DVector::from_column_slice(dq);
+    let mut m_dot = DMatrix::zeros(dq.len(), dq.len());
+    for (k, dm) in partials.iter().enumerate() {
+        m_dot += dm * dq[k + 1];
+    }
+    let mut c = m_dot * &dq;
+    for (k, dm) in partials.iter().enumerate() {
+        c[k + 1] -= 0.5 * dq.dot(&(dm * &dq));
+    }
+    (m, c)
+}
+
+/// `q'' = (phi'', a)` on the model when the joints accelerate by `a`: the base takes
+/// `phi'' = -(G . a + c_phi)/F`, the first row of `M q'' + c = (0, tau)`.
+fn accelerations(m: &DMatrix<f64>, c: &DVector<f64>, a: &[f64]) -> DVector<f64> {
+    let n = a.len();
+    let phi = -((1..=n).map(|j| m[(0, j)] * a[j - 1]).sum::<f64>() + c[0]) / m[(0, 0)];
+    DVector::from_iterator(n + 1, std::iter::once(phi).chain(a.iter().copied()))
 }

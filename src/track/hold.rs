@@ -11,26 +11,26 @@
 //!
 //! The correction adds a small joint acceleration `delta a(t)` to the plan's, a polynomial of
 //! degree [`DEGREE`] in time per joint, chosen so that the loop on the nominal model ends at the
-//! plan's final configuration and joint velocity (5 conditions, `2 (DEGREE + 1)` unknowns, the
-//! least-norm solution). The loop's end state is smooth in the coefficients, and Newton's method
+//! plan's final configuration and joint velocity (`2n + 1` conditions for `n` joints,
+//! `n (DEGREE + 1)` unknowns, the least-norm solution). The loop's end state is smooth in the coefficients, and Newton's method
 //! with a finite-difference Jacobian of the whole loop (each column one simulated run) converges
 //! in two or three steps. On the nominal robot without noise the loop then follows the corrected
 //! run tick for tick and ends at the goal, at rest, to round-off. The correction is small: at
 //! `a = 1, b = -1` its largest acceleration is 0.63 rad/s^2, under 1 % of the plan's, mostly
 //! for the final layer's velocity lag; on any other robot it is a feedforward far below what the feedback corrects.
 
+use nalgebra::{DMatrix, DVector};
 use rayon::prelude::*;
 
 use super::control::{Gains, computed_torque};
+use super::motion::{ArmMotion, JointPoint};
 use super::plant::{Disturbances, Plant, State};
 use crate::error::Error;
-use crate::plan::{Motion, MotionPoint, PlanningProblem};
+use crate::model::arm::Arm;
+use crate::planners::chain::ChainProblem;
 
 /// Degree of the correction's polynomial per joint.
 pub const DEGREE: usize = 2;
-
-/// Unknowns of the correction: `DEGREE + 1` Legendre coefficients per joint.
-const UNKNOWNS: usize = 2 * (DEGREE + 1);
 
 /// Finite-difference step of the Jacobian [rad/s^2]: the joints then move by about
 /// `step / kp ~ 4e-7 rad` (default gains), where the loop is linear to about 1e-13 and the
@@ -43,7 +43,8 @@ const REACHED: f64 = 1e-12;
 /// The corrected feedforward of one plan at one control rate, and the nominal loop's states.
 #[derive(Debug, Clone)]
 pub struct HoldCorrection {
-    coefficients: [f64; UNKNOWNS],
+    /// `DEGREE + 1` Legendre coefficients per joint, joint-major.
+    coefficients: Vec<f64>,
     horizon: f64,
     states: Vec<State>,
     /// `max |wrap(q_i(T) - qd_i)|` of the nominal loop before the correction \[rad\].
@@ -54,64 +55,73 @@ pub struct HoldCorrection {
     pub peak_acceleration: f64,
 }
 
-/// The sampled loop whose end is corrected: the nominal robot, its plan at the ticks' centres.
+/// The sampled loop whose end is corrected: the nominal arm, its plan at the ticks' centres.
 struct Loop<'a> {
-    problem: &'a PlanningProblem,
-    centres: Vec<MotionPoint>,
+    model: &'a Arm,
+    problem: &'a ChainProblem,
+    centres: Vec<JointPoint>,
     dt: f64,
     substeps: usize,
     gains: Gains,
-    end: MotionPoint,
+    /// `(q(T), theta'(T))` of the plan.
+    end: Vec<f64>,
 }
 
 impl HoldCorrection {
-    /// The correction of `plan` (for `problem`, on its nominal robot) at `rate` \[Hz\] with
+    /// The correction of `plan` (for `problem`, on its nominal arm `model`) at `rate` \[Hz\] with
     /// `substeps` plant steps per tick and the joint loop `gains`. `None` when the nominal loop
     /// diverges or Newton's method does not reduce its final error (the run then uses the plan
     /// as it is).
     pub fn new(
-        problem: &PlanningProblem,
-        plan: &(dyn Motion + Sync),
+        model: &Arm,
+        problem: &ChainProblem,
+        plan: &dyn ArmMotion,
         rate: f64,
         substeps: usize,
         gains: Gains,
     ) -> Result<Option<HoldCorrection>, Error> {
+        let n = model.joints();
+        let unknowns = n * (DEGREE + 1);
         let horizon = problem.horizon;
         let ticks = (horizon * rate).round().max(1.0) as usize;
         let dt = horizon / ticks as f64;
-        let centres = (0..ticks).map(|i| plan.at(i as f64 * dt + 0.5 * dt)).collect::<Result<Vec<_>, _>>()?;
-        let lp = Loop { problem, centres, dt, substeps, gains, end: plan.at(horizon)? };
-        let zero = [0.0; UNKNOWNS];
+        let centres = (0..ticks).map(|i| plan.joints_at(i as f64 * dt + 0.5 * dt)).collect::<Result<Vec<_>, _>>()?;
+        let mut end = plan.q(horizon)?;
+        end.extend(plan.joints_at(horizon)?.rate);
+        let lp = Loop { model, problem, centres, dt, substeps, gains, end };
+        let zero = vec![0.0; unknowns];
         let (r0, states0) = lp.run(&zero);
-        let error_before = position_error(&r0);
+        let error_before = position_error(&r0, n);
         if !error_before.is_finite() {
             return Ok(None);
         }
-        let columns: Vec<[f64; 5]> = (0..UNKNOWNS)
+        let columns: Vec<Vec<f64>> = (0..unknowns)
             .into_par_iter()
             .map(|j| {
-                let mut c = zero;
+                let mut c = zero.clone();
                 c[j] = STEP;
                 let (r, _) = lp.run(&c);
-                std::array::from_fn(|i| (r[i] - r0[i]) / STEP)
+                r.iter().zip(&r0).map(|(r, r0)| (r - r0) / STEP).collect()
             })
             .collect();
-        let jacobian = nalgebra::SMatrix::<f64, 5, UNKNOWNS>::from_fn(|i, j| columns[j][i]);
-        let Ok(inverse) = jacobian.svd(true, true).pseudo_inverse(1e-12 * jacobian.norm()) else { return Ok(None) };
+        let jacobian = DMatrix::<f64>::from_fn(2 * n + 1, unknowns, |i, j| columns[j][i]);
+        let Ok(inverse) = jacobian.clone().svd(true, true).pseudo_inverse(1e-12 * jacobian.norm()) else {
+            return Ok(None);
+        };
         let (mut c, mut r, mut states) = (zero, r0, states0);
         for _ in 0..4 {
             if r.iter().all(|x| x.abs() <= REACHED) {
                 break;
             }
-            let step = inverse * nalgebra::SVector::<f64, 5>::from(r);
-            let trial: [f64; UNKNOWNS] = std::array::from_fn(|j| c[j] - step[j]);
+            let step = &inverse * DVector::from_column_slice(&r);
+            let trial: Vec<f64> = c.iter().zip(step.iter()).map(|(c, s)| c - s).collect();
             let (rt, st) = lp.run(&trial);
             if !(norm(&rt) < norm(&r)) {
                 break;
             }
             (c, r, states) = (trial, rt, st);
         }
-        let error_after = position_error(&r);
+        let error_after = position_error(&r, n);
         if !(error_after < error_before) {
             return Ok(None);
         }
@@ -123,16 +133,17 @@ impl HoldCorrection {
         Ok(Some(correction))
     }
 
-    /// `delta a(t)` [rad/s^2] at time `t` of the run \[s\].
-    pub fn acceleration(&self, t: f64) -> [f64; 2] {
+    /// `delta a(t)` [rad/s^2] at time `t` of the run \[s\], one value per joint.
+    pub fn acceleration(&self, t: f64) -> Vec<f64> {
         let p = legendre(2.0 * t / self.horizon - 1.0);
-        std::array::from_fn(|j| (0..=DEGREE).map(|m| self.coefficients[j * (DEGREE + 1) + m] * p[m]).sum())
+        self.coefficients.chunks(DEGREE + 1).map(|c| c.iter().zip(&p).map(|(c, p)| c * p).sum()).collect()
     }
 
     /// The plan's point `centre` with the correction at time `t` added to its acceleration.
-    pub fn corrected(&self, mut centre: MotionPoint, t: f64) -> MotionPoint {
-        let a = self.acceleration(t);
-        centre.du = [centre.du[0] + a[0], centre.du[1] + a[1]];
+    pub fn corrected(&self, mut centre: JointPoint, t: f64) -> JointPoint {
+        for (a, d) in centre.acceleration.iter_mut().zip(self.acceleration(t)) {
+            *a += d;
+        }
         centre
     }
 
@@ -143,34 +154,33 @@ impl HoldCorrection {
 }
 
 impl Loop<'_> {
-    /// Runs the loop with the correction `c`: the end's residual `(phi, theta1, theta2,
-    /// theta1', theta2')` against the plan's, and the states at every tick's start.
-    fn run(&self, c: &[f64; UNKNOWNS]) -> ([f64; 5], Vec<State>) {
+    /// Runs the loop with the correction `c`: the end's residual `(phi, theta, theta')` against
+    /// the plan's, and the states at every tick's start.
+    fn run(&self, c: &[f64]) -> (Vec<f64>, Vec<State>) {
         let p = self.problem;
         let correction = HoldCorrection {
-            coefficients: *c,
+            coefficients: c.to_vec(),
             horizon: p.horizon,
             states: Vec::new(),
             error_before: 0.0,
             error_after: 0.0,
             peak_acceleration: 0.0,
         };
-        let k = p.robot.lumped();
-        let mut plant = Plant::new(&p.robot, p.start, Disturbances::default(), 0).moving(p.start_velocity);
+        let mut plant = Plant::new(self.model, &p.start, Disturbances::default(), 0).moving(&p.initial_velocity);
         let mut states = Vec::with_capacity(self.centres.len());
         for (i, centre) in self.centres.iter().enumerate() {
             let measured = plant.measure();
+            let centre = correction.corrected(centre.clone(), i as f64 * self.dt + 0.5 * self.dt);
+            let command = computed_torque(self.model, &measured, &centre, 0.5 * self.dt, &self.gains);
             states.push(measured);
-            let centre = correction.corrected(*centre, i as f64 * self.dt + 0.5 * self.dt);
-            let command = computed_torque(&k, &measured, &centre, 0.5 * self.dt, &self.gains);
-            plant.step(command, self.dt, self.substeps);
+            plant.step(&command, self.dt, self.substeps);
             if !plant.is_finite() {
-                return ([f64::INFINITY; 5], states);
+                return (vec![f64::INFINITY; self.end.len()], states);
             }
         }
         let s = plant.state();
-        let (q, qd) = (s.q.to_array(), self.end.q.to_array());
-        ([q[0] - qd[0], q[1] - qd[1], q[2] - qd[2], s.dq[1] - self.end.u[0], s.dq[2] - self.end.u[1]], states)
+        let reached = s.q.iter().chain(&s.dq[1..]);
+        (reached.zip(&self.end).map(|(x, e)| x - e).collect(), states)
     }
 }
 
@@ -187,10 +197,11 @@ fn legendre(x: f64) -> [f64; DEGREE + 1] {
     p
 }
 
-fn position_error(r: &[f64; 5]) -> f64 {
-    r[..3].iter().fold(0.0_f64, |m, x| m.max(x.abs()))
+/// The largest error of the `n + 1` angles of a residual.
+fn position_error(r: &[f64], n: usize) -> f64 {
+    r[..=n].iter().fold(0.0_f64, |m, x| m.max(x.abs()))
 }
 
-fn norm(r: &[f64; 5]) -> f64 {
+fn norm(r: &[f64]) -> f64 {
     r.iter().map(|x| x * x).sum::<f64>().sqrt()
 }

@@ -10,13 +10,15 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 use super::control::Controller;
+use super::motion::ArmMotion;
 use super::noise::Noise;
 use super::perturb::Perturbation;
-use super::run::{TrackOptions, hold_correction, track_with};
+use super::run::{TrackOptions, check_run, hold_correction, track_with};
 use crate::analysis::shards::Shard;
 use crate::error::Error;
-use crate::model::{InputError, RobotParams};
-use crate::plan::{Motion, PlanningProblem};
+use crate::model::InputError;
+use crate::model::arm::Arm;
+use crate::planners::chain::ChainProblem;
 
 /// Most trials of one run: each keeps its result (about 50 bytes per controller), and at about
 /// a second each a million trials take days on a workstation.
@@ -33,8 +35,9 @@ pub struct MonteCarloOptions {
     pub trials: usize,
     /// Seed of the trials: trial `i` draws its robot and noise from [`trial_seed`]`(seed, i)`.
     pub seed: u64,
-    /// The true robot of every trial: `None` draws one per trial by [`MonteCarloOptions::perturbation`].
-    pub truth: Option<RobotParams>,
+    /// The true arm of every trial (of the model's joint count): `None` draws one per trial by
+    /// [`MonteCarloOptions::perturbation`].
+    pub truth: Option<Arm>,
     /// The model error drawn per trial when `truth` is `None`.
     pub perturbation: Perturbation,
     /// The controllers run on each trial (on the same robot and noise).
@@ -109,8 +112,9 @@ pub struct Summary {
 /// their results (trial-major, controllers in `mc.controllers`' order) and their summary by
 /// controller ([`summarise`]). Results are deterministic: no wall time is kept.
 pub fn monte_carlo(
-    problem: &PlanningProblem,
-    plan: &(dyn Motion + Sync),
+    model: &Arm,
+    problem: &ChainProblem,
+    plan: &dyn ArmMotion,
     options: &TrackOptions,
     mc: &MonteCarloOptions,
     progress: &(dyn Fn() + Sync),
@@ -133,6 +137,7 @@ pub fn monte_carlo(
     }
     mc.perturbation.validate()?;
     options.validate()?;
+    check_run(model, problem, plan, options)?;
     for &controller in &mc.controllers {
         TrackOptions { controller, record: false, ..options.clone() }.check_budget(problem.horizon)?;
     }
@@ -151,23 +156,23 @@ pub fn monte_carlo(
     let correction = if mc.controllers.iter().all(|&c| c == Controller::Open) {
         None
     } else {
-        hold_correction(problem, plan, options)?
+        hold_correction(model, problem, plan, options)?
     };
     let indices: Vec<usize> = mc.shard.indices(mc.trials).collect();
     let per_trial: Vec<Vec<Trial>> = indices
         .into_par_iter()
         .map(|i| {
             let seed = trial_seed(mc.seed, i as u64);
-            let truth = match mc.truth {
-                Some(r) => r,
-                None => mc.perturbation.apply(&problem.robot, seed)?,
+            let truth = match &mc.truth {
+                Some(r) => r.clone(),
+                None => mc.perturbation.apply(model, seed)?,
             };
             let trials = mc
                 .controllers
                 .iter()
                 .map(|&controller| {
                     let o = TrackOptions { controller, record: false, ..options.clone() };
-                    let r = track_with(problem, plan, correction.as_ref(), &truth, &o, seed)?;
+                    let r = track_with(model, problem, plan, correction.as_ref(), &truth, &o, seed)?;
                     Ok(Trial {
                         trial: i,
                         controller,

@@ -5,7 +5,8 @@ use serde::Serialize;
 
 use super::noise::Noise;
 use crate::error::Error;
-use crate::model::{InputError, Mount, RobotParams};
+use crate::model::arm::Arm;
+use crate::model::{InputError, Mount};
 
 /// Bounds of a random model error.
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize)]
@@ -37,22 +38,36 @@ impl Perturbation {
         self.relative == 0.0 && self.mount == 0.0
     }
 
-    /// The perturbed robot of trial `seed` (stream 0 of [`Noise`]): reproducible. A centre of
-    /// mass pushed past its link's end is put back at the end (`d_i <= l_i`).
-    pub fn apply(&self, robot: &RobotParams, seed: u64) -> Result<RobotParams, Error> {
+    /// The perturbed arm of trial `seed` (stream 0 of [`Noise`]): reproducible. Every link's
+    /// length, centre-of-mass distance, mass and inertia, the base's mass and inertia are scaled,
+    /// the mount moved. A centre of mass pushed past its link's end is put back at the end
+    /// (`com <= length`). The draws come in the order lengths, distances, base mass and inertia,
+    /// masses, mount, link inertias: for the SRC robot those of earlier versions' 2-link robot.
+    pub fn apply(&self, arm: &Arm, seed: u64) -> Result<Arm, Error> {
         self.validate()?;
         let mut n = Noise::new(seed, 0);
         let relative = self.relative;
         let scale = |n: &mut Noise, x: f64| x * (1.0 + relative * n.symmetric());
-        let (l1, l2) = (scale(&mut n, robot.l1), scale(&mut n, robot.l2));
-        let (d1, d2) = (scale(&mut n, robot.d1).min(l1), scale(&mut n, robot.d2).min(l2));
-        let (base_mass, base_inertia) = (scale(&mut n, robot.base_mass), scale(&mut n, robot.base_inertia));
-        let (m1, m2) = (scale(&mut n, robot.m1), scale(&mut n, robot.m2));
-        let a = robot.mount.a + self.mount * n.symmetric();
-        let b = robot.mount.b + self.mount * n.symmetric();
-        let mount = Mount::new(a, b)?;
+        let mut out = arm.clone();
+        for link in &mut out.links {
+            link.length = scale(&mut n, link.length);
+        }
+        for link in &mut out.links {
+            link.com = scale(&mut n, link.com).min(link.length);
+        }
+        out.base.mass = scale(&mut n, arm.base.mass);
+        out.base.inertia = scale(&mut n, arm.base.inertia);
+        for link in &mut out.links {
+            link.mass = scale(&mut n, link.mass);
+        }
+        let a = arm.mount.a + self.mount * n.symmetric();
+        let b = arm.mount.b + self.mount * n.symmetric();
+        out.mount = Mount::new(a, b)?;
         // Drawn last, so that the trials of point-mass robots are those of earlier versions.
-        let (i1, i2) = (scale(&mut n, robot.i1), scale(&mut n, robot.i2));
-        Ok(RobotParams::new(RobotParams { l1, l2, d1, d2, base_mass, base_inertia, m1, m2, i1, i2, mount })?)
+        for link in &mut out.links {
+            link.inertia = scale(&mut n, link.inertia);
+        }
+        out.validate()?;
+        Ok(out)
     }
 }

@@ -1,23 +1,26 @@
-//! The plant: the 6-state forward dynamics of the true robot (Sec. 3.1, Eqs. 3 and 6, base
-//! unactuated) under a torque held constant between control ticks, with the actuators' noise,
-//! bias and limits and the sensors' noise.
+//! The plant: the forward dynamics of the true arm (Eqs. 3 and 6 for `n` links, base
+//! unactuated, [`crate::dynamics::arm::forward_dynamics`]) under a torque held constant between
+//! control ticks, with the actuators' noise, bias and limits and the sensors' noise.
 
+use nalgebra::DVector;
 use serde::Serialize;
 
 use super::noise::Noise;
-use crate::dynamics::forward_dynamics;
+use crate::dynamics::arm::forward_dynamics;
 use crate::error::Error;
-use crate::model::{Configuration, InputError, Lumped, RobotParams};
+use crate::model::InputError;
+use crate::model::arm::Arm;
 
 /// Imperfections of the actuators and sensors. The defaults are ideal: no noise, no bias, no
 /// limit.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Disturbances {
     /// Relative torque noise: each tick the applied torque is `tau (1 + n)`, `n` normal with this
     /// standard deviation; default 0.
     pub torque_noise: f64,
-    /// Torque bias added to each joint's torque `(tau1, tau2)` [N m]; default 0.
-    pub torque_bias: [f64; 2],
+    /// Torque bias added to each joint's torque `(tau_1, .., tau_n)` [N m]; default empty (none).
+    /// Empty or one value per joint.
+    pub torque_bias: Vec<f64>,
     /// Saturation `|tau_i| <= torque_limit` of the commanded torque [N m]; default infinite.
     pub torque_limit: f64,
     /// Standard deviation of the measurement noise on each angle of `q` \[rad\]; default 0.
@@ -28,7 +31,7 @@ pub struct Disturbances {
 
 impl Default for Disturbances {
     fn default() -> Self {
-        Self { torque_noise: 0.0, torque_bias: [0.0; 2], torque_limit: f64::INFINITY, q_noise: 0.0, dq_noise: 0.0 }
+        Self { torque_noise: 0.0, torque_bias: Vec::new(), torque_limit: f64::INFINITY, q_noise: 0.0, dq_noise: 0.0 }
     }
 }
 
@@ -45,7 +48,7 @@ impl Disturbances {
                 return bad(name, value, "a standard deviation in [0, 1]");
             }
         }
-        for value in self.torque_bias {
+        for &value in &self.torque_bias {
             if !value.is_finite() {
                 return bad("torque-bias", value, "a finite torque [N m]");
             }
@@ -55,22 +58,42 @@ impl Disturbances {
         }
         Ok(())
     }
+
+    /// Checks the bias against an arm of `n` joints: none, or one torque per joint.
+    pub fn check_joints(&self, n: usize) -> Result<(), Error> {
+        if self.torque_bias.is_empty() || self.torque_bias.len() == n {
+            return Ok(());
+        }
+        Err(InputError::InvalidParameter {
+            name: "torque-bias".into(),
+            value: self.torque_bias.len() as f64,
+            expected: "one torque bias per joint of the arm (TAU1,..,TAUn in N m)",
+        }
+        .into())
+    }
 }
 
 /// A measured (or true) state: configuration and velocity.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct State {
-    /// `q = (phi, theta1, theta2)` \[rad\].
-    pub q: Configuration,
+    /// `q = (phi, theta_1, .., theta_n)` \[rad\].
+    pub q: Vec<f64>,
     /// `q'` [rad/s].
-    pub dq: [f64; 3],
+    pub dq: Vec<f64>,
+}
+
+impl State {
+    /// The joint angles `theta = q[1..]` \[rad\].
+    pub fn theta(&self) -> &[f64] {
+        &self.q[1..]
+    }
 }
 
 /// What one tick applied to the robot.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct Applied {
     /// The torque on the joints, after saturation, noise and bias [N m].
-    pub tau: [f64; 2],
+    pub tau: Vec<f64>,
     /// The command exceeded the limit on some joint.
     pub saturated: bool,
 }
@@ -78,84 +101,99 @@ pub struct Applied {
 /// The true robot in motion.
 #[derive(Debug, Clone)]
 pub struct Plant {
-    k: Lumped,
-    state: [f64; 6],
+    arm: Arm,
+    /// `(q, q')`, `2 (n + 1)` values.
+    state: Vec<f64>,
     disturbances: Disturbances,
     actuator: Noise,
     sensor: Noise,
 }
 
 impl Plant {
-    /// The robot `robot` at rest at `start`; its noise streams are those of `seed` (streams 1
-    /// and 2 of [`Noise`]).
-    pub fn new(robot: &RobotParams, start: Configuration, disturbances: Disturbances, seed: u64) -> Self {
-        let q = start.to_array();
-        Self {
-            k: robot.lumped(),
-            state: [q[0], q[1], q[2], 0.0, 0.0, 0.0],
-            disturbances,
-            actuator: Noise::new(seed, 1),
-            sensor: Noise::new(seed, 2),
-        }
+    /// The arm `arm` at rest at `start` (`n + 1` angles); its noise streams are those of `seed`
+    /// (streams 1 and 2 of [`Noise`]).
+    pub fn new(arm: &Arm, start: &[f64], disturbances: Disturbances, seed: u64) -> Self {
+        let mut state = start.to_vec();
+        state.resize(2 * start.len(), 0.0);
+        Self { arm: arm.clone(), state, disturbances, actuator: Noise::new(seed, 1), sensor: Noise::new(seed, 2) }
     }
 
-    /// The same plant with the joints moving at `velocity` \[rad/s\] and the base at zero angular
-    /// momentum (Eq. 7), for a problem with a moving start.
-    pub fn moving(mut self, velocity: [f64; 2]) -> Self {
-        let q = [self.state[0], self.state[1], self.state[2]];
-        let dq = crate::model::system::velocity(&self.k, q, velocity);
-        self.state[3..].copy_from_slice(&dq);
+    /// The same plant with the joints moving at `velocity` \[rad/s\] (`n` values) and the base at
+    /// zero angular momentum (Eq. 7), for a problem with a moving start.
+    pub fn moving(mut self, velocity: &[f64]) -> Self {
+        let n = self.arm.joints();
+        let phi_rate = self.arm.base_rate(&self.state[1..=n], velocity);
+        self.state[n + 1] = phi_rate;
+        self.state[n + 2..].copy_from_slice(velocity);
         self
+    }
+
+    /// The number of joints.
+    pub fn joints(&self) -> usize {
+        self.arm.joints()
     }
 
     /// The true state.
     pub fn state(&self) -> State {
-        let s = self.state;
-        State { q: Configuration::new(s[0], s[1], s[2]), dq: [s[3], s[4], s[5]] }
+        let m = self.state.len() / 2;
+        State { q: self.state[..m].to_vec(), dq: self.state[m..].to_vec() }
     }
 
     /// The state as the sensors report it: the true state plus Gaussian noise.
     pub fn measure(&mut self) -> State {
-        let d = self.disturbances;
-        let s = self.state;
+        let (q_noise, dq_noise) = (self.disturbances.q_noise, self.disturbances.dq_noise);
+        let m = self.state.len() / 2;
         let mut noisy = |x: f64, sd: f64| if sd > 0.0 { x + sd * self.sensor.normal() } else { x };
-        State {
-            q: Configuration::new(noisy(s[0], d.q_noise), noisy(s[1], d.q_noise), noisy(s[2], d.q_noise)),
-            dq: [noisy(s[3], d.dq_noise), noisy(s[4], d.dq_noise), noisy(s[5], d.dq_noise)],
-        }
+        let q = self.state[..m].iter().map(|&x| noisy(x, q_noise)).collect();
+        let dq = self.state[m..].iter().map(|&x| noisy(x, dq_noise)).collect();
+        State { q, dq }
     }
 
-    /// Applies the command `tau` [N m] (saturated, then with noise and bias) for `dt` seconds,
-    /// held constant (zero-order hold), integrating the forward dynamics by `substeps` classical
-    /// Runge–Kutta steps. A diverging motion leaves a non-finite state ([`Plant::is_finite`]),
-    /// never a panic.
-    pub fn step(&mut self, tau: [f64; 2], dt: f64, substeps: usize) -> Applied {
-        let d = self.disturbances;
+    /// The torque applied for the command `tau` [N m]: each joint's command clamped to
+    /// `[-limit, limit]`, times `1 + noise`, plus the bias; and whether some joint saturated.
+    pub fn actuate(&mut self, tau: &[f64]) -> Applied {
+        let d = &self.disturbances;
         let saturated = tau.iter().any(|t| t.abs() > d.torque_limit);
-        let mut applied = [0.0; 2];
-        for (out, t) in applied.iter_mut().zip(tau) {
+        let mut applied = Vec::with_capacity(tau.len());
+        for (j, t) in tau.iter().enumerate() {
             let t = t.clamp(-d.torque_limit, d.torque_limit);
             let noise = if d.torque_noise > 0.0 { d.torque_noise * self.actuator.normal() } else { 0.0 };
-            *out = t * (1.0 + noise);
+            applied.push(t * (1.0 + noise) + d.torque_bias.get(j).copied().unwrap_or(0.0));
         }
-        applied = [applied[0] + d.torque_bias[0], applied[1] + d.torque_bias[1]];
-        let k = self.k;
-        let f = |y: &[f64; 6]| -> [f64; 6] {
-            let q = Configuration::new(y[0], y[1], y[2]);
-            let ddq = forward_dynamics(&k, &q, [y[3], y[4], y[5]], [0.0, applied[0], applied[1]]);
-            [y[3], y[4], y[5], ddq[0], ddq[1], ddq[2]]
+        Applied { tau: applied, saturated }
+    }
+
+    /// Applies the command `tau` [N m] (`n` values; saturated, then with noise and bias, see
+    /// [`Plant::actuate`]) for `dt` seconds, held constant (zero-order hold), integrating the
+    /// forward dynamics by `substeps` classical Runge–Kutta steps. A diverging motion (or an
+    /// inertia matrix that is no longer positive definite) leaves a non-finite state
+    /// ([`Plant::is_finite`]), never a panic.
+    pub fn step(&mut self, tau: &[f64], dt: f64, substeps: usize) -> Applied {
+        let applied = self.actuate(tau);
+        let torque = DVector::from_column_slice(&applied.tau);
+        let arm = &self.arm;
+        let m = self.state.len() / 2;
+        let f = |y: &[f64]| -> Vec<f64> {
+            let dq = DVector::from_column_slice(&y[m..]);
+            match forward_dynamics(arm, &y[1..m], &dq, &torque) {
+                Ok(ddq) => y[m..].iter().copied().chain(ddq.iter().copied()).collect(),
+                Err(_) => vec![f64::NAN; 2 * m],
+            }
         };
         let h = dt / substeps.max(1) as f64;
-        let axpy = |y: &[f64; 6], a: f64, k: &[f64; 6]| -> [f64; 6] { std::array::from_fn(|i| y[i] + a * k[i]) };
+        let axpy = |y: &[f64], a: f64, k: &[f64]| -> Vec<f64> { y.iter().zip(k).map(|(y, k)| y + a * k).collect() };
         for _ in 0..substeps.max(1) {
-            let y = self.state;
+            let y = self.state.clone();
+            if !y.iter().all(|x| x.is_finite()) {
+                break;
+            }
             let k1 = f(&y);
             let k2 = f(&axpy(&y, h / 2.0, &k1));
             let k3 = f(&axpy(&y, h / 2.0, &k2));
             let k4 = f(&axpy(&y, h, &k3));
-            self.state = std::array::from_fn(|i| y[i] + h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]));
+            self.state = (0..y.len()).map(|i| y[i] + h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])).collect();
         }
-        Applied { tau: applied, saturated }
+        applied
     }
 
     /// True while the state is finite (the simulated motion has not diverged).

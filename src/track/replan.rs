@@ -1,14 +1,15 @@
 //! Receding-horizon re-planning: from the measured state, with its joint velocity, to the goal
-//! in the remaining time, with the minimum-effort planner on cheap settings; and the reference
-//! that the joint loop follows between re-plans.
+//! in the remaining time, with the minimum-effort planner for `n` joints
+//! ([`ChainPlanner`]) on cheap settings, warm-started by the rest of the current reference; and
+//! the reference that the joint loop follows between re-plans.
 
+use super::motion::{ArmMotion, JointPoint};
 use super::plant::State;
 use crate::error::Error;
-use crate::model::{Configuration, InputError, RobotParams};
+use crate::model::InputError;
+use crate::model::arm::Arm;
 use crate::numerics::ode::OdeOptions;
-use crate::plan::{Method, Motion, MotionPoint, PlanningProblem};
-use crate::planners::optimal::{OptimalOptions, Sampled};
-use crate::planners::{PlannerOptions, planner};
+use crate::planners::chain::{ChainOptions, ChainPlan, ChainPlanner, ChainProblem, WarmStart};
 
 /// Options of the re-planning.
 #[derive(Debug, Clone, PartialEq)]
@@ -28,10 +29,11 @@ pub struct ReplanOptions {
     /// is nothing to correct, and each re-plan costs the hold's discretisation error of a
     /// fresh, shorter plan; default 1e-7.
     pub threshold: f64,
-    /// The planner's options: few samples, a coarse basis, one target, no NFA seed, the goal
-    /// taken literally (the representative of the first plan). Each re-plan starts from the
-    /// measured joint velocity (the problem's `start_velocity`).
-    pub planner: OptimalOptions,
+    /// The planner's options: a coarse basis, one target, one finalist, the goal taken
+    /// literally (the representative of the first plan, `ChainProblem::wrap = false`). Each
+    /// re-plan starts from the measured joint velocity (`ChainProblem::initial_velocity`) and
+    /// from the rest of the current reference ([`ChainOptions::warm_start`], set per re-plan).
+    pub planner: ChainOptions,
 }
 
 impl Default for ReplanOptions {
@@ -41,17 +43,15 @@ impl Default for ReplanOptions {
             final_window: 0.3,
             accept: 1e-6,
             threshold: 1e-7,
-            planner: OptimalOptions {
-                samples: 2,
+            planner: ChainOptions {
                 coarse_spans: 6,
                 max_spans: 6,
-                nfa_seed: false,
                 targets_solved: 1,
                 finalists: 1,
-                wrap: false,
+                loop_planes: 1,
                 tolerance: 1e-6,
                 ode: OdeOptions { rtol: 1e-9, atol: 1e-9, max_steps: 100_000 },
-                ..OptimalOptions::default()
+                ..ChainOptions::default()
             },
         }
     }
@@ -82,43 +82,54 @@ impl ReplanOptions {
 /// The motion the joint loop follows: a plan and the time it started \[s\].
 pub enum Reference<'a> {
     /// The initial plan, starting at `t = 0`.
-    Initial(&'a (dyn Motion + Sync)),
+    Initial(&'a dyn ArmMotion),
     /// A re-plan started at `t0`.
     Replanned {
         /// The re-planned motion (its own time starts at 0).
-        motion: Box<dyn Motion + Send + Sync>,
+        motion: Box<ChainPlan>,
         /// When it started \[s\].
         t0: f64,
     },
 }
 
 impl Reference<'_> {
-    /// The reference at time `t` of the run \[s\], held at the plan's end after it.
-    pub fn at(&self, t: f64) -> Result<MotionPoint, Error> {
-        let (motion, t0): (&dyn Motion, f64) = match self {
+    fn motion(&self) -> (&dyn ArmMotion, f64) {
+        match self {
             Reference::Initial(m) => (*m, 0.0),
             Reference::Replanned { motion, t0 } => (motion.as_ref(), *t0),
-        };
-        let s = (t - t0).clamp(0.0, motion.horizon());
-        let mut p = motion.at(s)?;
+        }
+    }
+
+    /// The joints of the reference at time `t` of the run \[s\], held at the plan's end after
+    /// it (at rest at the goal).
+    pub fn joints_at(&self, t: f64) -> Result<JointPoint, Error> {
+        let (motion, t0) = self.motion();
+        let mut p = motion.joints_at((t - t0).clamp(0.0, motion.horizon()))?;
         if t - t0 > motion.horizon() {
-            // Past the end: at rest at the goal.
-            (p.u, p.du) = ([0.0; 2], [0.0; 2]);
+            p.rate.iter_mut().chain(p.acceleration.iter_mut()).for_each(|x| *x = 0.0);
         }
         Ok(p)
+    }
+
+    /// `q = (phi, theta)` of the reference at time `t` of the run \[s\] (held after its end).
+    pub fn q(&self, t: f64) -> Result<Vec<f64>, Error> {
+        let (motion, t0) = self.motion();
+        motion.q((t - t0).clamp(0.0, motion.horizon()))
     }
 }
 
 /// The re-planner of a run: the goal's representative and the planner.
 pub struct Replanner {
-    goal: Configuration,
+    goal: Vec<f64>,
     options: ReplanOptions,
+    /// The planner of the last model (its constants are computed once per model).
+    planner: Option<ChainPlanner>,
 }
 
 impl Replanner {
-    /// Re-plans toward `goal`, taken literally (the end of the first plan).
-    pub fn new(goal: Configuration, options: ReplanOptions) -> Self {
-        Self { goal, options }
+    /// Re-plans toward `goal` (`n + 1` angles), taken literally (the end of the first plan).
+    pub fn new(goal: Vec<f64>, options: ReplanOptions) -> Self {
+        Self { goal, options, planner: None }
     }
 
     /// A plan on `model` from the measured state at time `t` to the goal at `horizon` \[s\],
@@ -126,34 +137,41 @@ impl Replanner {
     /// search follows where that start does not converge): `None` when the planner fails or its
     /// plan is not accepted (see [`ReplanOptions::accept`]).
     pub fn replan(
-        &self,
-        model: &RobotParams,
+        &mut self,
+        model: &Arm,
         measured: &State,
         t: f64,
         horizon: f64,
         current: &Reference,
-    ) -> Option<Box<dyn Motion + Send + Sync>> {
-        let problem = PlanningProblem::new(*model, measured.q, self.goal, horizon - t)
-            .and_then(|p| p.with_start_velocity([measured.dq[1], measured.dq[2]]))
-            .ok()?;
-        let mut optimal = self.options.planner.clone();
-        optimal.warm_start = Self::rest_of(current, t, horizon, 4 * optimal.max_spans + 1);
-        let planner = planner(Method::Optimal, &PlannerOptions { optimal, ..Default::default() });
-        let planned = planner.plan(&problem).ok()?;
-        let e = planned.plan.verification.final_error;
-        (e.is_finite() && e <= self.options.accept).then_some(planned.motion)
+    ) -> Option<ChainPlan> {
+        let problem = ChainProblem {
+            start: measured.q.clone(),
+            goal: self.goal.clone(),
+            horizon: horizon - t,
+            initial_velocity: measured.dq[1..].to_vec(),
+            wrap: false,
+        };
+        if self.planner.as_ref().is_none_or(|p| p.arm() != model) {
+            self.planner = Some(ChainPlanner::new(model.clone(), self.options.planner.clone()));
+        }
+        let planner = self.planner.as_mut()?;
+        planner.options.warm_start = Self::rest_of(current, t, horizon, 4 * self.options.planner.max_spans + 1);
+        let plan = planner.plan(&problem).ok()?;
+        let e = plan.verification.final_error;
+        (e.is_finite() && e <= self.options.accept).then_some(plan)
     }
 
     /// The joint path of `current` from `t` to `horizon` at `n` equally spaced times, with its
     /// own time starting at 0; `None` if it cannot be evaluated.
-    fn rest_of(current: &Reference, t: f64, horizon: f64, n: usize) -> Option<Sampled> {
-        let mut path = Sampled { t: Vec::with_capacity(n), theta: Vec::with_capacity(n), rate: Vec::with_capacity(n) };
+    fn rest_of(current: &Reference, t: f64, horizon: f64, n: usize) -> Option<WarmStart> {
+        let mut path =
+            WarmStart { t: Vec::with_capacity(n), theta: Vec::with_capacity(n), rate: Vec::with_capacity(n) };
         for i in 0..n {
             let s = (horizon - t) * i as f64 / (n - 1) as f64;
-            let p = current.at(t + s).ok()?;
+            let p = current.joints_at(t + s).ok()?;
             path.t.push(s);
-            path.theta.push([p.q.theta1, p.q.theta2]);
-            path.rate.push(p.u);
+            path.theta.push(p.theta);
+            path.rate.push(p.rate);
         }
         Some(path)
     }

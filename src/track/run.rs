@@ -1,5 +1,5 @@
 //! One closed-loop run: the plant driven by a controller at a fixed rate with zero-order hold,
-//! from the start of a plan to its horizon.
+//! from the start of a plan to its horizon, for an arm of any number of joints.
 
 use std::time::Instant;
 
@@ -7,12 +7,16 @@ use serde::Serialize;
 
 use super::control::{Controller, Gains, computed_torque, feedforward};
 use super::hold::HoldCorrection;
-use super::identify::{Constants, Identifier, IdentifyOptions, constants, fit_robot, momentum_map_error};
+use super::identify::{
+    Constants, Identifier, IdentifyOptions, fit_arm, momentum_map_error, parameter_names, parameters,
+};
+use super::motion::ArmMotion;
 use super::plant::{Disturbances, Plant};
 use super::replan::{Reference, ReplanOptions, Replanner};
 use crate::error::Error;
-use crate::model::{InputError, RobotParams, wrap_angle};
-use crate::plan::{Motion, PlanningProblem};
+use crate::model::arm::Arm;
+use crate::model::{InputError, wrap_angle};
+use crate::planners::chain::ChainProblem;
 
 /// Options of a closed-loop run.
 #[derive(Debug, Clone, PartialEq)]
@@ -156,22 +160,24 @@ pub struct Failure {
 pub struct History {
     /// Times \[s\].
     pub t: Vec<f64>,
-    /// The reference `q` followed at each time (the current plan) \[rad\].
-    pub reference: Vec<[f64; 3]>,
+    /// The reference `q = (phi, theta)` followed at each time (the current plan) \[rad\].
+    pub reference: Vec<Vec<f64>>,
     /// The true `q` \[rad\].
-    pub actual: Vec<[f64; 3]>,
-    /// The torque applied over the tick that starts there [N m].
-    pub tau: Vec<[f64; 2]>,
+    pub actual: Vec<Vec<f64>>,
+    /// The torque applied over the tick that starts there, one per joint [N m].
+    pub tau: Vec<Vec<f64>>,
 }
 
 /// The identified model against the true robot, at the end of an `adaptive` run.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Identification {
-    /// `(A, B, C, D a, D b, E a, E b, I_P)` of the true robot [kg m^2].
+    /// The names of the parameters ([`parameter_names`]).
+    pub names: Vec<String>,
+    /// The inertial parameters of the true arm ([`parameters`]) [kg m^2].
     pub truth: Constants,
-    /// The same constants of the identified model.
+    /// The same parameters of the identified model.
     pub identified: Constants,
-    /// The same constants of the nominal model.
+    /// The same parameters of the nominal model.
     pub nominal: Constants,
     /// [`momentum_map_error`] of the nominal model against the truth.
     pub nominal_map_error: f64,
@@ -199,15 +205,39 @@ impl From<&HoldCorrection> for HoldSummary {
 /// The hold correction that runs of `plan` with `options` use (any controller but `open`):
 /// `None` when switched off or when it does not reduce the nominal loop's error.
 pub fn hold_correction(
-    problem: &PlanningProblem,
-    plan: &(dyn Motion + Sync),
+    model: &Arm,
+    problem: &ChainProblem,
+    plan: &dyn ArmMotion,
     options: &TrackOptions,
 ) -> Result<Option<HoldCorrection>, Error> {
     options.validate()?;
+    check_run(model, problem, plan, options)?;
     if !options.hold_correction {
         return Ok(None);
     }
-    HoldCorrection::new(problem, plan, options.rate, options.substeps, options.gains)
+    HoldCorrection::new(model, problem, plan, options.rate, options.substeps, options.gains)
+}
+
+/// Checks a run's pieces against each other: the problem against the model
+/// ([`ChainProblem::validate`]), the plan's joint count and horizon, the torque bias's length.
+pub fn check_run(
+    model: &Arm,
+    problem: &ChainProblem,
+    plan: &dyn ArmMotion,
+    options: &TrackOptions,
+) -> Result<(), Error> {
+    model.validate()?;
+    problem.validate(model)?;
+    let n = model.joints();
+    if plan.joints() != n || (plan.horizon() - problem.horizon).abs() > 1e-9 * problem.horizon {
+        return Err(InputError::InvalidParameter {
+            name: "plan".into(),
+            value: plan.joints() as f64,
+            expected: "a plan of the model's joint count and the problem's horizon",
+        }
+        .into());
+    }
+    options.disturbances.check_joints(n)
 }
 
 /// The result of a closed-loop run.
@@ -218,12 +248,12 @@ pub struct Tracked {
     /// `max_i |wrap(q_i(T) - qd_i)|` \[rad\]; infinite when the run failed ([`Tracked::failure`]):
     /// JSON writes it as `null`, the table and the plot the failure.
     pub final_error: f64,
-    /// `wrap(q_i(T) - qd_i)` per coordinate `(phi, theta1, theta2)` \[rad\].
-    pub final_errors: [f64; 3],
+    /// `wrap(q_i(T) - qd_i)` per coordinate `(phi, theta_1, .., theta_n)` \[rad\].
+    pub final_errors: Vec<f64>,
     /// `q'(T)` [rad/s].
-    pub final_velocity: [f64; 3],
-    /// `[max |tau1|, max |tau2|]` applied [N m].
-    pub peak_torque: [f64; 2],
+    pub final_velocity: Vec<f64>,
+    /// `max |tau_k|` applied per joint [N m].
+    pub peak_torque: Vec<f64>,
     /// Fraction of the ticks whose command exceeded the torque limit.
     pub saturated_fraction: f64,
     /// Re-plans used.
@@ -249,25 +279,26 @@ pub struct Tracked {
     pub history: Option<History>,
 }
 
-/// Runs `plan` (planned for `problem`, on the nominal robot `problem.robot`) on the true robot
-/// `truth` under the controller of `options`, from `problem.start` at rest to the horizon.
-/// `seed` keys the plant's noise. The run is checked against the budgets first
-/// ([`TrackOptions::check_budget`]: its re-plans are bounded before it starts). Re-planning
-/// failures are counted, never fatal; a diverging motion ends the run with a [`Failure`] (and an
-/// infinite error).
+/// Runs `plan` (planned for `problem` on the nominal arm `model`) on the true arm `truth` (of the
+/// model's joint count) under the controller of `options`, from `problem.start` (moving at
+/// `problem.initial_velocity`) to the horizon. `seed` keys the plant's noise. The run is checked
+/// against the budgets first ([`TrackOptions::check_budget`]: its re-plans are bounded before it
+/// starts). Re-planning failures are counted, never fatal; a diverging motion ends the run with a
+/// [`Failure`] (and an infinite error).
 pub fn track(
-    problem: &PlanningProblem,
-    plan: &(dyn Motion + Sync),
-    truth: &RobotParams,
+    model: &Arm,
+    problem: &ChainProblem,
+    plan: &dyn ArmMotion,
+    truth: &Arm,
     options: &TrackOptions,
     seed: u64,
 ) -> Result<Tracked, Error> {
     let clock = Instant::now();
     let correction = match options.controller {
         Controller::Open => None,
-        _ => hold_correction(problem, plan, options)?,
+        _ => hold_correction(model, problem, plan, options)?,
     };
-    let mut run = track_with(problem, plan, correction.as_ref(), truth, options, seed)?;
+    let mut run = track_with(model, problem, plan, correction.as_ref(), truth, options, seed)?;
     run.seconds = clock.elapsed().as_secs_f64();
     Ok(run)
 }
@@ -275,15 +306,26 @@ pub fn track(
 /// [`track()`] with the hold correction computed beforehand ([`hold_correction`]; Monte Carlo
 /// runs share one). `open` ignores it; its wall time is not part of [`Tracked::seconds`].
 pub fn track_with(
-    problem: &PlanningProblem,
-    plan: &(dyn Motion + Sync),
+    model: &Arm,
+    problem: &ChainProblem,
+    plan: &dyn ArmMotion,
     correction: Option<&HoldCorrection>,
-    truth: &RobotParams,
+    truth: &Arm,
     options: &TrackOptions,
     seed: u64,
 ) -> Result<Tracked, Error> {
     options.validate()?;
+    check_run(model, problem, plan, options)?;
     truth.validate()?;
+    let n = model.joints();
+    if truth.joints() != n {
+        return Err(InputError::InvalidParameter {
+            name: "true robot".into(),
+            value: truth.joints() as f64,
+            expected: "a true robot of the model's number of links",
+        }
+        .into());
+    }
     let clock = Instant::now();
     let correction = correction.filter(|_| options.controller != Controller::Open);
     let horizon = problem.horizon;
@@ -292,18 +334,18 @@ pub fn track_with(
     let dt = horizon / ticks as f64;
     let every = (options.rate / options.replan.rate).round().max(1.0) as usize;
     let controller = options.controller;
-    let goal = plan.at(horizon)?.q;
-    let replanner = Replanner::new(goal, options.replan.clone());
-    let mut identifier = Identifier::new(&problem.robot, options.identify);
-    let mut model = problem.robot;
-    let mut k = model.lumped();
+    let mut replanner = Replanner::new(plan.q(horizon)?, options.replan.clone());
+    let mut identifier = Identifier::new(model, options.identify);
+    let mut fitted = model.clone();
     let mut reference = Reference::Initial(plan);
-    let mut plant = Plant::new(truth, problem.start, options.disturbances, seed).moving(problem.start_velocity);
+    let mut plant =
+        Plant::new(truth, &problem.start, options.disturbances.clone(), seed).moving(&problem.initial_velocity);
     let mut history = options.record.then(History::default);
-    let (mut peak, mut saturated, mut replans, mut failures) = ([0.0_f64; 2], 0usize, 0usize, 0usize);
+    let (mut peak, mut saturated, mut replans, mut failures) = (vec![0.0_f64; n], 0usize, 0usize, 0usize);
     let (mut replan_seconds, mut replan_max) = (0.0_f64, 0.0_f64);
     let mut diverged_at = None;
     let mut failure = None;
+    let distance = |a: &[f64], b: &[f64]| a.iter().zip(b).fold(0.0_f64, |m, (x, y)| m.max(wrap_angle(x - y).abs()));
     for i in 0..ticks {
         let t = i as f64 * dt;
         let measured = plant.measure();
@@ -314,22 +356,21 @@ pub fn track_with(
         let initial = matches!(reference, Reference::Initial(_));
         let due =
             controller.replans() && i > 0 && i % every == 0 && horizon - t >= options.replan.final_window - 0.5 * dt;
-        let expected = match correction.and_then(|c| c.nominal(i)).filter(|_| initial) {
-            Some(s) => s.q,
-            None if due => reference.at(t)?.q,
-            None => measured.q,
+        let off = match correction.and_then(|c| c.nominal(i)).filter(|_| initial) {
+            Some(s) if due => distance(&measured.q, &s.q),
+            None if due => distance(&measured.q, &reference.q(t)?),
+            _ => 0.0,
         };
-        if due && measured.q.distance(&expected) > options.replan.threshold {
+        if due && off > options.replan.threshold {
             let started = Instant::now();
             if controller == Controller::Adaptive
-                && let Ok((fitted, _)) = fit_robot(&identifier.estimate(), &model)
+                && let Ok((arm, _)) = fit_arm(&identifier.estimate(), &fitted)
             {
-                model = fitted;
-                k = model.lumped();
+                fitted = arm;
             }
-            match replanner.replan(&model, &measured, t, horizon, &reference) {
+            match replanner.replan(&fitted, &measured, t, horizon, &reference) {
                 Some(motion) => {
-                    reference = Reference::Replanned { motion, t0: t };
+                    reference = Reference::Replanned { motion: Box::new(motion), t0: t };
                     replans += 1;
                 }
                 None => failures += 1,
@@ -338,25 +379,27 @@ pub fn track_with(
             (replan_seconds, replan_max) = (replan_seconds + s, replan_max.max(s));
         }
         // The law is evaluated at the centre of the tick (see `computed_torque`).
-        let mut centre = reference.at(t + 0.5 * dt)?;
+        let mut centre = reference.joints_at(t + 0.5 * dt)?;
         if let Some(c) = correction.filter(|_| matches!(reference, Reference::Initial(_))) {
             centre = c.corrected(centre, t + 0.5 * dt);
         }
         let command = match controller {
-            Controller::Open => feedforward(&k, &centre),
-            _ => computed_torque(&k, &measured, &centre, 0.5 * dt, &options.gains),
+            Controller::Open => feedforward(&fitted, &centre),
+            _ => computed_torque(&fitted, &measured, &centre, 0.5 * dt, &options.gains),
         };
-        let before = plant.state().q.to_array();
-        let applied = plant.step(command, dt, options.substeps);
+        let before = history.is_some().then(|| plant.state().q);
+        let applied = plant.step(&command, dt, options.substeps);
         // A command that left the finite numbers is the divergence below, not a torque.
         let finite = applied.tau.iter().all(|x| x.is_finite());
         if finite {
-            peak = [peak[0].max(applied.tau[0].abs()), peak[1].max(applied.tau[1].abs())];
+            for (p, t) in peak.iter_mut().zip(&applied.tau) {
+                *p = p.max(t.abs());
+            }
         }
         saturated += usize::from(applied.saturated);
-        if let Some(h) = history.as_mut().filter(|_| finite) {
+        if let (Some(h), Some(before)) = (history.as_mut().filter(|_| finite), before) {
             h.t.push(t);
-            h.reference.push(reference.at(t)?.q.to_array());
+            h.reference.push(reference.q(t)?);
             h.actual.push(before);
             h.tau.push(applied.tau);
         }
@@ -367,34 +410,33 @@ pub fn track_with(
         }
     }
     let end = plant.state();
-    let final_errors: [f64; 3] = if failure.is_some() {
-        [f64::INFINITY; 3]
+    let final_errors: Vec<f64> = if failure.is_some() {
+        vec![f64::INFINITY; n + 1]
     } else {
-        std::array::from_fn(|i| wrap_angle(end.q.to_array()[i] - problem.goal.to_array()[i]))
+        end.q.iter().zip(&problem.goal).map(|(q, g)| wrap_angle(q - g)).collect()
     };
     // The last recorded row is the end state: only a finite one (a diverged run's is not).
     if let Some(h) = history.as_mut().filter(|_| failure.is_none()) {
         h.t.push(horizon);
-        h.reference.push(reference.at(horizon)?.q.to_array());
-        h.actual.push(end.q.to_array());
-        h.tau.push(*h.tau.last().unwrap_or(&[0.0; 2]));
+        h.reference.push(reference.q(horizon)?);
+        h.actual.push(end.q.clone());
+        let last = h.tau.last().cloned().unwrap_or_else(|| vec![0.0; n]);
+        h.tau.push(last);
     }
-    let identification = (controller == Controller::Adaptive).then(|| {
-        let kt = truth.lumped();
-        let kn = problem.robot.lumped();
-        Identification {
-            truth: constants(&kt),
-            identified: constants(&k),
-            nominal: constants(&kn),
-            nominal_map_error: momentum_map_error(&kn, &kt),
-            identified_map_error: momentum_map_error(&k, &kt),
-        }
+    let identification = (controller == Controller::Adaptive).then(|| Identification {
+        names: parameter_names(n),
+        truth: parameters(truth),
+        identified: parameters(&fitted),
+        nominal: parameters(model),
+        nominal_map_error: momentum_map_error(model, truth),
+        identified_map_error: momentum_map_error(&fitted, truth),
     });
+    let final_velocity = end.dq;
     Ok(Tracked {
         controller,
         final_error: final_errors.iter().fold(0.0_f64, |m, e| m.max(e.abs())),
         final_errors,
-        final_velocity: end.dq,
+        final_velocity,
         peak_torque: peak,
         saturated_fraction: saturated as f64 / ticks as f64,
         replans,

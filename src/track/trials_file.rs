@@ -24,8 +24,8 @@ use super::monte_carlo::{MonteCarloOptions, Trial};
 use super::run::TrackOptions;
 use crate::analysis::shards::{self, FileKind, Shard, ShardFile, field, file_error, finite};
 use crate::error::Error;
-use crate::model::{Configuration, RobotParams};
-use crate::plan::PlanningProblem;
+use crate::model::arm::Arm;
+use crate::planners::chain::ChainProblem;
 
 /// The first words of a trials file.
 pub const MAGIC: &str = "# freefloat-track-trials v1";
@@ -79,25 +79,33 @@ impl From<&TrialRow> for Trial {
     }
 }
 
-fn robot_description(r: &RobotParams) -> String {
-    format!(
-        "l1:{:?},l2:{:?},d1:{:?},d2:{:?},M:{:?},I:{:?},m1:{:?},m2:{:?},i1:{:?},i2:{:?},a:{:?},b:{:?}",
-        r.l1, r.l2, r.d1, r.d2, r.base_mass, r.base_inertia, r.m1, r.m2, r.i1, r.i2, r.mount.a, r.mount.b
-    )
+/// The arm in shortest round-trip floats: `M:..,I:..,a:..,b:..` then `/l:..,d:..,m:..,i:..` per
+/// link.
+fn robot_description(r: &Arm) -> String {
+    let mut out = format!("M:{:?},I:{:?},a:{:?},b:{:?}", r.base.mass, r.base.inertia, r.mount.a, r.mount.b);
+    for l in &r.links {
+        out += &format!("/l:{:?},d:{:?},m:{:?},i:{:?}", l.length, l.com, l.mass, l.inertia);
+    }
+    out
+}
+
+/// Numbers in shortest round-trip form, comma-separated.
+fn list(values: &[f64]) -> String {
+    values.iter().map(|x| format!("{x:?}")).collect::<Vec<_>>().join(",")
 }
 
 /// The canonical description of a Monte Carlo run: `key=value` words of every option that
 /// changes a row (the trials, the seed, the controllers, the success tolerance, the true robot
-/// or its perturbation, the nominal robot, the problem, the planner of the first plan (named by
-/// `planner`), the control, re-planning and identification options and the disturbances),
-/// floats in shortest round-trip form. The shard is not part of it.
+/// or its perturbation, the nominal arm (`links=n` and every parameter), the problem, the planner
+/// of the first plan (named by `planner`), the control, re-planning and identification options
+/// and the disturbances), floats in shortest round-trip form. The shard is not part of it.
 pub fn run_description(
-    problem: &PlanningProblem,
+    model: &Arm,
+    problem: &ChainProblem,
     options: &TrackOptions,
     mc: &MonteCarloOptions,
     planner: &str,
 ) -> String {
-    let q = |c: Configuration| format!("{:?},{:?},{:?}", c.phi, c.theta1, c.theta2);
     let truth = match &mc.truth {
         Some(t) => format!("robot:{}", robot_description(t)),
         None => format!("perturbed:{:?},{:?}", mc.perturbation.relative, mc.perturbation.mount),
@@ -105,23 +113,25 @@ pub fn run_description(
     let controllers: Vec<&str> = mc.controllers.iter().map(|c| c.name()).collect();
     let d = &options.disturbances;
     let limit = if d.torque_limit.is_finite() { format!("{:?}", d.torque_limit) } else { "none".into() };
+    let bias = if d.torque_bias.is_empty() { "none".into() } else { list(&d.torque_bias) };
     let (replan, identify) = (&options.replan, &options.identify);
     format!(
-        "trials={} seed={} controllers={} success_tolerance={:?} truth={truth} robot={} start={} goal={} \
-         horizon={:?} start_velocity={:?},{:?} planner={planner} rate={:?} substeps={} kp={:?} kd={:?} hold_correction={} \
-         replan_rate={:?} final_window={:?} accept={:?} threshold={:?} forgetting={:?} prior_weight={:?} \
-         torque_noise={:?} torque_bias={:?},{:?} torque_limit={limit} noise_q={:?} noise_dq={:?} \
+        "trials={} seed={} controllers={} success_tolerance={:?} truth={truth} links={} robot={} start={} goal={} \
+         horizon={:?} start_velocity={} wrap={} planner={planner} rate={:?} substeps={} kp={:?} kd={:?} \
+         hold_correction={} replan_rate={:?} final_window={:?} accept={:?} threshold={:?} forgetting={:?} \
+         prior_weight={:?} torque_noise={:?} torque_bias={bias} torque_limit={limit} noise_q={:?} noise_dq={:?} \
          replan_planner={}",
         mc.trials,
         mc.seed,
         controllers.join(","),
         mc.success_tolerance,
-        robot_description(&problem.robot),
-        q(problem.start),
-        q(problem.goal),
+        model.joints(),
+        robot_description(model),
+        list(&problem.start),
+        list(&problem.goal),
         problem.horizon,
-        problem.start_velocity[0],
-        problem.start_velocity[1],
+        list(&problem.initial_velocity),
+        problem.wrap,
         options.rate,
         options.substeps,
         options.gains.kp,
@@ -134,8 +144,6 @@ pub fn run_description(
         identify.forgetting_time,
         identify.prior_weight,
         d.torque_noise,
-        d.torque_bias[0],
-        d.torque_bias[1],
         d.q_noise,
         d.dq_noise,
         format!("{:?}", replan.planner).replace(' ', ""),

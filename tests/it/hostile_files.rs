@@ -515,9 +515,9 @@ fn two_link_arm_off_the_paper_model_names_the_reason() {
     let path = dir.path().join("two.toml");
     let link = |com: f64| format!("[[link]]\nlength = 0.5\ncom = {com}\nmass = 2.0\ninertia = 0.05\n");
     std::fs::write(&path, format!("[robot]\nM = 12.9\nI = 0.208\n{}{}", link(0.0), link(0.25))).expect("write");
-    for command in
-        [&["domain", "--grid", "16"][..], &["track"], &["mount-sweep", "--steps", "1", "--a", "0,0", "--b", "0,0"]]
-    {
+    // `track`, `compare` and `mount-sweep` (the effort) serve this arm now (issue 19: every
+    // arm through the n-joint pipeline); the domain of the paper's normal form does not.
+    for command in [&["domain", "--grid", "16"][..]] {
         let mut args = command.to_vec();
         args.extend(["--robot", s(&path)]);
         let e = refused(&run(&args), &format!("{command:?}"));

@@ -204,3 +204,73 @@ fn shard_flags_are_validated() {
     refused(&o, "--out");
     assert!(!std::path::Path::new(csv).exists() && !txt.exists());
 }
+
+fn example(name: &str) -> String {
+    format!("{}/examples/robots/{name}", env!("CARGO_MANIFEST_DIR"))
+}
+
+/// `track` serves every robot the other commands read: the 3-link example from TOML and the
+/// 4-link SPART-like URDF, `--from`/`--to` with n + 1 angles, one error, torque and CSV column
+/// per joint; on the nominal model `ct` ends at the goal, and a perturbed Monte Carlo run prints
+/// its table.
+#[test]
+fn track_serves_three_and_four_link_arms() {
+    let dir = tempfile::tempdir().unwrap();
+    let csv = dir.path().join("run.csv");
+    let three = example("three_link.toml");
+    let urdf = example("spart_like_4dof.urdf");
+    for (flag, file, from, to, n) in [
+        ("--robot", three.as_str(), "0,60,-30,-30", "30,120,40,-60", 3),
+        ("--urdf", urdf.as_str(), "0,20,-20,30,-10", "20,60,10,-20,30", 4),
+    ] {
+        let mut args =
+            vec!["track", flag, file, "--from", from, "--to", to, "--controller", "open,ct", "--format", "json"];
+        args.extend(FAST);
+        args.extend(["--out", csv.to_str().unwrap()]);
+        let o = freefloat(&args);
+        assert!(o.status.success(), "{file}: {}", stderr(&o));
+        let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("JSON");
+        let runs = v.as_array().unwrap();
+        assert_eq!(runs[1]["final_errors"].as_array().unwrap().len(), n + 1, "{v}");
+        assert_eq!(runs[1]["peak_torque"].as_array().unwrap().len(), n, "{v}");
+        assert!(runs[1]["final_error"].as_f64().unwrap() < 1e-4, "{file}: {v}");
+        let text = std::fs::read_to_string(&csv).unwrap();
+        let header = text.lines().next().unwrap();
+        assert_eq!(header.split(',').count(), 1 + 2 * (n + 1) + n, "{header}");
+        assert!(
+            header.ends_with(&format!(
+                "theta{n},tau1_Nm,{}",
+                (2..=n).map(|k| format!("tau{k}_Nm")).collect::<Vec<_>>().join(",")
+            )),
+            "{header}"
+        );
+        let mut mc = vec!["track", flag, file, "--from", from, "--to", to, "--controller", "ct", "--trials", "2"];
+        mc.extend(["--perturb", "0.02"]);
+        mc.extend(FAST);
+        let o = freefloat(&mc);
+        assert!(o.status.success(), "{file}: {}", stderr(&o));
+        let out = String::from_utf8_lossy(&o.stdout);
+        assert!(out.contains("2 trials") && out.contains('%') && !out.contains("NaN"), "{out}");
+    }
+}
+
+/// What a given arm cannot take is refused with exit 2 and the reason: the paper's 3 angles for
+/// a 3-link arm, a torque bias of the wrong length, a true robot of other links.
+#[test]
+fn track_refuses_what_the_arm_cannot_do() {
+    let three = example("three_link.toml");
+    let four = example("four_link.toml");
+    let ends = ["--from", "0,60,-30,-30", "--to", "30,120,40,-60"];
+    let mut cases: Vec<(Vec<&str>, &str)> = vec![
+        (vec!["track", "--robot", &three], "--from takes 4"),
+        (vec!["track", "--robot", &three, "--torque-bias", "0,0"], "--torque-bias takes 3"),
+        (vec!["track", "--robot", &three, "--true-robot", &four], "the model has 3"),
+    ];
+    for (args, _) in cases.iter_mut().skip(1) {
+        args.extend(ends);
+    }
+    for (args, named) in cases {
+        let o = freefloat(&args);
+        refused(&o, named);
+    }
+}

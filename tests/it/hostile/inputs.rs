@@ -313,7 +313,7 @@ fn track_outputs_hold_no_non_finite_number() {
 #[test]
 fn a_diverged_run_is_a_verdict_with_a_reason() {
     use freefloat::planners::{PlannerOptions, planner};
-    use freefloat::track::{Controller, Disturbances, TrackOptions, track};
+    use freefloat::track::{Controller, Disturbances, TrackOptions, TwoLinkMotion, track, two_link};
     use freefloat::{Method, PlanningProblem, RobotParams};
     let problem = PlanningProblem::paper(RobotParams::src());
     let planned = planner(Method::Optimal, &PlannerOptions::default()).plan(&problem).expect("plan");
@@ -321,11 +321,12 @@ fn a_diverged_run_is_a_verdict_with_a_reason() {
     let options = TrackOptions {
         controller: Controller::Open,
         rate: 100.0,
-        disturbances: Disturbances { torque_bias: [1e150, -1e150], ..Default::default() },
+        disturbances: Disturbances { torque_bias: vec![1e150, -1e150], ..Default::default() },
         record: true,
         ..Default::default()
     };
-    match track(&problem, planned.motion.as_ref(), &problem.robot, &options, 0) {
+    let (arm, chain) = two_link(&problem);
+    match track(&arm, &chain, &TwoLinkMotion(planned.motion.as_ref()), &arm, &options, 0) {
         Ok(run) => {
             let failure = run.failure.expect("a bias of 1e150 N m diverges");
             assert_eq!(failure.reason, "diverged");
