@@ -2,6 +2,8 @@
 //! ([`ChainEcsaPlan`], analytic controls and joint angles, the base angle by the holonomy
 //! integral) as a 2-link [`Motion`], with its samples.
 
+use num_dual::Dual64;
+
 use super::ChainEcsaPlan;
 use crate::error::Error;
 use crate::model::system::{shape, velocity_acceleration};
@@ -46,8 +48,9 @@ impl EcsaMotion {
         let mut dq = Vec::with_capacity(n);
         let mut ddq = Vec::with_capacity(n);
         for (q, &t) in self.q.iter().zip(&self.t) {
-            let p = self.plan.at(t);
-            let (u, du) = ([p.rate[0], p.rate[1]], [p.acceleration[0], p.acceleration[1]]);
+            // The analytic controls and their exact rates (the angles are the samples').
+            let w = self.plan.basis().controls(self.coefficients(), Dual64::new(t, 1.0));
+            let (u, du) = ([w[0].re, w[1].re], [w[0].eps, w[1].eps]);
             let (v, a) = velocity_acceleration(&self.k, &Configuration::from_array(*q), u, du);
             dq.push(v);
             ddq.push(a);
