@@ -218,12 +218,12 @@ pub fn plan_arm(arm: &Arm, method: Method, request: &ArmRequest) -> Result<ArmPl
             expected: "the defaults (1 harmonic, no window) for another method than the ECSA: they shape the ECSA's controls only",
         }));
     }
-    if request.cost != Cost::Effort || request.smooth_ends {
+    if method == Method::Ecsa && (request.cost != Cost::Effort || request.smooth_ends) {
         return Err(Error::from(InputError::InvalidParameter {
             name: if request.smooth_ends { "smooth_ends".into() } else { "cost".into() },
             value: arm.joints() as f64,
-            expected: "the effort cost with cubic ends for this arm: the n-joint planner does not yet minimise \
-                       the energy or plan quintic ends (issue 19)",
+            expected: "the optimal method for the energy cost or smooth ends: the ECSA's controls are its \
+                       harmonic basis, with neither",
         }));
     }
     let clock = Instant::now();
@@ -231,7 +231,12 @@ pub fn plan_arm(arm: &Arm, method: Method, request: &ArmRequest) -> Result<ArmPl
         let options = EcsaOptions { tolerance: request.tolerance, ..request.ecsa };
         ArmPlan::Ecsa(ChainEcsaPlanner::new(arm.clone(), options).plan(&request.problem)?)
     } else {
-        let options = ChainOptions { tolerance: request.tolerance, ..ChainOptions::default() };
+        let options = ChainOptions {
+            tolerance: request.tolerance,
+            cost: request.cost,
+            smooth_ends: request.smooth_ends,
+            ..ChainOptions::default()
+        };
         ArmPlan::Optimal(ChainPlanner::new(arm.clone(), options).plan(&request.problem)?)
     };
     let trajectory = plan.sample(request.samples);

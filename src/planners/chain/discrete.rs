@@ -12,8 +12,10 @@ use std::sync::Arc;
 use nalgebra::{DMatrix, DVector};
 
 use super::connection::{Connection, Local};
+use super::energy::{EnergyLocal, energy, energy_local};
 use crate::error::Error;
 use crate::model::InputError;
+use crate::model::arm::Arm;
 use crate::numerics::quadrature::GaussLegendre;
 use crate::planners::optimal::band::BandCholesky;
 use crate::planners::optimal::discrete::Evaluation;
@@ -132,6 +134,9 @@ pub struct Discretisation {
     /// Fixed leading and trailing coefficients, per joint.
     head: Vec<Vec<f64>>,
     tail: Vec<Vec<f64>>,
+    /// The arm whose kinetic energy is the cost ([`Cost::Energy`](crate::planners::optimal::Cost));
+    /// `None`: the effort.
+    energy: Option<Arc<Arm>>,
 }
 
 impl Discretisation {
@@ -146,7 +151,30 @@ impl Discretisation {
             head.push(h);
             tail.push(t);
         }
-        Self { connection, table, targets, head, tail }
+        Self { connection, table, targets, head, tail, energy: None }
+    }
+
+    /// The same problem with the kinetic energy of `arm` at zero angular momentum as the cost
+    /// (`integral_0^T 1/2 theta'^T R theta' dt` \[J s\], see [`super::energy`]) instead of the
+    /// effort.
+    pub fn with_energy(mut self, arm: Arc<Arm>) -> Self {
+        self.energy = Some(arm);
+        self
+    }
+
+    /// The cost at `x`: the effort \[rad^2/s\], or the energy integral \[J s\] with
+    /// [`Self::with_energy`].
+    pub fn cost(&self, x: &DVector<f64>) -> f64 {
+        let Some(arm) = &self.energy else { return self.integrals(x).1 };
+        let n = self.table.joints;
+        let c = self.coefficients(x);
+        let (mut theta, mut rate) = (vec![0.0; n], vec![0.0; n]);
+        let mut f = 0.0;
+        for node in &self.table.nodes {
+            self.point(&c, node, &mut theta, &mut rate);
+            f += node.weight * energy(arm, &theta, &rate);
+        }
+        f
     }
 
     /// The ends and the holonomy target.
@@ -264,7 +292,8 @@ impl Discretised for Discretisation {
         let dim = x.len();
         let residual = |integral: f64| self.targets.phi_start - integral - self.targets.phi_end;
         if order == 0 {
-            let (integral, f) = self.integrals(x);
+            let (integral, effort) = self.integrals(x);
+            let f = if self.energy.is_some() { self.cost(x) } else { effort };
             let (empty, none) = (DVector::zeros(0), DMatrix::zeros(0, 0));
             return Evaluation {
                 f,
@@ -285,12 +314,23 @@ impl Discretised for Discretisation {
         // Free index of each local coefficient (usize::MAX when fixed).
         let mut idx = [usize::MAX; MAX_DEGREE + 1];
         let mut row = vec![0.0; n];
+        let mut hess_f = match (second, &self.energy) {
+            (true, None) => table.effort_hessian.clone(),
+            (true, Some(_)) => DMatrix::zeros(dim, dim),
+            (false, _) => DMatrix::zeros(0, 0),
+        };
+        let mut e_local = EnergyLocal::new(n);
         for node in &table.nodes {
             self.point(&c, node, &mut theta, &mut rate);
             self.connection.local(&theta, &rate, &mut local);
             let w = node.weight;
             integral += w * local.value;
-            f += w * rate.iter().map(|v| v * v).sum::<f64>();
+            if let Some(arm) = &self.energy {
+                energy_local(arm, &theta, &rate, &mut e_local);
+                f += w * e_local.value;
+            } else {
+                f += w * rate.iter().map(|v| v * v).sum::<f64>();
+            }
             for (l, slot) in idx.iter_mut().enumerate().take(p + 1) {
                 *slot = free(node.first + l, r, len).map_or(usize::MAX, |i| i * n);
             }
@@ -302,11 +342,18 @@ impl Discretised for Discretisation {
                 for j in 0..n {
                     // c = phi0 - integral - phi_end: derivatives with the sign -1.
                     grad_c[idx[l] + j] -= local.gradient[j] * v + local.a[j] * dr;
-                    grad_f[idx[l] + j] += 2.0 * rate[j] * dr;
+                    grad_f[idx[l] + j] += if self.energy.is_some() {
+                        e_local.d_theta[j] * v + e_local.d_rate[j] * dr
+                    } else {
+                        2.0 * rate[j] * dr
+                    };
                 }
             }
             if !second {
                 continue;
+            }
+            if self.energy.is_some() {
+                add_energy_hessian(&mut hess_f, &e_local, node, &idx[..=p], n, w);
             }
             let data = hess_c.as_mut_slice();
             for l in 0..=p {
@@ -334,7 +381,36 @@ impl Discretised for Discretisation {
                 }
             }
         }
-        let hess_f = if second { table.effort_hessian.clone() } else { DMatrix::zeros(0, 0) };
         Evaluation { f, c: residual(integral), grad_f, grad_c, hess_f, hess_c }
+    }
+}
+
+/// Adds `weight *` the energy density's Hessian at `node` in the coefficients `idx` (free index
+/// times `n` per local basis function, `usize::MAX` where fixed) to `h`: for coefficients
+/// `(l, j)` and `(ll, jj)`, `v_l v_ll e_tt[j, jj] + v_l r_ll e_tw[j, jj] + r_l v_ll e_tw[jj, j]
+/// + r_l r_ll e_ww[j, jj]`.
+fn add_energy_hessian(h: &mut DMatrix<f64>, e: &EnergyLocal, node: &Node, idx: &[usize], n: usize, weight: f64) {
+    let dim = h.nrows();
+    let data = h.as_mut_slice();
+    for (l, &il) in idx.iter().enumerate() {
+        if il == usize::MAX {
+            continue;
+        }
+        let (v, r) = (node.value[l] * weight, node.rate[l] * weight);
+        for (ll, &ill) in idx.iter().enumerate() {
+            if ill == usize::MAX {
+                continue;
+            }
+            let (vv, rr) = (node.value[ll], node.rate[ll]);
+            for j in 0..n {
+                let col = (il + j) * dim + ill;
+                for jj in 0..n {
+                    data[col + jj] += v * vv * e.theta_theta[j * n + jj]
+                        + v * rr * e.theta_rate[j * n + jj]
+                        + r * vv * e.theta_rate[jj * n + j]
+                        + r * rr * e.rate_rate[j * n + jj];
+                }
+            }
+        }
     }
 }

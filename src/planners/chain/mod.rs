@@ -18,6 +18,7 @@
 
 pub mod connection;
 pub mod discrete;
+pub mod energy;
 pub mod motion;
 pub(crate) mod search;
 pub mod seeds;
@@ -29,7 +30,7 @@ use crate::model::InputError;
 use crate::model::arm::Arm;
 use crate::numerics::ode::OdeOptions;
 use crate::plan::check_horizon;
-use crate::planners::optimal::SqpOptions;
+use crate::planners::optimal::{Cost, SqpOptions};
 
 pub use connection::MAX_JOINTS;
 pub use motion::{ChainPlan, ChainPoint, ChainStats};
@@ -93,6 +94,12 @@ impl ChainProblem {
 /// Options of the [`ChainPlanner`] (defaults those of the two-joint planner).
 #[derive(Debug, Clone, PartialEq)]
 pub struct ChainOptions {
+    /// The cost: [`Cost::Effort`] (default) or [`Cost::Energy`], the kinetic energy of the arm
+    /// at zero angular momentum (the base's `phi'` from the momentum constraint), see [`energy`].
+    pub cost: Cost,
+    /// Also `theta''(0) = theta''(T) = 0` (quintic splines), so that the torques start and end at
+    /// zero; default false (cubic splines).
+    pub smooth_ends: bool,
     /// Tolerance of the certificate's final error \[rad\]; default 1e-9.
     pub tolerance: f64,
     /// Integrator options of the certificate (default rtol = atol = 1e-12).
@@ -182,6 +189,8 @@ impl WarmStart {
 impl Default for ChainOptions {
     fn default() -> Self {
         Self {
+            cost: Cost::Effort,
+            smooth_ends: false,
             tolerance: 1e-9,
             ode: OdeOptions::default(),
             coarse_spans: 8,
@@ -235,7 +244,7 @@ impl ChainOptions {
 #[derive(Debug, Clone, PartialEq)]
 pub struct ChainPlanner {
     /// The arm (private: its momentum coefficients' constants are computed from it once).
-    arm: Arm,
+    arm: Arc<Arm>,
     /// Options.
     pub options: ChainOptions,
     connection: Arc<connection::Connection>,
@@ -245,14 +254,28 @@ impl ChainPlanner {
     /// A planner for `arm` with `options`.
     pub fn new(arm: Arm, options: ChainOptions) -> Self {
         let connection = Arc::new(connection::Connection::new(&arm));
-        Self { arm, options, connection }
+        Self { arm: Arc::new(arm), options, connection }
     }
 
     /// The arm.
     pub fn arm(&self) -> &Arm {
         &self.arm
     }
+
+    /// The spline degree: 5 with smooth ends, else 3.
+    fn degree(&self) -> usize {
+        if self.options.smooth_ends { 5 } else { 3 }
+    }
+
+    /// Coefficients fixed per joint at each end: 3 with smooth ends (`theta, theta', theta''`),
+    /// else 2.
+    fn fixed(&self) -> usize {
+        if self.options.smooth_ends { 3 } else { 2 }
+    }
 }
 
 #[cfg(test)]
 mod tests;
+
+#[cfg(test)]
+mod tests_cost;

@@ -30,6 +30,9 @@ pub struct ChainStats {
     pub seeds: usize,
     /// The effort `integral_0^T |theta'|^2 dt` \[rad^2/s\].
     pub effort: f64,
+    /// The cost minimised: the effort \[rad^2/s\], or with [`Cost::Energy`](crate::planners::optimal::Cost)
+    /// the kinetic energy's integral \[J s\] (quadrature of the final solve).
+    pub cost: f64,
     /// Largest `|theta_j'(t)|` over joints and time (sampled finely) \[rad/s\].
     pub peak_velocity: f64,
     /// `|phi(T) - phi_target|` with [`PHI_NODES`] nodes per span \[rad\].

@@ -6,6 +6,8 @@ use std::f64::consts::TAU;
 use std::sync::Arc;
 use std::time::Instant;
 
+use nalgebra::DVector;
+
 use super::discrete::{Discretisation, Table, Targets};
 use super::motion::{ChainPlan, ChainStats};
 use super::seeds::{self, Line, Seed};
@@ -13,6 +15,7 @@ use super::{ChainPlanner, ChainProblem};
 use crate::error::Error;
 use crate::model::wrap_angle;
 use crate::plan::chain_certificate::verify_chain;
+use crate::planners::optimal::Cost;
 use crate::planners::optimal::spline::SplineBasis;
 use crate::planners::optimal::sqp::{self, Discretised, SqpOptions, SqpResult, Termination};
 
@@ -190,13 +193,17 @@ impl ChainPlanner {
         let table = match cached {
             Some(t) => t,
             None => {
-                let basis = SplineBasis::graded(3, problem.horizon, spans, self.options.grading)?;
-                let t = Arc::new(Table::new(basis, self.arm.joints(), 2, nodes)?);
+                let basis = SplineBasis::graded(self.degree(), problem.horizon, spans, self.options.grading)?;
+                let t = Arc::new(Table::new(basis, self.arm.joints(), self.fixed(), nodes)?);
                 tables.0.borrow_mut().push(((spans, nodes), t.clone()));
                 t
             }
         };
-        Ok(Discretisation::on(self.connection.clone(), table, targets))
+        let disc = Discretisation::on(self.connection.clone(), table, targets);
+        Ok(match self.options.cost {
+            Cost::Effort => disc,
+            Cost::Energy => disc.with_energy(self.arm.clone()),
+        })
     }
 
     /// The goal representatives with their lines and seeds, least effort bound first: `phid` and
@@ -227,6 +234,11 @@ impl ChainPlanner {
             vec![qd[0]]
         };
         let kappa_max = seeds::curvature_bound(&self.connection);
+        // The bound is in the cost's units: the energy's is the effort's times a floor of R.
+        let scale = match self.options.cost {
+            Cost::Effort => 1.0,
+            Cost::Energy => super::energy::energy_floor(&self.arm),
+        };
         let mut out = Vec::new();
         for end in joint_goals {
             let line = Line {
@@ -255,7 +267,7 @@ impl ChainPlanner {
                     phi_start: q0[0],
                     phi_end,
                 };
-                let bound = seeds::effort_lower_bound(&line, needed, kappa_max);
+                let bound = scale * seeds::effort_lower_bound(&line, needed, kappa_max);
                 out.push(Prepared { targets, line: line.clone(), seeds, estimate, bound });
             }
         }
@@ -349,12 +361,6 @@ impl ChainPlanner {
         })?;
         let guess = if self.arm.joints() == 1 { None } else { Some(c.result.lambda) };
         let result = sqp::solve(&disc, x0, &self.options.sqp, guess)?;
-        if std::env::var("CHAIN_DEBUG").is_ok() {
-            eprintln!(
-                "  resolve spans {spans} nodes {nodes}: f {} its {} {:?} kkt {:e}",
-                result.f, result.iterations, result.termination, result.kkt
-            );
-        }
         let iterations = c.iterations + result.iterations;
         Ok(Candidate { disc, result, spans, nodes, iterations })
     }
@@ -434,7 +440,10 @@ impl ChainPlanner {
                 seeds: 1,
                 termination: "singular_effort_hessian",
             })?;
-            let x = &x0 - chol.solve(&e.grad_f);
+            let mut x = &x0 - chol.solve(&e.grad_f);
+            if self.options.cost == Cost::Energy {
+                x = minimise_energy(&disc, x);
+            }
             let end = disc.evaluate(&x, 0);
             let result = SqpResult {
                 x,
@@ -473,6 +482,7 @@ impl ChainStats {
             iterations: c.iterations,
             seeds: 0,
             effort: c.disc.integrals(&c.result.x).1,
+            cost: c.result.f,
             peak_velocity: f64::NAN,
             holonomy_residual: f64::NAN,
             kkt_residual: c.result.kkt,
@@ -483,6 +493,35 @@ impl ChainStats {
             plan_seconds: f64::NAN,
         }
     }
+}
+
+/// The energy's minimiser from `x` (one joint: the constraint holds on every path): damped
+/// Newton steps on the energy's Hessian, halved until the energy decreases, until the gradient
+/// is below 1e-10 of the energy's scale or 50 steps.
+fn minimise_energy(disc: &Discretisation, mut x: DVector<f64>) -> DVector<f64> {
+    for _ in 0..50 {
+        let e = disc.evaluate(&x, 2);
+        if e.grad_f.norm() <= 1e-10 * e.f.abs().max(1e-12) {
+            break;
+        }
+        let Some(chol) = e.hess_f.clone().cholesky() else { break };
+        let step = chol.solve(&e.grad_f);
+        let mut t = 1.0;
+        let mut improved = false;
+        for _ in 0..30 {
+            let trial = &x - &step * t;
+            if disc.evaluate(&trial, 0).f < e.f {
+                x = trial;
+                improved = true;
+                break;
+            }
+            t *= 0.5;
+        }
+        if !improved {
+            break;
+        }
+    }
+    x
 }
 
 /// Largest `|theta_j'|` over joints at 16 points per knot span \[rad/s\].
