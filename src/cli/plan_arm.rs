@@ -234,8 +234,7 @@ pub(super) fn plan_problem(
     Ok(planned.map(|planned| Planning { planned, problem, notes, to_ee }))
 }
 
-/// The library's refusal of `smooth_ends`/`cost` (until the one planner carries them, issue 19)
-/// under the flag's name.
+/// A refusal of `smooth_ends`/`cost` by the library (e.g. with the ECSA) under the flag's name.
 fn name_flag(e: freefloat::Error, p: &ProblemArgs) -> anyhow::Error {
     let text = e.to_string();
     let flag = match () {
@@ -243,7 +242,7 @@ fn name_flag(e: freefloat::Error, p: &ProblemArgs) -> anyhow::Error {
         _ if p.cost != CostArg::Effort && text.contains("`cost`") => "--cost energy",
         _ => return e.into(),
     };
-    anyhow::Error::from(e).context(format!("{flag} is not available for this arm yet"))
+    anyhow::Error::from(e).context(format!("{flag} cannot be honoured here"))
 }
 
 /// The largest `|theta_k'|` of a plan \[rad/s\]: the samples', or the minimum-effort planner's

@@ -475,7 +475,6 @@ fn a_massive_end_effector_link_puts_the_tool_at_half_a_metre() {
 /// `--smooth-ends` on the 3-link and 4-link arms: at rest with zero accelerations at both ends,
 /// certified at both levels, effort at least the cubic ends' (a constrained problem).
 #[test]
-#[ignore = "needs the one planner (issue 19 item 2)"]
 fn arm_plan_takes_smooth_ends() {
     for (robot, from, to) in arms() {
         let base = ["plan", &robot[0], &robot[1], "--from", from, "--to", to, "--torques", "--format", "csv"];
@@ -493,7 +492,6 @@ fn arm_plan_takes_smooth_ends() {
 /// `--cost energy` on the 3-link and 4-link arms: certified, and its effort at least the
 /// minimum-effort plan's (the effort plan minimises the effort).
 #[test]
-#[ignore = "needs the one planner (issue 19 item 2)"]
 fn arm_plan_takes_cost_energy() {
     for (robot, from, to) in arms() {
         let base = ["plan", &robot[0], &robot[1], "--from", from, "--to", to, "--format", "json"];

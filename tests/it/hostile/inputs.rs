@@ -104,18 +104,16 @@ fn library_options_carry_the_command_lines_bounds() {
 
 /// Every flag of `plan` on an arm of 3 links is honoured or refused: the refused ones exit 2
 /// naming the flag, from the TOML file and from the URDF alike (`--max-velocity` is honoured
-/// since issue 19, tests/it/arm_cli.rs; `--smooth-ends`, `--cost energy` until the one planner).
+/// since issue 19, and so are `--smooth-ends` and `--cost energy`: tests/it/arm_cli.rs).
 #[test]
 fn n_link_plan_refuses_every_flag_it_cannot_honour() {
-    let refused_flags: [(&[&str], &str); 9] = [
+    let refused_flags: [(&[&str], &str); 7] = [
         (&["--transform", "eq14"], "--transform"),
         (&["--transform", "global"], "--transform"),
         (&["--method", "ecsa", "--transform", "eq11"], "--transform"),
         (&["--harmonics", "3"], "harmonics"),
         (&["--window", "sin2"], "window"),
         (&["--elbow", "up"], "--elbow"),
-        (&["--smooth-ends"], "--smooth-ends"),
-        (&["--cost", "energy"], "--cost"),
         (&["--method", "nfa"], "method"),
     ];
     for robot in [["--robot", THREE_LINK], ["--urdf", THREE_LINK_URDF]] {
