@@ -378,12 +378,10 @@ pub struct SweepRunArgs {
     /// Random start/goal pairs per mounting point [default: 100] (the NFA's metric).
     #[arg(long, value_name = "K", allow_hyphen_values = true)]
     pub trials: Option<usize>,
-    /// Seed of the random pairs (the same pairs at every mounting point) [default: 0] (the NFA's
-    /// metric).
+    /// Seed of the random pairs, the same at every mounting point [default: 0] (NFA metric).
     #[arg(long, allow_hyphen_values = true)]
     pub seed: Option<u64>,
-    /// NFA samples per plan, 2 to 1048576 (the verification is exact at any sample count)
-    /// [default: 201].
+    /// NFA samples per plan, 2 to 1048576 (its verification is exact at any count) [default: 201].
     #[arg(long, value_name = "N", allow_hyphen_values = true)]
     pub samples: Option<u64>,
     /// The start whose component is measured, the goal checked for connection with it, and the
@@ -404,8 +402,7 @@ pub struct SweepRunArgs {
     /// milliseconds more each: use fewer points or trials).
     #[arg(long)]
     pub global: bool,
-    /// Also plan --from -> --to with the minimum-effort planner at each point and record its
-    /// effort (always, and alone, for an arm of another number of links than two).
+    /// Also record the effort of the minimum-effort plan --from -> --to (for other arms than 2-link: always).
     #[arg(long)]
     pub effort: bool,
 }

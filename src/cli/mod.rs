@@ -168,7 +168,7 @@ pub fn robot(args: &RobotArgs) -> anyhow::Result<RobotParams> {
                     arm.links.iter().position(|l| l.com <= 0.0).map_or(1, |k| k + 1)
                 ),
                 None => bail!(
-                    "{}: an arm of {} link(s); this command serves 2-link arms (docs/spec.md §1); `freefloat plan` plans any planar serial arm",
+                    "{}: an arm of {} link(s); this command needs the paper's 2-link model (its normal form, Eq. 10, is for two joints; docs/spec.md §1); `freefloat plan`, `compare`, `track` and `mount-sweep` serve any planar serial arm",
                     path.display(),
                     arm.joints()
                 ),

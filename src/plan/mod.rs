@@ -26,21 +26,6 @@ pub use torques::{
     torque_plan, torques_at,
 };
 
-/// The old path of the velocity-level certificate of an `n`-joint plan, now
-/// [`certificate`] (one routine for every arm): kept while the branches of issue 19 that call it
-/// there are merged, to be renamed with the other `chain_*` names.
-pub mod chain_certificate {
-    pub use super::certificate::{
-        ChainVerification, JointMotion, MAX_CERTIFIED_JOINTS, check_lengths, verify_chain, verify_chain_observed,
-    };
-}
-
-/// The old path of the torque level of an `n`-joint plan, now [`torques`] (one routine for
-/// every arm): kept while the branches of issue 19 that call it there are merged.
-pub mod chain_torques {
-    pub use super::torques::{ChainTorqueCertificate, certify_chain_torques, chain_torques_at};
-}
-
 use crate::error::Error;
 use crate::numerics::ode::OdeOptions;
 

@@ -19,8 +19,8 @@ use crate::error::Error;
 use crate::model::InputError;
 use crate::model::arm::Arm;
 use crate::numerics::ode::OdeOptions;
-use crate::plan::chain_certificate::{ChainVerification, JointMotion};
-use crate::plan::chain_torques::{ChainTorqueCertificate, certify_chain_torques, chain_torques_at};
+use crate::plan::certificate::{ChainVerification, JointMotion};
+use crate::plan::torques::{ChainTorqueCertificate, certify_chain_torques, chain_torques_at};
 use crate::plan::{Method, TorqueOptions};
 
 /// What to plan for an arm, and how.

@@ -22,7 +22,7 @@ use crate::error::Error;
 use crate::model::arm::Arm;
 use crate::model::{InputError, wrap_angle};
 use crate::numerics::ode::{OdeOptions, OdeStats};
-use crate::plan::chain_certificate::verify_chain_observed;
+use crate::plan::certificate::verify_chain_observed;
 
 /// How to check.
 #[derive(Debug, Clone, Copy, PartialEq)]

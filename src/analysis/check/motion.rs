@@ -7,7 +7,7 @@
 use serde::Serialize;
 
 use crate::model::arm::Arm;
-use crate::plan::chain_certificate::JointMotion;
+use crate::plan::certificate::JointMotion;
 
 /// How the points are joined.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]

@@ -11,7 +11,7 @@
 //! of largest curvature ([`seeds`]), for the nearby goal representatives modulo 2 pi; the best
 //! coarse solution is refined until the effort settles, and the plan is returned only when the
 //! original system integrated with its controls reaches the goal
-//! ([`verify_chain`](crate::plan::chain_certificate::verify_chain)).
+//! ([`verify_chain`](crate::plan::certificate::verify_chain)).
 //!
 //! With one joint `a(theta) dtheta` is exact, so `phi(T)` is fixed by `theta(T)`: the planner
 //! checks the goal for consistency ([`Error::HolonomyFixed`]) and then minimises the effort alone.

@@ -8,7 +8,7 @@ use serde::Serialize;
 
 use super::connection::Connection;
 use crate::numerics::quadrature::GaussLegendre;
-use crate::plan::chain_certificate::{ChainVerification, JointMotion};
+use crate::plan::certificate::{ChainVerification, JointMotion};
 use crate::planners::optimal::spline::SplineBasis;
 use crate::planners::optimal::sqp::Termination;
 

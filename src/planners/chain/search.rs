@@ -14,7 +14,7 @@ use super::seeds::{self, Line, Seed};
 use super::{ChainPlanner, ChainProblem};
 use crate::error::Error;
 use crate::model::wrap_angle;
-use crate::plan::chain_certificate::verify_chain;
+use crate::plan::certificate::verify_chain;
 use crate::planners::optimal::Cost;
 use crate::planners::optimal::spline::SplineBasis;
 use crate::planners::optimal::sqp::{self, Discretised, SqpOptions, SqpResult, Termination};

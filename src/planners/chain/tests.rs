@@ -284,7 +284,7 @@ fn chain_discretisation_derivatives_match_differences() {
 /// (measured 1.0e-12) with the angular momentum kept within 1e-10 (measured 6.5e-14).
 #[test]
 fn chain_torques_reproduce_the_plan() {
-    use crate::plan::chain_torques::{certify_chain_torques, chain_torques_at};
+    use crate::plan::torques::{certify_chain_torques, chain_torques_at};
     let arm = three_link();
     let planner = ChainPlanner::new(arm.clone(), ChainOptions::default());
     let problem = ChainProblem::rest_to_rest(vec![0.3, 0.5, -0.4, 0.8], vec![-0.2, 1.4, 0.3, -0.6], 10.0);
