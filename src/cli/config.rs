@@ -62,6 +62,29 @@ pub fn angles(flag: &str, text: &str) -> anyhow::Result<freefloat::Configuration
     Ok(freefloat::Configuration::from_degrees(q[0], q[1], q[2]))
 }
 
+/// `count` angles in degrees of `flag` (`PHI,TH1,..,THn` of an `n = count - 1`-link arm), in
+/// radians, each within [`max_angle_deg`]; the wrong count is bad input naming the flag.
+pub fn arm_angles(flag: &str, text: &str, count: usize) -> anyhow::Result<Vec<f64>> {
+    let values = super::plan_arm::list(flag, text)?;
+    let n = count.saturating_sub(1);
+    if values.len() != count {
+        anyhow::bail!(
+            "{flag} takes {count} comma-separated angles for this {n}-link arm (PHI,TH1,..,TH{n} in deg), got {}{}",
+            values.len(),
+            if values.len() == 3 { "; the default is the 2-link paper's problem" } else { "" }
+        );
+    }
+    if let Some(&x) = values.iter().find(|x| x.abs() > max_angle_deg()) {
+        return Err(freefloat::Error::from(freefloat::model::InputError::InvalidParameter {
+            name: flag.into(),
+            value: x,
+            expected: "angles with |angle| <= 572957 deg (1e4 rad, docs/spec.md §2)",
+        })
+        .into());
+    }
+    Ok(values.iter().map(|x| x.to_radians()).collect())
+}
+
 /// `--steps NA[,NB]`: one or two counts from 1 to [`MAX_STEPS`]; `(NA, NB)`.
 pub fn steps(text: &str) -> anyhow::Result<(usize, usize)> {
     let invalid = || -> anyhow::Error {

@@ -292,25 +292,7 @@ pub(super) fn refuse_flags(p: &ProblemArgs, arm: &Arm) -> anyhow::Result<()> {
 /// `PHI,TH1,..,THn` in degrees, `--from-velocity` with `n` (or the default `0,0`: at rest).
 pub(super) fn problem(p: &ProblemArgs, arm: &Arm) -> anyhow::Result<ChainProblem> {
     let n = arm.joints();
-    let angles = |flag: &str, text: &str, count: usize| -> anyhow::Result<Vec<f64>> {
-        let values = list(flag, text)?;
-        if values.len() != count {
-            bail!(
-                "{flag} takes {count} comma-separated angles for this {n}-link arm (PHI,TH1,..,TH{n} in deg), got {}{}",
-                values.len(),
-                if count == n + 1 { "; the default is the 2-link paper's problem" } else { "" }
-            );
-        }
-        if let Some(&x) = values.iter().find(|x| x.abs() > super::config::max_angle_deg()) {
-            return Err(freefloat::Error::from(freefloat::model::InputError::InvalidParameter {
-                name: flag.into(),
-                value: x,
-                expected: "angles with |angle| <= 572957 deg (1e4 rad, docs/spec.md §2)",
-            })
-            .into());
-        }
-        Ok(values.iter().map(|x| x.to_radians()).collect())
-    };
+    let angles = super::config::arm_angles;
     let start = angles("--from", &p.ends.from, n + 1)?;
     // With --to-ee the goal is the inverse kinematics' (`--to` conflicts with it and is unread).
     let goal = if p.to_ee.is_some() { start.clone() } else { angles("--to", &p.ends.to, n + 1)? };

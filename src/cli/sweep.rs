@@ -38,25 +38,7 @@ fn ends(args: &super::args::EndsArgs, n: usize) -> anyhow::Result<(Vec<f64>, Vec
         let (start, goal, horizon) = super::ends(args)?;
         return Ok((start.to_array().to_vec(), goal.to_array().to_vec(), horizon));
     }
-    let angles = |flag: &str, text: &str| -> anyhow::Result<Vec<f64>> {
-        let values = super::plan_arm::list(flag, text)?;
-        if values.len() != n + 1 {
-            anyhow::bail!(
-                "{flag} takes {} comma-separated angles for this {n}-link arm (PHI,TH1,..,TH{n} in deg), got {}",
-                n + 1,
-                values.len()
-            );
-        }
-        if let Some(&x) = values.iter().find(|x| x.abs() > super::config::max_angle_deg()) {
-            return Err(freefloat::Error::from(freefloat::model::InputError::InvalidParameter {
-                name: flag.into(),
-                value: x,
-                expected: "angles with |angle| <= 572957 deg (1e4 rad, docs/spec.md §2)",
-            })
-            .into());
-        }
-        Ok(values.iter().map(|x| x.to_radians()).collect())
-    };
+    let angles = |flag: &str, text: &str| super::config::arm_angles(flag, text, n + 1);
     Ok((angles("--from", &args.from)?, angles("--to", &args.to)?, super::config::time(args.time)?))
 }
 

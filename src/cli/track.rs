@@ -41,28 +41,6 @@ fn model(args: &RobotArgs) -> anyhow::Result<Arm> {
     }
 }
 
-/// `count` angles in degrees of `flag` (`PHI,TH1,..,THn`), in radians.
-fn angles(flag: &str, text: &str, count: usize) -> anyhow::Result<Vec<f64>> {
-    let values = super::plan_arm::list(flag, text)?;
-    let n = count - 1;
-    if values.len() != count {
-        anyhow::bail!(
-            "{flag} takes {count} comma-separated angles for this {n}-link arm (PHI,TH1,..,TH{n} in deg), got {}{}",
-            values.len(),
-            if values.len() == 3 { "; the default is the 2-link paper's problem" } else { "" }
-        );
-    }
-    if let Some(&x) = values.iter().find(|x| x.abs() > super::config::max_angle_deg()) {
-        return Err(freefloat::Error::from(freefloat::model::InputError::InvalidParameter {
-            name: flag.into(),
-            value: x,
-            expected: "angles with |angle| <= 572957 deg (1e4 rad, docs/spec.md §2)",
-        })
-        .into());
-    }
-    Ok(values.iter().map(|x| x.to_radians()).collect())
-}
-
 /// The validated options of the flags for an arm of `n` joints (exit 2 on any bad value).
 fn options(args: &TrackArgs, n: usize) -> anyhow::Result<TrackOptions> {
     let torque_bias = match &args.torque_bias {
@@ -140,8 +118,8 @@ pub fn run(args: &TrackArgs) -> anyhow::Result<ExitCode> {
     }
     let robot = model(&args.robot)?;
     let n = robot.joints();
-    let start = angles("--from", &args.ends.from, n + 1)?;
-    let goal = angles("--to", &args.ends.to, n + 1)?;
+    let start = super::config::arm_angles("--from", &args.ends.from, n + 1)?;
+    let goal = super::config::arm_angles("--to", &args.ends.to, n + 1)?;
     let problem = ChainProblem::rest_to_rest(start, goal, super::config::time(args.ends.time)?);
     problem.validate(&robot)?;
     let options = options(args, n)?;
