@@ -15,8 +15,10 @@
 
 pub mod file;
 pub mod kinematics;
+pub mod limits;
 pub mod urdf;
 
+pub use limits::{JointLimits, Limits};
 pub use urdf::URDF_PLANAR_TOLERANCE;
 
 use nalgebra::DMatrix;
@@ -61,6 +63,9 @@ pub struct Arm {
     pub mount: Mount,
     /// The links, from the base outwards.
     pub links: Vec<Link>,
+    /// The declared limits (issue 20): none by default.
+    #[serde(default, skip_serializing_if = "Limits::is_empty")]
+    pub limits: Limits,
 }
 
 /// Positions of every body's centre of mass relative to the system's centre of mass, with their
@@ -95,9 +100,16 @@ impl Arm {
     /// assert!(Arm::new(arm.base, arm.mount, vec![]).is_err());
     /// ```
     pub fn new(base: Base, mount: Mount, links: Vec<Link>) -> Result<Self, InputError> {
-        let arm = Self { base, mount, links };
+        let arm = Self { base, mount, links, limits: Limits::default() };
         arm.validate()?;
         Ok(arm)
+    }
+
+    /// The arm with `limits` (checked by [`Limits::validate`] for its joints).
+    pub fn with_limits(mut self, limits: Limits) -> Result<Self, InputError> {
+        limits.validate(self.joints())?;
+        self.limits = limits;
+        Ok(self)
     }
 
     /// Checks the invariants listed at [`Arm::new`], naming the first offending key.
@@ -142,7 +154,7 @@ impl Arm {
                 expected: "com > 0 or inertia > 0 on the last link (a point mass on the last joint gives it nothing to turn)",
             });
         }
-        Ok(())
+        self.limits.validate(n)
     }
 
     /// The arm as the paper's 2-link [`RobotParams`] when it has two links with their centres of
@@ -176,6 +188,7 @@ impl Arm {
                 Link { length: robot.l1, com: robot.d1, mass: robot.m1, inertia: robot.i1 },
                 Link { length: robot.l2, com: robot.d2, mass: robot.m2, inertia: robot.i2 },
             ],
+            limits: Limits::default(),
         }
     }
 

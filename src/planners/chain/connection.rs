@@ -282,7 +282,12 @@ pub(crate) mod tests {
                 inertia: 0.01 * (i as f64 + 1.0),
             })
             .collect();
-        Arm { base: Base { mass: 12.0, inertia: 0.4 }, mount: Mount { a: 0.2, b: -0.1 }, links }
+        Arm {
+            base: Base { mass: 12.0, inertia: 0.4 },
+            mount: Mount { a: 0.2, b: -0.1 },
+            links,
+            limits: Default::default(),
+        }
     }
 
     /// num-dual's value, gradient and Hessian of the model's `g` in `(theta, rate)`, `M = 2 n`.

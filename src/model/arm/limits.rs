@@ -1,0 +1,123 @@
+//! The robot's declared limits (issue 20; docs/spec.md §1): per joint a position range, a
+//! velocity, torque and acceleration limit, and optionally a range of the base angle `phi`.
+//! A joint without a position range is continuous: its angles count modulo 2 pi, as before.
+//! An arm without limits ([`Limits::is_empty`]) behaves exactly as before issue 20.
+
+use serde::{Deserialize, Serialize};
+
+use super::InputError;
+
+/// The limits of one joint; `None` is "unlimited" for that quantity.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct JointLimits {
+    /// `[lower, upper]` of the joint angle \[rad\], `lower < upper`. `None`: a continuous joint
+    /// (angles modulo 2 pi).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub position: Option<[f64; 2]>,
+    /// Largest `|theta_i'|` \[rad/s\], `> 0`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub velocity: Option<f64>,
+    /// Largest `|tau_i|` \[N m\], `> 0`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub torque: Option<f64>,
+    /// Largest `|theta_i''|` \[rad/s^2\], `> 0`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub acceleration: Option<f64>,
+}
+
+impl JointLimits {
+    /// True when no quantity of the joint is limited.
+    pub fn is_empty(&self) -> bool {
+        *self == Self::default()
+    }
+}
+
+/// The limits of a robot: one [`JointLimits`] per joint (or none at all), and the base's range.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Limits {
+    /// One entry per joint, joint 1 first; empty when no joint is limited.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub joints: Vec<JointLimits>,
+    /// `[lower, upper]` of the base angle `phi` \[rad\] (antennas, sun pointing), `lower < upper`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub base: Option<[f64; 2]>,
+}
+
+impl Limits {
+    /// True when nothing is limited (an arm without limits behaves as before issue 20).
+    pub fn is_empty(&self) -> bool {
+        self.base.is_none() && self.joints.iter().all(JointLimits::is_empty)
+    }
+
+    /// The limits of joint `i` (0-based); unlimited where none are declared.
+    pub fn joint(&self, i: usize) -> JointLimits {
+        self.joints.get(i).copied().unwrap_or_default()
+    }
+
+    /// Checks the limits for an arm of `n` joints: no entries or exactly `n`; every range
+    /// finite with `lower < upper`; every velocity, torque and acceleration limit finite and
+    /// `> 0`. Errors name the key as the robot file spells it (`link[k].limit.lower`, with `k`
+    /// counted from 1, and `base.limit.lower`).
+    pub fn validate(&self, n: usize) -> Result<(), InputError> {
+        let bad = |name: String, value: f64, expected: &'static str| {
+            Err(InputError::InvalidParameter { name, value, expected })
+        };
+        if !self.joints.is_empty() && self.joints.len() != n {
+            return bad("limit".into(), self.joints.len() as f64, "limits for every joint of the arm or for none");
+        }
+        let range = |key: &str, r: [f64; 2]| -> Result<(), InputError> {
+            if !r[0].is_finite() {
+                return bad(format!("{key}.lower"), r[0], "a finite lower bound [rad]");
+            }
+            if !(r[1].is_finite() && r[1] > r[0]) {
+                return bad(format!("{key}.upper"), r[1], "a finite upper bound above the lower bound [rad]");
+            }
+            Ok(())
+        };
+        if let Some(r) = self.base {
+            range("base.limit", r)?;
+        }
+        for (i, j) in self.joints.iter().enumerate() {
+            let key = format!("link[{}].limit", i + 1);
+            if let Some(r) = j.position {
+                range(&key, r)?;
+            }
+            for (name, value) in [("velocity", j.velocity), ("effort", j.torque), ("acceleration", j.acceleration)] {
+                if let Some(v) = value
+                    && !(v.is_finite() && v > 0.0)
+                {
+                    return bad(format!("{key}.{name}"), v, "a finite limit > 0");
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn empty_limits_are_valid_for_any_arm_and_bad_ones_are_named() {
+        assert!(Limits::default().is_empty());
+        assert!(Limits::default().validate(3).is_ok());
+        let joint =
+            JointLimits { position: Some([-2.0, 2.0]), velocity: Some(0.3), torque: Some(50.0), acceleration: None };
+        let limits = Limits { joints: vec![joint; 2], base: None };
+        assert!(!limits.is_empty());
+        assert!(limits.validate(2).is_ok());
+        assert!(limits.validate(3).is_err(), "two entries for three joints");
+        assert_eq!(limits.joint(5), JointLimits::default());
+        let mut flipped = limits.clone();
+        flipped.joints[1].position = Some([1.0, -1.0]);
+        let Err(InputError::InvalidParameter { name, .. }) = flipped.validate(2) else { panic!("refused") };
+        assert_eq!(name, "link[2].limit.upper");
+        let mut zero = limits;
+        zero.joints[0].velocity = Some(0.0);
+        let Err(InputError::InvalidParameter { name, .. }) = zero.validate(2) else { panic!("refused") };
+        assert_eq!(name, "link[1].limit.velocity");
+    }
+}
