@@ -3,6 +3,7 @@
 
 pub mod arm;
 mod error;
+pub mod geometry;
 pub mod kinematics;
 mod robot_file;
 pub mod system;

@@ -13,6 +13,7 @@
 //! Every function is generic over [`Scalar`], so derivatives of any order come from num-dual
 //! exactly.
 
+pub mod collision;
 pub mod file;
 pub mod kinematics;
 pub mod limits;

@@ -1,0 +1,272 @@
+//! The shapes of an arm's bodies, the obstacles around it, and the clearance between them
+//! (issue 21; docs/spec.md §1).
+//!
+//! Each body carries convex [`Shape`]s in its own frame: the base's frame has its origin at the
+//! base's centre of mass and its x axis at the angle `phi`; link `k`'s frame has its origin at
+//! joint `k` and its x axis along the link (at `psi_k = phi + theta_1 + .. + theta_k`), so a link
+//! of length `l` and width `w` is the capsule from `(0, 0)` to `(l, 0)` of radius `w / 2`.
+//! Obstacles are shapes in the inertial frame, whose origin is the system's centre of mass (it
+//! does not move at zero momentum, so a wall or a client satellite stays put there).
+//!
+//! The pairs checked ([`Geometry::pairs`]): every two bodies that are not joined (the base and
+//! links `2..n`, link `k` and links `k + 2..n`), and every body against every obstacle, less the
+//! pairs a user excludes.
+
+use std::fmt;
+
+use serde::{Deserialize, Serialize};
+
+use super::Arm;
+use crate::Scalar;
+use crate::model::geometry::{Pose, Shape, signed_distance};
+
+/// One body of the robot, or an obstacle.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Body {
+    /// The base.
+    Base,
+    /// Link `k`, counted from 1 (it turns with joint `k`).
+    Link(usize),
+    /// Obstacle `k`, counted from 1 in the order given.
+    Obstacle(usize),
+}
+
+impl fmt::Display for Body {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Body::Base => write!(f, "base"),
+            Body::Link(k) => write!(f, "link {k}"),
+            Body::Obstacle(k) => write!(f, "obstacle {k}"),
+        }
+    }
+}
+
+/// The shapes of the robot's bodies (each in its own frame, module docs) and the obstacles (in
+/// the inertial frame). Empty by default: a robot without shapes is never checked.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct Geometry {
+    /// The base's shapes.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub base: Vec<Shape>,
+    /// Each link's shapes, link 1 first (empty or one entry per link).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub links: Vec<Vec<Shape>>,
+    /// Obstacles in the inertial frame.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub obstacles: Vec<Shape>,
+    /// Pairs not to check, e.g. a link that may brush the base by design.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub excluded: Vec<(Body, Body)>,
+}
+
+/// The clearance of one pair at one configuration.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PairClearance<D> {
+    /// The first body.
+    pub a: Body,
+    /// The second body (or obstacle).
+    pub b: Body,
+    /// Their signed distance \[m\] (negative: the penetration depth).
+    pub distance: D,
+}
+
+impl Geometry {
+    /// True when nothing is to be checked.
+    pub fn is_empty(&self) -> bool {
+        self.base.is_empty() && self.links.iter().all(Vec::is_empty)
+    }
+
+    /// The shapes of `body` (none for a body without shapes).
+    fn shapes(&self, body: Body) -> &[Shape] {
+        match body {
+            Body::Base => &self.base,
+            Body::Link(k) => self.links.get(k.wrapping_sub(1)).map_or(&[], Vec::as_slice),
+            Body::Obstacle(k) => self.obstacles.get(k.wrapping_sub(1)).map(std::slice::from_ref).unwrap_or(&[]),
+        }
+    }
+
+    /// The pairs checked for an arm of `n` links (module docs), both members with shapes, the
+    /// excluded pairs (either order) left out.
+    pub fn pairs(&self, n: usize) -> Vec<(Body, Body)> {
+        let mut bodies = vec![Body::Base];
+        bodies.extend((1..=n).map(Body::Link));
+        let joined = |a: Body, b: Body| match (a, b) {
+            (Body::Base, Body::Link(1)) => true,
+            (Body::Link(i), Body::Link(j)) => i.abs_diff(j) == 1,
+            _ => false,
+        };
+        let mut out = Vec::new();
+        for (i, &a) in bodies.iter().enumerate() {
+            for &b in &bodies[i + 1..] {
+                if !joined(a, b) {
+                    out.push((a, b));
+                }
+            }
+            out.extend((1..=self.obstacles.len()).map(|k| (a, Body::Obstacle(k))));
+        }
+        out.retain(|&(a, b)| {
+            !self.shapes(a).is_empty()
+                && !self.shapes(b).is_empty()
+                && !self.excluded.iter().any(|&(x, y)| (x, y) == (a, b) || (y, x) == (a, b))
+        });
+        out
+    }
+
+    /// The signed distance of every pair of [`Geometry::pairs`] at `q = (phi, theta_1..theta_n)`,
+    /// generic over [`Scalar`] so that dual numbers give the exact derivatives in `q`. A body
+    /// of several shapes is their union: its distance to another is the least over its shapes.
+    pub fn clearances<D: Scalar>(&self, arm: &Arm, q: &[D]) -> Vec<PairClearance<D>> {
+        let poses = body_poses(arm, q);
+        let zero = D::from(0.0);
+        let inertial = Pose { x: zero, y: zero, angle: zero };
+        let pose = |body: Body| match body {
+            Body::Base => poses[0],
+            Body::Link(k) => poses[k],
+            Body::Obstacle(_) => inertial,
+        };
+        self.pairs(arm.joints())
+            .into_iter()
+            .map(|(a, b)| {
+                let (pa, pb) = (pose(a), pose(b));
+                let mut best: Option<D> = None;
+                for sa in self.shapes(a) {
+                    let xa = sa.placed(&pa);
+                    for sb in self.shapes(b) {
+                        let d = signed_distance(&xa, sa.radius, &sb.placed(&pb), sb.radius);
+                        if best.is_none_or(|x| d.re() < x.re()) {
+                            best = Some(d);
+                        }
+                    }
+                }
+                PairClearance { a, b, distance: best.unwrap_or(D::from(f64::INFINITY)) }
+            })
+            .collect()
+    }
+
+    /// The least clearance at `q` and its pair; `None` when no pair is checked.
+    pub fn min_clearance(&self, arm: &Arm, q: &[f64]) -> Option<PairClearance<f64>> {
+        self.clearances(arm, q).into_iter().min_by(|x, y| x.distance.total_cmp(&y.distance))
+    }
+}
+
+/// The frames of the bodies at `q`, in the inertial frame (origin at the system's centre of
+/// mass): the base's (at its centre of mass, angle `phi`), then link `k`'s (at joint `k`, angle
+/// `psi_k`), `n + 1` poses. The joints are placed as in [`Arm::joint_positions`].
+pub fn body_poses<D: Scalar>(arm: &Arm, q: &[D]) -> Vec<Pose<D>> {
+    let base = arm.bodies(q).base;
+    let (sp, cp) = q[0].sin_cos();
+    let (a, b) = (arm.mount.a, arm.mount.b);
+    let mut joint = [base[0] + cp * a - sp * b, base[1] + sp * a + cp * b];
+    let mut poses = Vec::with_capacity(arm.joints() + 1);
+    poses.push(Pose { x: base[0], y: base[1], angle: q[0] });
+    let mut psi = q[0];
+    for (link, &theta) in arm.links.iter().zip(&q[1..]) {
+        psi += theta;
+        poses.push(Pose { x: joint[0], y: joint[1], angle: psi });
+        let (s, c) = psi.sin_cos();
+        joint = [joint[0] + c * link.length, joint[1] + s * link.length];
+    }
+    poses
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::Mount;
+    use crate::model::arm::{Base, Link};
+
+    fn arm(n: usize) -> Arm {
+        let link = Link { length: 0.5, com: 0.25, mass: 2.0, inertia: 2.0 * 0.25 / 12.0 };
+        Arm::new(Base { mass: 20.0, inertia: 1.0 }, Mount::new(0.25, 0.0).unwrap(), vec![link; n]).unwrap()
+    }
+
+    fn capsules(n: usize) -> Geometry {
+        Geometry {
+            base: vec![Shape::rectangle([0.0, 0.0], [0.5, 0.5]).unwrap()],
+            links: (0..n).map(|_| vec![Shape::capsule([0.0, 0.0], [0.5, 0.0], 0.04).unwrap()]).collect(),
+            ..Default::default()
+        }
+    }
+
+    #[test]
+    fn the_pairs_are_the_bodies_not_joined_and_the_obstacles() {
+        let mut g = capsules(4);
+        g.obstacles.push(Shape::circle([2.0, 0.0], 0.3).unwrap());
+        let pairs = g.pairs(4);
+        use Body::*;
+        for p in [(Base, Link(2)), (Base, Link(4)), (Link(1), Link(3)), (Link(2), Link(4)), (Link(3), Obstacle(1))] {
+            assert!(pairs.contains(&p), "{p:?} checked");
+        }
+        for p in [(Base, Link(1)), (Link(1), Link(2)), (Link(3), Link(4))] {
+            assert!(!pairs.contains(&p), "{p:?} joined");
+        }
+        // 3 + 2 + 1 unjoined pairs of bodies (base-2, base-3, base-4, 1-3, 1-4, 2-4) and 5 bodies
+        // against one obstacle.
+        assert_eq!(pairs.len(), 6 + 5);
+        g.excluded.push((Link(4), Base));
+        assert!(!g.pairs(4).contains(&(Base, Link(4))), "an exclusion in either order");
+    }
+
+    #[test]
+    fn link_frames_follow_the_joints() {
+        let arm = arm(3);
+        let q = [0.3, 0.4, -1.1, 0.7];
+        let poses = body_poses(&arm, &q);
+        let joints = arm.joint_positions(&q);
+        for k in 1..=3 {
+            assert!((poses[k].x - joints[k][0]).abs() < 1e-15 && (poses[k].y - joints[k][1]).abs() < 1e-15);
+        }
+        // A link's capsule axis ends at the next joint.
+        let tip = Shape::circle([0.5, 0.0], 1e-3).unwrap().placed(&poses[3]);
+        assert!((tip[0][0] - joints[4][0]).abs() < 1e-15 && (tip[0][1] - joints[4][1]).abs() < 1e-15);
+    }
+
+    #[test]
+    fn a_link_folded_onto_the_base_collides_and_a_stretched_arm_does_not() {
+        let (arm, g) = (arm(2), capsules(2));
+        // Stretched out along +x: link 2 is 0.5 m beyond the base's edge at 0.25.
+        let apart = g.min_clearance(&arm, &[0.0, 0.0, 0.0]).unwrap();
+        assert!(apart.distance > 0.4, "{apart:?}");
+        // Link 2 folded straight back over link 1 and into the base.
+        let folded = g.min_clearance(&arm, &[0.0, 0.0, std::f64::consts::PI]).unwrap();
+        assert_eq!((folded.a, folded.b), (Body::Base, Body::Link(2)));
+        assert!(folded.distance < 0.0, "{folded:?}");
+    }
+
+    #[test]
+    fn clearance_derivatives_in_q_by_dual_numbers_match_central_differences() {
+        use num_dual::Dual64;
+        let (arm, mut g) = (arm(3), capsules(3));
+        g.obstacles.push(Shape::polygon(vec![[0.9, 0.6], [1.4, 0.7], [1.1, 1.2]]).unwrap());
+        let mut checked = 0;
+        for i in 0..40 {
+            let t = i as f64;
+            let q = [0.1 * t.sin(), 0.9 * (1.3 * t).cos(), 1.7 * (0.7 * t).sin(), 2.1 * (0.4 * t).cos()];
+            let dir = [0.3, -0.5, 0.8, 0.2];
+            let at = |h: f64| -> Vec<f64> {
+                let q: Vec<f64> = q.iter().zip(&dir).map(|(x, d)| x + h * d).collect();
+                g.clearances(&arm, &q).iter().map(|c| c.distance).collect()
+            };
+            let qd: Vec<Dual64> = q.iter().zip(&dir).map(|(x, d)| Dual64::new(*x, *d)).collect();
+            let dual = g.clearances(&arm, &qd);
+            let (h, zero, plus, minus) = (1e-6, at(0.0), at(1e-6), at(-1e-6));
+            for (k, c) in dual.iter().enumerate() {
+                assert!((c.distance.re - zero[k]).abs() < 1e-15);
+                // Skip a kink (the nearest feature changes within +-h).
+                if ((plus[k] - zero[k]) / h - (zero[k] - minus[k]) / h).abs() > 1e-4 {
+                    continue;
+                }
+                let central = (plus[k] - minus[k]) / (2.0 * h);
+                assert!(
+                    (c.distance.eps - central).abs() < 1e-6,
+                    "{:?}: {} against {central}",
+                    (c.a, c.b),
+                    c.distance.eps
+                );
+                checked += 1;
+            }
+        }
+        assert!(checked > 200, "{checked}");
+    }
+}
