@@ -8,6 +8,7 @@
 //! arm, `n = 2` included ([`certificate::verify_chain`], [`torques::certify_joint_torques`]).
 
 pub mod certificate;
+pub mod clearance;
 pub mod limits;
 pub mod motion;
 pub mod problem;
