@@ -107,6 +107,47 @@ impl Shape {
     }
 }
 
+/// What [`Shape::from_spec`] accepts.
+pub const SHAPE_SPEC: &str = "circle:X,Y,R, capsule:X1,Y1,X2,Y2,R, box:X,Y,W,H or polygon:X1,Y1,X2,Y2,X3,Y3[,...] \
+     (metres; a polygon convex, at most 64 corners)";
+
+impl Shape {
+    /// A shape from its text form (the command line's `--obstacle`): `circle:X,Y,R`,
+    /// `capsule:X1,Y1,X2,Y2,R`, `box:X,Y,W,H` (centre, width, height) or
+    /// `polygon:X1,Y1,X2,Y2,X3,Y3,...` \[m\]. `name` names it in errors (e.g. `--obstacle`).
+    ///
+    /// ```
+    /// use freefloat::model::geometry::Shape;
+    /// let s = Shape::from_spec("--obstacle", "circle:1.5,0,0.3").unwrap();
+    /// assert_eq!((s.points, s.radius), (vec![[1.5, 0.0]], 0.3));
+    /// assert!(Shape::from_spec("--obstacle", "circle:1.5,0").is_err());
+    /// ```
+    pub fn from_spec(name: &str, text: &str) -> Result<Self, InputError> {
+        let invalid = || InputError::InvalidText { name: name.into(), text: text.into(), expected: SHAPE_SPEC };
+        let (kind, numbers) = text.split_once(':').ok_or_else(invalid)?;
+        let x = numbers
+            .split(',')
+            .map(|v| v.trim().parse::<f64>().map_err(|_| invalid()))
+            .collect::<Result<Vec<f64>, _>>()?;
+        let named = |e: InputError| match e {
+            InputError::InvalidParameter { name: key, value, expected } => {
+                InputError::InvalidParameter { name: format!("{name} {key}"), value, expected }
+            }
+            other => other,
+        };
+        let shape = match (kind.trim(), x.as_slice()) {
+            ("circle", &[cx, cy, r]) => Self::circle([cx, cy], r),
+            ("capsule", &[x1, y1, x2, y2, r]) => Self::capsule([x1, y1], [x2, y2], r),
+            ("box", &[cx, cy, w, h]) => Self::rectangle([cx, cy], [w, h]),
+            ("polygon", v) if v.len() >= 6 && v.len() % 2 == 0 && v.len() <= 2 * MAX_CORNERS => {
+                Self::polygon(v.chunks(2).map(|c| [c[0], c[1]]).collect())
+            }
+            _ => return Err(invalid()),
+        };
+        shape.map_err(named)
+    }
+}
+
 /// A rigid placement of a body's frame in the inertial frame.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Pose<D> {
@@ -414,6 +455,28 @@ mod tests {
             checked += 1;
         }
         assert!(checked > 150, "most placements are smooth: {checked}");
+    }
+
+    #[test]
+    fn shapes_from_their_text_form() {
+        let sq = Shape::from_spec("--obstacle", "box:1,2,0.5,0.25").unwrap();
+        // 1 - 0.25 and 2 - 0.125.
+        assert!((sq.points[0][0] - 0.75).abs() < 1e-15 && (sq.points[0][1] - 1.875).abs() < 1e-15);
+        let tri = Shape::from_spec("--obstacle", "polygon: 0,0, 1,0, 0,1").unwrap();
+        assert_eq!(tri.points.len(), 3);
+        assert!(Shape::from_spec("o", "capsule:0,0,1,0,0.1").unwrap().radius.to_bits() == 0.1f64.to_bits());
+        for bad in ["", "circle", "circle:1,2", "circle:1,2,x", "star:1,2,3", "polygon:0,0,1,0", "polygon:0,0,1,0,0"] {
+            let Err(InputError::InvalidText { name, .. }) = Shape::from_spec("--obstacle", bad) else {
+                panic!("{bad:?} refused as text")
+            };
+            assert_eq!(name, "--obstacle");
+        }
+        let Err(InputError::InvalidParameter { name, .. }) = Shape::from_spec("--obstacle", "circle:0,0,-1") else {
+            panic!("a negative radius refused")
+        };
+        assert_eq!(name, "--obstacle shape.radius");
+        assert!(Shape::from_spec("--obstacle", "circle:nan,0,1").is_err());
+        assert!(Shape::from_spec("--obstacle", "polygon:0,0,1,0,0.5,0.1,0.5,1").is_err(), "not convex");
     }
 
     #[test]
