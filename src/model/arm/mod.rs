@@ -16,6 +16,7 @@
 pub mod file;
 pub mod kinematics;
 pub mod limits;
+pub mod lumped;
 pub mod urdf;
 
 pub use limits::{JointLimits, Limits};
