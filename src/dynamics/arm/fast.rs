@@ -10,6 +10,10 @@ use super::{InverseDynamics, SingularInertia};
 use crate::model::arm::Arm;
 use crate::model::arm::lumped::{ArmLumped, SIZE, Square};
 
+/// The capacity of the stack arrays for arms of fewer than `SMALL` joints (the paper's robot and
+/// the 3-link example): cheaper to fill and copy than [`SIZE`].
+const SMALL: usize = 4;
+
 /// The dynamics of one arm: its lumped constants ([`ArmLumped`]), built once.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ArmDynamics {
@@ -99,17 +103,34 @@ impl ArmDynamics {
         dq: &mut [f64],
         ddq: &mut [f64],
     ) -> f64 {
+        if self.joints() < SMALL {
+            self.inverse_in::<SMALL>(theta, dtheta, ddtheta, tau, dq, ddq)
+        } else {
+            self.inverse_in::<SIZE>(theta, dtheta, ddtheta, tau, dq, ddq)
+        }
+    }
+
+    /// [`ArmDynamics::inverse_into`] in arrays of capacity `C`.
+    fn inverse_in<const C: usize>(
+        &self,
+        theta: &[f64],
+        dtheta: &[f64],
+        ddtheta: &[f64],
+        tau: &mut [f64],
+        dq: &mut [f64],
+        ddq: &mut [f64],
+    ) -> f64 {
         let n = self.joints();
         assert!(
             theta.len() == n && dtheta.len() == n && ddtheta.len() == n,
             "theta, dtheta and ddtheta have n = {n} values"
         );
-        let terms = self.table.terms(theta);
-        let mut m = [[0.0; SIZE]; SIZE];
+        let terms = self.table.terms_in::<C>(theta);
+        let mut m = [[0.0; C]; C];
         terms.inertia_matrix(&mut m);
         dq[0] = -(1..=n).map(|j| m[0][j] * dtheta[j - 1]).sum::<f64>() / m[0][0];
         dq[1..=n].copy_from_slice(dtheta);
-        let mut c = [0.0; SIZE];
+        let mut c = [0.0; C];
         terms.coriolis(dq, &mut c);
         ddq[0] = -((1..=n).map(|j| m[0][j] * ddtheta[j - 1]).sum::<f64>() + c[0]) / m[0][0];
         ddq[1..=n].copy_from_slice(ddtheta);
@@ -134,13 +155,28 @@ impl ArmDynamics {
     /// `dq` (`n + 1`) [rad/s] under the joint torques `tau` (`n`) [N m], by the Cholesky factor of
     /// `M`; one that does not exist, or a non-finite result, is a [`SingularInertia`].
     pub fn forward(&self, theta: &[f64], dq: &[f64], tau: &[f64], ddq: &mut [f64]) -> Result<(), SingularInertia> {
+        if self.joints() < SMALL {
+            self.forward_in::<SMALL>(theta, dq, tau, ddq)
+        } else {
+            self.forward_in::<SIZE>(theta, dq, tau, ddq)
+        }
+    }
+
+    /// [`ArmDynamics::forward`] in arrays of capacity `C`.
+    fn forward_in<const C: usize>(
+        &self,
+        theta: &[f64],
+        dq: &[f64],
+        tau: &[f64],
+        ddq: &mut [f64],
+    ) -> Result<(), SingularInertia> {
         let n = self.joints();
         assert!(theta.len() == n && tau.len() == n && dq.len() == n + 1, "theta and tau have n values, dq n + 1");
         let n1 = n + 1;
-        let terms = self.table.terms(theta);
-        let mut m = [[0.0; SIZE]; SIZE];
+        let terms = self.table.terms_in::<C>(theta);
+        let mut m = [[0.0; C]; C];
         terms.inertia_matrix(&mut m);
-        let mut rhs = [0.0; SIZE];
+        let mut rhs = [0.0; C];
         terms.coriolis(dq, &mut rhs);
         for (i, r) in rhs.iter_mut().enumerate().take(n1) {
             *r = if i == 0 { -*r } else { tau[i - 1] - *r };

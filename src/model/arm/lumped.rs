@@ -43,14 +43,15 @@ pub struct ArmLumped {
     mount: [f64; 2],
 }
 
-/// The configuration-dependent part of [`ArmLumped`] at one `theta`: `N` and `K X`.
+/// The configuration-dependent part of [`ArmLumped`] at one `theta`: `N` and `K X`, in arrays
+/// of capacity `C >= n + 1` (a small `C` for small arms keeps them cheap to fill).
 #[derive(Debug, Clone)]
-pub struct LumpedTerms {
+pub struct LumpedTerms<const C: usize = SIZE> {
     n1: usize,
     /// `N_ij = K_ij (v_i . v_j) + I_i [i = j]` [kg m^2].
-    pub n: Square,
+    pub n: [[f64; C]; C],
     /// `K_ij X_ij`, `X_ij = v_i x v_j` [kg m^2].
-    pub kx: Square,
+    pub kx: [[f64; C]; C],
 }
 
 impl ArmLumped {
@@ -107,8 +108,14 @@ impl ArmLumped {
 
     /// `N` and `K X` at the joint angles `theta` (`n` values) \[rad\]: `n` sines and cosines.
     pub fn terms(&self, theta: &[f64]) -> LumpedTerms {
+        self.terms_in::<SIZE>(theta)
+    }
+
+    /// [`ArmLumped::terms`] in arrays of capacity `C` (at least `n + 1`).
+    pub fn terms_in<const C: usize>(&self, theta: &[f64]) -> LumpedTerms<C> {
         let n1 = self.n + 1;
-        let mut v = [[0.0; 2]; SIZE];
+        assert!(n1 <= C, "a capacity of {C} holds arms of at most {} joints", C - 1);
+        let mut v = [[0.0; 2]; C];
         v[0] = self.mount;
         let mut sum = 0.0;
         for (j, t) in theta.iter().take(self.n).enumerate() {
@@ -116,8 +123,8 @@ impl ArmLumped {
             let (s, c) = sum.sin_cos();
             v[j + 1] = [c, s];
         }
-        let mut n = [[0.0; SIZE]; SIZE];
-        let mut kx = [[0.0; SIZE]; SIZE];
+        let mut n = [[0.0; C]; C];
+        let mut kx = [[0.0; C]; C];
         for i in 0..n1 {
             for j in 0..=i {
                 let k = self.k[i][j];
@@ -134,7 +141,7 @@ impl ArmLumped {
     }
 }
 
-impl LumpedTerms {
+impl<const C: usize> LumpedTerms<C> {
     /// The size `n + 1`.
     pub fn size(&self) -> usize {
         self.n1
@@ -142,7 +149,7 @@ impl LumpedTerms {
 
     /// The inertia matrix `M = S^T N S` [kg m^2] into `m` (its leading `(n + 1)` block):
     /// `M_ab = sum_{i >= a, j >= b} N_ij`, the same matrix as [`Arm::inertia_matrix`].
-    pub fn inertia_matrix(&self, m: &mut Square) {
+    pub fn inertia_matrix(&self, m: &mut [[f64; C]; C]) {
         suffix_sums(&self.n, self.n1, m);
     }
 
@@ -158,8 +165,8 @@ impl LumpedTerms {
 
     /// `dM/dtheta_k` (`k = 1..n`) into `dm`: `S^T dN_k S` with
     /// `(dN_k)_ij = K_ij X_ij ([k <= i] - [k <= j])`.
-    pub fn inertia_derivative(&self, k: usize, dm: &mut Square) {
-        let mut dn = [[0.0; SIZE]; SIZE];
+    pub fn inertia_derivative(&self, k: usize, dm: &mut [[f64; C]; C]) {
+        let mut dn = [[0.0; C]; C];
         for (i, row) in dn.iter_mut().enumerate().take(self.n1) {
             for (j, x) in row.iter_mut().enumerate().take(self.n1) {
                 let s = f64::from(u8::from(k <= i)) - f64::from(u8::from(k <= j));
@@ -173,7 +180,7 @@ impl LumpedTerms {
     /// (`n + 1` values) at the velocity `dq = (phi', theta')`: `S^T` of
     /// `c_i = -sum_j K_ij X_ij w_j^2`, `w = S q'`.
     pub fn coriolis(&self, dq: &[f64], c: &mut [f64]) {
-        let mut w2 = [0.0; SIZE];
+        let mut w2 = [0.0; C];
         let mut w = 0.0;
         for (slot, v) in w2.iter_mut().zip(&dq[..self.n1]) {
             w += v;
@@ -189,7 +196,7 @@ impl LumpedTerms {
 }
 
 /// `out_ab = sum_{i >= a, j >= b} x_ij` over the leading `n1 x n1` block.
-fn suffix_sums(x: &Square, n1: usize, out: &mut Square) {
+fn suffix_sums<const C: usize>(x: &[[f64; C]; C], n1: usize, out: &mut [[f64; C]; C]) {
     for i in (0..n1).rev() {
         let mut row = 0.0;
         for j in (0..n1).rev() {
