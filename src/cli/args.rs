@@ -452,7 +452,7 @@ pub struct TrackArgs {
     /// Torque bias TAU1,..,TAUn in N m, one per joint [default: none].
     #[arg(long, value_name = "TAU1,..,TAUn", allow_hyphen_values = true)]
     pub torque_bias: Option<String>,
-    /// Torque limit in N m (saturation) [default: none].
+    /// Torque limit in N m for every joint (saturation; the robot's declared limits still apply) [default: none].
     #[arg(long, value_name = "NM", allow_hyphen_values = true)]
     pub torque_limit: Option<f64>,
     /// Measurement noise on each angle, standard deviation in rad.

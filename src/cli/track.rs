@@ -252,6 +252,15 @@ fn print_summaries(
             s.replan_failures,
         );
     }
+    // Only arms with declared limits can break them: the table of others is as before.
+    for s in summaries.iter().filter(|s| s.limit_failures > 0) {
+        out += &format!(
+            "{}: {} of {} trials failed on a declared position, base or velocity limit\n",
+            s.controller.name(),
+            s.limit_failures,
+            s.trials
+        );
+    }
     super::emit(&out)?;
     Ok(ExitCode::SUCCESS)
 }

@@ -11,16 +11,17 @@
 
 use std::time::Instant;
 
-use nalgebra::{DVector, SVector};
+use nalgebra::SVector;
 use serde::Serialize;
 
 use super::Plan;
 use super::certificate::{JointMotion, MotionView, by_joints, check_lengths, final_error, piecewise};
 use super::motion::Motion;
 use super::problem::PlanningProblem;
-use crate::dynamics::arm::{InverseDynamics, forward_dynamics, inverse_dynamics};
+use crate::dynamics::arm::{ArmDynamics, InverseDynamics, inverse_dynamics};
 use crate::error::Error;
 use crate::model::arm::Arm;
+use crate::model::arm::lumped::SIZE;
 use crate::model::{Configuration, InputError};
 use crate::numerics::ode::{OdeError, OdeOptions, OdeStats};
 
@@ -32,6 +33,17 @@ pub fn chain_torques_at(arm: &Arm, motion: &dyn JointMotion, t: f64) -> InverseD
     motion.joint_state(t, &mut theta, &mut rate);
     motion.joint_acceleration(t, &mut acceleration);
     inverse_dynamics(arm, &theta, &rate, &acceleration)
+}
+
+/// The joint torques of `motion` at `t` into `tau` (`n` values) [N m]: [`chain_torques_at`]
+/// on stack buffers, with the arm's constants held by `dynamics`.
+fn torques_into(dynamics: &ArmDynamics, motion: &dyn JointMotion, t: f64, tau: &mut [f64]) {
+    let n = dynamics.joints();
+    let (mut theta, mut rate, mut acceleration) = ([0.0; SIZE], [0.0; SIZE], [0.0; SIZE]);
+    let (mut dq, mut ddq) = ([0.0; SIZE], [0.0; SIZE]);
+    motion.joint_state(t, &mut theta[..n], &mut rate[..n]);
+    motion.joint_acceleration(t, &mut acceleration[..n]);
+    dynamics.inverse_into(&theta[..n], &rate[..n], &acceleration[..n], tau, &mut dq, &mut ddq);
 }
 
 /// The torque-level certificate of an `n`-joint plan.
@@ -126,15 +138,17 @@ fn run<const M: usize>(
             y.as_mut_slice()[n1..].copy_from_slice(first.dq.as_slice());
         }
     }
+    let dynamics = ArmDynamics::new(arm);
     let rhs = |t: f64, y: &SVector<f64, M>| -> Result<SVector<f64, M>, Error> {
-        let tau = chain_torques_at(arm, motion, t).tau;
+        let mut tau = [0.0; SIZE];
+        torques_into(&dynamics, motion, t, &mut tau[..n]);
         motion.check()?;
-        let dq = DVector::from_column_slice(&y.as_slice()[n1..]);
-        let ddq = forward_dynamics(arm, &y.as_slice()[1..n1], &dq, &tau)
-            .map_err(|_| Error::from(OdeError { t, reason: "singular inertia matrix" }))?;
         let mut out = SVector::<f64, M>::zeros();
-        out.as_mut_slice()[..n1].copy_from_slice(&y.as_slice()[n1..]);
-        out.as_mut_slice()[n1..].copy_from_slice(ddq.as_slice());
+        let (q, dq) = y.as_slice().split_at(n1);
+        out.as_mut_slice()[..n1].copy_from_slice(dq);
+        dynamics
+            .forward(&q[1..], dq, &tau[..n], &mut out.as_mut_slice()[n1..])
+            .map_err(|_| Error::from(OdeError { t, reason: "singular inertia matrix" }))?;
         Ok(out)
     };
     let mut max_momentum: f64 = 0.0;
@@ -180,7 +194,8 @@ fn inverse_at(arm: &Arm, motion: &dyn Motion, times: &[f64]) -> Result<Vec<Inver
             expected: "a 2-link arm for a 2-link motion",
         }));
     }
-    Ok(motion.points(times)?.iter().map(|p| inverse_dynamics(arm, &[p.q.theta1, p.q.theta2], &p.u, &p.du)).collect())
+    let dynamics = ArmDynamics::new(arm);
+    Ok(motion.points(times)?.iter().map(|p| dynamics.inverse(&[p.q.theta1, p.q.theta2], &p.u, &p.du)).collect())
 }
 
 /// Options of the torque-level certificate.

@@ -4,14 +4,13 @@
 
 use serde::{Deserialize, Serialize};
 
-use nalgebra::{DMatrix, DVector};
-
 use super::motion::JointPoint;
 use super::plant::State;
-use crate::dynamics::arm::{inertia_matrix_derivatives, inverse_dynamics};
+use crate::dynamics::arm::{ArmDynamics, inverse_dynamics};
 use crate::error::Error;
 use crate::model::InputError;
 use crate::model::arm::Arm;
+use crate::model::arm::lumped::SIZE;
 
 /// The controller of a closed-loop run.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
@@ -139,51 +138,34 @@ impl Gains {
 /// path moves it), which re-planning does.
 pub fn computed_torque(arm: &Arm, from: &State, centre: &JointPoint, half_tick: f64, gains: &Gains) -> Vec<f64> {
     let n = arm.joints();
+    let dynamics = ArmDynamics::new(arm);
     // The prediction uses the planned acceleration alone: feedback against a plan half a tick
     // ahead would bias it by `kp u dt / 2`.
-    let (m, c) = model_terms(arm, from.theta(), &from.dq);
-    let planned = accelerations(&m, &c, &centre.acceleration);
+    let model = dynamics.model_terms(from.theta(), &from.dq);
+    let mut planned = [0.0; SIZE];
+    model.accelerations(&centre.acceleration, &mut planned);
     let h = half_tick;
-    let mid_q: Vec<f64> = (0..=n).map(|i| from.q[i] + h * from.dq[i] + 0.5 * h * h * planned[i]).collect();
-    let mid_dq = DVector::from_iterator(n + 1, (0..=n).map(|i| from.dq[i] + h * planned[i]));
-    let a: Vec<f64> = (0..n)
-        .map(|i| {
-            centre.acceleration[i]
-                + gains.kd * (centre.rate[i] - mid_dq[i + 1])
-                + gains.kp * (centre.theta[i] - mid_q[i + 1])
-        })
-        .collect();
-    let (m, c) = model_terms(arm, &mid_q[1..], mid_dq.as_slice());
-    let ddq = accelerations(&m, &c, &a);
-    let forces = &m * &ddq + &c;
-    forces.rows(1, n).iter().copied().collect()
+    let (mut mid_q, mut mid_dq) = ([0.0; SIZE], [0.0; SIZE]);
+    for i in 0..=n {
+        mid_q[i] = from.q[i] + h * from.dq[i] + 0.5 * h * h * planned[i];
+        mid_dq[i] = from.dq[i] + h * planned[i];
+    }
+    let mut a = [0.0; SIZE];
+    for (i, a) in a.iter_mut().enumerate().take(n) {
+        *a = centre.acceleration[i]
+            + gains.kd * (centre.rate[i] - mid_dq[i + 1])
+            + gains.kp * (centre.theta[i] - mid_q[i + 1]);
+    }
+    let model = dynamics.model_terms(&mid_q[1..=n], &mid_dq[..=n]);
+    let mut ddq = [0.0; SIZE];
+    model.accelerations(&a[..n], &mut ddq);
+    let mut forces = [0.0; SIZE];
+    model.forces(&ddq, &mut forces);
+    forces[1..=n].to_vec()
 }
 
 /// The planned torques held over a tick: the inverse dynamics on the model `arm` (Eq. 6 for `n`
 /// links, the base at zero momentum) at `centre`, the plan at the centre of the tick (open loop).
 pub fn feedforward(arm: &Arm, centre: &JointPoint) -> Vec<f64> {
     inverse_dynamics(arm, &centre.theta, &centre.rate, &centre.acceleration).tau.iter().copied().collect()
-}
-
-/// `M(theta)` and the Coriolis terms `c(theta, q')` of the model.
-fn model_terms(arm: &Arm, theta: &[f64], dq: &[f64]) -> (DMatrix<f64>, DVector<f64>) {
-    let (m, partials) = inertia_matrix_derivatives(arm, theta);
-    let dq = DVector::from_column_slice(dq);
-    let mut m_dot = DMatrix::zeros(dq.len(), dq.len());
-    for (k, dm) in partials.iter().enumerate() {
-        m_dot += dm * dq[k + 1];
-    }
-    let mut c = m_dot * &dq;
-    for (k, dm) in partials.iter().enumerate() {
-        c[k + 1] -= 0.5 * dq.dot(&(dm * &dq));
-    }
-    (m, c)
-}
-
-/// `q'' = (phi'', a)` on the model when the joints accelerate by `a`: the base takes
-/// `phi'' = -(G . a + c_phi)/F`, the first row of `M q'' + c = (0, tau)`.
-fn accelerations(m: &DMatrix<f64>, c: &DVector<f64>, a: &[f64]) -> DVector<f64> {
-    let n = a.len();
-    let phi = -((1..=n).map(|j| m[(0, j)] * a[j - 1]).sum::<f64>() + c[0]) / m[(0, 0)];
-    DVector::from_iterator(n + 1, std::iter::once(phi).chain(a.iter().copied()))
 }

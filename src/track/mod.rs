@@ -70,3 +70,5 @@ pub use run::{
 
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tests_limits;

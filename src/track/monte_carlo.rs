@@ -75,8 +75,11 @@ pub struct Trial {
     pub trial: usize,
     /// The controller.
     pub controller: Controller,
-    /// Final error \[rad\] (infinite if the motion diverged).
+    /// Final error \[rad\] (infinite if the run failed).
     pub final_error: f64,
+    /// Why the run failed ([`crate::track::Failure::reason`]: `diverged`, or a declared limit
+    /// its motion broke, `position_limit`, `base_limit`, `velocity_limit`); `None` if it did not.
+    pub failure: Option<&'static str>,
     /// Re-plans used.
     pub replans: usize,
     /// Re-plans failed.
@@ -94,9 +97,12 @@ pub struct Summary {
     pub successes: usize,
     /// `successes / trials`.
     pub success_rate: f64,
-    /// Trials whose run failed (diverged): their final error
+    /// Trials whose run failed (diverged, or broke a declared limit): their final error
     /// counts as infinite in the quantiles.
     pub failed: usize,
+    /// Of the failed trials, those whose motion broke a declared limit of the arm (a position,
+    /// base or velocity limit, [`crate::model::arm::Limits`]).
+    pub limit_failures: usize,
     /// Median final error \[rad\]; `None` without trials, or when it falls on a failed trial
     /// (never a non-finite number).
     pub median_error: Option<f64>,
@@ -177,6 +183,7 @@ pub fn monte_carlo(
                         trial: i,
                         controller,
                         final_error: r.final_error,
+                        failure: r.failure.map(|f| f.reason),
                         replans: r.replans,
                         replan_failures: r.replan_failures,
                     })
@@ -213,6 +220,7 @@ fn summary(controller: Controller, trials: &[Trial], tolerance: f64) -> Summary 
         successes,
         success_rate: successes as f64 / n.max(1) as f64,
         failed: errors.iter().filter(|e| !e.is_finite()).count(),
+        limit_failures: mine.iter().filter(|t| t.failure.is_some_and(|f| f.ends_with("_limit"))).count(),
         median_error: quantile(0.5),
         p95_error: quantile(0.95),
         max_error: finite(errors.last()),

@@ -1,15 +1,15 @@
 //! The plant: the forward dynamics of the true arm (Eqs. 3 and 6 for `n` links, base
-//! unactuated, [`crate::dynamics::arm::forward_dynamics`]) under a torque held constant between
+//! unactuated, [`crate::dynamics::arm::ArmDynamics::forward`]) under a torque held constant between
 //! control ticks, with the actuators' noise, bias and limits and the sensors' noise.
 
-use nalgebra::DVector;
 use serde::Serialize;
 
 use super::noise::Noise;
-use crate::dynamics::arm::forward_dynamics;
+use crate::dynamics::arm::ArmDynamics;
 use crate::error::Error;
 use crate::model::InputError;
-use crate::model::arm::Arm;
+use crate::model::arm::lumped::SIZE;
+use crate::model::arm::{Arm, Limits};
 
 /// Imperfections of the actuators and sensors. The defaults are ideal: no noise, no bias, no
 /// limit.
@@ -96,12 +96,18 @@ pub struct Applied {
     pub tau: Vec<f64>,
     /// The command exceeded the limit on some joint.
     pub saturated: bool,
+    /// The first declared limit the true motion broke during the tick, checked after every
+    /// integrator step ([`Plant::step`]): `position_limit` (a joint left its range),
+    /// `base_limit` (the base angle left its range) or `velocity_limit`; `None` within them
+    /// (always for an arm without limits).
+    pub broken: Option<&'static str>,
 }
 
 /// The true robot in motion.
 #[derive(Debug, Clone)]
 pub struct Plant {
     arm: Arm,
+    dynamics: ArmDynamics,
     /// `(q, q')`, `2 (n + 1)` values.
     state: Vec<f64>,
     disturbances: Disturbances,
@@ -115,7 +121,14 @@ impl Plant {
     pub fn new(arm: &Arm, start: &[f64], disturbances: Disturbances, seed: u64) -> Self {
         let mut state = start.to_vec();
         state.resize(2 * start.len(), 0.0);
-        Self { arm: arm.clone(), state, disturbances, actuator: Noise::new(seed, 1), sensor: Noise::new(seed, 2) }
+        Self {
+            arm: arm.clone(),
+            dynamics: ArmDynamics::new(arm),
+            state,
+            disturbances,
+            actuator: Noise::new(seed, 1),
+            sensor: Noise::new(seed, 2),
+        }
     }
 
     /// The same plant with the joints moving at `velocity` \[rad/s\] (`n` values) and the base at
@@ -149,55 +162,112 @@ impl Plant {
         State { q, dq }
     }
 
+    /// The torque limit of joint `j` (0-based) [N m]: the smaller of the arm's declared limit
+    /// ([`crate::model::arm::JointLimits::torque`]) and the user's cap
+    /// [`Disturbances::torque_limit`]; infinite when neither is set.
+    pub fn torque_limit(&self, j: usize) -> f64 {
+        let declared = self.arm.limits.joint(j).torque.unwrap_or(f64::INFINITY);
+        declared.min(self.disturbances.torque_limit)
+    }
+
     /// The torque applied for the command `tau` [N m]: each joint's command clamped to
-    /// `[-limit, limit]`, times `1 + noise`, plus the bias; and whether some joint saturated.
+    /// `[-limit, limit]` ([`Plant::torque_limit`]), times `1 + noise`, plus the bias; and whether
+    /// some joint saturated.
     pub fn actuate(&mut self, tau: &[f64]) -> Applied {
+        let limits: Vec<f64> = (0..tau.len()).map(|j| self.torque_limit(j)).collect();
         let d = &self.disturbances;
-        let saturated = tau.iter().any(|t| t.abs() > d.torque_limit);
+        let saturated = tau.iter().zip(&limits).any(|(t, l)| t.abs() > *l);
         let mut applied = Vec::with_capacity(tau.len());
         for (j, t) in tau.iter().enumerate() {
-            let t = t.clamp(-d.torque_limit, d.torque_limit);
+            let t = t.clamp(-limits[j], limits[j]);
             let noise = if d.torque_noise > 0.0 { d.torque_noise * self.actuator.normal() } else { 0.0 };
             applied.push(t * (1.0 + noise) + d.torque_bias.get(j).copied().unwrap_or(0.0));
         }
-        Applied { tau: applied, saturated }
+        Applied { tau: applied, saturated, broken: None }
     }
 
     /// Applies the command `tau` [N m] (`n` values; saturated, then with noise and bias, see
     /// [`Plant::actuate`]) for `dt` seconds, held constant (zero-order hold), integrating the
     /// forward dynamics by `substeps` classical Runge–Kutta steps. A diverging motion (or an
     /// inertia matrix that is no longer positive definite) leaves a non-finite state
-    /// ([`Plant::is_finite`]), never a panic.
+    /// ([`Plant::is_finite`]), never a panic. After every step the state is held to the arm's
+    /// declared position, base and velocity limits ([`Applied::broken`]).
     pub fn step(&mut self, tau: &[f64], dt: f64, substeps: usize) -> Applied {
-        let applied = self.actuate(tau);
-        let torque = DVector::from_column_slice(&applied.tau);
-        let arm = &self.arm;
+        let mut applied = self.actuate(tau);
+        let torque = applied.tau.as_slice();
+        let limits = &self.arm.limits;
+        let mut broken = None;
+        let dynamics = &self.dynamics;
         let m = self.state.len() / 2;
-        let f = |y: &[f64]| -> Vec<f64> {
-            let dq = DVector::from_column_slice(&y[m..]);
-            match forward_dynamics(arm, &y[1..m], &dq, &torque) {
-                Ok(ddq) => y[m..].iter().copied().chain(ddq.iter().copied()).collect(),
-                Err(_) => vec![f64::NAN; 2 * m],
+        let len = 2 * m;
+        // The state's derivative `(q', q'')` into `out`; NaN where the dynamics cannot be
+        // evaluated (the state stops being finite).
+        let f = |y: &[f64], out: &mut [f64]| {
+            out[..m].copy_from_slice(&y[m..len]);
+            if dynamics.forward(&y[1..m], &y[m..len], torque, &mut out[m..len]).is_err() {
+                out[..len].fill(f64::NAN);
             }
         };
         let h = dt / substeps.max(1) as f64;
-        let axpy = |y: &[f64], a: f64, k: &[f64]| -> Vec<f64> { y.iter().zip(k).map(|(y, k)| y + a * k).collect() };
+        let mut y = [0.0; 2 * SIZE];
+        y[..len].copy_from_slice(&self.state);
+        let (mut k1, mut k2, mut k3, mut k4, mut stage) =
+            ([0.0; 2 * SIZE], [0.0; 2 * SIZE], [0.0; 2 * SIZE], [0.0; 2 * SIZE], [0.0; 2 * SIZE]);
+        let axpy = |stage: &mut [f64], y: &[f64], a: f64, k: &[f64]| {
+            for i in 0..len {
+                stage[i] = y[i] + a * k[i];
+            }
+        };
         for _ in 0..substeps.max(1) {
-            let y = self.state.clone();
-            if !y.iter().all(|x| x.is_finite()) {
+            if !y[..len].iter().all(|x| x.is_finite()) {
                 break;
             }
-            let k1 = f(&y);
-            let k2 = f(&axpy(&y, h / 2.0, &k1));
-            let k3 = f(&axpy(&y, h / 2.0, &k2));
-            let k4 = f(&axpy(&y, h, &k3));
-            self.state = (0..y.len()).map(|i| y[i] + h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])).collect();
+            f(&y, &mut k1);
+            axpy(&mut stage, &y, h / 2.0, &k1);
+            f(&stage, &mut k2);
+            axpy(&mut stage, &y, h / 2.0, &k2);
+            f(&stage, &mut k3);
+            axpy(&mut stage, &y, h, &k3);
+            f(&stage, &mut k4);
+            for i in 0..len {
+                y[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
+            }
+            if broken.is_none() && !limits.is_empty() {
+                broken = broken_limit(limits, &y[..m], &y[m..len]);
+            }
         }
+        self.state.copy_from_slice(&y[..len]);
+        applied.broken = broken;
         applied
+    }
+
+    /// The declared limits of the true arm.
+    pub fn limits(&self) -> &Limits {
+        &self.arm.limits
     }
 
     /// True while the state is finite (the simulated motion has not diverged).
     pub fn is_finite(&self) -> bool {
         self.state.iter().all(|x| x.is_finite())
     }
+}
+
+/// The first limit of `limits` that the state `(q, q')` breaks: a joint angle outside its
+/// position range (`position_limit`), the base angle outside its range (`base_limit`), a joint
+/// velocity above its limit (`velocity_limit`); `None` within all of them. A non-finite state
+/// breaks none (it is the divergence, reported as such).
+pub fn broken_limit(limits: &Limits, q: &[f64], dq: &[f64]) -> Option<&'static str> {
+    let outside = |x: f64, [lo, hi]: [f64; 2]| x < lo || x > hi;
+    if limits.base.is_some_and(|r| outside(q[0], r)) {
+        return Some("base_limit");
+    }
+    for (i, joint) in limits.joints.iter().enumerate() {
+        if joint.position.is_some_and(|r| outside(q[i + 1], r)) {
+            return Some("position_limit");
+        }
+        if joint.velocity.is_some_and(|v| dq[i + 1].abs() > v) {
+            return Some("velocity_limit");
+        }
+    }
+    None
 }

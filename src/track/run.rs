@@ -149,7 +149,9 @@ impl TrackOptions {
 /// Why a closed-loop run stopped before its horizon: a verdict with a reason, not a number.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Failure {
-    /// `diverged`: the simulated motion left the finite numbers.
+    /// `diverged`: the simulated motion left the finite numbers; `position_limit`,
+    /// `base_limit`, `velocity_limit`: the true motion broke the arm's declared limit
+    /// ([`crate::model::arm::Limits`], checked after every integrator step).
     pub reason: &'static str,
     /// When it happened \[s\].
     pub t: f64,
@@ -389,6 +391,7 @@ pub fn track_with(
         };
         let before = history.is_some().then(|| plant.state().q);
         let applied = plant.step(&command, dt, options.substeps);
+        let applied_broken = applied.broken;
         // A command that left the finite numbers is the divergence below, not a torque.
         let finite = applied.tau.iter().all(|x| x.is_finite());
         if finite {
@@ -406,6 +409,10 @@ pub fn track_with(
         if !finite || !plant.is_finite() {
             diverged_at = Some(t + dt);
             failure = Some(Failure { reason: "diverged", t: t + dt });
+            break;
+        }
+        if let Some(reason) = applied_broken {
+            failure = Some(Failure { reason, t: t + dt });
             break;
         }
     }

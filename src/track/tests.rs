@@ -332,8 +332,14 @@ fn trials_file_round_trip_and_row_checks() {
     let options = TrackOptions::default();
     let mc = MonteCarloOptions { trials: 4, controllers: vec![Controller::Open, Controller::Ct], ..Default::default() };
     let run = trials_file::run_description(&arm, &problem, &options, &mc, "optimal");
-    let trial =
-        |trial, controller, final_error| Trial { trial, controller, final_error, replans: 3, replan_failures: 1 };
+    let trial = |trial, controller, final_error: f64| Trial {
+        trial,
+        controller,
+        final_error,
+        failure: (!final_error.is_finite()).then_some("diverged"),
+        replans: 3,
+        replan_failures: 1,
+    };
     let shard = Shard { k: 2, n: 2 };
     let trials = vec![
         trial(1, Controller::Open, f64::INFINITY),
@@ -356,11 +362,11 @@ fn trials_file_round_trip_and_row_checks() {
     assert_eq!((s[0].successes, s[1].successes), (0, 1));
     // Rows whose numbers are wrong, written with valid checks.
     let kind = &trials_file::KIND;
-    let row = |trial, final_error, diverged| trials_file::TrialRow {
+    let row = |trial, final_error, diverged: bool| trials_file::TrialRow {
         trial,
         controller: Controller::Ct,
         final_error,
-        diverged,
+        diverged: if diverged { trials_file::Ended::Diverged } else { trials_file::Ended::Horizon },
         replans: 0,
         replan_failures: 0,
     };

@@ -12,7 +12,10 @@
 //!
 //! Every cell is deterministic (no wall time), so a shard run again is the same file, and the
 //! merge of the shards equals the unsharded run's file byte for byte. A diverged run has
-//! `diverged = true` and an empty `final_error`: no cell holds a non-finite number.
+//! `diverged = true` and an empty `final_error`: no cell holds a non-finite number. A run whose
+//! motion broke one of the arm's declared limits has the reason there instead
+//! (`position_limit`, `base_limit`, `velocity_limit`) and an empty `final_error`; the rows of
+//! an arm without limits are those of earlier versions.
 
 use std::cell::OnceCell;
 use std::path::{Path, PathBuf};
@@ -45,12 +48,80 @@ pub struct TrialRow {
     pub controller: Controller,
     /// Final error \[rad\], full precision; `None` (an empty cell) when the motion diverged.
     pub final_error: Option<f64>,
-    /// The motion diverged (its final error is infinite).
-    pub diverged: bool,
+    /// How the run ended: `false` (at its horizon), `true` (the motion diverged) or the declared
+    /// limit its motion broke (`position_limit`, ...); its final error then is infinite.
+    pub diverged: Ended,
     /// Re-plans used.
     pub replans: usize,
     /// Re-plans failed.
     pub replan_failures: usize,
+}
+
+/// How a trial ended, the `diverged` cell of its row: `false`, `true`, or the reason of a
+/// failure other than divergence (a broken limit, [`crate::track::Failure::reason`]), so that
+/// the rows of runs without limits are those of earlier versions.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Ended {
+    /// The run reached its horizon (`false`).
+    Horizon,
+    /// The motion diverged (`true`).
+    Diverged,
+    /// The motion broke a declared limit: the failure's reason.
+    Broke(&'static str),
+}
+
+/// The failure reasons a row may name besides `true`/`false`.
+const LIMIT_REASONS: [&str; 3] = ["position_limit", "base_limit", "velocity_limit"];
+
+impl Ended {
+    /// The end of a trial that failed for `failure` (`None`: it did not, or it diverged when its
+    /// error is infinite).
+    fn of(t: &Trial) -> Self {
+        match t.failure {
+            Some(reason) if LIMIT_REASONS.contains(&reason) => Ended::Broke(reason),
+            _ if t.final_error.is_finite() => Ended::Horizon,
+            _ => Ended::Diverged,
+        }
+    }
+
+    /// The cell's text.
+    fn cell(self) -> &'static str {
+        match self {
+            Ended::Horizon => "false",
+            Ended::Diverged => "true",
+            Ended::Broke(reason) => reason,
+        }
+    }
+
+    /// The failure reason for [`Trial::failure`].
+    fn failure(self) -> Option<&'static str> {
+        match self {
+            Ended::Horizon => None,
+            Ended::Diverged => Some("diverged"),
+            Ended::Broke(reason) => Some(reason),
+        }
+    }
+}
+
+impl Serialize for Ended {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_str(self.cell())
+    }
+}
+
+impl<'de> Deserialize<'de> for Ended {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let text = String::deserialize(d)?;
+        match text.as_str() {
+            "false" => Ok(Ended::Horizon),
+            "true" => Ok(Ended::Diverged),
+            other => LIMIT_REASONS.iter().find(|r| **r == other).map(|r| Ended::Broke(r)).ok_or_else(|| {
+                serde::de::Error::custom(format!(
+                    "diverged = `{other}`: expected false, true, position_limit, base_limit or velocity_limit"
+                ))
+            }),
+        }
+    }
 }
 
 impl From<&Trial> for TrialRow {
@@ -60,7 +131,7 @@ impl From<&Trial> for TrialRow {
             trial: t.trial,
             controller: t.controller,
             final_error: finite.then_some(t.final_error),
-            diverged: !finite,
+            diverged: Ended::of(t),
             replans: t.replans,
             replan_failures: t.replan_failures,
         }
@@ -73,6 +144,7 @@ impl From<&TrialRow> for Trial {
             trial: r.trial,
             controller: r.controller,
             final_error: r.final_error.unwrap_or(f64::INFINITY),
+            failure: r.diverged.failure(),
             replans: r.replans,
             replan_failures: r.replan_failures,
         }
@@ -80,11 +152,15 @@ impl From<&TrialRow> for Trial {
 }
 
 /// The arm in shortest round-trip floats: `M:..,I:..,a:..,b:..` then `/l:..,d:..,m:..,i:..` per
-/// link.
+/// link, then `/limits:..` when it declares limits.
 fn robot_description(r: &Arm) -> String {
     let mut out = format!("M:{:?},I:{:?},a:{:?},b:{:?}", r.base.mass, r.base.inertia, r.mount.a, r.mount.b);
     for l in &r.links {
         out += &format!("/l:{:?},d:{:?},m:{:?},i:{:?}", l.length, l.com, l.mass, l.inertia);
+    }
+    // Declared limits change the rows (a trial may break them); none leaves the words as before.
+    if !r.limits.is_empty() {
+        out += &format!("/limits:{:?}", r.limits).replace(' ', "");
     }
     out
 }
@@ -215,15 +291,15 @@ fn check_row(r: &TrialRow, run: &RunSummary, shard: Shard) -> Result<(), String>
     if run.position(r.controller).is_none() {
         return Err(at("not a controller of the run".into()));
     }
-    match (r.final_error, r.diverged) {
-        (Some(e), false) => {
+    match (r.final_error, r.diverged == Ended::Horizon) {
+        (Some(e), true) => {
             finite("final_error", e).map_err(at)?;
             if e < 0.0 {
                 return Err(at(format!("final_error = {e} is negative")));
             }
         }
-        (None, true) => {}
-        _ => return Err(at("a final error is given exactly when the run did not diverge".into())),
+        (None, false) => {}
+        _ => return Err(at("a final error is given exactly when the run did not fail".into())),
     }
     Ok(())
 }

@@ -9,14 +9,22 @@
 //!
 //! (the Christoffel form of the Coriolis and centrifugal terms); their first row is the
 //! conservation of the angular momentum (5), the base being unactuated, the others Eq. (6). The
-//! partial derivatives `dM/dtheta_k` are exact: [`Arm::inertia_matrix`] evaluated on dual numbers
-//! (num-dual), one joint at a time (`dM/dphi = 0`). `f64` at the boundary, `DVector`/`DMatrix`
-//! since `n` is known at run time only.
+//! inertia matrix, its partial derivatives `dM/dtheta_k` and `c` come in closed form from the
+//! arm's lumped constants ([`ArmLumped`], the `n`-link analogue of the paper's `A..E`), exact and
+//! without dual numbers; [`inertia_matrix_derivatives_ad`] keeps the dual-number derivatives of
+//! [`Arm::inertia_matrix`] as their reference. [`ArmDynamics`] holds the constants for the hot
+//! loops (the torque certificate, the plant, the controllers) and works on slices without
+//! allocating; the free functions build them per call and return `DVector`/`DMatrix`.
 
 use nalgebra::{DMatrix, DVector};
 use num_dual::Dual64;
 
 use crate::model::arm::Arm;
+use crate::model::arm::lumped::{ArmLumped, SIZE};
+
+mod fast;
+
+pub use fast::{ArmDynamics, ModelTerms};
 
 /// The inertia matrix is not positive definite at `theta`: impossible for a validated [`Arm`]
 /// at finite angles, so it means non-finite input.
@@ -27,9 +35,27 @@ pub struct SingularInertia {
     pub theta: Vec<f64>,
 }
 
-/// `M(theta)` [kg m^2] and its partial derivatives `dM/dtheta_k`, `k = 1..n` (exact, dual
-/// numbers), at the joint angles `theta` \[rad\] (`n` values).
+/// `M(theta)` [kg m^2] and its partial derivatives `dM/dtheta_k`, `k = 1..n` (closed form, from
+/// the lumped constants [`ArmLumped`]), at the joint angles `theta` \[rad\] (`n` values).
 pub fn inertia_matrix_derivatives(arm: &Arm, theta: &[f64]) -> (DMatrix<f64>, Vec<DMatrix<f64>>) {
+    let n = arm.joints();
+    assert_eq!(theta.len(), n, "theta has n = {n} values");
+    let terms = ArmLumped::new(arm).terms(theta);
+    let mut square = [[0.0; SIZE]; SIZE];
+    terms.inertia_matrix(&mut square);
+    let m = DMatrix::from_fn(n + 1, n + 1, |i, j| square[i][j]);
+    let partials = (1..=n)
+        .map(|k| {
+            terms.inertia_derivative(k, &mut square);
+            DMatrix::from_fn(n + 1, n + 1, |i, j| square[i][j])
+        })
+        .collect();
+    (m, partials)
+}
+
+/// [`inertia_matrix_derivatives`] by dual numbers (num-dual) through [`Arm::inertia_matrix`],
+/// one joint at a time: the reference the closed forms are tested against.
+pub fn inertia_matrix_derivatives_ad(arm: &Arm, theta: &[f64]) -> (DMatrix<f64>, Vec<DMatrix<f64>>) {
     let n = arm.joints();
     assert_eq!(theta.len(), n, "theta has n = {n} values");
     let mut m = DMatrix::zeros(n + 1, n + 1);
@@ -49,22 +75,10 @@ pub fn inertia_matrix_derivatives(arm: &Arm, theta: &[f64]) -> (DMatrix<f64>, Ve
 /// The Coriolis and centrifugal terms `c = M' q' - (1/2) (q'^T dM/dq_i q')_i` [N m] at the joint
 /// angles `theta` \[rad\] (`n` values) and velocity `dq = (phi', theta')` [rad/s] (`n + 1`).
 pub fn coriolis(arm: &Arm, theta: &[f64], dq: &DVector<f64>) -> DVector<f64> {
-    let (_, partials) = inertia_matrix_derivatives(arm, theta);
-    coriolis_from(&partials, dq)
-}
-
-/// [`coriolis`] from the partial derivatives of `M`.
-fn coriolis_from(partials: &[DMatrix<f64>], dq: &DVector<f64>) -> DVector<f64> {
-    let n = partials.len();
+    let n = arm.joints();
     assert_eq!(dq.len(), n + 1, "dq has n + 1 = {} values", n + 1);
-    let mut m_dot = DMatrix::zeros(n + 1, n + 1);
-    for (k, dm) in partials.iter().enumerate() {
-        m_dot += dm * dq[k + 1];
-    }
-    let mut c = m_dot * dq;
-    for (k, dm) in partials.iter().enumerate() {
-        c[k + 1] -= 0.5 * dq.dot(&(dm * dq));
-    }
+    let mut c = DVector::zeros(n + 1);
+    ArmLumped::new(arm).terms(theta).coriolis(dq.as_slice(), c.as_mut_slice());
     c
 }
 
@@ -73,8 +87,8 @@ fn coriolis_from(partials: &[DMatrix<f64>], dq: &DVector<f64>) -> DVector<f64> {
 /// `theta` \[rad\] and velocity `dq` [rad/s] (`n + 1` values each). Rows `1..n` are Eq. (6); row
 /// 0 is the rate of the angular momentum (5), zero for the free-floating base.
 pub fn generalized_forces(arm: &Arm, theta: &[f64], dq: &DVector<f64>, ddq: &DVector<f64>) -> DVector<f64> {
-    let (m, partials) = inertia_matrix_derivatives(arm, theta);
-    &m * ddq + coriolis_from(&partials, dq)
+    let (m, _) = inertia_matrix_derivatives(arm, theta);
+    &m * ddq + coriolis(arm, theta, dq)
 }
 
 /// The kinetic energy `T = (1/2) q'^T M q'` \[J\] (the Lagrangian (3) without the centre of
@@ -107,28 +121,18 @@ pub struct InverseDynamics {
 /// Inverse dynamics of the free-floating arm at zero angular momentum: given the joint angles
 /// `theta` \[rad\], velocities `dtheta` [rad/s] and accelerations `ddtheta` [rad/s^2] (`n`
 /// values each), the base follows from Eq. (7), `phi' = -(G . theta') / F`, and from the rate of
-/// the momentum (5), `F phi'' + G . theta'' + (M' q')_0 = 0`; then `(Q_phi, tau) = M q'' + c`
-/// (Eq. 6).
+/// the momentum (5), `F phi'' + G . theta'' + c_0 = 0` (`c_0 = (M' q')_0` since `M` does not
+/// depend on `phi`); then `(Q_phi, tau) = M q'' + c` (Eq. 6). [`ArmDynamics::inverse`] without
+/// building the arm's constants at every call.
 pub fn inverse_dynamics(arm: &Arm, theta: &[f64], dtheta: &[f64], ddtheta: &[f64]) -> InverseDynamics {
-    let n = arm.joints();
-    assert!(dtheta.len() == n && ddtheta.len() == n, "dtheta and ddtheta have n = {n} values");
-    let (m, partials) = inertia_matrix_derivatives(arm, theta);
-    let phi_rate = -(1..=n).map(|j| m[(0, j)] * dtheta[j - 1]).sum::<f64>() / m[(0, 0)];
-    let dq = DVector::from_iterator(n + 1, std::iter::once(phi_rate).chain(dtheta.iter().copied()));
-    let mut m_dot_row = 0.0;
-    for (k, dm) in partials.iter().enumerate() {
-        m_dot_row += dtheta[k] * dm.row(0).dot(&dq.transpose());
-    }
-    let phi_acc = -((1..=n).map(|j| m[(0, j)] * ddtheta[j - 1]).sum::<f64>() + m_dot_row) / m[(0, 0)];
-    let ddq = DVector::from_iterator(n + 1, std::iter::once(phi_acc).chain(ddtheta.iter().copied()));
-    let forces = &m * &ddq + coriolis_from(&partials, &dq);
-    InverseDynamics { tau: forces.rows(1, n).into_owned(), base_residual: forces[0], dq, ddq }
+    ArmDynamics::new(arm).inverse(theta, dtheta, ddtheta)
 }
 
 /// Forward dynamics of the free-floating arm: the acceleration `q'' = M^-1 ((0, tau) - c)`
 /// [rad/s^2] at the joint angles `theta` \[rad\] and velocity `dq` [rad/s] (`n + 1` values) under
 /// the joint torques `tau` [N m] (`n` values), the base unactuated. `M` is solved by its Cholesky
 /// factor; one that does not exist (non-finite input) is a [`SingularInertia`].
+/// [`ArmDynamics::forward`] without building the arm's constants at every call.
 pub fn forward_dynamics(
     arm: &Arm,
     theta: &[f64],
@@ -137,16 +141,10 @@ pub fn forward_dynamics(
 ) -> Result<DVector<f64>, SingularInertia> {
     let n = arm.joints();
     assert_eq!(tau.len(), n, "tau has n = {n} values");
-    let (m, partials) = inertia_matrix_derivatives(arm, theta);
-    let c = coriolis_from(&partials, dq);
-    let mut rhs = -c;
-    for j in 0..n {
-        rhs[j + 1] += tau[j];
-    }
-    let singular = || SingularInertia { theta: theta.to_vec() };
-    let cholesky = m.cholesky().ok_or_else(singular)?;
-    let ddq = cholesky.solve(&rhs);
-    if ddq.iter().all(|x| x.is_finite()) { Ok(ddq) } else { Err(singular()) }
+    assert_eq!(dq.len(), n + 1, "dq has n + 1 = {} values", n + 1);
+    let mut ddq = DVector::zeros(n + 1);
+    ArmDynamics::new(arm).forward(theta, dq.as_slice(), tau.as_slice(), ddq.as_mut_slice())?;
+    Ok(ddq)
 }
 
 #[cfg(test)]

@@ -17,6 +17,7 @@ pub mod collision;
 pub mod file;
 pub mod kinematics;
 pub mod limits;
+pub mod lumped;
 pub mod urdf;
 
 pub use limits::{JointLimits, Limits};
