@@ -345,10 +345,12 @@ pub(crate) fn solve(
     }
 }
 
-/// Keeps the goal representatives inside the position ranges: each limited joint's goal is moved
-/// by whole turns to the representative inside its range nearest the given one (dropped when none
-/// is inside), and duplicates are removed. Without position limits `goals` is unchanged.
-pub(crate) fn inside_ranges(limits: &Limits, goals: &mut Vec<Vec<f64>>) {
+/// Keeps the goal representatives inside the ranges: each limited joint's goal is moved by whole
+/// turns to the representative inside its range nearest the given one (dropped when none is
+/// inside), duplicates removed; the base-angle targets likewise with a base range
+/// ([`base_inside`]). Without limits both are unchanged.
+pub(crate) fn inside_ranges(limits: &Limits, goals: &mut Vec<Vec<f64>>, phi_targets: &mut Vec<f64>) {
+    base_inside(limits, phi_targets);
     if limits.joints.iter().all(|j| j.position.is_none()) {
         return;
     }
@@ -367,7 +369,7 @@ pub(crate) fn inside_ranges(limits: &Limits, goals: &mut Vec<Vec<f64>>) {
 
 /// Keeps the base-angle targets inside the base range (moved by whole turns, as
 /// [`inside_ranges`]); unchanged without a base range.
-pub(crate) fn base_inside(limits: &Limits, targets: &mut Vec<f64>) {
+fn base_inside(limits: &Limits, targets: &mut Vec<f64>) {
     let Some(range) = limits.base else { return };
     let mut kept: Vec<f64> = Vec::new();
     for mut v in targets.drain(..) {

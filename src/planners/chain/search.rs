@@ -206,9 +206,8 @@ impl ChainPlanner {
         })
     }
 
-    /// The goal representatives with their lines and seeds, least effort bound first: `phid` and
-    /// `phid +- 2 pi` nearest the start, and (with `wrap`) the joint goals nearest the start and
-    /// those with one joint a turn further either way.
+    /// The goal representatives with their lines and seeds, least effort bound first: `phid`, `phid +- 2 pi` nearest
+    /// the start, with `wrap` the joint goals nearest it and one joint a turn further; only those inside the ranges.
     fn prepare(&self, problem: &ChainProblem) -> Result<Vec<Prepared>, Error> {
         let n = self.arm.joints();
         let (q0, qd) = (&problem.start, &problem.goal);
@@ -227,15 +226,13 @@ impl ChainPlanner {
         } else {
             joint_goals.push(qd[1..].to_vec());
         }
-        super::limits::inside_ranges(&self.arm.limits, &mut joint_goals);
-        let phi_targets: Vec<f64> = if problem.wrap {
+        let mut phi_targets: Vec<f64> = if problem.wrap {
             let near = q0[0] + wrap_angle(qd[0] - q0[0]);
             vec![near, near - TAU, near + TAU]
         } else {
             vec![qd[0]]
         };
-        let mut phi_targets = phi_targets;
-        super::limits::base_inside(&self.arm.limits, &mut phi_targets);
+        super::limits::inside_ranges(&self.arm.limits, &mut joint_goals, &mut phi_targets);
         let kappa_max = seeds::curvature_bound(&self.connection);
         // The bound is in the cost's units: the energy's is the effort's times a floor of R.
         let scale = match self.options.cost {
