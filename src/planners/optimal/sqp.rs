@@ -7,7 +7,7 @@
 //! it), so the tangential subproblem is well conditioned in that metric whatever the knot grading.
 //!
 //! With inequalities `g(x) <= 0` ([`Discretised::inequalities`], linear bounds and nonlinear
-//! rows with exact gradients) the step is the S-l1-QP step of [`inequality`], solved by Clarabel;
+//! rows with exact gradients) the step is the S-l1-QP step of `sqp/inequality.rs`, solved by Clarabel;
 //! without them (every problem that declares none) the iteration is the equality-only one below,
 //! unchanged.
 //!
