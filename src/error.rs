@@ -279,6 +279,24 @@ pub enum Error {
         /// Why the best attempt stopped (e.g. `max_iterations`).
         termination: &'static str,
     },
+    /// The given horizon is too short for the robot's limits (issue 20 item 4): no plan inside
+    /// every limit was found in it, and the shortest horizon with one is longer; the limit that
+    /// binds there is named (`joint` from 1, 0 for the base angle).
+    #[error(
+        "no plan inside the robot's limits in T = {horizon} s: the shortest feasible horizon found is          {shortest:.6} s, where joint {joint}'s {quantity} limit {limit} binds; give --time {shortest:.6} or          longer (or --time auto)"
+    )]
+    HorizonTooShort {
+        /// The given horizon \[s\].
+        horizon: f64,
+        /// The shortest feasible horizon found, within 1 % \[s\].
+        shortest: f64,
+        /// The binding limit's joint, counted from 1 (0: the base angle).
+        joint: usize,
+        /// `velocity`, `acceleration`, `torque`, `position` or `base`.
+        quantity: &'static str,
+        /// The binding limit's value (rad/s, rad/s^2, N m, or the range's bound in rad).
+        limit: f64,
+    },
     /// With one joint the base angle is a function of the joint angle (`a(theta) dtheta` is
     /// exact): the goal's `theta_1` fixes `phi(T)`, and the goal asks for another.
     #[error(
@@ -392,6 +410,9 @@ impl Error {
             E::HolonomyFixed { joints, theta_goal, reachable, goal, gap, tolerance } => json!({
                 "joints": joints, "theta_goal": theta_goal, "reachable": reachable, "goal": goal, "gap": gap,
                 "tolerance": tolerance,
+            }),
+            E::HorizonTooShort { horizon, shortest, joint, quantity, limit } => json!({
+                "horizon": horizon, "shortest": shortest, "joint": joint, "quantity": quantity, "limit": limit,
             }),
             E::OptimalFailed { iterations, constraint_residual, kkt_residual, effort, seeds, termination } => json!({
                 "iterations": iterations, "constraint_residual": constraint_residual, "kkt_residual": kkt_residual,

@@ -19,6 +19,8 @@
 pub mod connection;
 pub mod discrete;
 pub mod energy;
+pub mod horizon;
+mod limits;
 pub mod motion;
 pub(crate) mod search;
 pub mod seeds;
@@ -59,7 +61,8 @@ impl ChainProblem {
     }
 
     /// Checks the problem against `arm`: `n + 1` start and goal values, `n` initial velocities,
-    /// all finite (angles within [`crate::plan::MAX_ANGLE`]), the horizon in
+    /// all finite (angles within [`crate::plan::MAX_ANGLE`]), a limited joint's (and `phi`'s with
+    /// a base range) start and goal inside the declared range, the horizon in
     /// [`crate::plan::HORIZON_RANGE`], `1 <= n <=` [`MAX_JOINTS`].
     pub fn validate(&self, arm: &Arm) -> Result<(), Error> {
         let n = arm.joints();
@@ -87,6 +90,7 @@ impl ChainProblem {
                 return bad(format!("initial_velocity[{i}]"), *u, "a finite joint velocity [rad/s]");
             }
         }
+        self.validate_ranges(arm)?;
         check_horizon("horizon", self.horizon)
     }
 }
@@ -279,3 +283,6 @@ mod tests;
 
 #[cfg(test)]
 mod tests_cost;
+
+#[cfg(test)]
+mod tests_limits;

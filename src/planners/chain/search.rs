@@ -17,7 +17,7 @@ use crate::model::wrap_angle;
 use crate::plan::certificate::verify_chain;
 use crate::planners::optimal::Cost;
 use crate::planners::optimal::spline::SplineBasis;
-use crate::planners::optimal::sqp::{self, Discretised, SqpOptions, SqpResult, Termination};
+use crate::planners::optimal::sqp::{Discretised, SqpOptions, SqpResult, Termination};
 
 /// SQP options of the coarse solves.
 const COARSE_SQP: SqpOptions =
@@ -167,7 +167,7 @@ impl ChainPlanner {
         let Some(p) = prepared.iter().find(near) else { return Ok(None) };
         let disc = self.discretise(problem, p.targets.clone(), o.coarse_spans, o.quadrature_nodes, tables)?;
         let Ok(x0) = disc.project(|t, out| path.at(t, out)) else { return Ok(None) };
-        let Ok(result) = sqp::solve(&disc, x0, &COARSE_SQP, None) else { return Ok(None) };
+        let Ok(result) = super::limits::solve(self, &disc, x0, &COARSE_SQP, None) else { return Ok(None) };
         if !(result.c.abs() <= 1e-6 && result.f.is_finite()) {
             return Ok(None);
         }
@@ -206,9 +206,8 @@ impl ChainPlanner {
         })
     }
 
-    /// The goal representatives with their lines and seeds, least effort bound first: `phid` and
-    /// `phid +- 2 pi` nearest the start, and (with `wrap`) the joint goals nearest the start and
-    /// those with one joint a turn further either way.
+    /// The goal representatives with their lines and seeds, least effort bound first: `phid`, `phid +- 2 pi` nearest
+    /// the start, with `wrap` the joint goals nearest it and one joint a turn further; only those inside the ranges.
     fn prepare(&self, problem: &ChainProblem) -> Result<Vec<Prepared>, Error> {
         let n = self.arm.joints();
         let (q0, qd) = (&problem.start, &problem.goal);
@@ -227,12 +226,13 @@ impl ChainPlanner {
         } else {
             joint_goals.push(qd[1..].to_vec());
         }
-        let phi_targets: Vec<f64> = if problem.wrap {
+        let mut phi_targets: Vec<f64> = if problem.wrap {
             let near = q0[0] + wrap_angle(qd[0] - q0[0]);
             vec![near, near - TAU, near + TAU]
         } else {
             vec![qd[0]]
         };
+        super::limits::inside_ranges(&self.arm.limits, &mut joint_goals, &mut phi_targets);
         let kappa_max = seeds::curvature_bound(&self.connection);
         // The bound is in the cost's units: the energy's is the effort's times a floor of R.
         let scale = match self.options.cost {
@@ -286,7 +286,7 @@ impl ChainPlanner {
         let mut line_effort = f64::INFINITY;
         for &seed in &p.seeds {
             if seed == Seed::Line {
-                if let Ok(r) = sqp::solve(disc, project(seed)?, &COARSE_SQP, None) {
+                if let Ok(r) = super::limits::solve(self, disc, project(seed)?, &COARSE_SQP, None) {
                     if r.c.abs() <= 1e-6 {
                         line_effort = r.f;
                     }
@@ -299,7 +299,7 @@ impl ChainPlanner {
             }
             let residual = |s: Seed| project(s).map_or(f64::NAN, |x| disc.evaluate(&x, 0).c);
             let fitted = line.fit_radius(seed, self.options.max_loop_radius, residual);
-            if let Ok(r) = sqp::solve(disc, project(fitted)?, &COARSE_SQP, None) {
+            if let Ok(r) = super::limits::solve(self, disc, project(fitted)?, &COARSE_SQP, None) {
                 out.push(r);
             }
         }
@@ -360,7 +360,7 @@ impl ChainPlanner {
             }
         })?;
         let guess = if self.arm.joints() == 1 { None } else { Some(c.result.lambda) };
-        let result = sqp::solve(&disc, x0, &self.options.sqp, guess)?;
+        let result = super::limits::solve(self, &disc, x0, &self.options.sqp, guess)?;
         let iterations = c.iterations + result.iterations;
         Ok(Candidate { disc, result, spans, nodes, iterations })
     }

@@ -6,6 +6,11 @@
 //! `|d|_S = sqrt(d^T S d)`, which also preconditions the CG: the effort is the cost (or close to
 //! it), so the tangential subproblem is well conditioned in that metric whatever the knot grading.
 //!
+//! With inequalities `g(x) <= 0` ([`Discretised::inequalities`], linear bounds and nonlinear
+//! rows with exact gradients) the step is the S-l1-QP step of `sqp/inequality.rs`, solved by Clarabel;
+//! without them (every problem that declares none) the iteration is the equality-only one below,
+//! unchanged.
+//!
 //! ## Reference
 //! J. Nocedal, S. J. Wright, *Numerical Optimization*, 2nd ed., Springer (2006), Secs. 18.5
 //! (Byrd–Omojokun) and 16.3 (projected CG), doi:10.1007/978-0-387-40065-5; N. I. M. Gould,
@@ -19,6 +24,17 @@ use super::band::{BandCholesky, matvec};
 use super::discrete::{Discretisation, Evaluation};
 use crate::error::Error;
 use crate::model::InputError;
+
+mod inequality;
+
+/// Inequalities `g(x) <= 0` at a point: values and sparse gradient rows.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Inequalities {
+    /// `g_i(x)`, each scaled to its limit (dimensionless: 0 on the limit, -1 at zero use).
+    pub values: Vec<f64>,
+    /// `dg_i/dx` as `(free index, derivative)` pairs, one row per value (empty for order 0).
+    pub rows: Vec<Vec<(usize, f64)>>,
+}
 
 /// A discretised problem the SQP solves: cost and one equality constraint with exact first and
 /// second derivatives, and the effort's constant Hessian as the trust-region metric (banded).
@@ -34,6 +50,11 @@ pub trait Discretised {
     /// Cost and constraint at `x`, with first derivatives for `order >= 1` and second
     /// derivatives for `order >= 2`.
     fn evaluate(&self, x: &DVector<f64>, order: usize) -> Evaluation;
+    /// The inequalities `g(x) <= 0` at `x`, with their gradients for `order >= 1`; `None` (the
+    /// default) when the problem has none: the equality-only iteration runs.
+    fn inequalities(&self, _x: &DVector<f64>, _order: usize) -> Option<Inequalities> {
+        None
+    }
 }
 
 impl Discretised for Discretisation {
@@ -150,7 +171,9 @@ fn multiplier(m: &Metric, e: &Evaluation) -> (f64, f64) {
     (lambda, kkt / scale)
 }
 
-/// Solves the discretised problem from `x0` (Byrd–Omojokun trust-region SQP).
+/// Solves the discretised problem from `x0` (Byrd–Omojokun trust-region SQP; the S-l1-QP step
+/// when the problem has inequalities, and then [`SqpResult::c`] is the larger of `|c|` and the
+/// largest scaled violation `max_i g_i`, with the sign of `c`).
 ///
 /// `guess`, an estimate of the multiplier at the solution (a coil's, or a warm start's), is a
 /// safeguard where the multiplier is large: the l1 penalty starts at `2 |guess|`, so that the
@@ -171,6 +194,9 @@ pub fn solve<P: Discretised>(
         expected: "a basis whose effort Hessian is positive definite",
     }))?;
     let m = Metric { s, chol, hb };
+    if problem.inequalities(&x0, 0).is_some() {
+        return inequality::solve(problem, x0, options, guess, &m);
+    }
     let mut x = x0;
     let mut e = problem.evaluate(&x, 2);
     let (mut lambda, mut kkt) = multiplier(&m, &e);

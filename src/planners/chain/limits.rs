@@ -1,0 +1,427 @@
+//! The robot's declared limits ([`crate::model::arm::Limits`], issue 20 item 3) as constraints of
+//! the minimum-effort planner: `g(x) <= 0` rows of the SQP ([`Inequalities`]), each scaled to
+//! its limit.
+//!
+//! - **Position** `lo <= theta_j(t) <= hi` on the whole continuous path: a clamped B-spline lies
+//!   in the convex hull of its control points, so `lo <= c_k <= hi` for every coefficient of
+//!   joint `j` is sufficient (linear rows). It is conservative: the control polygon stands off
+//!   the curve by at most `O(h^2 max |theta''|)` on spans of width `h` (about
+//!   `h^2 max |theta''| / 8` at a peak of a cubic on uniform knots), so a path may be kept up to
+//!   that far inside its range; doubling the spans quarters the gap.
+//! - **Velocity** and **acceleration**: the same argument on the derivative splines, whose control
+//!   points `p (c_{k+1} - c_k) / (t_{k+p+1} - t_{k+1})` (and their differences) are linear in the
+//!   coefficients.
+//! - **Torque** `|tau_j| <= tau_max` with the exact inverse dynamics at zero momentum
+//!   ([`inverse_dynamics`], Eq. 6) at every breakpoint and at two interior points of every span
+//!   (a dense set, not a bound between the points); the derivatives in `theta''` exactly (the
+//!   torque is affine in it), in `theta` and `theta'` by central differences.
+//! - **Base range** `lo <= phi(t) <= hi` at every breakpoint, `phi(t) = phi(0) - integral_0^t g`
+//!   by 8-node Gauss–Legendre quadrature per span, with the connection's exact gradient.
+//!
+//! Every limit is tightened by a relative `1e-9` of itself so that a solution within the SQP's
+//! tolerance is inside the declared one.
+
+use std::f64::consts::TAU;
+
+use nalgebra::DVector;
+
+use super::connection::{Connection, Local};
+use super::discrete::Discretisation;
+use super::{ChainPlanner, ChainProblem};
+use crate::dynamics::arm::inverse_dynamics;
+use crate::error::Error;
+use crate::model::InputError;
+use crate::model::arm::{Arm, Limits};
+use crate::numerics::quadrature::GaussLegendre;
+use crate::planners::optimal::band::BandCholesky;
+use crate::planners::optimal::discrete::Evaluation;
+use crate::planners::optimal::sqp::{self, Discretised, Inequalities, SqpOptions, SqpResult};
+
+/// Relative margin by which every limit is tightened.
+const MARGIN: f64 = 1e-9;
+
+/// Points per knot span at which the torque is bounded (the span's start and interior points;
+/// the horizon's end is added).
+const TORQUE_POINTS: usize = 3;
+
+/// A linear row `sum_k a_k c_k + constant` in all coefficients of one joint.
+#[derive(Debug, Clone)]
+struct Linear {
+    joint: usize,
+    terms: Vec<(usize, f64)>,
+    scale: f64,
+    offset: f64,
+}
+
+/// A discretisation with the arm's limits as inequalities.
+pub(crate) struct Limited<'a> {
+    disc: &'a Discretisation,
+    arm: &'a Arm,
+    connection: &'a Connection,
+    linear: Vec<Linear>,
+    /// `(joint, 1 / tau_max)` of the torque-limited joints.
+    torque: Vec<(usize, f64)>,
+    base: Option<[f64; 2]>,
+    /// Free index of coefficient `i` of joint `j`: `free[i]` times `n` plus `j`.
+    free: Vec<Option<usize>>,
+}
+
+/// The derivative spline's control-point rows: row `k` of the `m`-th derivative as
+/// `(coefficient, factor)` pairs, for `len` coefficients on `knots` (degree `p`).
+fn derivative_rows(knots: &[f64], p: usize, len: usize, order: usize) -> Vec<Vec<(usize, f64)>> {
+    let mut rows: Vec<Vec<(usize, f64)>> = (0..len).map(|k| vec![(k, 1.0)]).collect();
+    for m in 1..=order {
+        let deg = (p - m + 1) as f64;
+        let mut next = Vec::new();
+        for k in 0..rows.len().saturating_sub(1) {
+            let width = knots[k + p + 1] - knots[k + m];
+            if !(width > 0.0) {
+                next.push(Vec::new());
+                continue;
+            }
+            let f = deg / width;
+            let mut row: Vec<(usize, f64)> = rows[k + 1].iter().map(|&(i, a)| (i, a * f)).collect();
+            for &(i, a) in &rows[k] {
+                match row.iter_mut().find(|(j, _)| *j == i) {
+                    Some(e) => e.1 -= a * f,
+                    None => row.push((i, -a * f)),
+                }
+            }
+            next.push(row);
+        }
+        rows = next;
+    }
+    rows
+}
+
+impl<'a> Limited<'a> {
+    /// The constraints of `arm`'s limits on `disc`; `None` when the basis' knots are not the
+    /// clamped simple ones this module assumes (never for the planner's bases).
+    fn new(planner: &'a ChainPlanner, disc: &'a Discretisation) -> Option<Self> {
+        let (arm, connection) = (&*planner.arm, &*planner.connection);
+        let basis = disc.basis();
+        let (p, len) = (basis.degree(), basis.len());
+        let b = basis.breakpoints();
+        if len + 1 != b.len() + p {
+            return None;
+        }
+        let mut knots = vec![0.0; p];
+        knots.extend_from_slice(b);
+        knots.extend(std::iter::repeat_n(basis.horizon(), p));
+        let n = arm.joints();
+        let nf = disc.dim() / n;
+        let fixed = (len - nf) / 2;
+        let free = (0..len).map(|i| (fixed..len - fixed).contains(&i).then(|| i - fixed)).collect();
+        let mut linear = Vec::new();
+        let mut torque = Vec::new();
+        for j in 0..n {
+            let l = arm.limits.joint(j);
+            if let Some([lo, hi]) = l.position {
+                let pad = MARGIN * (hi - lo);
+                for k in 0..len {
+                    linear.push(Linear { joint: j, terms: vec![(k, 1.0)], scale: 1.0, offset: -(hi - pad) });
+                    linear.push(Linear { joint: j, terms: vec![(k, -1.0)], scale: 1.0, offset: lo + pad });
+                }
+            }
+            for (order, limit) in [(1, l.velocity), (2, l.acceleration)] {
+                let Some(v) = limit else { continue };
+                let v = v * (1.0 - MARGIN);
+                for row in derivative_rows(&knots, p, len, order) {
+                    let neg = row.iter().map(|&(i, a)| (i, -a)).collect();
+                    linear.push(Linear { joint: j, terms: row, scale: 1.0 / v, offset: -1.0 });
+                    linear.push(Linear { joint: j, terms: neg, scale: 1.0 / v, offset: -1.0 });
+                }
+            }
+            if let Some(t) = l.torque {
+                torque.push((j, 1.0 / (t * (1.0 - MARGIN))));
+            }
+        }
+        let base = arm.limits.base.map(|[lo, hi]| [lo + MARGIN * (hi - lo), hi - MARGIN * (hi - lo)]);
+        Some(Self { disc, arm, connection, linear, torque, base, free })
+    }
+
+    /// `x` with every position-limited joint's free coefficients clipped into its range (a seed
+    /// that starts inside).
+    fn clip(&self, mut x: DVector<f64>) -> DVector<f64> {
+        let n = self.arm.joints();
+        for j in 0..n {
+            if let Some([lo, hi]) = self.arm.limits.joint(j).position {
+                let pad = 2.0 * MARGIN * (hi - lo);
+                for k in (j..x.len()).step_by(n) {
+                    x[k] = x[k].clamp(lo + pad, hi - pad);
+                }
+            }
+        }
+        x
+    }
+
+    /// The free index of coefficient `i` of joint `j`.
+    fn index(&self, i: usize, j: usize) -> Option<usize> {
+        self.free[i].map(|f| f * self.arm.joints() + j)
+    }
+
+    /// The torque rows (two per joint and point) into `out`.
+    fn torques(&self, c: &[Vec<f64>], order: usize, out: &mut Inequalities) {
+        if self.torque.is_empty() {
+            return;
+        }
+        let basis = self.disc.basis();
+        let (p, n) = (basis.degree(), self.arm.joints());
+        let b = basis.breakpoints();
+        let mut times = Vec::new();
+        for w in b.windows(2) {
+            times.extend((0..TORQUE_POINTS).map(|k| w[0] + (w[1] - w[0]) * k as f64 / TORQUE_POINTS as f64));
+        }
+        times.push(basis.horizon());
+        let (mut th, mut w, mut a) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+        for &t in &times {
+            let span = basis.span_of_interval(basis.interval(t));
+            let d = basis.ders(span, t);
+            let first = span - p;
+            for j in 0..n {
+                let cj = &c[j][first..=first + p];
+                th[j] = (0..=p).map(|l| d[0][l] * cj[l]).sum();
+                w[j] = (0..=p).map(|l| d[1][l] * cj[l]).sum();
+                a[j] = (0..=p).map(|l| d[2][l] * cj[l]).sum();
+            }
+            let tau = inverse_dynamics(self.arm, &th, &w, &a).tau;
+            // Sensitivities d tau / d (theta_k, theta'_k, theta''_k), `n` columns each.
+            let mut sens = vec![[vec![0.0; n], vec![0.0; n], vec![0.0; n]]; n];
+            if order >= 1 {
+                for k in 0..n {
+                    for (which, h) in [(0, 1e-6 * (1.0 + th[k].abs())), (1, 1e-6 * (1.0 + w[k].abs()))] {
+                        let (mut plus, mut minus) = ((th.clone(), w.clone()), (th.clone(), w.clone()));
+                        if which == 0 {
+                            plus.0[k] += h;
+                            minus.0[k] -= h;
+                        } else {
+                            plus.1[k] += h;
+                            minus.1[k] -= h;
+                        }
+                        let up = inverse_dynamics(self.arm, &plus.0, &plus.1, &a).tau;
+                        let down = inverse_dynamics(self.arm, &minus.0, &minus.1, &a).tau;
+                        for (jj, s) in sens.iter_mut().enumerate() {
+                            s[which][k] = (up[jj] - down[jj]) / (2.0 * h);
+                        }
+                    }
+                    let mut unit = a.clone();
+                    unit[k] += 1.0;
+                    let up = inverse_dynamics(self.arm, &th, &w, &unit).tau;
+                    for (jj, s) in sens.iter_mut().enumerate() {
+                        s[2][k] = up[jj] - tau[jj];
+                    }
+                }
+            }
+            for &(j, inv) in &self.torque {
+                let mut row = Vec::new();
+                if order >= 1 {
+                    let [s0, s1, s2] = &sens[j];
+                    for (l, ((v0, v1), v2)) in d[0].iter().zip(&d[1]).zip(&d[2]).enumerate().take(p + 1) {
+                        for (k, ((a0, a1), a2)) in s0.iter().zip(s1).zip(s2).enumerate() {
+                            if let Some(idx) = self.index(first + l, k) {
+                                let v = a0 * v0 + a1 * v1 + a2 * v2;
+                                row.push((idx, v * inv));
+                            }
+                        }
+                    }
+                }
+                out.values.push(tau[j] * inv - 1.0);
+                out.values.push(-tau[j] * inv - 1.0);
+                if order >= 1 {
+                    let negated = row.iter().map(|&(i, v)| (i, -v)).collect();
+                    out.rows.push(row);
+                    out.rows.push(negated);
+                }
+            }
+        }
+    }
+
+    /// The base-range rows (two per breakpoint after `t = 0`) into `out`.
+    fn base(&self, c: &[Vec<f64>], order: usize, out: &mut Inequalities) {
+        let Some([lo, hi]) = self.base else { return };
+        let basis = self.disc.basis();
+        let (p, n) = (basis.degree(), self.arm.joints());
+        let connection = self.connection;
+        let rule = GaussLegendre::new(8);
+        let b = basis.breakpoints();
+        let mut phi = self.disc.targets().phi_start;
+        let mut grad = vec![0.0; self.disc.dim()];
+        let mut local = Local::new(n);
+        let (mut th, mut w) = (vec![0.0; n], vec![0.0; n]);
+        for (s, win) in b.windows(2).enumerate() {
+            let span = basis.span_of_interval(s);
+            let first = span - p;
+            let (mid, half) = ((win[0] + win[1]) / 2.0, (win[1] - win[0]) / 2.0);
+            for (xi, wi) in rule.nodes.iter().zip(&rule.weights) {
+                let t = mid + half * xi;
+                let [value, rate] = basis.values_and_rates(span, t);
+                for j in 0..n {
+                    th[j] = (0..=p).map(|l| value[l] * c[j][first + l]).sum();
+                    w[j] = (0..=p).map(|l| rate[l] * c[j][first + l]).sum();
+                }
+                let weight = half * wi;
+                if order >= 1 {
+                    connection.local(&th, &w, &mut local);
+                    phi -= weight * local.value;
+                    for l in 0..=p {
+                        for j in 0..n {
+                            if let Some(idx) = self.index(first + l, j) {
+                                grad[idx] -= weight * (local.gradient[j] * value[l] + local.a[j] * rate[l]);
+                            }
+                        }
+                    }
+                } else {
+                    phi -= weight * connection.value(&th, &w);
+                }
+            }
+            out.values.push(phi - hi);
+            out.values.push(lo - phi);
+            if order >= 1 {
+                let row: Vec<(usize, f64)> =
+                    grad.iter().enumerate().filter(|(_, v)| **v != 0.0).map(|(i, v)| (i, *v)).collect();
+                out.rows.push(row.clone());
+                out.rows.push(row.into_iter().map(|(i, v)| (i, -v)).collect());
+            }
+        }
+    }
+}
+
+impl Discretised for Limited<'_> {
+    fn dim(&self) -> usize {
+        self.disc.dim()
+    }
+    fn half_bandwidth(&self) -> usize {
+        self.disc.half_bandwidth()
+    }
+    fn effort_hessian(&self) -> &nalgebra::DMatrix<f64> {
+        self.disc.effort_hessian()
+    }
+    fn effort_cholesky(&self) -> Option<&BandCholesky> {
+        self.disc.effort_cholesky()
+    }
+    fn evaluate(&self, x: &DVector<f64>, order: usize) -> Evaluation {
+        self.disc.evaluate(x, order)
+    }
+    fn inequalities(&self, x: &DVector<f64>, order: usize) -> Option<Inequalities> {
+        let c = self.disc.coefficients(x);
+        let mut out = Inequalities::default();
+        for row in &self.linear {
+            let value: f64 = row.terms.iter().map(|&(i, a)| a * c[row.joint][i]).sum();
+            out.values.push(row.scale * value + row.offset);
+            if order >= 1 {
+                let terms = row.terms.iter().filter_map(|&(i, a)| self.index(i, row.joint).map(|k| (k, a * row.scale)));
+                out.rows.push(terms.collect());
+            }
+        }
+        self.torques(&c, order, &mut out);
+        self.base(&c, order, &mut out);
+        Some(out)
+    }
+}
+
+/// Solves `disc` from `x0` inside `arm`'s limits (the seed clipped into the position ranges):
+/// [`sqp::solve`] with the limits' inequalities, or exactly [`sqp::solve`] for an arm without
+/// limits.
+pub(crate) fn solve(
+    planner: &ChainPlanner,
+    disc: &Discretisation,
+    x0: DVector<f64>,
+    options: &SqpOptions,
+    guess: Option<f64>,
+) -> Result<SqpResult, Error> {
+    if planner.arm.limits.is_empty() {
+        return sqp::solve(disc, x0, options, guess);
+    }
+    match Limited::new(planner, disc) {
+        Some(limited) => {
+            let x0 = limited.clip(x0);
+            sqp::solve(&limited, x0, options, guess)
+        }
+        None => Err(Error::from(InputError::InvalidParameter {
+            name: "spans".into(),
+            value: disc.basis().len() as f64,
+            expected: "a clamped spline basis with simple interior knots",
+        })),
+    }
+}
+
+/// Keeps the goal representatives inside the ranges: each limited joint's goal is moved by whole
+/// turns to the representative inside its range nearest the given one (dropped when none is
+/// inside), duplicates removed; the base-angle targets likewise with a base range
+/// ([`base_inside`]). Without limits both are unchanged.
+pub(crate) fn inside_ranges(limits: &Limits, goals: &mut Vec<Vec<f64>>, phi_targets: &mut Vec<f64>) {
+    base_inside(limits, phi_targets);
+    if limits.joints.iter().all(|j| j.position.is_none()) {
+        return;
+    }
+    let mut kept: Vec<Vec<f64>> = Vec::new();
+    for mut g in goals.drain(..) {
+        let ok = g.iter_mut().enumerate().all(|(j, v)| match limits.joint(j).position {
+            Some(range) => shift_inside(v, range),
+            None => true,
+        });
+        if ok && !kept.iter().any(|k| k.iter().zip(&g).all(|(a, b)| (a - b).abs() <= 1e-12)) {
+            kept.push(g);
+        }
+    }
+    *goals = kept;
+}
+
+/// Keeps the base-angle targets inside the base range (moved by whole turns, as
+/// [`inside_ranges`]); unchanged without a base range.
+fn base_inside(limits: &Limits, targets: &mut Vec<f64>) {
+    let Some(range) = limits.base else { return };
+    let mut kept: Vec<f64> = Vec::new();
+    for mut v in targets.drain(..) {
+        if shift_inside(&mut v, range) && !kept.iter().any(|k| (k - v).abs() <= 1e-12) {
+            kept.push(v);
+        }
+    }
+    *targets = kept;
+}
+
+/// Moves `v` by whole turns into `[lo, hi]` (nearest its value); false when no turn fits.
+fn shift_inside(v: &mut f64, [lo, hi]: [f64; 2]) -> bool {
+    if (lo..=hi).contains(v) {
+        return true;
+    }
+    let k = if *v > hi { ((*v - hi) / TAU).ceil() } else { -((lo - *v) / TAU).ceil() };
+    let moved = *v - k * TAU;
+    if (lo..=hi).contains(&moved) {
+        *v = moved;
+        true
+    } else {
+        false
+    }
+}
+
+impl ChainProblem {
+    /// Checks the start and goal against `arm`'s ranges: a limited joint's angle (and `phi`
+    /// with a base range) outside its range is an [`InputError`] naming the joint, the value and
+    /// the range (a limited joint is never wrapped).
+    pub(crate) fn validate_ranges(&self, arm: &Arm) -> Result<(), Error> {
+        let check = |name: &str, value: f64, range: Option<[f64; 2]>, key: String| match range {
+            Some([lo, hi]) if !(lo..=hi).contains(&value) => Err(Error::from(InputError::InvalidParameter {
+                name: format!("{name} outside {key} = [{lo}, {hi}] rad"),
+                value,
+                expected: "an angle inside the declared range (a limited angle is literal, never wrapped)",
+            })),
+            _ => Ok(()),
+        };
+        for (name, q) in [("start", &self.start), ("goal", &self.goal)] {
+            check(&format!("{name} phi"), q[0], arm.limits.base, "base.limit".into())?;
+            for (j, v) in q.iter().enumerate().skip(1) {
+                let range = arm.limits.joint(j - 1).position;
+                check(&format!("{name} theta{j}"), *v, range, format!("link[{j}].limit"))?;
+            }
+        }
+        Ok(())
+    }
+}
+
+impl ChainPlanner {
+    /// Whether the arm declares any limit.
+    pub(crate) fn limited(&self) -> bool {
+        !self.arm().limits.is_empty()
+    }
+}
