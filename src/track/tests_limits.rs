@@ -62,8 +62,10 @@ fn a_trial_that_breaks_a_position_or_velocity_limit_is_a_failure() {
     let (lo, hi) = if from < to { (from - 0.1, 0.5 * (from + to)) } else { (0.5 * (from + to), from + 0.1) };
     let position = JointLimits { position: Some([lo, hi]), ..Default::default() };
     let by_position = with_joints(&arm, vec![position, JointLimits::default()]);
+    // The true robot has the range, the model does not: a goal outside a declared range is
+    // refused as bad input (ChainProblem::validate), so the range lives only in the plant.
     let options = TrackOptions { controller: Controller::Ct, rate: 200.0, ..Default::default() };
-    let run = track(&by_position, &problem, &planned.plan, &by_position, &options, 0).unwrap();
+    let run = track(&arm, &problem, &planned.plan, &by_position, &options, 0).unwrap();
     let failure = run.failure.expect("the motion leaves the range");
     assert_eq!(failure.reason, "position_limit");
     assert!(failure.t > 0.0 && failure.t < problem.horizon);
@@ -75,8 +77,13 @@ fn a_trial_that_breaks_a_position_or_velocity_limit_is_a_failure() {
     let mut plant = plant::Plant::new(&by_velocity, &problem.start, Disturbances::default(), 0).moving(&[0.0, 0.2]);
     assert_eq!(plant.step(&[0.0, 0.0], 1e-3, 4).broken, Some("velocity_limit"));
 
-    let mc = MonteCarloOptions { trials: 2, controllers: vec![Controller::Ct], ..Default::default() };
-    let (trials, summaries) = monte_carlo(&by_position, &problem, &planned.plan, &options, &mc, &|| {}).unwrap();
+    let mc = MonteCarloOptions {
+        trials: 2,
+        controllers: vec![Controller::Ct],
+        truth: Some(by_position.clone()),
+        ..Default::default()
+    };
+    let (trials, summaries) = monte_carlo(&arm, &problem, &planned.plan, &options, &mc, &|| {}).unwrap();
     assert!(trials.iter().all(|t| t.failure == Some("position_limit") && t.final_error.is_infinite()));
     assert_eq!((summaries[0].failed, summaries[0].limit_failures, summaries[0].successes), (2, 2, 0));
     let run_words = trials_file::run_description(&by_position, &problem, &options, &mc, "optimal");
