@@ -226,7 +226,12 @@ fn replan_on_the_model_reaches_the_goal() {
 fn n_link_tracking_on_the_model_reaches_the_goal() {
     let cases = [
         (example("three_link.toml"), vec![0.0, 60.0, -30.0, -30.0], vec![30.0, 120.0, 40.0, -60.0]),
-        (example("spart_like_4dof.urdf"), vec![0.0, 20.0, -20.0, 30.0, -10.0], vec![20.0, 60.0, 10.0, -20.0, 30.0]),
+        // The file's own limits (issue 20) are not this test's subject.
+        (
+            Arm { limits: Default::default(), ..example("spart_like_4dof.urdf") },
+            vec![0.0, 20.0, -20.0, 30.0, -10.0],
+            vec![20.0, 60.0, 10.0, -20.0, 30.0],
+        ),
     ];
     for (arm, from, to) in cases {
         let (problem, planned) = arm_problem(&arm, &from, &to);

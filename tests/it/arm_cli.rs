@@ -208,14 +208,13 @@ fn two_link_arm_with_inertia_takes_the_nfa() {
 // Issue 19, items 4-6: every `plan` flag, `compare`, `--to-ee` and every output for any arm.
 
 const FROM4: &str = "0,30,30,30,30";
+/// The SPART-like arm without its limits (issue 20): these tests are not about limits.
+const UNLIMITED4: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/fixtures/spart_like_4dof_unlimited.urdf");
 const TO4: &str = "20,60,-30,40,10";
 
 /// The arms of the tests: the 3-link TOML and the SPART-like 4-link URDF, with their problems.
 fn arms() -> [([String; 2], &'static str, &'static str); 2] {
-    [
-        (["--robot".into(), example("three_link.toml")], FROM, TO),
-        (["--urdf".into(), example("spart_like_4dof.urdf")], FROM4, TO4),
-    ]
+    [(["--robot".into(), example("three_link.toml")], FROM, TO), (["--urdf".into(), UNLIMITED4.into()], FROM4, TO4)]
 }
 
 /// A free-floating forward kinematics of the test's own, from the robot's parameters alone:
@@ -359,7 +358,7 @@ fn arm_compare_lists_every_method() {
 /// the tool frame `EE`, 0.5 m along link 4. A pose out of reach exits 2 naming the reach.
 #[test]
 fn to_ee_on_the_four_link_urdf_reaches_the_pose() {
-    let urdf = example("spart_like_4dof.urdf");
+    let urdf = UNLIMITED4.to_string();
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("pose.json");
     let (x, y, psi) = (0.3, 1.5, 120.0_f64);

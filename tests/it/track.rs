@@ -218,7 +218,8 @@ fn track_serves_three_and_four_link_arms() {
     let dir = tempfile::tempdir().unwrap();
     let csv = dir.path().join("run.csv");
     let three = example("three_link.toml");
-    let urdf = example("spart_like_4dof.urdf");
+    // The SPART-like arm without its limits (issue 20): this test is not about limits.
+    let urdf = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/fixtures/spart_like_4dof_unlimited.urdf").to_string();
     for (flag, file, from, to, n) in [
         ("--robot", three.as_str(), "0,60,-30,-30", "30,120,40,-60", 3),
         ("--urdf", urdf.as_str(), "0,20,-20,30,-10", "20,60,10,-20,30", 4),

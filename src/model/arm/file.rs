@@ -19,6 +19,7 @@ use std::path::Path;
 
 use serde::Deserialize;
 
+use super::file_limits::{BaseLimitTable, LinkLimitTable};
 use super::{Arm, Base, Link};
 use crate::model::robot_file::{MountTable, ROBOT_FILE_LIMIT, read_regular_file, short_reason};
 use crate::model::{InputError, Mount, RobotParams};
@@ -30,6 +31,8 @@ use crate::model::{InputError, Mount, RobotParams};
 struct BaseTable {
     M: f64,
     I: f64,
+    /// The base angle's range (issue 20, [`super::file_limits`]).
+    limit: Option<BaseLimitTable>,
 }
 
 /// One `[[link]]` entry: every key required.
@@ -40,6 +43,8 @@ struct LinkTable {
     com: f64,
     mass: f64,
     inertia: f64,
+    /// The joint's limits (issue 20, [`super::file_limits`]).
+    limit: Option<LinkLimitTable>,
 }
 
 #[derive(Debug, Deserialize)]
@@ -76,7 +81,9 @@ impl Arm {
         let mount = file.mount.map(|m| Mount { a: m.a, b: m.b }).unwrap_or_default();
         let links =
             file.link.iter().map(|l| Link { length: l.length, com: l.com, mass: l.mass, inertia: l.inertia }).collect();
-        Arm::new(Base { mass: file.robot.M, inertia: file.robot.I }, mount, links)
+        let arm = Arm::new(Base { mass: file.robot.M, inertia: file.robot.I }, mount, links)?;
+        let limit_tables: Vec<_> = file.link.iter().map(|l| l.limit).collect();
+        arm.with_limits(super::file_limits::from_tables(file.robot.limit, &limit_tables)?)
     }
 
     /// The arm as a TOML robot file with `[[link]]` (always that form, even for two point
@@ -84,12 +91,14 @@ impl Arm {
     /// Rust's shortest round-trip form.
     pub fn to_toml(&self) -> String {
         let mut s = format!("[robot]\nM = {:?}\nI = {:?}\n", self.base.mass, self.base.inertia);
+        s += &super::file_limits::base_line(&self.limits);
         s += &format!("\n[mount]\na = {:?}\nb = {:?}\n", self.mount.a, self.mount.b);
-        for link in &self.links {
+        for (k, link) in self.links.iter().enumerate() {
             s += &format!(
                 "\n[[link]]\nlength = {:?}\ncom = {:?}\nmass = {:?}\ninertia = {:?}\n",
                 link.length, link.com, link.mass, link.inertia
             );
+            s += &super::file_limits::link_line(&self.limits, k);
         }
         s
     }

@@ -59,7 +59,7 @@ impl Limits {
     /// Checks the limits for an arm of `n` joints: no entries or exactly `n`; every range
     /// finite with `lower < upper`; every velocity, torque and acceleration limit finite and
     /// `> 0`. Errors name the key as the robot file spells it (`link[k].limit.lower`, with `k`
-    /// counted from 1, and `base.limit.lower`).
+    /// counted from 1, and `robot.limit.lower`).
     pub fn validate(&self, n: usize) -> Result<(), InputError> {
         let bad = |name: String, value: f64, expected: &'static str| {
             Err(InputError::InvalidParameter { name, value, expected })
@@ -77,7 +77,7 @@ impl Limits {
             Ok(())
         };
         if let Some(r) = self.base {
-            range("base.limit", r)?;
+            range("robot.limit", r)?;
         }
         for (i, j) in self.joints.iter().enumerate() {
             let key = format!("link[{}].limit", i + 1);

@@ -15,10 +15,12 @@
 
 pub mod collision;
 pub mod file;
+mod file_limits;
 pub mod kinematics;
 pub mod limits;
 pub mod lumped;
 pub mod urdf;
+mod urdf_limits;
 
 pub use limits::{JointLimits, Limits};
 pub use urdf::URDF_PLANAR_TOLERANCE;
@@ -380,6 +382,8 @@ impl Arm {
 
 #[cfg(test)]
 pub(crate) mod tests;
+#[cfg(test)]
+mod tests_limits;
 
 /// A value that must be finite, positive and in `range`.
 fn check_ranged(name: &str, value: f64, (min, max): (f64, f64)) -> Result<(), InputError> {

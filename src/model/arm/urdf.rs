@@ -288,6 +288,10 @@ impl Arm {
             }
             other => other,
         })?;
+        // Issue 20: the moving joints' `<limit>`s (module `urdf_limits`).
+        let moving: Vec<(String, bool)> =
+            entering.iter().map(|j| (j.name.clone(), j.joint_type == JointType::Revolute)).collect();
+        let arm = arm.with_limits(super::urdf_limits::read_limits(text, path, &moving)?)?;
         let tool = bodies.last().and_then(tool_frame).map(|(name, _)| name.to_string());
         Ok((arm, names, tool))
     }
