@@ -297,6 +297,27 @@ pub enum Error {
         /// The binding limit's value (rad/s, rad/s^2, N m, or the range's bound in rad).
         limit: f64,
     },
+    /// The verified motion leaves a declared limit of the robot (issue 20; `plan::limit_use`):
+    /// the most-used limit, beyond a relative `1e-9`.
+    #[error(
+        "not certified: the motion leaves the robot's limits: {} {quantity} reaches {value:.6} {} at t = {time:.4} s, \
+         beyond its limit {limit:.6} {} (docs/spec.md §3)",
+        if *joint == 0 { "the base angle phi's".to_string() } else { format!("joint theta{joint}'s") },
+        limit_unit(quantity),
+        limit_unit(quantity)
+    )]
+    LimitExceeded {
+        /// The joint, counted from 1 (0: the base angle).
+        joint: usize,
+        /// `position`, `velocity`, `acceleration` or `torque`.
+        quantity: &'static str,
+        /// The value where the limit's use is largest (rad, rad/s, rad/s^2, N m).
+        value: f64,
+        /// The bound crossed (same unit).
+        limit: f64,
+        /// When \[s\].
+        time: f64,
+    },
     /// With one joint the base angle is a function of the joint angle (`a(theta) dtheta` is
     /// exact): the goal's `theta_1` fixes `phi(T)`, and the goal asks for another.
     #[error(
@@ -411,6 +432,9 @@ impl Error {
                 "joints": joints, "theta_goal": theta_goal, "reachable": reachable, "goal": goal, "gap": gap,
                 "tolerance": tolerance,
             }),
+            E::LimitExceeded { joint, quantity, value, limit, time } => json!({
+                "joint": joint, "quantity": quantity, "value": value, "limit": limit, "time": time,
+            }),
             E::HorizonTooShort { horizon, shortest, joint, quantity, limit } => json!({
                 "horizon": horizon, "shortest": shortest, "joint": joint, "quantity": quantity, "limit": limit,
             }),
@@ -422,5 +446,15 @@ impl Error {
                 "transform": transform, "reached": reached.to_array(), "goal": goal.to_array(), "distance": distance,
             }),
         }
+    }
+}
+
+/// The SI unit of a limited quantity (issue 20), with degrees for angles in messages.
+fn limit_unit(quantity: &str) -> &'static str {
+    match quantity {
+        "position" => "rad",
+        "velocity" => "rad/s",
+        "acceleration" => "rad/s^2",
+        _ => "N m",
     }
 }

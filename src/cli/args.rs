@@ -79,6 +79,8 @@ pub struct RobotArgs {
     /// Mounting point of the arm in the base frame, A,B in m (default: the file's, else 0,0).
     #[arg(long, value_name = "A,B", allow_hyphen_values = true)]
     pub mount: Option<String>,
+    #[command(flatten)]
+    pub limits: super::limits::LimitArgs,
 }
 
 #[derive(Debug, Clone, Copy, ValueEnum)]
@@ -204,16 +206,6 @@ pub enum MethodArg {
     Nfa,
     /// Endogenous Configuration Space Approach (the paper's reference method).
     Ecsa,
-}
-
-impl From<MethodArg> for freefloat::Method {
-    fn from(m: MethodArg) -> Self {
-        match m {
-            MethodArg::Nfa => freefloat::Method::Nfa,
-            MethodArg::Ecsa => freefloat::Method::Ecsa,
-            MethodArg::Optimal => freefloat::Method::Optimal,
-        }
-    }
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]

@@ -173,3 +173,14 @@ pub fn csv_out(command: &str, path: &std::path::Path) -> anyhow::Result<()> {
     }))
     .context(format!("{command} writes CSV")))
 }
+
+/// `--method`'s value as the library's [`freefloat::Method`].
+impl From<super::args::MethodArg> for freefloat::Method {
+    fn from(m: super::args::MethodArg) -> Self {
+        match m {
+            super::args::MethodArg::Nfa => freefloat::Method::Nfa,
+            super::args::MethodArg::Ecsa => freefloat::Method::Ecsa,
+            super::args::MethodArg::Optimal => freefloat::Method::Optimal,
+        }
+    }
+}

@@ -5,6 +5,7 @@ mod check;
 mod compare_arm;
 pub mod config;
 mod domain;
+mod limits;
 mod output;
 mod plan;
 mod plan_arm;
@@ -120,9 +121,14 @@ pub enum Robot {
 
 /// The robot of the flags (see [`Robot`]).
 pub fn any_robot(args: &RobotArgs) -> anyhow::Result<Robot> {
-    let Some(path) = robot_file(args)? else { return Ok(Robot::TwoLink) };
-    let arm = Arm::load(path)?;
-    if arm.as_src().is_some() {
+    // Issue 20: a 2-link arm with declared limits (file or --limit) is planned as any arm.
+    let arm = match robot_file(args)? {
+        Some(path) => Arm::load(path)?,
+        None if args.limits.limit.is_empty() => return Ok(Robot::TwoLink),
+        None => Arm::from_params(&RobotParams::src()),
+    };
+    let arm = limits::with_flags(arm, &args.limits)?;
+    if arm.as_src().is_some() && arm.limits.is_empty() {
         return Ok(Robot::TwoLink);
     }
     let mount = match &args.mount {
@@ -132,7 +138,7 @@ pub fn any_robot(args: &RobotArgs) -> anyhow::Result<Robot> {
         }
         None => arm.mount,
     };
-    Ok(Robot::Arm(Arm::new(arm.base, mount, arm.links)?))
+    Ok(Robot::Arm(Arm::new(arm.base, mount, arm.links)?.with_limits(arm.limits)?))
 }
 
 /// The file of `--robot` or `--urdf`; `--urdf` with a name that does not end in `.urdf` is bad

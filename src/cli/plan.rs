@@ -124,8 +124,14 @@ pub fn run(args: &PlanArgs) -> anyhow::Result<ExitCode> {
         None => None,
     };
     let base_out = super::ros::checked_base_out(args)?;
+    // Issue 20: a 2-link arm with limits takes the n-joint pipeline, but for the NFA (2-link
+    // only), whose plan is checked against the limits below.
+    let mut limited = None;
     if let super::Robot::Arm(arm) = super::any_robot(&args.problem.robot)? {
-        return super::plan_arm::run(args, &arm, out, base_out);
+        if !(arm.joints() == 2 && method(args)? == Method::Nfa) {
+            return super::plan_arm::run(args, &arm, out, base_out);
+        }
+        limited = Some(arm);
     }
     let gif = super::checked_gif(args)?;
     let problem = super::problem(&args.problem)?;
@@ -166,8 +172,15 @@ pub fn run(args: &PlanArgs) -> anyhow::Result<ExitCode> {
         let title = format!("freefloat plan: {}, T = {} s", plan.method.name(), number(plan.problem.horizon));
         write_atomic(path, &animation_gif(plan, &title, &options, path)?)?;
     }
+    let limits = limited.map(|arm| super::limits::two_link_use(&arm, &planned)).transpose()?;
+    if let Some(report) = &limits
+        && args.format == Format::Table
+    {
+        text += &super::limits::table_line(report);
+    }
     super::emit(&text)?;
     planned.certified()?;
+    limits.map_or(Ok(()), |r| r.check())?;
     Ok(ExitCode::SUCCESS)
 }
 

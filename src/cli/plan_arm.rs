@@ -411,6 +411,7 @@ fn table(planned: &ArmPlanned, r: &ArmReport) -> String {
             e.quadrature_nodes
         );
     }
+    s += &super::limits::table_line(&planned.limits);
     if let Some(t) = &planned.torques {
         let c = &t.certificate;
         s += &format!("  max |tau_k| [N m]        {}\n", list(&t.max_abs_torque));

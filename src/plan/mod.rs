@@ -9,6 +9,7 @@
 
 pub mod certificate;
 pub mod clearance;
+pub mod limit_use;
 pub mod limits;
 pub mod motion;
 pub mod problem;

@@ -20,6 +20,7 @@ use crate::model::InputError;
 use crate::model::arm::Arm;
 use crate::numerics::ode::OdeOptions;
 use crate::plan::certificate::{ChainVerification, JointMotion};
+use crate::plan::limit_use::{LimitReport, limit_use};
 use crate::plan::torques::{ChainTorqueCertificate, certify_chain_torques, chain_torques_at};
 use crate::plan::{Method, TorqueOptions};
 
@@ -149,6 +150,8 @@ pub struct ArmPlanned {
     pub torques: Option<ArmTorques>,
     /// Wall time of the plan and its velocity certificate \[s\].
     pub seconds: f64,
+    /// The use of every declared limit along the verified motion (issue 20): empty without limits.
+    pub limits: LimitReport,
 }
 
 impl ArmPlanned {
@@ -180,7 +183,8 @@ impl ArmPlanned {
         self.plan.effort()
     }
 
-    /// `Ok` when every certificate computed holds, else [`Error::NotCertified`] naming the level.
+    /// `Ok` when every certificate computed holds, else [`Error::NotCertified`] naming the level;
+    /// then every declared limit, else [`Error::LimitExceeded`].
     pub fn certified(&self) -> Result<(), Error> {
         let v = self.verification();
         if !v.certified {
@@ -192,7 +196,7 @@ impl ArmPlanned {
                 tolerance: t.certificate.tolerance,
                 level: "torque",
             }),
-            _ => Ok(()),
+            _ => self.limits.check(),
         }
     }
 }
@@ -242,7 +246,8 @@ pub fn plan_arm(arm: &Arm, method: Method, request: &ArmRequest) -> Result<ArmPl
     let trajectory = plan.sample(request.samples);
     let seconds = clock.elapsed().as_secs_f64();
     let torques = request.torques.then(|| arm_torques(arm, &plan, &trajectory, &request.problem)).transpose()?;
-    Ok(ArmPlanned { arm: arm.clone(), method, plan, trajectory, torques, seconds })
+    let limits = limit_use(arm, plan.motion(), &request.problem.start, &OdeOptions::default())?;
+    Ok(ArmPlanned { arm: arm.clone(), method, plan, trajectory, torques, seconds, limits })
 }
 
 /// The torques at the samples and the forward-dynamics certificate (tolerance and integrator

@@ -2,6 +2,7 @@
 //! of `plan --format json`, and the one CSV writer of every plan ([`rows_csv`]), with `n` joint
 //! columns, the base and the end effector.
 
+use crate::plan::limit_use::LimitReport;
 use std::path::PathBuf;
 
 use serde::Serialize;
@@ -132,6 +133,10 @@ pub struct ArmReport {
     /// The goal pose of `--to-ee` and its branches.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub to_ee: Option<PoseGoal>,
+    /// The use of each declared limit along the verified motion (issue 20; absent without
+    /// limits): per joint and quantity the limit, its largest use, the value and the time.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub limits: Option<LimitReport>,
     /// The trajectory (only in `--out FILE.json`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub trajectory: Option<ArmTrajectory>,
@@ -167,6 +172,7 @@ impl ArmReport {
             max_abs_u,
             optimal: planned.stats().copied(),
             ecsa: planned.ecsa().cloned(),
+            limits: (!planned.limits.uses.is_empty()).then(|| planned.limits.clone()),
             max_abs_torque: torques.map(|t| t.max_abs_torque.clone()),
             torque_final_error: torques.map(|t| t.certificate.final_error),
             torque_certificate: torques.map(|t| t.certificate.clone()),

@@ -9,6 +9,7 @@ mod first_hour;
 mod hostile;
 mod hostile_files;
 mod layout;
+mod limits;
 mod precision;
 mod properties;
 mod reproduce;

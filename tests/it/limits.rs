@@ -1,0 +1,127 @@
+//! The robot's limits at the command line (issue 20): read from the file, set by `--limit`,
+//! checked on every method's verified motion, reported in the JSON `limits` block and the table.
+
+use std::process::{Command, Output};
+
+fn freefloat(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_freefloat")).args(args).output().expect("the binary runs")
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+const THREE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/robots/three_link.toml");
+const SPART: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/robots/spart_like_4dof.urdf");
+const THREE_PROBLEM: [&str; 4] = ["--from", "0,60,-30,-30", "--to", "30,120,40,-60"];
+
+/// The use of `name`'s `quantity` in a JSON report's `limits` block.
+fn use_of<'a>(report: &'a serde_json::Value, name: &str, quantity: &str) -> &'a serde_json::Value {
+    let uses = report["limits"]["uses"].as_array().expect("a limits block");
+    uses.iter().find(|u| u["name"] == name && u["quantity"] == quantity).expect("the limit's use")
+}
+
+/// A velocity limit below the unconstrained plan's peak (0.584 rad/s on theta2) binds: the
+/// constrained plan is certified, and the verified motion, between the integrator's steps too,
+/// stays inside it.
+#[test]
+fn a_binding_velocity_limit_is_certified_inside() {
+    let free = freefloat(&[&["plan", "--robot", THREE, "--format", "json"][..], &THREE_PROBLEM].concat());
+    assert!(free.status.success(), "{}", stderr(&free));
+    let free: serde_json::Value = serde_json::from_slice(&free.stdout).unwrap();
+    assert!(free.get("limits").is_none(), "no limits, no block");
+    let peak = free["max_abs_u"][1].as_f64().unwrap();
+    assert!(peak > 30f64.to_radians(), "the limit binds: peak {peak} rad/s");
+    let args = [&["plan", "--robot", THREE, "--format", "json", "--limit", "theta2.velocity=30"][..], &THREE_PROBLEM];
+    let o = freefloat(&args.concat());
+    assert!(o.status.success(), "{}", stderr(&o));
+    let r: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(r["certified"], true);
+    assert_eq!(r["limits"]["inside"], true);
+    let u = use_of(&r, "theta2", "velocity");
+    let used = u["use"].as_f64().unwrap();
+    assert!(used > 0.95 && used <= 1.0 + 1e-9, "binding and inside: {u}");
+    assert!((u["limit"][1].as_f64().unwrap() - 30f64.to_radians()).abs() < 1e-12, "{u}");
+    assert!(
+        u["time"].as_f64().unwrap() >= 0.0 && u["value"].as_f64().unwrap().abs() <= 30f64.to_radians() * (1.0 + 1e-9)
+    );
+    // The robot block shows the limit, in SI.
+    assert!(r["robot"]["limits"]["joints"][1]["velocity"].as_f64().is_some(), "{}", r["robot"]);
+    // The table's line.
+    let t = freefloat(&[&["plan", "--robot", THREE, "--limit", "theta2.velocity=30"][..], &THREE_PROBLEM].concat());
+    let text = String::from_utf8_lossy(&t.stdout);
+    assert!(text.contains("limits") && text.contains("theta2 velocity") && text.contains("INSIDE"), "{text}");
+}
+
+/// The ECSA and the NFA do not plan with limits: a plan over one is never certified (exit 3,
+/// naming the joint, the quantity and the numbers).
+#[test]
+fn ecsa_and_nfa_plans_over_a_limit_exit_3() {
+    let args = [&["plan", "--robot", THREE, "--method", "ecsa", "--limit", "theta1.velocity=1"][..], &THREE_PROBLEM];
+    let o = freefloat(&args.concat());
+    assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
+    let e = stderr(&o);
+    assert!(e.contains("theta1") && e.contains("velocity") && e.contains("0.017453"), "{e}");
+    assert!(String::from_utf8_lossy(&o.stdout).contains("OUTSIDE: NOT CERTIFIED"));
+    // The 2-link preset with a limit: the NFA's plan is checked the same way.
+    let o = freefloat(&["plan", "--method", "nfa", "--limit", "theta2.velocity=5"]);
+    assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
+    assert!(stderr(&o).contains("theta2's velocity"), "{}", stderr(&o));
+    let o = freefloat(&["plan", "--method", "nfa", "--limit", "theta2.velocity=500"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    // And `compare` for an arm with a limit: no method passes the limit certified.
+    let args = [&["compare", "--robot", THREE, "--limit", "theta1.velocity=1"][..], &THREE_PROBLEM];
+    let o = freefloat(&args.concat());
+    assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
+}
+
+#[test]
+fn bad_limit_flags_exit_2_naming_the_flag() {
+    for (flag, expected) in [
+        ("theta9.velocity=1", "theta1 .. thetaN"),
+        ("theta1.velocity=-3", "deg/s"),
+        ("theta1.position=20:10", "LO < HI"),
+        ("theta1.speed=1", "QUANTITY"),
+    ] {
+        let o = freefloat(&[&["plan", "--robot", THREE, "--limit", flag][..], &THREE_PROBLEM].concat());
+        assert_eq!(o.status.code(), Some(2), "{flag}");
+        let e = stderr(&o);
+        assert!(e.contains("--limit") && e.contains(expected), "{flag}: {e}");
+    }
+    // A goal outside a declared range is bad input naming the joint.
+    let o =
+        freefloat(&[&["plan", "--robot", THREE, "--limit", "theta2.position=-10:100"][..], &THREE_PROBLEM].concat());
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("theta2"), "{}", stderr(&o));
+}
+
+/// Issue 20's SPART case at the command line: theta1 = 170 -> -170 deg inside SPART's own range
+/// (+-3.14159 rad; its 100 rad/s and 1000 N m, set by `--limit` over the example's tighter
+/// ones) goes the long way round: certified, ends at -170 deg, never beyond the range.
+#[test]
+fn the_long_way_round_inside_spart_range_at_the_command_line() {
+    let o = freefloat(&[
+        "plan",
+        "--urdf",
+        SPART,
+        "--from",
+        "0,170,10,10,10",
+        "--to",
+        "30,-170,10,10,10",
+        "--limit",
+        "all.torque=1000",
+        "--limit",
+        "all.velocity=5729.6",
+        "--limit",
+        "all.position=-179.99985:179.99985",
+        "--format",
+        "json",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let r: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(r["certified"], true);
+    let reached = r["reached"][1].as_f64().unwrap();
+    assert!((reached - (-170f64).to_radians()).abs() < 1e-9, "theta1 ends at -170 deg: {reached}");
+    let u = use_of(&r, "theta1", "position");
+    assert!(u["use"].as_f64().unwrap() <= 1.0 + 1e-9, "{u}");
+}
