@@ -47,7 +47,7 @@ from ._freefloat import plan_arm as _plan_arm
 #: Keywords of :func:`plan` that an arm of another number of links than 2 takes.
 _ARM_KEYWORDS = frozenset(
     ("samples", "torques", "wrap", "initial_velocity", "tolerance", "method", "harmonics", "window",
-     "smooth_ends", "cost")
+     "smooth_ends", "cost", "limits")
 )
 
 
@@ -62,8 +62,11 @@ def plan(robot: _Union[Robot, Arm], start: _Any, goal: _Any = None, T: _Any = No
     (``goal_ee`` for such an arm is the command line's ``--to-ee`` for now). Bad input raises
     :class:`BadInput`, a plan that is not certified :class:`NotCertified`.
     """
+    if kwargs.get("limits") is not None and isinstance(robot, Robot):
+        # Issue 20: the 2-link pipeline does not carry limits; an arm's does.
+        robot = Arm.from_robot(robot)
     if isinstance(robot, Arm):
-        if robot.joints == 2:
+        if robot.joints == 2 and kwargs.get("limits") is None:
             try:
                 robot = robot.to_robot()
             except BadInput:

@@ -588,6 +588,7 @@ def plan_arm(
     window: Literal["none", "sin2"] = "none",
     smooth_ends: bool = False,
     cost: _CostName = "effort",
+    limits: Optional[Mapping[str, Optional[Mapping[str, Any]]]] = None,
 ) -> ArmPlan:
     """Deprecated as ``freefloat.plan_arm`` (a ``DeprecationWarning``): ``freefloat.plan(arm,
     ...)`` takes any arm and calls this. ``smooth_ends`` and ``cost="energy"`` are refused

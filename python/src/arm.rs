@@ -384,7 +384,8 @@ fn python_names(e: freefloat::Error) -> freefloat::Error {
 #[pyfunction]
 #[pyo3(signature = (
     arm, start, goal, T, *, samples = 1001, torques = false, wrap = true, initial_velocity = None,
-    tolerance = 1e-9, method = "optimal", harmonics = 1, window = "none", smooth_ends = false, cost = "effort"
+    tolerance = 1e-9, method = "optimal", harmonics = 1, window = "none", smooth_ends = false, cost = "effort",
+    limits = None
 ))]
 #[allow(non_snake_case, clippy::too_many_arguments)]
 pub fn plan_arm<'py>(
@@ -403,8 +404,17 @@ pub fn plan_arm<'py>(
     window: &str,
     smooth_ends: bool,
     cost: &str,
+    limits: Option<Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, PyArmPlan>> {
     let arm = any_arm(arm)?;
+    // Issue 20: `limits=` over the arm's own (module `limits`).
+    let arm = match &limits {
+        Some(l) => {
+            let own = crate::limits::apply(&arm.limits, arm.joints(), l).py_result(py)?;
+            arm.with_limits(own).py_result(py)?
+        }
+        None => arm,
+    };
     let n = arm.joints();
     let method: Method = parse_method(method).py_result(py)?;
     let window = parse_window(window).py_result(py)?;

@@ -94,7 +94,7 @@ impl BindingError {
 pub fn library_error(py: Python<'_>, e: &freefloat::Error, plan: Option<Bound<'_, PyAny>>) -> PyErr {
     let class = match e {
         e if e.is_bad_input() => "BadInput",
-        freefloat::Error::NotCertified { .. } => "NotCertified",
+        freefloat::Error::NotCertified { .. } | freefloat::Error::LimitExceeded { .. } => "NotCertified",
         _ => "NoPlan",
     };
     raise(py, class, e.to_string(), &kind(e), &details(e), plan)

@@ -11,6 +11,7 @@ mod compat;
 mod convert;
 mod domain;
 mod errors;
+mod limits;
 mod planning;
 mod robot;
 mod tracking;
