@@ -30,6 +30,8 @@ use crate::model::{InputError, Mount, RobotParams};
 struct BaseTable {
     M: f64,
     I: f64,
+    /// The base's shape(s) in its frame (issue 21; [`super::shapes`]).
+    shape: Option<super::shapes::ShapeText>,
 }
 
 /// One `[[link]]` entry: every key required.
@@ -40,6 +42,10 @@ struct LinkTable {
     com: f64,
     mass: f64,
     inertia: f64,
+    /// A capsule along the link of this width \[m\] (issue 21; [`super::shapes`]).
+    width: Option<f64>,
+    /// The link's shape(s) in its frame.
+    shape: Option<super::shapes::ShapeText>,
 }
 
 #[derive(Debug, Deserialize)]
@@ -76,7 +82,9 @@ impl Arm {
         let mount = file.mount.map(|m| Mount { a: m.a, b: m.b }).unwrap_or_default();
         let links =
             file.link.iter().map(|l| Link { length: l.length, com: l.com, mass: l.mass, inertia: l.inertia }).collect();
-        Arm::new(Base { mass: file.robot.M, inertia: file.robot.I }, mount, links)
+        let arm = Arm::new(Base { mass: file.robot.M, inertia: file.robot.I }, mount, links)?;
+        let shapes: Vec<_> = file.link.iter().map(|l| (l.width, l.shape.as_ref(), l.length)).collect();
+        arm.with_geometry(super::shapes::toml_geometry(file.robot.shape.as_ref(), &shapes)?)
     }
 
     /// The arm as a TOML robot file with `[[link]]` (always that form, even for two point
