@@ -47,6 +47,7 @@ fn bench_arms(c: &mut Criterion) {
         mount: Mount { a: 0.2, b: 0.0 },
         links: links(&[(0.4, 2.0), (0.35, 1.5), (0.25, 0.8)]),
         limits: Default::default(),
+        geometry: Default::default(),
     };
     let seven_spec: Vec<(f64, f64)> = (0..7).map(|i| (0.3 - 0.025 * i as f64, 1.5 - 0.2 * i as f64)).collect();
     let seven = Arm {
@@ -54,6 +55,7 @@ fn bench_arms(c: &mut Criterion) {
         mount: Mount { a: 0.2, b: 0.1 },
         links: links(&seven_spec),
         limits: Default::default(),
+        geometry: Default::default(),
     };
     let cases = [
         ("3link", three, vec![0.3, 0.5, -0.4, 0.8], vec![-0.2, 1.4, 0.3, -0.6]),

@@ -340,6 +340,28 @@ pub enum Error {
         /// The tolerance \[rad\].
         tolerance: f64,
     },
+    /// The verified motion comes closer than the clearance asked for (issue 21): bodies `a` and
+    /// `b` (`base`, `link 2`, `obstacle 1`) are `clearance` apart at `time` (negative: they
+    /// overlap by that depth). Never certified.
+    #[error(
+        "the plan is not certified: {a} and {b} come {} at t = {} s (least clearance {} m, required {} m)",
+        if *clearance < 0.0 { format!("{} m into each other", number(-clearance)) } else { format!("within {} m", number(*clearance)) },
+        number(*time),
+        number(*clearance),
+        number(*required)
+    )]
+    Collision {
+        /// The first body.
+        a: String,
+        /// The second body or obstacle.
+        b: String,
+        /// When \[s\].
+        time: f64,
+        /// Their least signed distance along the verified motion \[m\] (negative: the depth).
+        clearance: f64,
+        /// The clearance asked for \[m\].
+        required: f64,
+    },
 }
 
 fn fmt_history(history: &[f64]) -> String {
@@ -441,6 +463,9 @@ impl Error {
             E::OptimalFailed { iterations, constraint_residual, kkt_residual, effort, seeds, termination } => json!({
                 "iterations": iterations, "constraint_residual": constraint_residual, "kkt_residual": kkt_residual,
                 "effort": effort, "seeds": seeds, "termination": termination,
+            }),
+            E::Collision { a, b, time, clearance, required } => json!({
+                "between": [a, b], "time": time, "clearance": clearance, "required": required,
             }),
             E::GoalNotReached { transform, reached, goal, distance } => json!({
                 "transform": transform, "reached": reached.to_array(), "goal": goal.to_array(), "distance": distance,

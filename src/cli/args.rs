@@ -131,13 +131,11 @@ pub struct ProblemArgs {
     /// Largest verified final error of a certified velocity plan in rad, positive, at most 1e-3.
     #[arg(long, value_name = "RAD", default_value = "1e-9", allow_hyphen_values = true)]
     pub tolerance: f64,
-    /// Cap on the peak joint velocity |u| in rad/s: a plan that exceeds it is planned again with
-    /// the horizon stretched (velocities scale as 1/T along the same path); the report's `time`
-    /// says which horizon was used. From 1e-3 to 1000.
+    /// Cap on the peak joint velocity |u| in rad/s, 1e-3 to 1000: a plan that exceeds it is planned
+    /// again with the horizon stretched (velocities scale as 1/T); the report's `time` is the one used.
     #[arg(long, value_name = "RAD_PER_S", allow_hyphen_values = true)]
     pub max_velocity: Option<f64>,
-    /// Optimal: joint velocities at t = 0, DTH1,DTH2 in deg/s (for re-planning while moving;
-    /// the verification starts from them).
+    /// Optimal: joint velocities at t = 0, DTH1,DTH2 in deg/s (re-planning; the verification starts there).
     #[arg(long, value_name = "DTH1,DTH2", default_value = "0,0", allow_hyphen_values = true)]
     pub from_velocity: String,
     /// Optimal: also zero joint accelerations at both ends (quintic splines), so that the
@@ -157,6 +155,8 @@ pub struct ProblemArgs {
     /// ECSA: window of the controls.
     #[arg(long, value_enum, default_value_t = WindowArg::None)]
     pub window: WindowArg,
+    #[command(flatten)]
+    pub geometry: super::geometry::GeometryArgs,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]

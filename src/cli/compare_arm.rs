@@ -19,6 +19,8 @@ use super::plan_arm::{Planning, plan_problem, problem, refuse_flags};
 pub fn compare(args: &CompareArgs, arm: &Arm) -> anyhow::Result<ExitCode> {
     let p = &args.problem;
     refuse_flags(p, arm)?;
+    let (arm, geometry_notes) = super::geometry::arm_with_flags(arm, &p.robot, &p.geometry)?;
+    let arm = &arm;
     let mut results: Vec<(Method, Result<Planning, freefloat::Error>)> = Vec::new();
     for method in [Method::Optimal, Method::Nfa, Method::Ecsa] {
         let result = if method == Method::Nfa {
@@ -43,6 +45,7 @@ pub fn compare(args: &CompareArgs, arm: &Arm) -> anyhow::Result<ExitCode> {
             let report = r.as_ref().map_err(|e| e.to_string()).map(|plan| {
                 let mut r = ArmReport::new(&plan.planned, &plan.problem.start, &plan.problem.goal, false);
                 r.notes = plan.notes.clone();
+                r.notes.extend(geometry_notes.iter().cloned());
                 r.to_ee = plan.to_ee.clone();
                 r
             });

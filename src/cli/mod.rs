@@ -5,6 +5,7 @@ mod check;
 mod compare_arm;
 pub mod config;
 mod domain;
+mod geometry;
 mod limits;
 mod output;
 mod plan;
@@ -112,6 +113,7 @@ pub fn parse_list<const N: usize>(flag: &str, text: &str) -> anyhow::Result<[f64
 
 /// What `--preset`/`--robot`/`--urdf` name: a 2-link arm (the paper's model, link inertias
 /// included; see [`robot()`]), or any other planar serial arm.
+#[allow(clippy::large_enum_variant, reason = "one value per command, moved once")]
 pub enum Robot {
     /// Two links: every method and command serves it.
     TwoLink,
@@ -138,7 +140,7 @@ pub fn any_robot(args: &RobotArgs) -> anyhow::Result<Robot> {
         }
         None => arm.mount,
     };
-    Ok(Robot::Arm(Arm::new(arm.base, mount, arm.links)?.with_limits(arm.limits)?))
+    Ok(Robot::Arm(Arm::new(arm.base, mount, arm.links)?.with_limits(arm.limits)?.with_geometry(arm.geometry)?))
 }
 
 /// The file of `--robot` or `--urdf`; `--urdf` with a name that does not end in `.urdf` is bad

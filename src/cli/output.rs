@@ -107,6 +107,7 @@ pub fn error_json(err: &anyhow::Error) -> String {
         Some(E::Singular { .. }) => "singular",
         Some(E::NewtonFailed { .. }) => "newton_failed",
         Some(E::GoalMissed { .. }) => "goal_missed",
+        Some(E::Collision { .. }) => "collision",
         Some(e) if e.is_bad_input() => "bad_input",
         Some(_) => "no_certified_plan",
         None => "bad_input",

@@ -135,7 +135,9 @@ pub fn run(args: &PlanArgs) -> anyhow::Result<ExitCode> {
     }
     let gif = super::checked_gif(args)?;
     let problem = super::problem(&args.problem)?;
-    let planned = plan_with(method(args)?, &args.problem, &problem)??;
+    let (geometry, _) = super::geometry::two_link(&args.problem.robot, &args.problem.geometry)?;
+    let mut planned = plan_with(method(args)?, &args.problem, &problem)??;
+    planned.check_clearance(&geometry)?;
     let plan = &planned.plan;
     // With torques, the closed-loop certificate too: executable with feedback?
     let closed_loop = match args.problem.torques {
@@ -151,7 +153,7 @@ pub fn run(args: &PlanArgs) -> anyhow::Result<ExitCode> {
     };
     let r = report(false);
     let mut text = match args.format {
-        Format::Table => table(plan, &r),
+        Format::Table => table(plan, &r) + &super::geometry::table_line(r.clearance.as_ref()),
         Format::Json => format!("{}\n", serde_json::to_string_pretty(&r)?),
         Format::Csv => String::from_utf8(trajectory_csv(&plan.trajectory)?)?,
         Format::JointTrajectory => String::new(),
@@ -192,9 +194,13 @@ pub fn compare(args: &CompareArgs) -> anyhow::Result<ExitCode> {
         return super::compare_arm::compare(args, &arm);
     }
     let problem = super::problem(&args.problem)?;
+    let (geometry, _) = super::geometry::two_link(&args.problem.robot, &args.problem.geometry)?;
     let mut results = Vec::new();
     for method in COMPARED {
-        let result = plan_with(method, &args.problem, &problem)?;
+        let result = plan_with(method, &args.problem, &problem)?.and_then(|mut planned| {
+            planned.check_clearance(&geometry)?;
+            Ok(planned)
+        });
         if let Err(e) = result {
             if e.is_bad_input() {
                 return Err(e.into());

@@ -34,6 +34,8 @@ pub fn run(
 ) -> anyhow::Result<ExitCode> {
     let p = &args.problem;
     refuse_flags(p, arm)?;
+    let (arm, geometry_notes) = super::geometry::arm_with_flags(arm, &p.robot, &p.geometry)?;
+    let arm = &arm;
     let gif = super::checked_gif(args)?;
     let method = args.method.map(Method::from).unwrap_or(Method::Optimal);
     if method == Method::Ecsa && (p.smooth_ends || p.cost != CostArg::Effort || p.no_wrap) {
@@ -42,7 +44,8 @@ pub fn run(
     if method != Method::Ecsa && (p.harmonics != 1 || p.window != WindowArg::None) {
         bail!("--harmonics/--window apply to --method ecsa, not to --method {}", method.name());
     }
-    let Planning { planned, problem, notes, to_ee } = plan_problem(p, arm, method)?.map_err(|e| name_flag(e, p))?;
+    let Planning { planned, problem, mut notes, to_ee } = plan_problem(p, arm, method)?.map_err(|e| name_flag(e, p))?;
+    notes.extend(geometry_notes);
     let report = |with_trajectory| {
         let mut r = ArmReport::new(&planned, &problem.start, &problem.goal, with_trajectory);
         r.notes = notes.clone();
@@ -50,7 +53,9 @@ pub fn run(
         r
     };
     let mut text = match args.format {
-        Format::Table => table(&planned, &report(false)),
+        Format::Table => {
+            table(&planned, &report(false)) + &super::geometry::table_line(planned.verification().clearance.as_ref())
+        }
         Format::Json => format!("{}\n", serde_json::to_string_pretty(&report(false))?),
         Format::Csv => String::from_utf8(arm_csv(&planned)?)?,
         Format::JointTrajectory => String::new(),

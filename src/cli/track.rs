@@ -116,7 +116,12 @@ pub fn run(args: &TrackArgs) -> anyhow::Result<ExitCode> {
     if let (Some(path), Some(_)) = (&args.out, args.trials) {
         trials_out(path)?;
     }
-    let robot = model(&args.robot)?;
+    let mut robot = model(&args.robot)?;
+    if !robot.geometry.is_empty() {
+        // Issue 21 item 6 is not built: `track` neither checks nor reports the clearance yet.
+        super::note("note: track does not check the robot's shapes yet (issue 21): the clearance is not checked\n");
+        robot.geometry = Default::default();
+    }
     let n = robot.joints();
     let start = super::config::arm_angles("--from", &args.ends.from, n + 1)?;
     let goal = super::config::arm_angles("--to", &args.ends.to, n + 1)?;

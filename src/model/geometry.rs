@@ -177,6 +177,12 @@ pub fn signed_distance<D: Scalar>(a: &[[D; 2]], ra: f64, b: &[[D; 2]], rb: f64) 
     origin_signed_distance(&k) - D::from(ra + rb)
 }
 
+/// The convex hull of `points` \[m\], counter-clockwise, without repeated or collinear points (1
+/// point or the 2 extremes for a degenerate hull): the footprint of a projected solid.
+pub fn convex_hull(points: &[[f64; 2]]) -> Vec<[f64; 2]> {
+    hull(points, |p| *p)
+}
+
 /// The convex hull of `points` (Andrew's monotone chain on the real parts `re`), counter-clockwise,
 /// without collinear points; 1 point or 2 for a degenerate hull.
 fn hull<T: Copy>(points: &[T], re: impl Fn(&T) -> [f64; 2]) -> Vec<T> {

@@ -13,6 +13,7 @@ use std::cell::RefCell;
 use nalgebra::SVector;
 use serde::Serialize;
 
+use super::clearance::{ClearanceMonitor, ClearanceReport};
 use super::motion::{Motion, MotionPoint};
 use super::problem::PlanningProblem;
 use crate::error::Error;
@@ -73,9 +74,20 @@ pub struct ChainVerification {
     pub certified: bool,
     /// Integrator work.
     pub stats: OdeStats,
+    /// The least clearance of the integrated motion, its pair and time, when the arm has shapes
+    /// ([`super::clearance`]; `None` without); [`ChainVerification::collision`] judges it. Not
+    /// serialised here: the reports carry it as their top-level `clearance`.
+    #[serde(skip)]
+    pub clearance: Option<ClearanceReport>,
 }
 
 impl ChainVerification {
+    /// [`Error::Collision`] when the integrated motion comes closer than the clearance asked for
+    /// (issue 21): such a plan is never certified, whatever its final error.
+    pub fn collision(&self) -> Result<(), Error> {
+        collision(self.clearance.as_ref())
+    }
+
     /// The certificate of a motion not yet verified: not certified, errors unknown (NaN), to be
     /// replaced by [`verify_chain`]'s before the plan is returned.
     pub fn pending() -> Self {
@@ -87,6 +99,7 @@ impl ChainVerification {
             tolerance: f64::NAN,
             certified: false,
             stats: OdeStats::default(),
+            clearance: None,
         }
     }
 }
@@ -219,6 +232,9 @@ fn run<const M: usize>(
     };
     let mut max_momentum: f64 = 0.0;
     let mut deviation: Option<f64> = None;
+    // The clearance at every accepted step (and between steps, by the monitor's Hermite minimum).
+    let mut monitor =
+        (!arm.geometry.is_empty()).then(|| ClearanceMonitor::new(arm, &arm.geometry, arm.geometry.clearance));
     let (mut theta, mut u, mut planned) = ([0.0; M], [0.0; M], [0.0; M]);
     // The plan's momentum at every accepted step, with the model's F, G at the integrated angles,
     // and the integrated path's distance from the plan's where the motion knows it.
@@ -227,6 +243,12 @@ fn run<const M: usize>(
         motion.joint_state(t, &mut theta[..n], &mut u[..n]);
         let p: f64 = f * motion.phi_rate(t) + g.iter().zip(&u[..n]).map(|(g, u)| g * u).sum::<f64>();
         max_momentum = max_momentum.max(p.abs());
+        if let Some(monitor) = monitor.as_mut() {
+            let mut dq = [0.0; M];
+            dq[1..].copy_from_slice(&u[..n]);
+            dq[0] = -g.iter().zip(&u[..n]).map(|(g, u)| g * u).sum::<f64>() / f;
+            monitor.observe(t, state.as_slice(), &dq);
+        }
         if motion.planned_configuration(t, &mut planned) {
             let d = state.iter().zip(&planned).map(|(y, q)| (y - q).abs()).fold(0.0, f64::max);
             deviation = Some(deviation.map_or(d, |m: f64| m.max(d)));
@@ -246,7 +268,22 @@ fn run<const M: usize>(
         tolerance,
         certified: final_error.is_finite() && final_error <= tolerance,
         stats,
+        clearance: monitor.and_then(ClearanceMonitor::finish),
     })
+}
+
+/// [`Error::Collision`] when `clearance` is below what it requires.
+pub fn collision(clearance: Option<&ClearanceReport>) -> Result<(), Error> {
+    match clearance {
+        Some(c) if !c.holds() => Err(Error::Collision {
+            a: c.a.to_string(),
+            b: c.b.to_string(),
+            time: c.time,
+            clearance: c.min,
+            required: c.required,
+        }),
+        _ => Ok(()),
+    }
 }
 
 /// A 2-link [`Motion`] as a [`JointMotion`] of its robot's [`Arm`] ([`Arm::from_params`]), so
@@ -363,6 +400,11 @@ pub struct Verification {
     pub certified: bool,
     /// Integrator work.
     pub stats: OdeStats,
+    /// The least clearance of the integrated motion (issue 21), when the robot has shapes:
+    /// filled by [`super::clearance::motion_clearance`] (the 2-link robot's parameters carry no
+    /// geometry). Not serialised here: the reports carry it as their top-level `clearance`.
+    #[serde(skip)]
+    pub clearance: Option<ClearanceReport>,
 }
 
 /// The velocity-level certificate of a 2-link plan: [`verify_chain`] of the [`MotionView`] of
@@ -384,5 +426,6 @@ pub fn verify(
         tolerance,
         certified: v.certified,
         stats: v.stats,
+        clearance: v.clearance,
     })
 }

@@ -13,11 +13,17 @@
 use num_dual::Dual64;
 use serde::Serialize;
 
+use super::certificate::{MotionView, verify_chain};
+use super::motion::Motion;
+use super::problem::PlanningProblem;
+use crate::error::Error;
 use crate::model::arm::Arm;
 use crate::model::arm::collision::{Body, Geometry};
+use crate::numerics::ode::OdeOptions;
 
-/// The least clearance of a motion.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+/// The least clearance of a motion; in JSON `{min, between: [a, b], time, required}` (bodies as
+/// `base`, `link 2`, `obstacle 1`).
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ClearanceReport {
     /// The least signed distance \[m\] (negative: the bodies overlap by that much).
     pub min: f64,
@@ -29,6 +35,40 @@ pub struct ClearanceReport {
     pub time: f64,
     /// The clearance asked for \[m\] (`--clearance`, 0 by default).
     pub required: f64,
+}
+
+impl Serialize for ClearanceReport {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeStruct;
+        let mut s = serializer.serialize_struct("ClearanceReport", 5)?;
+        s.serialize_field("min", &self.min)?;
+        s.serialize_field("between", &[self.a.to_string(), self.b.to_string()])?;
+        s.serialize_field("time", &self.time)?;
+        s.serialize_field("required", &self.required)?;
+        s.serialize_field("holds", &self.holds())?;
+        s.end()
+    }
+}
+
+/// The clearance of a 2-link `motion` planned for `problem`, on the robot with `geometry`: the
+/// velocity certificate's integration ([`verify_chain`] of the motion's [`MotionView`], the
+/// integrator `ode`) run again on the arm with the shapes, the monitor fed at every accepted
+/// step. `None` when the geometry has no pair to check. (The 2-link robot's parameters carry no
+/// geometry, so its planners' certificates cannot see it.)
+pub fn motion_clearance(
+    motion: &dyn Motion,
+    problem: &PlanningProblem,
+    geometry: &Geometry,
+    ode: &OdeOptions,
+) -> Result<Option<ClearanceReport>, Error> {
+    if geometry.is_empty() {
+        return Ok(None);
+    }
+    let view = MotionView::new(motion, problem);
+    let arm = view.arm().clone().with_geometry(geometry.clone())?;
+    let (start, goal) = (problem.start.to_array(), problem.goal.to_array());
+    // The tolerance only sets the returned `certified`, which is not used here.
+    Ok(verify_chain(&arm, &view, &start, &goal, ode, 1.0)?.clearance)
 }
 
 impl ClearanceReport {

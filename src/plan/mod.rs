@@ -136,6 +136,7 @@ impl Plan {
     pub fn certified(&self) -> Result<&Plan, Error> {
         let v = &self.verification;
         if v.certified {
+            certificate::collision(v.clearance.as_ref())?;
             Ok(self)
         } else {
             Err(Error::NotCertified { final_error: v.final_error, tolerance: v.tolerance, level: "velocity" })

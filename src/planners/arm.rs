@@ -190,6 +190,7 @@ impl ArmPlanned {
         if !v.certified {
             return Err(Error::NotCertified { final_error: v.final_error, tolerance: v.tolerance, level: "velocity" });
         }
+        v.collision()?;
         match &self.torques {
             Some(t) if !t.certificate.certified => Err(Error::NotCertified {
                 final_error: t.certificate.final_error,

@@ -44,6 +44,17 @@ impl Planned {
         Self { plan, motion, details, torques: None }
     }
 
+    /// Checks the clearance of the verified motion on the robot with `geometry` (issue 21;
+    /// [`crate::plan::clearance::motion_clearance`]) and keeps it in the plan's verification, so
+    /// that [`Planned::certified`] refuses a plan that collides. Nothing changes without shapes.
+    pub fn check_clearance(&mut self, geometry: &crate::model::arm::collision::Geometry) -> Result<(), Error> {
+        let ode = crate::numerics::ode::OdeOptions::default();
+        let clearance =
+            crate::plan::clearance::motion_clearance(self.motion.as_ref(), &self.plan.problem, geometry, &ode)?;
+        self.plan.verification.clearance = clearance;
+        Ok(())
+    }
+
     /// Adds the torque level (Eq. 6; docs/spec.md, Sec. 2): the torques at the samples into the
     /// trajectory and the forward-dynamics certificate, kept in [`Planned::torques`].
     pub fn add_torques(&mut self, options: &TorqueOptions) -> Result<TorqueReport, Error> {

@@ -106,6 +106,10 @@ pub struct ArmReport {
     pub reached: Vec<f64>,
     /// The velocity-level certificate in full.
     pub verification: ChainVerification,
+    /// The least clearance of the verified motion, its pair and time (issue 21; none without
+    /// shapes).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub clearance: Option<crate::plan::clearance::ClearanceReport>,
     /// Effort `integral |theta'|^2 dt` \[rad^2/s\].
     pub effort: f64,
     /// Largest `|theta_k'|` over the samples, per joint \[rad/s\].
@@ -168,6 +172,7 @@ impl ArmReport {
             certified: planned.certified().is_ok(),
             reached: v.reached.clone(),
             verification: v.clone(),
+            clearance: v.clearance,
             effort: planned.effort(),
             max_abs_u,
             optimal: planned.stats().copied(),

@@ -250,6 +250,9 @@ pub struct PlanReport {
     pub reached: [f64; 3],
     /// Largest deviation of the verification from the planned path \[rad\].
     pub max_path_deviation: f64,
+    /// The least clearance of the verified motion (issue 21; none without shapes).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub clearance: Option<crate::plan::clearance::ClearanceReport>,
     /// `[max|u1|, max|u2|]` \[rad/s\].
     pub max_abs_u: [f64; 2],
     /// Smallest `|sigma|` along the path.
@@ -319,9 +322,10 @@ impl PlanReport {
             zd: nfa.map(|d| d.zd),
             final_error: v.final_error,
             tolerance: v.tolerance,
-            certified: v.certified,
+            certified: v.certified && crate::plan::certificate::collision(v.clearance.as_ref()).is_ok(),
             reached: v.reached.to_array(),
             max_path_deviation: v.max_path_deviation,
+            clearance: v.clearance,
             max_abs_u: plan.max_abs_u,
             min_abs_sigma: plan.min_abs_sigma,
             min_abs_p: plan.min_abs_p,

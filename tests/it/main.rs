@@ -6,6 +6,7 @@ mod arm_cli;
 mod check;
 mod cli;
 mod first_hour;
+mod geometry;
 mod hostile;
 mod hostile_files;
 mod layout;

@@ -18,6 +18,7 @@ use serde::{Deserialize, Serialize};
 
 use super::Arm;
 use crate::Scalar;
+use crate::model::InputError;
 use crate::model::geometry::{Pose, Shape, signed_distance};
 
 /// One body of the robot, or an obstacle.
@@ -58,6 +59,39 @@ pub struct Geometry {
     /// Pairs not to check, e.g. a link that may brush the base by design.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub excluded: Vec<(Body, Body)>,
+    /// The least signed distance a certified plan keeps between every pair checked \[m\]
+    /// (`--clearance`; default 0: touching is the limit). It lives beside the shapes so that every
+    /// certificate that sees the arm sees what it must hold.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub clearance: f64,
+}
+
+fn is_zero(x: &f64) -> bool {
+    *x == 0.0
+}
+
+impl std::str::FromStr for Body {
+    type Err = InputError;
+
+    /// `base`, `linkK` or `obstacleK` (`K` from 1; a space before `K` is accepted, as [`Body`]
+    /// prints it).
+    fn from_str(text: &str) -> Result<Self, InputError> {
+        let t = text.trim().to_ascii_lowercase();
+        let number = |rest: &str| rest.trim().parse::<usize>().ok().filter(|&k| k >= 1);
+        let body = match t.as_str() {
+            "base" => Some(Body::Base),
+            _ => match (t.strip_prefix("link"), t.strip_prefix("obstacle")) {
+                (Some(k), _) => number(k).map(Body::Link),
+                (_, Some(k)) => number(k).map(Body::Obstacle),
+                _ => None,
+            },
+        };
+        body.ok_or_else(|| InputError::InvalidText {
+            name: "body".into(),
+            text: text.into(),
+            expected: "a body: base, linkK or obstacleK (K counted from 1)",
+        })
+    }
 }
 
 /// The clearance of one pair at one configuration.
@@ -75,6 +109,68 @@ impl Geometry {
     /// True when nothing is to be checked.
     pub fn is_empty(&self) -> bool {
         self.base.is_empty() && self.links.iter().all(Vec::is_empty)
+    }
+
+    /// Checks the geometry for an arm of `n` links: no link shapes or one list per link; every
+    /// shape as [`Shape::new`] checks it (finite points within 1e3 m, a radius in `[0, 1e3]` m);
+    /// every excluded body of the arm or an obstacle given; the clearance finite in `[0, 1e3]` m.
+    /// Errors name the key: `geometry.link[k].shape[j]`, `geometry.base.shape[j]`,
+    /// `geometry.obstacle[k]`, `--no-collide`, `--clearance`.
+    pub fn validate(&self, n: usize) -> Result<(), InputError> {
+        let bad =
+            |name: String, value: f64, expected: &'static str| InputError::InvalidParameter { name, value, expected };
+        if !self.links.is_empty() && self.links.len() != n {
+            return Err(bad("geometry.link".into(), self.links.len() as f64, "one list of shapes per link of the arm"));
+        }
+        let check = |key: String, shape: &Shape| {
+            Shape::new(shape.points.clone(), shape.radius).map(|_| ()).map_err(|e| match e {
+                InputError::InvalidParameter { name, value, expected } => {
+                    bad(format!("{key} {}", name.trim_start_matches("shape.")), value, expected)
+                }
+                other => other,
+            })
+        };
+        for (j, s) in self.base.iter().enumerate() {
+            check(format!("geometry.base.shape[{}]", j + 1), s)?;
+        }
+        for (k, shapes) in self.links.iter().enumerate() {
+            for (j, s) in shapes.iter().enumerate() {
+                check(format!("geometry.link[{}].shape[{}]", k + 1, j + 1), s)?;
+            }
+        }
+        for (k, s) in self.obstacles.iter().enumerate() {
+            check(format!("geometry.obstacle[{}]", k + 1), s)?;
+        }
+        for &(a, b) in &self.excluded {
+            for body in [a, b] {
+                let known = match body {
+                    Body::Base => true,
+                    Body::Link(k) => (1..=n).contains(&k),
+                    Body::Obstacle(k) => (1..=self.obstacles.len()).contains(&k),
+                };
+                if !known {
+                    let k = match body {
+                        Body::Link(k) | Body::Obstacle(k) => k,
+                        Body::Base => 0,
+                    };
+                    return Err(bad(
+                        "--no-collide".into(),
+                        k as f64,
+                        "bodies of the arm (base, link1..linkN) or obstacles given",
+                    ));
+                }
+            }
+        }
+        if !(self.clearance.is_finite() && (0.0..=crate::model::geometry::MAX_EXTENT).contains(&self.clearance)) {
+            return Err(bad("--clearance".into(), self.clearance, "a clearance from 0 to 1e3 m"));
+        }
+        Ok(())
+    }
+
+    /// True when nothing at all is set: no shapes, obstacles, exclusions or clearance (the arm
+    /// then serialises without a `geometry` key).
+    pub fn is_unset(&self) -> bool {
+        *self == Self::default()
     }
 
     /// The shapes of `body` (none for a body without shapes).

@@ -33,6 +33,8 @@ struct BaseTable {
     I: f64,
     /// The base angle's range (issue 20, [`super::file_limits`]).
     limit: Option<BaseLimitTable>,
+    /// The base's shape(s) in its frame (issue 21; [`super::shapes`]).
+    shape: Option<super::shapes::ShapeText>,
 }
 
 /// One `[[link]]` entry: every key required.
@@ -45,6 +47,10 @@ struct LinkTable {
     inertia: f64,
     /// The joint's limits (issue 20, [`super::file_limits`]).
     limit: Option<LinkLimitTable>,
+    /// A capsule along the link of this width \[m\] (issue 21; [`super::shapes`]).
+    width: Option<f64>,
+    /// The link's shape(s) in its frame.
+    shape: Option<super::shapes::ShapeText>,
 }
 
 #[derive(Debug, Deserialize)]
@@ -83,7 +89,9 @@ impl Arm {
             file.link.iter().map(|l| Link { length: l.length, com: l.com, mass: l.mass, inertia: l.inertia }).collect();
         let arm = Arm::new(Base { mass: file.robot.M, inertia: file.robot.I }, mount, links)?;
         let limit_tables: Vec<_> = file.link.iter().map(|l| l.limit).collect();
-        arm.with_limits(super::file_limits::from_tables(file.robot.limit, &limit_tables)?)
+        let arm = arm.with_limits(super::file_limits::from_tables(file.robot.limit, &limit_tables)?)?;
+        let shapes: Vec<_> = file.link.iter().map(|l| (l.width, l.shape.as_ref(), l.length)).collect();
+        arm.with_geometry(super::shapes::toml_geometry(file.robot.shape.as_ref(), &shapes)?)
     }
 
     /// The arm as a TOML robot file with `[[link]]` (always that form, even for two point

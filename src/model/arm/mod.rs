@@ -19,6 +19,7 @@ mod file_limits;
 pub mod kinematics;
 pub mod limits;
 pub mod lumped;
+pub mod shapes;
 pub mod urdf;
 mod urdf_limits;
 
@@ -70,6 +71,11 @@ pub struct Arm {
     /// The declared limits (issue 20): none by default.
     #[serde(default, skip_serializing_if = "Limits::is_empty")]
     pub limits: Limits,
+    /// The bodies' shapes, the obstacles and the clearance to keep (issue 21): none by default.
+    /// Carried by the arm, as its limits are, so that every certificate of the arm (each
+    /// planner's, `check`'s, `track`'s re-plans) sees them without another argument.
+    #[serde(default, skip_serializing_if = "collision::Geometry::is_unset")]
+    pub geometry: collision::Geometry,
 }
 
 /// Positions of every body's centre of mass relative to the system's centre of mass, with their
@@ -104,7 +110,7 @@ impl Arm {
     /// assert!(Arm::new(arm.base, arm.mount, vec![]).is_err());
     /// ```
     pub fn new(base: Base, mount: Mount, links: Vec<Link>) -> Result<Self, InputError> {
-        let arm = Self { base, mount, links, limits: Limits::default() };
+        let arm = Self { base, mount, links, limits: Limits::default(), geometry: Default::default() };
         arm.validate()?;
         Ok(arm)
     }
@@ -113,6 +119,13 @@ impl Arm {
     pub fn with_limits(mut self, limits: Limits) -> Result<Self, InputError> {
         limits.validate(self.joints())?;
         self.limits = limits;
+        Ok(self)
+    }
+
+    /// The arm with `geometry` (checked by [`collision::Geometry::validate`] for its links).
+    pub fn with_geometry(mut self, geometry: collision::Geometry) -> Result<Self, InputError> {
+        geometry.validate(self.joints())?;
+        self.geometry = geometry;
         Ok(self)
     }
 
@@ -158,7 +171,8 @@ impl Arm {
                 expected: "com > 0 or inertia > 0 on the last link (a point mass on the last joint gives it nothing to turn)",
             });
         }
-        self.limits.validate(n)
+        self.limits.validate(n)?;
+        self.geometry.validate(n)
     }
 
     /// The arm as the paper's 2-link [`RobotParams`] when it has two links with their centres of
@@ -193,6 +207,7 @@ impl Arm {
                 Link { length: robot.l2, com: robot.d2, mass: robot.m2, inertia: robot.i2 },
             ],
             limits: Limits::default(),
+            geometry: Default::default(),
         }
     }
 

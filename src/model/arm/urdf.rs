@@ -89,6 +89,8 @@ struct Body<'a> {
     frames: Vec<(&'a str, [f64; 2])>,
     /// The joint leaving the body and its origin in the body's frame.
     next: Option<(&'a Joint, [f64; 2])>,
+    /// Its links and their origins in the body's frame, for their geometry (issue 21).
+    geometry: Vec<(&'a urdf_rs::Link, [f64; 2])>,
 }
 
 impl Body<'_> {
@@ -157,6 +159,17 @@ impl Arm {
     /// (the module doc's rule); `None` when the last link has no fixed child (its tip is then its
     /// centre of mass).
     pub fn from_urdf_str_described(text: &str, path: &Path) -> Result<(Self, Vec<String>, Option<String>), InputError> {
+        Self::from_urdf_str_noted(text, path).map(|(arm, names, tool, _)| (arm, names, tool))
+    }
+
+    /// [`Arm::from_urdf_str_described`], with the notes on the geometry read
+    /// ([`super::shapes`]: a body whose `<visual>` stands in for its missing `<collision>`, a
+    /// mesh skipped).
+    #[allow(clippy::type_complexity)]
+    pub fn from_urdf_str_noted(
+        text: &str,
+        path: &Path,
+    ) -> Result<(Self, Vec<String>, Option<String>, Vec<String>), InputError> {
         check_nesting(text, path)?;
         let robot = urdf_rs::read_from_string(text).map_err(|e| InputError::RobotFile {
             path: path.to_path_buf(),
@@ -225,11 +238,12 @@ impl Arm {
         let mut start = Some(root);
         let mut visited = HashSet::new();
         while let Some(body_root) = start.take() {
-            let mut body = Body { root: body_root, parts: vec![], frames: vec![], next: None };
+            let mut body = Body { root: body_root, parts: vec![], frames: vec![], next: None, geometry: vec![] };
             let mut stack = vec![(body_root, [0.0, 0.0])];
             while let Some((name, at)) = stack.pop() {
                 visited.insert(name);
                 let link = links[name];
+                body.geometry.push((link, at));
                 let (mass, com, izz) = inertial(link).map_err(|reason| fail(link_name(name), reason))?;
                 if mass > 0.0 {
                     body.parts.push((mass, [at[0] + com[0], at[1] + com[1]], izz));
@@ -293,7 +307,9 @@ impl Arm {
             entering.iter().map(|j| (j.name.clone(), j.joint_type == JointType::Revolute)).collect();
         let arm = arm.with_limits(super::urdf_limits::read_limits(text, path, &moving)?)?;
         let tool = bodies.last().and_then(tool_frame).map(|(name, _)| name.to_string());
-        Ok((arm, names, tool))
+        let (geometry, notes) = geometry(&bodies).map_err(|(element, reason)| fail(element, reason))?;
+        let arm = arm.with_geometry(geometry)?;
+        Ok((arm, names, tool, notes))
     }
 
     /// The arm as a URDF that [`Arm::from_urdf_str`] reads back to the same arm: links `base`,
@@ -402,6 +418,28 @@ fn check_joint(joint: &Joint) -> Result<(), String> {
 /// the link's centre of mass and inertia; it never moves the tip (docs/spec.md §1, URDF).
 fn tool_frame<'a>(body: &Body<'a>) -> Option<(&'a str, [f64; 2])> {
     body.frames.iter().copied().reduce(|best, f| if f.1[0] > best.1[0] { f } else { best })
+}
+
+/// The shapes of the bodies (base first) in freefloat's frames: a link body's frame is its URDF
+/// root link's (joint `k` at the origin, `x` along the link), the base's is moved to its merged
+/// centre of mass. Errors as `(element, reason)`.
+fn geometry(bodies: &[Body]) -> Result<(super::collision::Geometry, Vec<String>), (String, String)> {
+    let mut notes = Vec::new();
+    let mut shapes = Vec::with_capacity(bodies.len());
+    for body in bodies {
+        let s = super::shapes::urdf_body_shapes(&body.geometry, &excerpt(body.root), &mut notes)
+            .map_err(|(link, reason)| (link_name(&link), reason))?;
+        shapes.push(s);
+    }
+    let com = bodies[0].merged().1;
+    let mut geometry = super::collision::Geometry { base: shapes.remove(0), ..Default::default() };
+    for s in &mut geometry.base {
+        s.points.iter_mut().for_each(|p| *p = [p[0] - com[0], p[1] - com[1]]);
+    }
+    if shapes.iter().any(|s| !s.is_empty()) {
+        geometry.links = shapes;
+    }
+    Ok((geometry, notes))
 }
 
 /// The base, mount and links from the bodies (base first); errors as `(element, reason)`.

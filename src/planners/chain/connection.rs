@@ -287,6 +287,7 @@ pub(crate) mod tests {
             mount: Mount { a: 0.2, b: -0.1 },
             links,
             limits: Default::default(),
+            geometry: Default::default(),
         }
     }
 

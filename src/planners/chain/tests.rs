@@ -18,7 +18,13 @@ pub(crate) fn three_link() -> Arm {
     let links = [(0.4, 2.0), (0.35, 1.5), (0.25, 0.8)]
         .map(|(l, m)| Link { length: l, com: l / 2.0, mass: m, inertia: m * l * l / 12.0 })
         .to_vec();
-    Arm { base: Base { mass: 15.0, inertia: 0.5 }, mount: Mount { a: 0.2, b: 0.0 }, links, limits: Default::default() }
+    Arm {
+        base: Base { mass: 15.0, inertia: 0.5 },
+        mount: Mount { a: 0.2, b: 0.0 },
+        links,
+        limits: Default::default(),
+        geometry: Default::default(),
+    }
 }
 
 /// A 7-link arm: links of 0.3 m down to 0.15 m, masses 1.5 down to 0.3 kg, slender rods.
@@ -29,7 +35,13 @@ pub(crate) fn seven_link() -> Arm {
             Link { length: l, com: l / 2.0, mass: m, inertia: m * l * l / 12.0 }
         })
         .collect();
-    Arm { base: Base { mass: 20.0, inertia: 0.8 }, mount: Mount { a: 0.2, b: 0.1 }, links, limits: Default::default() }
+    Arm {
+        base: Base { mass: 20.0, inertia: 0.8 },
+        mount: Mount { a: 0.2, b: 0.1 },
+        links,
+        limits: Default::default(),
+        geometry: Default::default(),
+    }
 }
 
 fn src_arm(a: f64, b: f64) -> (RobotParams, Arm) {

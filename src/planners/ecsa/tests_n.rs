@@ -27,7 +27,13 @@ fn seven_link() -> Arm {
             Link { length: l, com: l / 2.0, mass: m, inertia: m * l * l / 12.0 }
         })
         .collect();
-    Arm { base: Base { mass: 20.0, inertia: 0.8 }, mount: Mount { a: 0.2, b: 0.1 }, links, limits: Default::default() }
+    Arm {
+        base: Base { mass: 20.0, inertia: 0.8 },
+        mount: Mount { a: 0.2, b: 0.1 },
+        links,
+        limits: Default::default(),
+        geometry: Default::default(),
+    }
 }
 
 fn deg(v: &[f64]) -> Vec<f64> {

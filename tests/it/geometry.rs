@@ -1,0 +1,222 @@
+//! The robot's shapes, the obstacles and the clearance (issue 21; docs/spec.md §1, §3): URDF and
+//! TOML geometry read into freefloat's frames, bad geometry refused (exit 2), and a plan that
+//! collides never certified (exit 3 naming the bodies), whatever the method.
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+use freefloat::model::arm::Arm;
+use freefloat::model::geometry::Shape;
+
+fn freefloat(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_freefloat")).args(args).output().expect("the binary runs")
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+fn fixture() -> String {
+    format!("{}/tests/fixtures/spart_like_4dof_geometry.urdf", env!("CARGO_MANIFEST_DIR"))
+}
+
+/// The SPART-like plan of issue 21.
+const FROM: &str = "0,30,-60,45,-30";
+const TO: &str = "30,60,-30,20,-60";
+/// Every pair with the base left out: the links against each other only.
+const NO_BASE: [&str; 6] = ["--no-collide", "base,link2", "--no-collide", "base,link3", "--no-collide", "base,link4"];
+
+fn close(a: [f64; 2], b: [f64; 2]) -> bool {
+    (a[0] - b[0]).abs() < 1e-12 && (a[1] - b[1]).abs() < 1e-12
+}
+
+/// The fixture's shapes in freefloat's frames, by hand: the base's visual box (no `<collision>`)
+/// about the base's centre of mass, which the 2 kg camera at y = 0.2 m moves to
+/// y = 2 * 0.2 / 62 m; each link's five spheres on its axis from joint k; the end-effector
+/// frame's sphere (a fixed child 0.5 m along link 4) in link 4's frame.
+#[test]
+fn urdf_collision_spheres_and_the_visual_base_box_land_in_freefloats_frames() {
+    let text = std::fs::read_to_string(fixture()).unwrap();
+    let (arm, _, _, notes) = Arm::from_urdf_str_noted(&text, Path::new("f.urdf")).unwrap();
+    let g = &arm.geometry;
+    let y = 2.0 * 0.2 / 62.0;
+    assert_eq!(g.base.len(), 1);
+    for corner in [[-0.25, -0.25 - y], [0.25, -0.25 - y], [0.25, 0.25 - y], [-0.25, 0.25 - y]] {
+        assert!(g.base[0].points.iter().any(|p| close(*p, corner)), "{corner:?} in {:?}", g.base[0]);
+    }
+    assert_eq!(g.links.len(), 4);
+    for (k, shapes) in g.links.iter().enumerate() {
+        let mut xs: Vec<f64> = vec![0.05, 0.15, 0.25, 0.35, 0.45];
+        if k == 3 {
+            xs.push(0.5);
+        }
+        assert_eq!(shapes.len(), xs.len(), "link {}", k + 1);
+        for (s, x) in shapes.iter().zip(xs) {
+            assert!(close(s.points[0], [x, 0.0]) && (s.radius - 0.03).abs() < 1e-15, "link {}: {s:?}", k + 1);
+        }
+    }
+    assert!(notes.iter().any(|n| n.contains("`Base`") && n.contains("<visual>")), "{notes:?}");
+}
+
+/// A URDF of one link with each solid: a cylinder along z (a circle), one turned into the plane
+/// (a rectangle), a box turned by yaw, a sphere on a fixed child link, and a mesh (skipped with
+/// a note).
+#[test]
+fn urdf_cylinders_boxes_spheres_project_and_meshes_are_skipped() {
+    let text = r#"<robot name="r">
+  <link name="base"><inertial><mass value="10"/><inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial>
+    <collision><geometry><cylinder radius="0.3" length="0.2"/></geometry></collision>
+    <collision><geometry><mesh filename="package://r/base.stl"/></geometry></collision></link>
+  <link name="arm"><inertial><origin xyz="0.5 0 0"/><mass value="2"/><inertia ixx="0.1" ixy="0" ixz="0" iyy="0.1" iyz="0" izz="0.1"/></inertial>
+    <collision><origin xyz="0.5 0 0" rpy="0 1.5707963267948966 0"/><geometry><cylinder radius="0.05" length="1.0"/></geometry></collision>
+    <collision><origin xyz="0.2 0.1 0" rpy="0 0 1.5707963267948966"/><geometry><box size="0.4 0.2 0.1"/></geometry></collision></link>
+  <link name="tip"><collision><geometry><sphere radius="0.04"/></geometry></collision></link>
+  <joint name="j1" type="revolute"><parent link="base"/><child link="arm"/><origin xyz="0.4 0 0"/><axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+  <joint name="j_tip" type="fixed"><parent link="arm"/><child link="tip"/><origin xyz="1.0 0 0"/></joint>
+</robot>"#;
+    let (arm, _, _, notes) = Arm::from_urdf_str_noted(text, Path::new("r.urdf")).unwrap();
+    let g = &arm.geometry;
+    assert_eq!(g.base, vec![Shape::circle([0.0, 0.0], 0.3).unwrap()]);
+    assert!(notes.iter().any(|n| n.contains("base.stl") && n.contains("skipped")), "{notes:?}");
+    let link = &g.links[0];
+    assert_eq!(link.len(), 3);
+    // The cylinder along x: the rectangle from joint 1 to x = 1 m, 0.1 m wide.
+    for corner in [[0.0, -0.05], [1.0, -0.05], [1.0, 0.05], [0.0, 0.05]] {
+        assert!(link[0].points.iter().any(|p| close(*p, corner)), "{corner:?} in {:?}", link[0]);
+    }
+    // The box turned by 90 deg about its centre (0.2, 0.1): 0.2 m along x, 0.4 m along y.
+    for corner in [[0.1, -0.1], [0.3, -0.1], [0.3, 0.3], [0.1, 0.3]] {
+        assert!(link[1].points.iter().any(|p| close(*p, corner)), "{corner:?} in {:?}", link[1]);
+    }
+    // The tip's sphere, 1 m along the link (its fixed joint's offset).
+    assert!(close(link[2].points[0], [1.0, 0.0]) && (link[2].radius - 0.04).abs() < 1e-15);
+}
+
+/// Bad geometry is bad input (exit 2) naming the link: a negative sphere radius, a box side that
+/// is not a number.
+#[test]
+fn bad_urdf_geometry_is_refused_with_exit_2() {
+    let dir = tempfile::tempdir().unwrap();
+    let good = std::fs::read_to_string(fixture()).unwrap();
+    for (bad, what) in
+        [(r#"<sphere radius="-0.03"/>"#, "sphere radius"), (r#"<sphere radius="nan"/>"#, "sphere radius")]
+    {
+        let text = good.replacen(r#"<sphere radius="0.03"/>"#, bad, 1);
+        let path = dir.path().join("bad.urdf");
+        std::fs::write(&path, text).unwrap();
+        let o = freefloat(&["plan", "--urdf", path.to_str().unwrap(), "--from", FROM, "--to", TO]);
+        assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+        assert!(stderr(&o).contains("Link_1") && stderr(&o).contains(what), "{}", stderr(&o));
+    }
+}
+
+/// A TOML robot's `width` is a capsule along the link, `shape` adds shapes in the link's (or
+/// the base's) frame; a misspelt key and a bad shape are refused naming the key.
+#[test]
+fn toml_width_and_shape_keys() {
+    let base = "[robot]\nM = 20.0\nI = 1.0\nshape = \"box:0,0,0.5,0.4\"\n[mount]\na = 0.25\nb = 0.0\n";
+    let link = "[[link]]\nlength = 0.5\ncom = 0.25\nmass = 2.0\ninertia = 0.04\n";
+    let text = format!("{base}{link}width = 0.06\n{link}shape = [\"circle:0.5,0,0.05\", \"capsule:0,0,0.5,0,0.02\"]\n");
+    let arm = Arm::from_toml(&text, Path::new("a.toml")).unwrap();
+    let g = &arm.geometry;
+    assert_eq!(g.base, vec![Shape::rectangle([0.0, 0.0], [0.5, 0.4]).unwrap()]);
+    assert_eq!(g.links[0], vec![Shape::capsule([0.0, 0.0], [0.5, 0.0], 0.03).unwrap()]);
+    assert_eq!(
+        g.links[1],
+        vec![Shape::circle([0.5, 0.0], 0.05).unwrap(), Shape::capsule([0.0, 0.0], [0.5, 0.0], 0.02).unwrap()]
+    );
+    let typo = format!("{base}{link}widht = 0.06\n");
+    assert!(Arm::from_toml(&typo, Path::new("a.toml")).unwrap_err().to_string().contains("widht"));
+    let bad = format!("{base}{link}shape = \"circle:0,0,-1\"\n");
+    let e = Arm::from_toml(&bad, Path::new("a.toml")).unwrap_err().to_string();
+    assert!(e.contains("link[1].shape"), "{e}");
+}
+
+/// The SPART-like plan passes link 4 through the base: never certified (exit 3 naming the bodies,
+/// the time and the depth; the JSON report says `"certified": false` with its `clearance`); with
+/// the base's pairs excluded the links clear each other and the plan is certified with its
+/// clearance block.
+#[test]
+fn the_spart_like_plan_collides_with_the_base_and_clears_without_it() {
+    let f = fixture();
+    let plan = ["plan", "--urdf", &f, "--from", FROM, "--to", TO, "--format", "json"];
+    let o = freefloat(&plan);
+    assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
+    assert!(stderr(&o).contains("base and link 4 come") && stderr(&o).contains("into each other"), "{}", stderr(&o));
+    let r: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(r["certified"], false);
+    let c = &r["clearance"];
+    assert_eq!(c["between"], serde_json::json!(["base", "link 4"]));
+    let (min, time) = (c["min"].as_f64().unwrap(), c["time"].as_f64().unwrap());
+    assert!((-0.35..-0.2).contains(&min) && (5.5..7.0).contains(&time), "{c}");
+
+    let o = freefloat(&[&plan[..], &NO_BASE[..]].concat());
+    assert!(o.status.success(), "{}", stderr(&o));
+    let r: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let c = &r["clearance"];
+    assert_eq!((&r["certified"], &c["between"]), (&serde_json::json!(true), &serde_json::json!(["link 1", "link 3"])));
+    assert!(c["min"].as_f64().unwrap() > 0.1 && c["holds"] == true, "{c}");
+    // --clearance above it: not certified.
+    let o = freefloat(&[&plan[..], &NO_BASE[..], &["--clearance", "0.2"]].concat());
+    assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
+    assert!(stderr(&o).contains("link 1 and link 3 come within"), "{}", stderr(&o));
+}
+
+/// An obstacle where the unconstrained plan's end effector arrives: exit 3 naming the obstacle,
+/// for the optimal planner and the ECSA alike (`compare` lists both, the exit names the one that
+/// failed).
+#[test]
+fn an_obstacle_on_the_path_is_never_certified() {
+    let f = fixture();
+    let mut args = vec!["plan", "--urdf", &f, "--from", FROM, "--to", TO, "--obstacle", "circle:0.95,1.55,0.1"];
+    args.extend(NO_BASE);
+    let o = freefloat(&args);
+    assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
+    assert!(stderr(&o).contains("link 4 and obstacle 1"), "{}", stderr(&o));
+    args[0] = "compare";
+    args.extend(["--format", "json"]);
+    let o = freefloat(&args);
+    assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
+    let r: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    for method in ["optimal", "ecsa"] {
+        assert_eq!(r[method]["certified"], false, "{method}");
+        assert_eq!(r[method]["clearance"]["between"][1], "obstacle 1", "{method}");
+    }
+    // Bad flags are bad input.
+    for bad in [["--obstacle", "circle:1,1"], ["--clearance", "-1"], ["--no-collide", "base,link9"]] {
+        let o = freefloat(&[&["plan", "--urdf", &f, "--from", FROM, "--to", TO][..], &bad[..]].concat());
+        assert_eq!(o.status.code(), Some(2), "{bad:?}: {}", stderr(&o));
+    }
+}
+
+/// The 2-link pipeline checks the clearance of every method, the NFA included: an obstacle at
+/// the system's centre of mass lies inside the heavy base's box, so no method is certified
+/// (measured: 0.25 m deep for each).
+#[test]
+fn two_link_plans_of_every_method_are_checked() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("src_shapes.toml");
+    let link = |l: f64, d: f64, m: f64| {
+        format!("[[link]]\nlength = {l}\ncom = {d}\nmass = {m}\ninertia = 0.0\nwidth = 0.04\n")
+    };
+    let text = format!(
+        "[robot]\nM = 12.9\nI = 0.208\nshape = \"box:0,0,0.6,0.5\"\n{}{}",
+        link(0.619, 0.313, 4.5),
+        link(0.6, 0.287, 1.5)
+    );
+    std::fs::write(&path, text).unwrap();
+    let p = path.to_str().unwrap();
+    let o = freefloat(&["compare", "--robot", p, "--obstacle", "circle:0,0,0.05", "--format", "json"]);
+    assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
+    let r: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    for method in ["optimal", "nfa", "ecsa"] {
+        assert_eq!(r[method]["certified"], false, "{method}: {}", r[method]);
+        assert_eq!(r[method]["clearance"]["between"], serde_json::json!(["base", "obstacle 1"]), "{method}");
+    }
+    // Without the obstacle: the paper's goal, theta2 = 140 deg, folds link 2 back into this base's
+    // 0.6 m x 0.5 m box at T (the NFA's plan, measured 6.5 mm deep).
+    let o = freefloat(&["plan", "--robot", p, "--method", "nfa"]);
+    assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
+    assert!(String::from_utf8_lossy(&o.stdout).contains("min clearance"));
+    assert!(stderr(&o).contains("base and link 2 come") && stderr(&o).contains("t = 10 s"), "{}", stderr(&o));
+}
