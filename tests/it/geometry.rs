@@ -139,7 +139,7 @@ fn toml_width_and_shape_keys() {
 #[test]
 fn the_spart_like_plan_collides_with_the_base_and_clears_without_it() {
     let f = fixture();
-    let plan = ["plan", "--urdf", &f, "--from", FROM, "--to", TO, "--format", "json"];
+    let plan = ["plan", "--urdf", &f, "--from", FROM, "--to", TO, "--limit", "all=none", "--format", "json"];
     let o = freefloat(&plan);
     assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
     assert!(stderr(&o).contains("base and link 4 come") && stderr(&o).contains("into each other"), "{}", stderr(&o));
@@ -168,7 +168,19 @@ fn the_spart_like_plan_collides_with_the_base_and_clears_without_it() {
 #[test]
 fn an_obstacle_on_the_path_is_never_certified() {
     let f = fixture();
-    let mut args = vec!["plan", "--urdf", &f, "--from", FROM, "--to", TO, "--obstacle", "circle:0.95,1.55,0.1"];
+    let mut args = vec![
+        "plan",
+        "--urdf",
+        &f,
+        "--from",
+        FROM,
+        "--to",
+        TO,
+        "--limit",
+        "all=none",
+        "--obstacle",
+        "circle:0.95,1.55,0.1",
+    ];
     args.extend(NO_BASE);
     let o = freefloat(&args);
     assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
