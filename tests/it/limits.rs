@@ -15,7 +15,6 @@ const THREE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/robots/three_
 /// The example without limits or shapes: the ranges come from `--limit` (the example's visual
 /// boxes would make the long way round collide, base and link 2, issue 21).
 const UNSHAPED: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/fixtures/spart_like_4dof_unlimited.urdf");
-const SPART: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/robots/spart_like_4dof.urdf");
 const THREE_PROBLEM: [&str; 4] = ["--from", "0,60,-30,-30", "--to", "30,120,40,-60"];
 
 /// The use of `name`'s `quantity` in a JSON report's `limits` block.
