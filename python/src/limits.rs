@@ -33,7 +33,12 @@ pub fn apply(own: &Limits, n: usize, limits: &Bound<'_, PyDict>) -> Result<Limit
         let joint = match key.strip_prefix("theta").and_then(|k| k.parse::<usize>().ok()) {
             Some(k) if (1..=n).contains(&k) => Some(k - 1),
             _ if base => None,
-            _ => return Err(bad(format!("limits[{key:?}]"), format!("unknown joint {key:?} for an arm of {n} joint(s)"))),
+            _ => {
+                return Err(bad(
+                    format!("limits[{key:?}]"),
+                    format!("unknown joint {key:?} for an arm of {n} joint(s)"),
+                ));
+            }
         };
         if value.is_none() {
             match joint {
@@ -42,9 +47,8 @@ pub fn apply(own: &Limits, n: usize, limits: &Bound<'_, PyDict>) -> Result<Limit
             }
             continue;
         }
-        let table = value
-            .cast::<PyDict>()
-            .map_err(|_| bad(format!("limits[{key:?}]"), "not a dict of quantities".into()))?;
+        let table =
+            value.cast::<PyDict>().map_err(|_| bad(format!("limits[{key:?}]"), "not a dict of quantities".into()))?;
         for (quantity, v) in table.iter() {
             let quantity: String = quantity.extract().unwrap_or_default();
             let name = format!("limits[{key:?}][{quantity:?}]");
