@@ -16,6 +16,7 @@
 //! With one joint `a(theta) dtheta` is exact, so `phi(T)` is fixed by `theta(T)`: the planner
 //! checks the goal for consistency ([`Error::HolonomyFixed`]) and then minimises the effort alone.
 
+pub mod coil;
 pub mod connection;
 pub mod discrete;
 pub mod energy;
@@ -24,6 +25,8 @@ mod limits;
 pub mod motion;
 pub(crate) mod search;
 pub mod seeds;
+mod single;
+mod starts;
 
 use std::sync::Arc;
 
@@ -286,3 +289,6 @@ mod tests_cost;
 
 #[cfg(test)]
 mod tests_limits;
+
+#[cfg(test)]
+mod tests_recorded;

@@ -2,26 +2,28 @@
 //! every seed solved on the coarse basis, the best feasible solution refined, the plan certified.
 
 use std::cell::RefCell;
-use std::f64::consts::TAU;
 use std::sync::Arc;
 use std::time::Instant;
 
-use nalgebra::DVector;
-
 use super::discrete::{Discretisation, Table, Targets};
 use super::motion::{ChainPlan, ChainStats};
-use super::seeds::{self, Line, Seed};
+use super::starts::Prepared;
 use super::{ChainPlanner, ChainProblem};
 use crate::error::Error;
-use crate::model::wrap_angle;
 use crate::plan::certificate::verify_chain;
-use crate::planners::optimal::Cost;
 use crate::planners::optimal::spline::SplineBasis;
-use crate::planners::optimal::sqp::{Discretised, SqpOptions, SqpResult, Termination};
+use crate::planners::optimal::sqp::{SqpOptions, SqpResult, Termination};
+use crate::planners::optimal::{Cost, EXTRA_RESIDUAL};
 
 /// SQP options of the coarse solves.
-const COARSE_SQP: SqpOptions =
+pub(super) const COARSE_SQP: SqpOptions =
     SqpOptions { max_iterations: 40, constraint_tolerance: 1e-10, kkt_tolerance: 1e-6, stall_iterations: 6 };
+
+/// After the first converged refinement, a representative's loops and coils are solved only
+/// when its estimate is at most this times the best cost found (the two-joint planner's rule:
+/// coil estimates are pessimistic, but one far above the best plan does not overtake it); its
+/// line is solved in any case.
+const LATER_ESTIMATE_RATIO: f64 = 10.0;
 
 /// The tables built in one planning call, by (uniform spans, quadrature nodes).
 #[derive(Default)]
@@ -31,21 +33,24 @@ pub(super) struct Tables(RefCell<Vec<TableEntry>>);
 type TableEntry = ((usize, usize), Arc<Table>);
 
 /// A solve: its discretisation and result.
-struct Candidate {
-    disc: Discretisation,
-    result: SqpResult,
-    spans: usize,
-    nodes: usize,
-    iterations: usize,
+#[derive(Clone)]
+pub(super) struct Candidate {
+    /// The discretisation solved on.
+    pub disc: Discretisation,
+    /// The SQP's result.
+    pub result: SqpResult,
+    /// Uniform knot spans of `disc`.
+    pub spans: usize,
+    /// Quadrature nodes per span of `disc`.
+    pub nodes: usize,
+    /// SQP iterations so far.
+    pub iterations: usize,
 }
 
-/// A representative with its line and seeds.
-struct Prepared {
-    targets: Targets,
-    line: Line,
-    seeds: Vec<Seed>,
-    estimate: f64,
-    bound: f64,
+impl Candidate {
+    fn feasible(&self) -> bool {
+        self.result.c.abs() <= 1e-6 && self.result.f.is_finite()
+    }
 }
 
 impl ChainPlanner {
@@ -70,48 +75,67 @@ impl ChainPlanner {
         let (mut seeds, mut iterations) = (0, 0);
         let mut best_failure: Option<Candidate> = None;
         let mut not_certified: Option<Error> = None;
-        // Batches of representatives, least effort bound first (branch and bound), skipping those
-        // whose bound exceeds the best effort found; every converged refinement is kept.
+        // Batches of representatives, best estimate first, skipping those whose bound exceeds
+        // the least feasible cost seen (branch and bound) or, once a plan is refined, whose
+        // estimate is far above it; every converged refinement is kept.
         let mut best = f64::INFINITY;
         let mut done: Vec<Candidate> = Vec::new();
         let mut queue = prepared.into_iter().peekable();
         while queue.peek().is_some() {
-            let mut coarse = Vec::new();
+            let (mut coarse, mut extras) = (Vec::new(), Vec::new());
+            let refined_best = done.iter().map(|c| c.result.f).fold(f64::INFINITY, f64::min);
             let mut taken = 0;
             while taken < o.targets_solved {
                 let Some(p) = queue.next() else { break };
+                let mut p = p;
                 if p.bound > best {
                     continue;
                 }
-                taken += 1;
-                let disc = self.discretise(problem, p.targets.clone(), o.coarse_spans, o.quadrature_nodes, &tables)?;
-                for result in self.solve_seeds(&disc, &p)? {
+                if p.estimate > LATER_ESTIMATE_RATIO * refined_best {
+                    // Only the line (one cheap coarse solve; the SQP may bend it into a plan far
+                    // cheaper than the seeds' estimate).
+                    p.seeds.truncate(1);
+                } else {
+                    taken += 1;
+                }
+                for (c, extra) in self.solve_seeds(problem, &p, &tables)? {
                     seeds += 1;
-                    iterations += result.iterations;
-                    let (spans, nodes, its) = (o.coarse_spans, o.quadrature_nodes, result.iterations);
-                    coarse.push(Candidate { disc: disc.clone(), result, spans, nodes, iterations: its });
+                    iterations += c.iterations;
+                    if !extra && c.feasible() {
+                        best = best.min(c.result.f);
+                    }
+                    if extra { extras.push(c) } else { coarse.push(c) }
                 }
             }
-            let feasible = |c: &Candidate| c.result.c.abs() <= 1e-6 && c.result.f.is_finite();
-            coarse.sort_by(|a, b| feasible(b).cmp(&feasible(a)).then(a.result.f.total_cmp(&b.result.f)));
-            // Finalists: the best, and the next within 20% of it (a coarse solution further off
-            // rarely overtakes on refinement), not above the best refined effort so far.
-            let first = coarse.first().filter(|c| feasible(c)).map_or(f64::INFINITY, |c| c.result.f);
-            let mut finalists: Vec<Candidate> = Vec::new();
-            for c in coarse {
-                let too_high = feasible(&c) && (c.result.f > 1.2 * first || c.result.f > best);
-                if finalists.len() >= o.finalists || (!finalists.is_empty() && too_high) {
+            coarse.sort_by(|a, b| b.feasible().cmp(&a.feasible()).then(a.result.f.total_cmp(&b.result.f)));
+            // The best line beside a coil is refined too, as an extra finalist, where its coarse
+            // solution is near the constraint and its cost within 20 % of the best one's.
+            let first = coarse.first().filter(|c| c.feasible()).map_or(refined_best, |c| c.result.f.min(refined_best));
+            let near = |c: &Candidate| c.result.c.abs() <= EXTRA_RESIDUAL && c.result.f.is_finite();
+            let extra = extras.into_iter().filter(near).min_by(|a, b| a.result.f.total_cmp(&b.result.f));
+            let extra = extra.filter(|c| c.result.f <= 1.2 * first);
+            // Finalists, best first: a coarse cost 20 % above the best refined one does not
+            // overtake on refinement, and an infeasible one is refined only while no plan is
+            // found. A refinement that fails does not use up a finalist's place (at most twice as
+            // many are tried).
+            let (mut converged, mut tried, mut refined): (usize, usize, Vec<f64>) = (0, 0, Vec::new());
+            for (c, extra) in extra.into_iter().map(|c| (c, true)).chain(coarse.into_iter().map(|c| (c, false))) {
+                if !extra && (converged >= o.finalists || tried >= 2 * o.finalists) {
+                    break;
+                }
+                if !extra && (c.result.f > 1.2 * refined_best || (!c.feasible() && refined_best.is_finite())) {
                     break;
                 }
                 let f = c.result.f;
-                if !finalists.iter().any(|d| (d.result.f - f).abs() <= 1e-6 * f.abs().max(1e-12)) {
-                    finalists.push(c);
+                if refined.iter().any(|d| (d - f).abs() <= 1e-6 * f.abs().max(1e-12)) {
+                    continue;
                 }
-            }
-            for c in finalists {
+                refined.push(f);
+                tried += usize::from(!extra);
                 let c = self.refine(problem, c, &tables)?;
                 iterations += c.iterations;
                 if c.result.converged() {
+                    converged += usize::from(!extra);
                     best = best.min(c.result.f);
                     done.push(c);
                 } else if best_failure.as_ref().is_none_or(|b| c.result.c.abs() < b.result.c.abs()) {
@@ -206,118 +230,20 @@ impl ChainPlanner {
         })
     }
 
-    /// The goal representatives with their lines and seeds, least effort bound first: `phid`, `phid +- 2 pi` nearest
-    /// the start, with `wrap` the joint goals nearest it and one joint a turn further; only those inside the ranges.
-    fn prepare(&self, problem: &ChainProblem) -> Result<Vec<Prepared>, Error> {
-        let n = self.arm.joints();
-        let (q0, qd) = (&problem.start, &problem.goal);
-        let theta0 = q0[1..].to_vec();
-        let mut joint_goals = Vec::new();
-        if problem.wrap {
-            let near: Vec<f64> = (1..=n).map(|j| q0[j] + wrap_angle(qd[j] - q0[j])).collect();
-            joint_goals.push(near.clone());
-            for j in 0..n {
-                for turn in [-TAU, TAU] {
-                    let mut g = near.clone();
-                    g[j] += turn;
-                    joint_goals.push(g);
-                }
-            }
-        } else {
-            joint_goals.push(qd[1..].to_vec());
-        }
-        let mut phi_targets: Vec<f64> = if problem.wrap {
-            let near = q0[0] + wrap_angle(qd[0] - q0[0]);
-            vec![near, near - TAU, near + TAU]
-        } else {
-            vec![qd[0]]
-        };
-        super::limits::inside_ranges(&self.arm.limits, &mut joint_goals, &mut phi_targets);
-        let kappa_max = seeds::curvature_bound(&self.connection);
-        // The bound is in the cost's units: the energy's is the effort's times a floor of R.
-        let scale = match self.options.cost {
-            Cost::Effort => 1.0,
-            Cost::Energy => super::energy::energy_floor(&self.arm),
-        };
-        let mut out = Vec::new();
-        for end in joint_goals {
-            let line = Line {
-                start: theta0.clone(),
-                end: end.clone(),
-                initial_velocity: problem.initial_velocity.clone(),
-                horizon: problem.horizon,
-            };
-            // The line's holonomy at rest (the initial-velocity term is small and ignored here).
-            let integral = line.holonomy(&self.connection);
-            for &phi_end in &phi_targets {
-                let needed = phi_end - (q0[0] - integral);
-                let loops =
-                    line.loops(&self.connection, needed, self.options.loop_planes, self.options.max_loop_radius);
-                let estimate = if needed.abs() < 1e-9 || loops.is_empty() {
-                    line.effort_estimate(Seed::Line)
-                } else {
-                    loops.iter().map(|s| line.effort_estimate(*s)).fold(f64::INFINITY, f64::min)
-                };
-                let mut seeds = vec![Seed::Line];
-                seeds.extend(loops);
-                let targets = Targets {
-                    start: theta0.clone(),
-                    initial_velocity: problem.initial_velocity.clone(),
-                    end: end.clone(),
-                    phi_start: q0[0],
-                    phi_end,
-                };
-                let bound = scale * seeds::effort_lower_bound(&line, needed, kappa_max);
-                out.push(Prepared { targets, line: line.clone(), seeds, estimate, bound });
-            }
-        }
-        out.sort_by(|a, b| a.bound.total_cmp(&b.bound).then(a.estimate.total_cmp(&b.estimate)));
-        Ok(out)
-    }
-
-    /// The coarse solutions of a representative: from the line, then from each loop as
-    /// estimated and re-fitted to the constraint, the loops only where the line's solution is
-    /// infeasible or costs more than two thirds of the loop's constant-speed effort estimate (a
-    /// loop longer than that cannot do better).
-    fn solve_seeds(&self, disc: &Discretisation, p: &Prepared) -> Result<Vec<SqpResult>, Error> {
-        let line = &p.line;
-        let project = |seed: Seed| disc.project(|t, out| line.path(seed, t, out));
-        let mut out: Vec<SqpResult> = Vec::new();
-        let mut line_effort = f64::INFINITY;
-        for &seed in &p.seeds {
-            if seed == Seed::Line {
-                if let Ok(r) = super::limits::solve(self, disc, project(seed)?, &COARSE_SQP, None) {
-                    if r.c.abs() <= 1e-6 {
-                        line_effort = r.f;
-                    }
-                    out.push(r);
-                }
-                continue;
-            }
-            if line.effort_estimate(seed) > 1.5 * line_effort {
-                continue;
-            }
-            let residual = |s: Seed| project(s).map_or(f64::NAN, |x| disc.evaluate(&x, 0).c);
-            let fitted = line.fit_radius(seed, self.options.max_loop_radius, residual);
-            if let Ok(r) = super::limits::solve(self, disc, project(fitted)?, &COARSE_SQP, None) {
-                out.push(r);
-            }
-        }
-        Ok(out)
-    }
-
     /// Doubles the spans until the effort settles (or `max_spans`), then raises the quadrature
     /// nodes until the finer quadrature of the plan's base angle agrees to 1% of the tolerance.
-    fn refine(&self, problem: &ChainProblem, mut c: Candidate, tables: &Tables) -> Result<Candidate, Error> {
+    pub(super) fn refine(&self, problem: &ChainProblem, mut c: Candidate, tables: &Tables) -> Result<Candidate, Error> {
         let o = &self.options;
         let mut previous: Option<f64> = None;
-        let mut spans = c.spans;
+        let (mut spans, first) = (c.spans, c.spans);
         while spans < o.max_spans {
             spans = (2 * spans).min(o.max_spans);
-            c = self.resolve(problem, &c, spans, c.nodes, tables)?;
-            if !c.result.converged() {
-                return Ok(c);
+            let finer = self.resolve(problem, &c, spans, c.nodes, tables)?;
+            if !finer.result.converged() {
+                // Keep the last converged basis (the certificate judges it).
+                return Ok(if c.spans > first && c.result.converged() { c } else { finer });
             }
+            c = finer;
             if previous.is_some_and(|p| (c.result.f - p).abs() <= o.refinement_tolerance * c.result.f.abs()) {
                 break;
             }
@@ -373,7 +299,7 @@ impl ChainPlanner {
 
     /// The plan of a converged candidate with its statistics and certificate; an error when the
     /// certificate fails.
-    fn certified(
+    pub(super) fn certified(
         &self,
         problem: &ChainProblem,
         c: &Candidate,
@@ -400,79 +326,6 @@ impl ChainPlanner {
             })
         }
     }
-
-    /// One joint: `phi(T)` is fixed by `theta(T)`; a consistent representative's effort alone is
-    /// minimised (the constraint holds on every path).
-    fn single_joint(
-        &self,
-        problem: &ChainProblem,
-        prepared: Vec<Prepared>,
-        tables: &Tables,
-        clock: Instant,
-    ) -> Result<ChainPlan, Error> {
-        let o = &self.options;
-        let (mut gap, mut nearest) = (f64::INFINITY, (f64::NAN, f64::NAN));
-        let mut done: Vec<[f64; 2]> = Vec::new();
-        for p in prepared {
-            let key = [p.targets.end[0], 0.0];
-            if done.contains(&key) {
-                continue;
-            }
-            done.push(key);
-            let reachable = p.targets.phi_start - p.line.holonomy(&self.connection);
-            let g = wrap_angle(reachable - problem.goal[0]).abs();
-            if g < gap {
-                (gap, nearest) = (g, (p.targets.end[0], reachable));
-            }
-            if g > o.tolerance {
-                continue;
-            }
-            let targets = Targets { phi_end: reachable, ..p.targets };
-            let disc = self.discretise(problem, targets, o.max_spans, o.quadrature_nodes, tables)?;
-            let x0 = disc.project(|t, out| p.line.path(Seed::Line, t, out))?;
-            // The effort is quadratic: one Newton step from any point is its minimiser.
-            let e = disc.evaluate(&x0, 1);
-            let chol = disc.effort_cholesky().ok_or(Error::OptimalFailed {
-                iterations: 0,
-                constraint_residual: e.c.abs(),
-                kkt_residual: f64::INFINITY,
-                effort: e.f,
-                seeds: 1,
-                termination: "singular_effort_hessian",
-            })?;
-            let mut x = &x0 - chol.solve(&e.grad_f);
-            if self.options.cost == Cost::Energy {
-                x = minimise_energy(&disc, x);
-            }
-            let end = disc.evaluate(&x, 0);
-            let result = SqpResult {
-                x,
-                lambda: 0.0,
-                f: end.f,
-                c: end.c,
-                kkt: 0.0,
-                iterations: 1,
-                termination: Termination::Converged,
-                kkt_tolerance: o.sqp.kkt_tolerance,
-            };
-            let c = Candidate {
-                disc,
-                iterations: result.iterations,
-                result,
-                spans: o.max_spans,
-                nodes: o.quadrature_nodes,
-            };
-            return self.certified(problem, &c, 1, c.iterations, clock);
-        }
-        Err(Error::HolonomyFixed {
-            joints: 1,
-            theta_goal: nearest.0,
-            reachable: nearest.1,
-            goal: problem.goal[0],
-            gap,
-            tolerance: o.tolerance,
-        })
-    }
 }
 
 impl ChainStats {
@@ -493,35 +346,6 @@ impl ChainStats {
             plan_seconds: f64::NAN,
         }
     }
-}
-
-/// The energy's minimiser from `x` (one joint: the constraint holds on every path): damped
-/// Newton steps on the energy's Hessian, halved until the energy decreases, until the gradient
-/// is below 1e-10 of the energy's scale or 50 steps.
-fn minimise_energy(disc: &Discretisation, mut x: DVector<f64>) -> DVector<f64> {
-    for _ in 0..50 {
-        let e = disc.evaluate(&x, 2);
-        if e.grad_f.norm() <= 1e-10 * e.f.abs().max(1e-12) {
-            break;
-        }
-        let Some(chol) = e.hess_f.clone().cholesky() else { break };
-        let step = chol.solve(&e.grad_f);
-        let mut t = 1.0;
-        let mut improved = false;
-        for _ in 0..30 {
-            let trial = &x - &step * t;
-            if disc.evaluate(&trial, 0).f < e.f {
-                x = trial;
-                improved = true;
-                break;
-            }
-            t *= 0.5;
-        }
-        if !improved {
-            break;
-        }
-    }
-    x
 }
 
 /// Largest `|theta_j'|` over joints at 16 points per knot span \[rad/s\].

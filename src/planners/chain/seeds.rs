@@ -4,6 +4,7 @@
 
 use std::f64::consts::{PI, TAU};
 
+use super::coil::{MAX_TURNS, Sites, curvature};
 use super::connection::{Connection, Local};
 
 /// Which seed.
@@ -12,14 +13,31 @@ pub enum Seed {
     /// The straight joint line, smooth-step timing.
     Line,
     /// The line with `turns` closed loops of radius `radius` \[rad\] in the `(theta_i, theta_j)`
-    /// plane, counter-clockwise when `orientation = +1`.
+    /// plane through the line's point, centred `radius` from it at the angle `direction` in the
+    /// plane (0: along `theta_i`), counter-clockwise when `orientation = +1`.
     Loop {
         /// First joint of the plane (0-based).
         i: usize,
         /// Second joint of the plane (0-based).
         j: usize,
+        /// The angle of the centre from the line's point in the plane \[rad\].
+        direction: f64,
         /// `+1` counter-clockwise, `-1` clockwise.
         orientation: f64,
+        /// Radius \[rad\].
+        radius: f64,
+        /// Turns.
+        turns: usize,
+    },
+    /// A [coil](super::coil): in to a site of the `(theta_i, theta_j)` plane, `turns`
+    /// counter-clockwise windings of radius `radius` about `centre`, out to the end.
+    Coil {
+        /// First joint of the plane (0-based).
+        i: usize,
+        /// Second joint of the plane (0-based).
+        j: usize,
+        /// Centre `(theta_i, theta_j)` \[rad\].
+        centre: [f64; 2],
         /// Radius \[rad\].
         radius: f64,
         /// Turns.
@@ -31,7 +49,10 @@ impl Seed {
     /// The same seed with radius `r` (a line unchanged).
     pub fn with_radius(self, r: f64) -> Self {
         match self {
-            Seed::Loop { i, j, orientation, turns, .. } => Seed::Loop { i, j, orientation, radius: r, turns },
+            Seed::Loop { i, j, direction, orientation, turns, .. } => {
+                Seed::Loop { i, j, direction, orientation, radius: r, turns }
+            }
+            Seed::Coil { i, j, centre, turns, .. } => Seed::Coil { i, j, centre, radius: r, turns },
             Seed::Line => Seed::Line,
         }
     }
@@ -68,12 +89,18 @@ impl Line {
 
     /// The seed's joint path at `t`.
     pub fn path(&self, seed: Seed, t: f64, out: &mut [f64]) {
+        if self.coil_path(seed, t, out) {
+            return;
+        }
         self.at(t, out);
-        if let Seed::Loop { i, j, orientation, radius, turns } = seed {
+        if let Seed::Loop { i, j, direction, orientation, radius, turns } = seed {
             let psi = TAU * turns as f64 * smooth_step(t / self.horizon);
             let (sp, cp) = psi.sin_cos();
-            out[i] += radius * (1.0 - cp);
-            out[j] -= radius * orientation * sp;
+            // The circle through the line's point with its centre `radius` along `a`.
+            let (sa, ca) = direction.sin_cos();
+            let (a, b) = ([ca, sa], [-sa, ca]);
+            out[i] += radius * ((1.0 - cp) * a[0] - orientation * sp * b[0]);
+            out[j] += radius * ((1.0 - cp) * a[1] - orientation * sp * b[1]);
         }
     }
 
@@ -98,39 +125,79 @@ impl Line {
         self.start.iter().zip(&self.end).map(|(a, b)| (b - a) * (b - a)).sum::<f64>().sqrt()
     }
 
-    /// Loop seeds that should add the base rotation `needed` \[rad\]: in the `count` joint planes
-    /// of largest `|kappa_ij|` at the line's midpoint, the radius from `pi R^2 |kappa| = |needed|`
-    /// (several turns above `max_radius`), oriented by the signs.
-    pub fn loops(&self, connection: &Connection, needed: f64, count: usize, max_radius: f64) -> Vec<Seed> {
+    /// The seeds beside the line that should add the base rotation `needed` \[rad\], in the
+    /// `count` joint planes of largest `|kappa_ij|` at the line's midpoint (the two-joint
+    /// planner's, in each plane): where one loop cannot add it (a [coil](super::coil) at the
+    /// plane's site needs two turns or more), the coil alone; else a loop on either side of the
+    /// line and one along `theta_i`, each radius from the curvature at its centre.
+    pub fn loops(
+        &self,
+        connection: &Connection,
+        needed: f64,
+        count: usize,
+        max_radius: f64,
+        sites: &mut Sites,
+    ) -> Vec<Seed> {
         let n = self.start.len();
         if n < 2 {
             return Vec::new();
         }
-        let mut mid = vec![0.0; n];
-        self.at(self.horizon / 2.0, &mut mid);
+        let mid = self.midpoint();
         let mut local = Local::new(n);
-        connection.local(&mid, &vec![0.0; n], &mut local);
         let mut planes = Vec::new();
         for i in 0..n {
             for j in i + 1..n {
-                // Rotation per counter-clockwise area: -(da_j/dtheta_i - da_i/dtheta_j).
-                let kappa = -(local.mixed[i * n + j] - local.mixed[j * n + i]);
-                planes.push((i, j, kappa));
+                planes.push((i, j, curvature(connection, &mid, i, j, &mut local)));
             }
         }
         planes.sort_by(|a, b| b.2.abs().total_cmp(&a.2.abs()));
-        planes
-            .into_iter()
-            .take(count)
-            .filter(|(.., kappa)| kappa.abs() > 1e-12)
-            .map(|(i, j, kappa)| {
-                let area = (needed / kappa).abs().max(0.01);
-                let turns = ((area / (PI * max_radius * max_radius)).ceil() as usize).clamp(1, 64);
-                let radius = (area / (PI * turns as f64)).sqrt().clamp(0.05, max_radius);
+        let mut out = Vec::new();
+        for (i, j, kappa) in planes.into_iter().take(count) {
+            if kappa.abs() <= 1e-12 {
+                continue;
+            }
+            let mut kappa_at = |centre: [f64; 2]| {
+                let mut theta = mid.clone();
+                (theta[i], theta[j]) = (centre[0], centre[1]);
+                curvature(connection, &theta, i, j, &mut local)
+            };
+            // Along theta_i: pi R^2 |kappa| = |needed|, several turns above `max_radius`.
+            let (mut axis, mut turns) = (Seed::Line, 1);
+            let mut radius: f64 = 0.5;
+            for _ in 0..3 {
+                let kappa = kappa_at([mid[i] + radius, mid[j]]);
+                let area = if kappa.abs() > 1e-12 { (needed / kappa).abs().max(0.01) } else { 0.25 };
                 let orientation = if needed * kappa >= 0.0 { 1.0 } else { -1.0 };
-                Seed::Loop { i, j, orientation, radius, turns }
-            })
-            .collect()
+                turns = ((area / (PI * max_radius * max_radius)).ceil() as usize).clamp(1, MAX_TURNS);
+                radius = (area / (PI * turns as f64)).sqrt().clamp(0.05, max_radius);
+                axis = Seed::Loop { i, j, direction: 0.0, orientation, radius, turns };
+            }
+            if n == 2 || turns >= 2 {
+                let site = sites.get(connection, &mid, i, j, max_radius)[usize::from(needed < 0.0)];
+                let coil = self.coil(i, j, &site, needed, max_radius);
+                if matches!(coil, Seed::Coil { turns, .. } if turns >= 2) {
+                    out.push(coil);
+                    continue;
+                }
+            }
+            let d = [self.end[i] - self.start[i], self.end[j] - self.start[j]];
+            let normal = if d[0].hypot(d[1]) < 1e-9 { [0.0, 1.0] } else { [-d[1], d[0]] };
+            for side in [1.0, -1.0] {
+                let (mut radius, mut orientation, mut turns): (f64, f64, usize) = (0.5, 1.0, 1);
+                let direction = (side * normal[1]).atan2(side * normal[0]);
+                for _ in 0..3 {
+                    let (s, c) = direction.sin_cos();
+                    let area = needed / kappa_at([mid[i] + radius * c, mid[j] + radius * s]);
+                    orientation = if area >= 0.0 { 1.0 } else { -1.0 };
+                    let wanted = if area.is_finite() && area != 0.0 { area.abs() / PI } else { 0.25 };
+                    turns = ((wanted / (max_radius * max_radius)).ceil() as usize).clamp(1, 6);
+                    radius = (wanted / turns as f64).sqrt().clamp(0.1, max_radius);
+                }
+                out.push(Seed::Loop { i, j, direction, orientation, radius, turns });
+            }
+            out.push(axis);
+        }
+        out
     }
 
     /// A rough effort of the seed run at constant speed, `1.2 (L + 2 pi R turns)^2 / T`, for
@@ -139,6 +206,7 @@ impl Line {
         let extra = match seed {
             Seed::Loop { radius, turns, .. } => TAU * radius * turns as f64,
             Seed::Line => 0.0,
+            Seed::Coil { .. } => return 1.2 * self.coil_length(seed).unwrap_or(0.0).powi(2) / self.horizon,
         };
         1.2 * (self.length() + extra).powi(2) / self.horizon
     }
@@ -146,7 +214,7 @@ impl Line {
     /// The loop seed with its radius re-fitted (secant, at most 8 evaluations of `residual`)
     /// so that the holonomy residual vanishes; the best radius seen is kept.
     pub fn fit_radius(&self, seed: Seed, max_radius: f64, mut residual: impl FnMut(Seed) -> f64) -> Seed {
-        let Seed::Loop { radius, .. } = seed else { return seed };
+        let (Seed::Loop { radius, .. } | Seed::Coil { radius, .. }) = seed else { return seed };
         let (mut r0, mut r1) = (radius, (radius * 1.2).min(max_radius));
         if (r1 - r0).abs() < 1e-9 {
             r1 = 0.8 * r0;

@@ -56,9 +56,9 @@ fn paper_chain_problem() -> ChainProblem {
 
 /// At n = 2 with point-mass links the chain planner's discretisation is the two-joint planner's:
 /// warm-started from the two-joint plan on the same basis (32 spans, 16 nodes) its SQP converges
-/// to the same effort (relative 1e-6); and its own search finds the same effort (at a = 1, b = -1
-/// from the straight line's solution, which the two-joint planner solves beside its coil seed),
-/// certified.
+/// to the same effort (relative 1e-6); and its own search finds a certified plan of at most that
+/// effort (at a = 1, b = -1 a lower one: 72.54 against 91.72 rad^2/s, from the line beside its
+/// coil refined as an extra finalist, which the two-joint planner does not refine there).
 #[test]
 fn chain_matches_the_two_joint_planner() {
     for (a, b) in [(0.1, 0.1), (1.0, -1.0)] {
@@ -71,7 +71,6 @@ fn chain_matches_the_two_joint_planner() {
         let e1 = plan.effort();
         assert!(plan.verification.certified && plan.verification.final_error <= 1e-9);
         assert!(e1 <= e2 * (1.0 + 1e-6), "({a}, {b}): chain {e1} above two-joint {e2}");
-        assert!((e1 - e2).abs() <= 1e-6 * e2, "({a}, {b}): chain {e1} vs two-joint {e2}");
         // The two-joint optimum is a converged point of the chain discretisation.
         let targets = Targets {
             start: problem.start[1..].to_vec(),

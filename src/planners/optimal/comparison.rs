@@ -11,10 +11,10 @@ use crate::model::{Configuration, Mount, RobotParams};
 /// A recorded problem: its index, the problem, the 2-joint planner's certified effort before
 /// issue 19, the better of both planners' certified efforts (infinite where none certified), and
 /// the 2-joint planner's recorded wall time \[ms\].
-type Recorded = (usize, PlanningProblem, f64, f64, f64);
+pub(crate) type Recorded = (usize, PlanningProblem, f64, f64, f64);
 
 /// The fixture's problems and their recorded efforts.
-fn fixture() -> Vec<Recorded> {
+pub(crate) fn fixture() -> Vec<Recorded> {
     let text = include_str!("../../../tests/fixtures/two_link_300.csv");
     let mut out = Vec::new();
     for line in text.lines().filter(|l| !l.starts_with('#') && !l.starts_with("i,")) {

@@ -222,6 +222,10 @@ type TableEntry = ((usize, usize), Arc<Table>);
 /// (seconds per plan).
 const LATER_ESTIMATE_RATIO: f64 = 10.0;
 
+/// The largest constraint residual \[rad\] of a coarse line beside a coil that is refined as an
+/// extra finalist (here and in the [chain](crate::planners::chain) planner).
+pub(crate) const EXTRA_RESIDUAL: f64 = 1e-3;
+
 /// SQP options of the coarse ranking solves.
 const COARSE_SQP: SqpOptions =
     SqpOptions { max_iterations: 40, constraint_tolerance: 1e-10, kkt_tolerance: 1e-6, stall_iterations: 6 };
@@ -298,12 +302,20 @@ impl OptimalPlanner {
             let refined_best = done.first().map_or(f64::INFINITY, |c| c.result.f);
             while taken < o.targets_solved {
                 let Some(p) = prepared.next() else { break };
-                // Bounded out, or (after a plan is found) an estimate far above its effort.
-                if p.bound > best || p.estimate > LATER_ESTIMATE_RATIO * refined_best {
+                // Bounded out; after a plan is found, an estimate far above its effort solves
+                // only the line (one cheap coarse solve that the SQP may bend into a plan far
+                // cheaper than the seeds' estimate).
+                if p.bound > best {
                     continue;
                 }
-                taken += 1;
-                for start in self.starts(problem, &p, nfa.as_ref(), &tables)? {
+                let only_line = p.estimate > LATER_ESTIMATE_RATIO * refined_best;
+                taken += usize::from(!only_line);
+                let mut starts = self.starts(problem, &p, nfa.as_ref(), &tables)?;
+                if only_line {
+                    starts.truncate(1);
+                    starts[0].extra = false;
+                }
+                for start in starts {
                     seeds += 1;
                     let Ok(result) = sqp::solve(&start.disc, start.x0, &COARSE_SQP, start.guess) else { continue };
                     total_iterations += result.iterations;
@@ -340,12 +352,16 @@ impl OptimalPlanner {
                     finalists.push(c);
                 }
             }
-            // The best line beside a coil is refined too where its coarse effort is below every
-            // finalist's: an extra finalist, so that the others (and the plan without it) stay.
+            // The best line beside a coil is refined too where its coarse solution is near the
+            // constraint and its cost within 20 % of the best finalist's: an extra finalist, so
+            // that the others (and the plan without it) stay. On 8 spans the line often ends near
+            // a plan that it cannot quite reach in the coarse solve's 40 iterations and that
+            // costs less, refined, than the coil's.
             let first =
                 finalists.first().filter(|c| feasible(c)).map_or(refined_best, |c| c.result.f.min(refined_best));
-            let extra = extras.into_iter().filter(feasible).min_by(|a, b| a.result.f.total_cmp(&b.result.f));
-            if let Some(c) = extra.filter(|c| c.result.f < first * (1.0 - 1e-6)) {
+            let near = |c: &Candidate| c.result.c.abs() <= EXTRA_RESIDUAL && c.result.f.is_finite();
+            let extra = extras.into_iter().filter(near).min_by(|a, b| a.result.f.total_cmp(&b.result.f));
+            if let Some(c) = extra.filter(|c| c.result.f <= 1.2 * first) {
                 finalists.push(c);
             }
             for c in finalists {
@@ -504,4 +520,4 @@ fn no_candidate() -> Error {
 mod tests;
 
 #[cfg(test)]
-mod comparison;
+pub(crate) mod comparison;

@@ -1,0 +1,282 @@
+//! Coil seeds: where one loop beside the line cannot turn the base far enough, the seed leaves
+//! the line for the place of a joint plane where the curvature turns the base fastest, winds
+//! round it, and comes back (the two-joint planner's coil, in the plane `(theta_i, theta_j)` of
+//! an `n`-joint arm with the other joints at the line's midpoint).
+//!
+//! By Green's theorem a closed loop in the plane turns the base by the curvature
+//! `kappa_ij = -(da_j/dtheta_i - da_i/dtheta_j)` integrated over the area it encloses (with
+//! multiplicity), so `turns` windings round a disc of signed curvature integral `A` add about
+//! `turns A`.
+
+use std::f64::consts::TAU;
+
+use super::connection::{Connection, Local};
+use super::seeds::{Line, Seed};
+
+/// Points per angle of the curvature grid of a plane.
+const GRID: usize = 32;
+
+/// Largest number of turns of a coil seed.
+pub const MAX_TURNS: usize = 64;
+
+/// Where a coil in a joint plane turns the base fastest for one sign of rotation: the grid point
+/// of largest signed curvature, and the disc about it whose curvature integral per radius is
+/// largest.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CoilSite {
+    /// Centre `(theta_i, theta_j)` \[rad\] (any copy modulo 2 pi).
+    pub centre: [f64; 2],
+    /// Radius \[rad\].
+    pub radius: f64,
+    /// The signed curvature integral over the disc, of the site's sign \[rad\] (positive).
+    pub area: f64,
+}
+
+/// The coil sites found in one planning call, by plane and the angles of the other joints.
+#[derive(Debug, Default)]
+pub struct Sites(Vec<(SiteKey, [CoilSite; 2])>);
+
+/// A plane `(i, j)` and the bits of the other joints' angles.
+type SiteKey = (usize, usize, Vec<u64>);
+
+impl Sites {
+    /// The [`sites`] of the plane `(i, j)` through `base`, computed once.
+    pub fn get(&mut self, connection: &Connection, base: &[f64], i: usize, j: usize, max_radius: f64) -> [CoilSite; 2] {
+        let others = base.iter().enumerate().filter(|(k, _)| *k != i && *k != j).map(|(_, v)| v.to_bits()).collect();
+        let key = (i, j, others);
+        if let Some((_, s)) = self.0.iter().find(|(k, _)| *k == key) {
+            return *s;
+        }
+        let s = sites(connection, base, i, j, max_radius);
+        self.0.push((key, s));
+        s
+    }
+}
+
+/// The rotation of the base per counter-clockwise area of the `(theta_i, theta_j)` plane at
+/// `theta` \[rad / rad^2\].
+pub fn curvature(connection: &Connection, theta: &[f64], i: usize, j: usize, local: &mut Local) -> f64 {
+    let n = theta.len();
+    connection.local(theta, &vec![0.0; n], local);
+    -(local.mixed[i * n + j] - local.mixed[j * n + i])
+}
+
+/// The coil sites of the plane `(i, j)` through `base` (the other joints held there) for a
+/// positive and a negative rotation, in that order.
+pub fn sites(connection: &Connection, base: &[f64], i: usize, j: usize, max_radius: f64) -> [CoilSite; 2] {
+    let mut local = Local::new(base.len());
+    let mut theta = base.to_vec();
+    let mut kappa = |ti: f64, tj: f64| {
+        theta[i] = ti;
+        theta[j] = tj;
+        curvature(connection, &theta, i, j, &mut local)
+    };
+    let mut grid = Vec::with_capacity(GRID * GRID);
+    for a in 0..GRID {
+        for b in 0..GRID {
+            grid.push(kappa(TAU * a as f64 / GRID as f64, TAU * b as f64 / GRID as f64));
+        }
+    }
+    [1.0, -1.0].map(|sign: f64| {
+        let (mut top, mut centre) = (f64::NEG_INFINITY, [0.0; 2]);
+        for (k, v) in grid.iter().enumerate() {
+            if sign * v > top {
+                (top, centre) =
+                    (sign * v, [TAU * (k / GRID) as f64 / GRID as f64, TAU * (k % GRID) as f64 / GRID as f64]);
+            }
+        }
+        // Cumulative signed area over discs of growing radius (rings, midpoint rule).
+        let (rings, angles) = (20, 24);
+        let dr = max_radius / rings as f64;
+        let (mut area, mut chosen) = (0.0, (f64::NEG_INFINITY, dr, 0.0));
+        for ring in 0..rings {
+            let r = (ring as f64 + 0.5) * dr;
+            let mean = (0..angles)
+                .map(|m| {
+                    let (s, c) = (TAU * m as f64 / angles as f64).sin_cos();
+                    sign * kappa(centre[0] + r * c, centre[1] + r * s)
+                })
+                .sum::<f64>()
+                / angles as f64;
+            area += mean * TAU * r * dr;
+            let outer = (ring + 1) as f64 * dr;
+            if area / outer > chosen.0 {
+                chosen = (area / outer, outer, area);
+            }
+        }
+        CoilSite { centre, radius: chosen.1, area: chosen.2 }
+    })
+}
+
+/// Entry point in the plane, unit vector from the centre to it, and the three legs' lengths
+/// (in, around, out) \[rad\] of a coil.
+type Legs = ([f64; 2], [f64; 2], f64, f64, f64);
+
+impl Line {
+    /// The coil in the plane `(i, j)` that should add the rotation `needed` \[rad\] at `site`
+    /// (of `needed`'s sign): the copy of its centre nearest the line's midpoint, as many turns as
+    /// the site's disc needs, the radius shrunk toward the area needed.
+    pub fn coil(&self, i: usize, j: usize, site: &CoilSite, needed: f64, max_radius: f64) -> Seed {
+        let mid = self.midpoint();
+        let centre = [(i, 0), (j, 1)].map(|(k, c)| {
+            let c = site.centre[c];
+            c + TAU * ((mid[k] - c) / TAU).round()
+        });
+        let (radius, area) = (site.radius, site.area);
+        let turns = if area > 0.0 { ((needed.abs() / area).ceil() as usize).clamp(1, MAX_TURNS) } else { 1 };
+        let radius = if area > 0.0 {
+            (radius * (needed.abs() / (area * turns as f64)).sqrt()).clamp(0.05, max_radius)
+        } else {
+            radius
+        };
+        Seed::Coil { i, j, centre, radius, turns }
+    }
+
+    /// The line's point at half the horizon \[rad\].
+    pub fn midpoint(&self) -> Vec<f64> {
+        let mut mid = vec![0.0; self.start.len()];
+        self.at(self.horizon / 2.0, &mut mid);
+        mid
+    }
+
+    /// The coil's legs (see [`Legs`]); `None` for another seed.
+    fn legs(&self, seed: Seed) -> Option<Legs> {
+        let Seed::Coil { i, j, centre, radius, turns } = seed else { return None };
+        let mid = self.midpoint();
+        let d = [mid[i] - centre[0], mid[j] - centre[1]];
+        let norm = d[0].hypot(d[1]);
+        let u = if norm < 1e-9 { [1.0, 0.0] } else { [d[0] / norm, d[1] / norm] };
+        let e = [centre[0] + radius * u[0], centre[1] + radius * u[1]];
+        let entry = self.entry(&mid, i, j, e);
+        let distance = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| (x - y) * (x - y)).sum::<f64>().sqrt();
+        Some((e, u, distance(&self.start, &entry), TAU * radius * turns as f64, distance(&entry, &self.end)))
+    }
+
+    /// The midpoint with its `(i, j)` coordinates moved to `e`.
+    fn entry(&self, mid: &[f64], i: usize, j: usize, e: [f64; 2]) -> Vec<f64> {
+        let mut entry = mid.to_vec();
+        (entry[i], entry[j]) = (e[0], e[1]);
+        entry
+    }
+
+    /// The length of a coil's path \[rad\] (`None` for another seed).
+    pub fn coil_length(&self, seed: Seed) -> Option<f64> {
+        self.legs(seed).map(|(.., l1, l2, l3)| l1 + l2 + l3)
+    }
+
+    /// A coil's joint path at `t` \[s\] into `out`: straight from the start to the entry point,
+    /// `turns` counter-clockwise windings at constant speed, straight to the end, the speed
+    /// ramped at both ends; the initial velocity added as on the line. False for another seed.
+    pub fn coil_path(&self, seed: Seed, t: f64, out: &mut [f64]) -> bool {
+        let (Seed::Coil { i, j, centre, radius, .. }, Some((e, u, l1, l2, l3))) = (seed, self.legs(seed)) else {
+            return false;
+        };
+        let mid = self.midpoint();
+        let entry = self.entry(&mid, i, j, e);
+        let s = (l1 + l2 + l3) * ramped(t / self.horizon, 0.05);
+        if s < l1 {
+            let f = s / l1.max(1e-300);
+            for (k, o) in out.iter_mut().enumerate() {
+                *o = self.start[k] + (entry[k] - self.start[k]) * f;
+            }
+        } else if s < l1 + l2 {
+            out.copy_from_slice(&entry);
+            let (sp, cp) = ((s - l1) / radius).sin_cos();
+            out[i] = centre[0] + radius * (u[0] * cp - u[1] * sp);
+            out[j] = centre[1] + radius * (u[0] * sp + u[1] * cp);
+        } else {
+            let f = ((s - l1 - l2) / l3.max(1e-300)).min(1.0);
+            for (k, o) in out.iter_mut().enumerate() {
+                *o = entry[k] + (self.end[k] - entry[k]) * f;
+            }
+        }
+        let h = t * (1.0 - t / self.horizon).powi(2);
+        for (o, u0) in out.iter_mut().zip(&self.initial_velocity) {
+            *o += u0 * h;
+        }
+        true
+    }
+}
+
+/// From 0 to 1 on `[0, 1]` at constant speed but for ramps of duration `ramp` at both ends,
+/// where the speed follows the smooth step (zero slope at both ends).
+fn ramped(s: f64, ramp: f64) -> f64 {
+    let s = s.clamp(0.0, 1.0);
+    // Speed v = 1 / (1 - ramp) between the ramps; a ramp covers v ramp / 2.
+    let v = 1.0 / (1.0 - ramp);
+    if s < ramp {
+        let x = s / ramp;
+        v * ramp * (x * x * x - 0.5 * x * x * x * x)
+    } else if s > 1.0 - ramp {
+        1.0 - ramped(1.0 - s, ramp)
+    } else {
+        v * (ramp / 2.0 + (s - ramp))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::RobotParams;
+    use crate::model::arm::Arm;
+
+    /// A coil's path starts and ends at the line's ends and winds `turns` times about its
+    /// centre (the winding number of its middle leg, counted by the change of angle).
+    #[test]
+    fn a_coil_joins_the_ends_and_winds_its_turns() {
+        let arm = Arm::from_params(&RobotParams::src());
+        let connection = Connection::new(&arm);
+        let line =
+            Line { start: vec![0.3, -0.4], end: vec![1.2, 0.9], initial_velocity: vec![0.0, 0.0], horizon: 10.0 };
+        let site = sites(&connection, &line.midpoint(), 0, 1, 2.0)[0];
+        let seed = Seed::Coil { i: 0, j: 1, centre: site.centre, radius: 0.7, turns: 3 };
+        let Seed::Coil { centre, .. } = line.coil(0, 1, &site, 3.0 * site.area, 2.0) else { panic!("a coil") };
+        let mut p = [0.0; 2];
+        assert!(line.coil_path(seed, 0.0, &mut p));
+        assert!((p[0] - 0.3).abs() < 1e-12 && (p[1] + 0.4).abs() < 1e-12);
+        line.coil_path(seed, 10.0, &mut p);
+        assert!((p[0] - 1.2).abs() < 1e-12 && (p[1] - 0.9).abs() < 1e-12);
+        let (mut total, mut last) = (0.0, None::<f64>);
+        for k in 0..=20000 {
+            line.coil_path(seed, 10.0 * k as f64 / 20000.0, &mut p);
+            let r = (p[0] - site.centre[0]).hypot(p[1] - site.centre[1]);
+            if (r - 0.7).abs() < 1e-9 {
+                let angle = (p[1] - site.centre[1]).atan2(p[0] - site.centre[0]);
+                if let Some(l) = last {
+                    total += (angle - l + std::f64::consts::PI).rem_euclid(TAU) - std::f64::consts::PI;
+                }
+                last = Some(angle);
+            }
+        }
+        assert!((total / TAU - 3.0).abs() < 1e-3, "windings {}", total / TAU);
+        // The coil's centre is the site's copy nearest the line's midpoint.
+        let mid = line.midpoint();
+        assert!(
+            (centre[0] - mid[0]).abs() <= std::f64::consts::PI && (centre[1] - mid[1]).abs() <= std::f64::consts::PI
+        );
+    }
+
+    /// The site's disc integral is the curvature integrated over the disc: against a fine polar
+    /// sum, and of the site's sign at its centre.
+    #[test]
+    fn a_site_holds_curvature_of_its_sign() {
+        let arm = Arm::from_params(&RobotParams::src().with_mount(crate::model::Mount { a: 1.0, b: -1.0 }).unwrap());
+        let connection = Connection::new(&arm);
+        let mut local = Local::new(2);
+        for (sign, site) in [1.0, -1.0].into_iter().zip(sites(&connection, &[0.0, 0.0], 0, 1, 2.0)) {
+            assert!(sign * curvature(&connection, &site.centre, 0, 1, &mut local) > 0.0);
+            let (rings, angles) = (200, 240);
+            let dr = site.radius / rings as f64;
+            let mut sum = 0.0;
+            for r in 0..rings {
+                let rr = (r as f64 + 0.5) * dr;
+                for m in 0..angles {
+                    let (s, c) = (TAU * m as f64 / angles as f64).sin_cos();
+                    let th = [site.centre[0] + rr * c, site.centre[1] + rr * s];
+                    sum += sign * curvature(&connection, &th, 0, 1, &mut local) * rr * dr * TAU / angles as f64;
+                }
+            }
+            assert!(site.area > 0.0 && (sum - site.area).abs() <= 0.02 * sum.abs(), "{sum} vs {}", site.area);
+        }
+    }
+}

@@ -1,0 +1,170 @@
+//! The goal representatives of a chain problem and the coarse solutions of each: from the
+//! straight line, loops beside it, or a coil on a basis fine enough for its turns (the two-joint
+//! planner's seeds, in the joint planes of largest curvature).
+
+use std::f64::consts::TAU;
+
+use super::coil::Sites;
+use super::discrete::Targets;
+use super::search::{COARSE_SQP, Candidate, Tables};
+use super::seeds::{self, Line, Seed};
+use super::{ChainPlanner, ChainProblem};
+use crate::error::Error;
+use crate::model::wrap_angle;
+use crate::planners::optimal::Cost;
+use crate::planners::optimal::sqp::Discretised;
+
+/// Uniform knot spans per turn of a coil seed (cubic B-splines follow a circle to about 1e-3 of
+/// its radius at this resolution; the radius is then re-fitted to the constraint), as the
+/// two-joint planner's.
+pub const SPANS_PER_TURN: usize = 6;
+
+/// Arms of up to this many joints also try the goal representatives with two joints a turn
+/// further each (the two-joint planner's nine joint goals at `n = 2`).
+pub const PAIRED_JOINTS: usize = 3;
+
+/// A representative with its line and seeds.
+pub(super) struct Prepared {
+    /// The goal representative.
+    pub targets: Targets,
+    /// The line between its joint ends.
+    pub line: Line,
+    /// The line first, then the loops or coils.
+    pub seeds: Vec<Seed>,
+    /// The constant-speed effort of its best seed (the ranking).
+    pub estimate: f64,
+    /// A lower bound of its cost (see [`seeds::effort_lower_bound`]).
+    pub bound: f64,
+    /// The rotation the seeds add to the line's \[rad\].
+    pub needed: f64,
+}
+
+impl ChainPlanner {
+    /// The goal representatives with their lines and seeds, least effort bound first: `phid`,
+    /// `phid +- 2 pi` nearest the start, with `wrap` the joint goals nearest it, one joint a turn
+    /// further, and (up to [`PAIRED_JOINTS`] joints) two joints a turn further each; only those
+    /// inside the ranges.
+    pub(super) fn prepare(&self, problem: &ChainProblem) -> Result<Vec<Prepared>, Error> {
+        let n = self.arm.joints();
+        let (q0, qd) = (&problem.start, &problem.goal);
+        let theta0 = q0[1..].to_vec();
+        let mut joint_goals = Vec::new();
+        if problem.wrap {
+            let near: Vec<f64> = (1..=n).map(|j| q0[j] + wrap_angle(qd[j] - q0[j])).collect();
+            joint_goals.push(near.clone());
+            for j in 0..n {
+                for turn in [-TAU, TAU] {
+                    let mut g = near.clone();
+                    g[j] += turn;
+                    joint_goals.push(g);
+                }
+            }
+            for j in (0..n).filter(|_| n <= PAIRED_JOINTS) {
+                for k in j + 1..n {
+                    for (tj, tk) in [(-TAU, -TAU), (-TAU, TAU), (TAU, -TAU), (TAU, TAU)] {
+                        let mut g = near.clone();
+                        (g[j], g[k]) = (g[j] + tj, g[k] + tk);
+                        joint_goals.push(g);
+                    }
+                }
+            }
+        } else {
+            joint_goals.push(qd[1..].to_vec());
+        }
+        let mut phi_targets: Vec<f64> = if problem.wrap {
+            let near = q0[0] + wrap_angle(qd[0] - q0[0]);
+            vec![near, near - TAU, near + TAU]
+        } else {
+            vec![qd[0]]
+        };
+        super::limits::inside_ranges(&self.arm.limits, &mut joint_goals, &mut phi_targets);
+        let kappa_max = seeds::curvature_bound(&self.connection);
+        let mut sites = Sites::default();
+        // The bound is in the cost's units: the energy's is the effort's times a floor of R.
+        let scale = match self.options.cost {
+            Cost::Effort => 1.0,
+            Cost::Energy => super::energy::energy_floor(&self.arm),
+        };
+        let mut out = Vec::new();
+        for end in joint_goals {
+            let line = Line {
+                start: theta0.clone(),
+                end: end.clone(),
+                initial_velocity: problem.initial_velocity.clone(),
+                horizon: problem.horizon,
+            };
+            // The line's holonomy at rest (the initial-velocity term is small and ignored here).
+            let integral = line.holonomy(&self.connection);
+            for &phi_end in &phi_targets {
+                let needed = phi_end - (q0[0] - integral);
+                let (planes, radius) = (self.options.loop_planes, self.options.max_loop_radius);
+                let loops = line.loops(&self.connection, needed, planes, radius, &mut sites);
+                let estimate = if needed.abs() < 1e-9 || loops.is_empty() {
+                    line.effort_estimate(Seed::Line)
+                } else {
+                    loops.iter().map(|s| line.effort_estimate(*s)).fold(f64::INFINITY, f64::min)
+                };
+                let mut seeds = vec![Seed::Line];
+                seeds.extend(loops);
+                let targets = Targets {
+                    start: theta0.clone(),
+                    initial_velocity: problem.initial_velocity.clone(),
+                    end: end.clone(),
+                    phi_start: q0[0],
+                    phi_end,
+                };
+                let bound = scale * seeds::effort_lower_bound(&line, needed, kappa_max);
+                out.push(Prepared { targets, line: line.clone(), seeds, estimate, bound, needed });
+            }
+        }
+        out.sort_by(|a, b| a.estimate.total_cmp(&b.estimate));
+        Ok(out)
+    }
+
+    /// The coarse solutions of a representative, each marked `true` where it is the line beside
+    /// a coil (ranked apart, see [`ChainPlanner::plan`]): the line on the coarse basis; each loop
+    /// as estimated and re-fitted to the constraint (they lead to different local minima); each
+    /// coil re-fitted, on [`SPANS_PER_TURN`] spans per turn, with the multiplier guessed from
+    /// `lambda ~ -2 f / needed` (the effort grows as the square of the coil's length, the
+    /// rotation linearly, and `df/d phi_end = -lambda`).
+    pub(super) fn solve_seeds(
+        &self,
+        problem: &ChainProblem,
+        p: &Prepared,
+        tables: &Tables,
+    ) -> Result<Vec<(Candidate, bool)>, Error> {
+        let o = &self.options;
+        let line = &p.line;
+        let coil = p.seeds.iter().any(|s| matches!(s, Seed::Coil { .. }));
+        let mut out = Vec::new();
+        for &seed in &p.seeds {
+            let spans = match seed {
+                Seed::Coil { turns, .. } => o.coarse_spans.max(SPANS_PER_TURN * turns),
+                _ => o.coarse_spans,
+            };
+            let disc = self.discretise(problem, p.targets.clone(), spans, o.quadrature_nodes, tables)?;
+            let project = |seed: Seed| disc.project(|t, out| line.path(seed, t, out));
+            let residual = |s: Seed| project(s).map_or(f64::NAN, |x| disc.evaluate(&x, 0).c);
+            let mut starts = Vec::new();
+            match seed {
+                Seed::Line => starts.push((project(seed)?, None)),
+                Seed::Loop { .. } => {
+                    starts.push((project(seed)?, None));
+                    starts.push((project(line.fit_radius(seed, o.max_loop_radius, residual))?, None));
+                }
+                Seed::Coil { .. } => {
+                    let x0 = project(line.fit_radius(seed, o.max_loop_radius, residual))?;
+                    let guess = (p.needed.abs() > 0.0).then(|| -2.0 * disc.evaluate(&x0, 0).f / p.needed);
+                    starts.push((x0, guess));
+                }
+            }
+            for (x0, guess) in starts {
+                let Ok(result) = super::limits::solve(self, &disc, x0, &COARSE_SQP, guess) else { continue };
+                let (nodes, iterations) = (o.quadrature_nodes, result.iterations);
+                let c = Candidate { disc: disc.clone(), result, spans, nodes, iterations };
+                out.push((c, coil && seed == Seed::Line));
+            }
+        }
+        Ok(out)
+    }
+}
