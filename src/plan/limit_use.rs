@@ -10,8 +10,9 @@
 //! closed form, so that an excursion between steps is caught. A joint's extremum is then polished
 //! by Newton on the plan's exact rates (the integrated angle is the plan's plus the integration's
 //! drift, interpolated linearly across the step), to the integration's accuracy; the base angle's
-//! stays the cubic's (error `O(h^4)` in the steps of a `1e-12` integration). Accelerations are read at the steps' ends and middles; torques are the
-//! plan's inverse dynamics (those of the torque level) at the same points.
+//! stays the cubic's (error `O(h^4)` in the steps of a `1e-12` integration). Accelerations are
+//! read at the steps' ends and middles; torques are the plan's inverse dynamics (the closed form
+//! of the torque level, [`ArmDynamics`]) at the same points.
 //!
 //! The use of a range `[lo, hi]` is `|q - mid| / half` (1 at either bound), of a velocity,
 //! acceleration or torque limit `L` it is `|x| / L`. A use beyond `1 + 1e-9` is
@@ -22,7 +23,8 @@ use serde::Serialize;
 
 use super::certificate::{JointMotion, check_lengths, eq7_rate, verify_chain};
 use super::limits::MAX_TOLERANCE;
-use super::torques::chain_torques_at;
+use super::torques::torques_into;
+use crate::dynamics::arm::ArmDynamics;
 use crate::error::Error;
 use crate::model::arm::Arm;
 use crate::model::arm::lumped::ArmLumped;
@@ -210,7 +212,8 @@ impl LimitReport {
 /// (`M = n + 1`, module docs): fed each accepted step `(t, q)` in time order, it takes the
 /// extrema of the step that ends there; [`LimitMonitor::finish`] gives the report.
 pub struct LimitMonitor<'a, const M: usize> {
-    arm: &'a Arm,
+    /// The closed-form inverse dynamics, for the torques (built only with a torque limit).
+    dynamics: Option<ArmDynamics>,
     motion: &'a dyn JointMotion,
     lumped: &'a ArmLumped,
     /// Rates at a step's end are read this far inside the step \[s\].
@@ -232,8 +235,9 @@ impl<'a, const M: usize> LimitMonitor<'a, M> {
             return None;
         }
         let n = M - 1;
+        let any_torque = limits.joints.iter().any(|j| j.torque.is_some());
         let mut monitor = Self {
-            arm,
+            dynamics: any_torque.then(|| ArmDynamics::new(arm)),
             motion,
             lumped,
             // The controls may lose smoothness at a breakpoint, never inside a step.
@@ -282,7 +286,7 @@ impl<'a, const M: usize> LimitMonitor<'a, M> {
 
     /// The extrema of the step from `(ta, ya)` to `(tb, yb)` (module docs).
     fn step(&mut self, ta: f64, ya: &SVector<f64, M>, tb: f64, yb: &SVector<f64, M>) {
-        let (n, motion, arm) = (M - 1, self.motion, self.arm);
+        let (n, motion) = (M - 1, self.motion);
         let h = tb - ta;
         let (ea, eb) = (ta + self.nudge.min(0.25 * h), tb - self.nudge.min(0.25 * h));
         let dya = eq7_rate(self.lumped, motion, ea, ya);
@@ -299,15 +303,18 @@ impl<'a, const M: usize> LimitMonitor<'a, M> {
                 b.see(v, ta + s);
             }
         }
+        // The plan's angles at both ends, for the integration's drift.
+        let (mut plan_a, mut plan_b) = ([0.0; M], [0.0; M]);
+        if self.position.iter().any(Option::is_some) {
+            motion.joint_state(ta, &mut plan_a[..n], &mut u[..n]);
+            motion.joint_state(tb, &mut plan_b[..n], &mut u[..n]);
+        }
         for k in 0..n {
             if let Some(p) = self.position[k].as_mut() {
                 // The integrated angle is the plan's plus the integration's drift (linear across
                 // the step): an interior extremum found on the Hermite cubic is polished by
                 // Newton on the plan's exact `theta' = u`, `theta'' `.
-                motion.joint_state(ta, &mut theta[..n], &mut u[..n]);
-                let drift_a = ya[k + 1] - theta[k];
-                motion.joint_state(tb, &mut theta[..n], &mut u[..n]);
-                let drift_b = yb[k + 1] - theta[k];
+                let (drift_a, drift_b) = (ya[k + 1] - plan_a[k], yb[k + 1] - plan_b[k]);
                 for (s, v) in hermite_candidates(ya[k + 1], dya[k + 1], yb[k + 1], dyb[k + 1], h) {
                     if s > 0.0 && s < h {
                         let (mut th, mut r, mut ac) = ([0.0; M], [0.0; M], [0.0; M]);
@@ -347,8 +354,7 @@ impl<'a, const M: usize> LimitMonitor<'a, M> {
             }
         }
         let mid = ta + 0.5 * h;
-        let any_torque = self.torque.iter().any(Option::is_some);
-        if self.acceleration.iter().any(Option::is_some) || any_torque {
+        if self.acceleration.iter().any(Option::is_some) || self.dynamics.is_some() {
             motion.joint_acceleration(mid, &mut acc[..n]);
             for (k, a) in self.acceleration.iter_mut().enumerate() {
                 if let Some(a) = a.as_mut() {
@@ -358,12 +364,13 @@ impl<'a, const M: usize> LimitMonitor<'a, M> {
                 }
             }
         }
-        if any_torque {
+        if let Some(dynamics) = &self.dynamics {
+            let mut tau = [0.0; M];
             for t in [ea, mid, eb] {
-                let id = chain_torques_at(arm, motion, t);
+                torques_into(dynamics, motion, t, &mut tau[..n]);
                 for (k, limit) in self.torque.iter_mut().enumerate() {
                     if let Some(limit) = limit.as_mut() {
-                        limit.see(id.tau[k], t);
+                        limit.see(tau[k], t);
                     }
                 }
             }
