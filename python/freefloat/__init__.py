@@ -47,8 +47,11 @@ from ._freefloat import plan_arm as _plan_arm
 #: Keywords of :func:`plan` that an arm of another number of links than 2 takes.
 _ARM_KEYWORDS = frozenset(
     ("samples", "torques", "wrap", "initial_velocity", "tolerance", "method", "harmonics", "window",
-     "smooth_ends", "cost", "limits")
+     "smooth_ends", "cost", "limits", "obstacles", "clearance", "no_collide")
 )
+
+#: Keywords that only an arm carries (the 2-link pipeline's robot has neither limits nor shapes).
+_ARM_ONLY = ("limits", "obstacles", "clearance", "no_collide")
 
 
 def plan(robot: _Union[Robot, Arm], start: _Any, goal: _Any = None, T: _Any = None, **kwargs: _Any) -> _Any:
@@ -58,15 +61,16 @@ def plan(robot: _Union[Robot, Arm], start: _Any, goal: _Any = None, T: _Any = No
     A :class:`Robot`, or a 2-link :class:`Arm` that is the paper's model, takes every method and
     keyword and returns a :class:`Plan`; any other :class:`Arm` takes ``method="optimal"`` or
     ``"ecsa"`` and the keywords ``samples, torques, wrap, initial_velocity, tolerance,
-    harmonics, window, smooth_ends, cost`` and returns an :class:`ArmPlan` with the same arrays
+    harmonics, window, smooth_ends, cost, limits, obstacles, clearance, no_collide`` and returns an :class:`ArmPlan` with the same arrays
     (``goal_ee`` for such an arm is the command line's ``--to-ee`` for now). Bad input raises
     :class:`BadInput`, a plan that is not certified :class:`NotCertified`.
     """
-    if kwargs.get("limits") is not None and isinstance(robot, Robot):
-        # Issue 20: the 2-link pipeline does not carry limits; an arm's does.
+    arm_only = any(kwargs.get(k) is not None for k in _ARM_ONLY)
+    if arm_only and isinstance(robot, Robot):
+        # Issues 20, 21: the 2-link pipeline does not carry limits or shapes; an arm's does.
         robot = Arm.from_robot(robot)
     if isinstance(robot, Arm):
-        if robot.joints == 2 and kwargs.get("limits") is None:
+        if robot.joints == 2 and not arm_only:
             try:
                 robot = robot.to_robot()
             except BadInput:

@@ -589,6 +589,9 @@ def plan_arm(
     smooth_ends: bool = False,
     cost: _CostName = "effort",
     limits: Optional[Mapping[str, Optional[Mapping[str, Any]]]] = None,
+    obstacles: Optional[Sequence[Union[str, Tuple[Any, ...]]]] = None,
+    clearance: Optional[float] = None,
+    no_collide: Optional[Sequence[Tuple[str, str]]] = None,
 ) -> ArmPlan:
     """Deprecated as ``freefloat.plan_arm`` (a ``DeprecationWarning``): ``freefloat.plan(arm,
     ...)`` takes any arm and calls this. ``smooth_ends`` and ``cost="energy"`` are refused
@@ -610,6 +613,14 @@ def plan_arm(
     ``harmonics`` (1 to 4) and ``window`` (``"none"`` or ``"sin2"``) as in :func:`plan`
     (given with another method: :class:`BadInput`); ``"nfa"`` (the chained form is the 2-link
     robot's) is :class:`BadInput` with the reason.
+    ``obstacles`` (issue 21; the command line's ``--obstacle``, in the inertial frame whose origin
+    is the system's centre of mass, m): a list of ``("circle", x, y, r)``, ``("capsule", x1, y1,
+    x2, y2, r)``, ``("box", x, y, w, h)``, ``("polygon", [x1, y1, x2, y2, ...])`` (convex) or
+    spec strings ``"circle:X,Y,R"``; ``clearance`` the least distance [m] every checked pair
+    keeps (``--clearance``; default the arm's own, 0); ``no_collide`` pairs of bodies not to
+    check, e.g. ``[("base", "link2")]``. A plan that comes closer is :class:`NotCertified`
+    (kind ``collision``); ``plan.certificate["clearance"]`` gives the least clearance, its pair
+    and time.
     The GIL is released while planning.
 
     Raises :class:`BadInput` (bad parameters, named: ``start.len``, ``goal[2]``,

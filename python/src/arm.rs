@@ -385,7 +385,7 @@ fn python_names(e: freefloat::Error) -> freefloat::Error {
 #[pyo3(signature = (
     arm, start, goal, T, *, samples = 1001, torques = false, wrap = true, initial_velocity = None,
     tolerance = 1e-9, method = "optimal", harmonics = 1, window = "none", smooth_ends = false, cost = "effort",
-    limits = None
+    limits = None, obstacles = None, clearance = None, no_collide = None
 ))]
 #[allow(non_snake_case, clippy::too_many_arguments)]
 pub fn plan_arm<'py>(
@@ -405,6 +405,9 @@ pub fn plan_arm<'py>(
     smooth_ends: bool,
     cost: &str,
     limits: Option<Bound<'py, PyDict>>,
+    obstacles: Option<Bound<'py, PyList>>,
+    clearance: Option<f64>,
+    no_collide: Option<Vec<(String, String)>>,
 ) -> PyResult<Bound<'py, PyArmPlan>> {
     let arm = any_arm(arm)?;
     // Issue 20: `limits=` over the arm's own (module `limits`).
@@ -414,6 +417,14 @@ pub fn plan_arm<'py>(
             arm.with_limits(own).py_result(py)?
         }
         None => arm,
+    };
+    // Issue 21: obstacles, the clearance and the excluded pairs over the arm's own shapes.
+    let arm = if obstacles.is_some() || clearance.is_some() || no_collide.is_some() {
+        let own = crate::geometry::apply(&arm.geometry, arm.joints(), obstacles.as_ref(), clearance, no_collide)
+            .py_result(py)?;
+        arm.with_geometry(own).py_result(py)?
+    } else {
+        arm
     };
     let n = arm.joints();
     let method: Method = parse_method(method).py_result(py)?;

@@ -1,5 +1,6 @@
 //! The library's errors as the Python exceptions of `freefloat._errors`: `BadInput` when
-//! [`freefloat::Error::is_bad_input`], `NotCertified` for [`freefloat::Error::NotCertified`],
+//! [`freefloat::Error::is_bad_input`], `NotCertified` for [`freefloat::Error::NotCertified`] (and a
+//! plan over a limit or under the clearance),
 //! `NoPlan` for everything else; each carries the library's message and its numbers.
 
 use pyo3::prelude::*;
@@ -94,7 +95,10 @@ impl BindingError {
 pub fn library_error(py: Python<'_>, e: &freefloat::Error, plan: Option<Bound<'_, PyAny>>) -> PyErr {
     let class = match e {
         e if e.is_bad_input() => "BadInput",
-        freefloat::Error::NotCertified { .. } | freefloat::Error::LimitExceeded { .. } => "NotCertified",
+        // A plan that exists but breaks a limit or the clearance is not certified (it is attached).
+        freefloat::Error::NotCertified { .. }
+        | freefloat::Error::LimitExceeded { .. }
+        | freefloat::Error::Collision { .. } => "NotCertified",
         _ => "NoPlan",
     };
     raise(py, class, e.to_string(), &kind(e), &details(e), plan)

@@ -11,6 +11,7 @@ mod compat;
 mod convert;
 mod domain;
 mod errors;
+mod geometry;
 mod limits;
 mod planning;
 mod robot;

@@ -422,6 +422,8 @@ pub struct TrackArgs {
     pub robot: RobotArgs,
     #[command(flatten)]
     pub ends: EndsArgs,
+    #[command(flatten)]
+    pub geometry: super::geometry::GeometryArgs,
     /// Controllers, comma-separated; several run side by side on the same robot and noise.
     #[arg(long, value_enum, value_delimiter = ',', default_value = "adaptive")]
     pub controller: Vec<ControllerArg>,

@@ -1,4 +1,4 @@
-//! The geometry flags of `plan` and `compare` (issue 21; docs/spec.md §3): `--obstacle SPEC`
+//! The geometry flags of `plan`, `compare` and `track` (issue 21; docs/spec.md §3): `--obstacle SPEC`
 //! (repeatable; circles, capsules, boxes and convex polygons in the inertial frame, m),
 //! `--clearance M` (default 0) and `--no-collide A,B` (a pair not to check), added to the shapes
 //! the robot file gives its bodies (§1).
@@ -22,7 +22,8 @@ pub struct GeometryArgs {
     #[arg(long, value_name = "SPEC", allow_hyphen_values = true)]
     pub obstacle: Vec<String>,
     /// The least distance in m between every pair of bodies checked (and each body and every
-    /// obstacle) along the verified motion; a plan below it is not certified (exit 3). 0 to 1000.
+    /// obstacle) along the verified motion; a plan below it is not certified (exit 3), a track
+    /// trial below it fails. 0 to 1000.
     #[arg(long, value_name = "M", default_value_t = 0.0, allow_hyphen_values = true)]
     pub clearance: f64,
     /// A pair of bodies not to check, e.g. base,link2 or link3,obstacle1. Repeatable.

@@ -14,10 +14,11 @@
 
 use clap::Args;
 use freefloat::model::InputError;
+use freefloat::model::arm::collision::Geometry;
 use freefloat::model::arm::{Arm, JointLimits, Limits};
 use freefloat::numerics::ode::OdeOptions;
-use freefloat::plan::certificate::MotionView;
-use freefloat::plan::limit_use::{LimitReport, Quantity, limit_use};
+use freefloat::plan::certificate::verify_on_arm;
+use freefloat::plan::limit_use::{LimitReport, Quantity};
 use freefloat::report::numbers::{number, rounded};
 
 /// The `--limit` flags (flattened into the robot's flags).
@@ -180,13 +181,27 @@ pub fn table_line(report: &LimitReport) -> String {
     )
 }
 
-/// The use of `arm`'s limits by a 2-link plan (the NFA's, which the n-joint pipeline does not
-/// serve): its motion seen as a joint motion of `arm`, checked as every plan is.
-pub fn two_link_use(arm: &Arm, planned: &freefloat::planners::Planned) -> anyhow::Result<LimitReport> {
+/// The checks of a 2-link plan that its planner's certificate cannot make (the 2-link robot's
+/// parameters carry neither shapes nor limits; the NFA's plans, which the n-joint pipeline does
+/// not serve): its motion integrated once more on the robot as an arm, `limited` (the robot
+/// file's 2-link arm with its limits) or the parameters' arm, with `geometry`. The clearance goes
+/// into the plan's verification (so that [`freefloat::planners::Planned::certified`] refuses a
+/// collision); the use of the limits is returned when `limited` is given. Nothing is integrated
+/// without shapes or limits.
+pub fn two_link_checks(
+    limited: Option<&Arm>,
+    geometry: Geometry,
+    planned: &mut freefloat::planners::Planned,
+) -> anyhow::Result<Option<LimitReport>> {
+    if limited.is_none() && geometry.is_empty() {
+        return Ok(None);
+    }
     let problem = &planned.plan.problem;
-    let view = MotionView::new(planned.motion.as_ref(), problem);
-    let start = [problem.start.phi, problem.start.theta1, problem.start.theta2];
-    Ok(limit_use(arm, &view, &start, &OdeOptions::default())?)
+    let arm = limited.cloned().unwrap_or_else(|| Arm::from_params(&problem.robot)).with_geometry(geometry)?;
+    let tolerance = planned.plan.verification.tolerance;
+    let v = verify_on_arm(planned.motion.as_ref(), problem, &arm, &OdeOptions::default(), tolerance)?;
+    planned.plan.verification.clearance = v.clearance;
+    Ok(limited.map(|_| v.limits.unwrap_or_else(LimitReport::empty)))
 }
 
 #[cfg(test)]

@@ -137,7 +137,8 @@ pub fn run(args: &PlanArgs) -> anyhow::Result<ExitCode> {
     let problem = super::problem(&args.problem)?;
     let (geometry, _) = super::geometry::two_link(&args.problem.robot, &args.problem.geometry)?;
     let mut planned = plan_with(method(args)?, &args.problem, &problem)??;
-    planned.check_clearance(&geometry)?;
+    // The clearance and the limits in one pass.
+    let limits = super::limits::two_link_checks(limited.as_ref(), geometry, &mut planned)?;
     let plan = &planned.plan;
     // With torques, the closed-loop certificate too: executable with feedback?
     let closed_loop = match args.problem.torques {
@@ -174,7 +175,6 @@ pub fn run(args: &PlanArgs) -> anyhow::Result<ExitCode> {
         let title = format!("freefloat plan: {}, T = {} s", plan.method.name(), number(plan.problem.horizon));
         write_atomic(path, &animation_gif(plan, &title, &options, path)?)?;
     }
-    let limits = limited.map(|arm| super::limits::two_link_use(&arm, &planned)).transpose()?;
     if let Some(report) = &limits
         && args.format == Format::Table
     {

@@ -9,6 +9,7 @@ use anyhow::Context;
 use freefloat::Method;
 use freefloat::analysis::shards::Shard;
 use freefloat::model::arm::Arm;
+use freefloat::plan::clearance::ClearanceReport;
 use freefloat::planners::arm::{ArmRequest, plan_arm};
 use freefloat::planners::chain::ChainProblem;
 use freefloat::report::io::write_atomic;
@@ -22,6 +23,7 @@ use freefloat::track::{
 };
 
 use super::args::{ControllerArg, DomainFormat, RobotArgs, TrackArgs, TrackCommand, TrackMergeArgs};
+use super::geometry::GeometryArgs;
 
 fn controller(c: ControllerArg) -> Controller {
     match c {
@@ -33,11 +35,16 @@ fn controller(c: ControllerArg) -> Controller {
 }
 
 /// The nominal arm of the flags: any robot the other commands read, `--mount` applied (a 2-link
-/// robot file or the preset through the 2-link reader, its checks and messages).
-fn model(args: &RobotArgs) -> anyhow::Result<Arm> {
+/// robot file or the preset through the 2-link reader, its checks and messages), with its
+/// shapes and the geometry flags (`--obstacle`, `--clearance`, `--no-collide`) as `plan` reads
+/// them.
+fn model(args: &RobotArgs, geometry: &GeometryArgs) -> anyhow::Result<Arm> {
     match super::any_robot(args)? {
-        super::Robot::TwoLink => Ok(Arm::from_params(&super::robot(args)?)),
-        super::Robot::Arm(arm) => Ok(arm),
+        super::Robot::TwoLink => {
+            let (shapes, _) = super::geometry::two_link(args, geometry)?;
+            Ok(Arm::from_params(&super::robot(args)?).with_geometry(shapes)?)
+        }
+        super::Robot::Arm(arm) => Ok(super::geometry::arm_with_flags(&arm, args, geometry)?.0),
     }
 }
 
@@ -116,12 +123,7 @@ pub fn run(args: &TrackArgs) -> anyhow::Result<ExitCode> {
     if let (Some(path), Some(_)) = (&args.out, args.trials) {
         trials_out(path)?;
     }
-    let mut robot = model(&args.robot)?;
-    if !robot.geometry.is_empty() {
-        // Issue 21 item 6 is not built: `track` neither checks nor reports the clearance yet.
-        super::note("note: track does not check the robot's shapes yet (issue 21): the clearance is not checked\n");
-        robot.geometry = Default::default();
-    }
+    let robot = model(&args.robot, &args.geometry)?;
     let n = robot.joints();
     let start = super::config::arm_angles("--from", &args.ends.from, n + 1)?;
     let goal = super::config::arm_angles("--to", &args.ends.to, n + 1)?;
@@ -266,6 +268,18 @@ fn print_summaries(
             s.trials
         );
     }
+    // Only a model with shapes has a clearance: the table of others is as before.
+    for s in summaries {
+        if let Some(min) = s.min_clearance {
+            out += &format!(
+                "{}: least clearance {} m; {} of {} trials failed on the clearance (collision)\n",
+                s.controller.name(),
+                number(min),
+                s.collision_failures,
+                s.trials
+            );
+        }
+    }
     super::emit(&out)?;
     Ok(ExitCode::SUCCESS)
 }
@@ -317,7 +331,9 @@ fn table(runs: &[Tracked], truth: &Arm, nominal: &Arm) -> String {
     use std::fmt::Write;
     let mut out = String::new();
     let n = nominal.joints();
-    let same = truth == nominal;
+    // The shapes and obstacles are the model's in every run: only the rest can differ.
+    let bare = |a: &Arm| Arm { geometry: Default::default(), ..a.clone() };
+    let same = bare(truth) == bare(nominal);
     let _ = writeln!(out, "true robot: {}", if same { "the model" } else { "differs from the model" });
     let mut row = |name: &str, f: &dyn Fn(&Tracked) -> String| {
         let _ = write!(out, "{name:<26}");
@@ -334,6 +350,13 @@ fn table(runs: &[Tracked], truth: &Arm, nominal: &Arm) -> String {
     }
     for k in 0..n {
         row(&format!("peak |tau{}| [N m]", k + 1), &|r| torque(r.peak_torque[k]));
+    }
+    if runs.iter().any(|r| r.clearance.is_some()) {
+        let c = |r: &Tracked, f: &dyn Fn(&ClearanceReport) -> String| r.clearance.as_ref().map_or("-".into(), f);
+        row("min clearance [m]", &|r| c(r, &|c| format!("{}{}", number(c.min), if c.holds() { "" } else { " !" })));
+        // The bodies as `--no-collide` names them (`link2/obstacle1`), to fit the column.
+        row("  between", &|r| c(r, &|c| format!("{}/{}", c.a, c.b).replace(' ', "")));
+        row("  at [s]", &|r| c(r, &|c| number(c.time)));
     }
     row("saturated ticks", &|r| format!("{:.1} %", 100.0 * r.saturated_fraction));
     row("re-plans (failed)", &|r| format!("{} ({})", r.replans, r.replan_failures));

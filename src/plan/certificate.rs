@@ -14,10 +14,12 @@ use nalgebra::SVector;
 use serde::Serialize;
 
 use super::clearance::{ClearanceMonitor, ClearanceReport};
+use super::limit_use::{LimitMonitor, LimitReport};
 use super::motion::{Motion, MotionPoint};
 use super::problem::PlanningProblem;
 use crate::error::Error;
 use crate::model::arm::Arm;
+use crate::model::arm::lumped::ArmLumped;
 use crate::model::{Configuration, InputError, wrap_angle};
 use crate::numerics::ode::{OdeOptions, OdeStats, integrate};
 
@@ -79,6 +81,11 @@ pub struct ChainVerification {
     /// serialised here: the reports carry it as their top-level `clearance`.
     #[serde(skip)]
     pub clearance: Option<ClearanceReport>,
+    /// The use of every declared limit along the same integrated motion, when the arm declares
+    /// limits ([`super::limit_use`]; `None` without); [`LimitReport::check`] judges it. Not
+    /// serialised here: the reports carry it as their top-level `limits`.
+    #[serde(skip)]
+    pub limits: Option<LimitReport>,
 }
 
 impl ChainVerification {
@@ -100,6 +107,7 @@ impl ChainVerification {
             certified: false,
             stats: OdeStats::default(),
             clearance: None,
+            limits: None,
         }
     }
 }
@@ -216,38 +224,37 @@ fn run<const M: usize>(
     at_breakpoint: &mut dyn FnMut(f64, &[f64]),
 ) -> Result<ChainVerification, Error> {
     let n = M - 1;
-    let mut rate = [0.0; M];
+    let lumped = ArmLumped::new(arm);
     let rhs = |t: f64, y: &SVector<f64, M>| -> Result<SVector<f64, M>, Error> {
-        motion.joint_rate(t, &mut rate[..n]);
+        let dy = eq7_rate(&lumped, motion, t, y);
         motion.check()?;
-        let (f, g) = arm.momentum_coefficients(&y.as_slice()[1..]);
-        let mut dy = SVector::<f64, M>::zeros();
-        let mut s = 0.0;
-        for j in 0..n {
-            s += g[j] * rate[j];
-            dy[j + 1] = rate[j];
-        }
-        dy[0] = -s / f;
         Ok(dy)
     };
     let mut max_momentum: f64 = 0.0;
     let mut deviation: Option<f64> = None;
-    // The clearance at every accepted step (and between steps, by the monitor's Hermite minimum).
+    // The clearance at every accepted step (and between steps, by the monitor's Hermite minimum),
+    // and the use of every declared limit (between steps, by its monitor's extrema): both fed
+    // from this one integration.
     let mut monitor =
         (!arm.geometry.is_empty()).then(|| ClearanceMonitor::new(arm, &arm.geometry, arm.geometry.clearance));
+    let mut limits = LimitMonitor::<M>::new(arm, motion, &lumped);
     let (mut theta, mut u, mut planned) = ([0.0; M], [0.0; M], [0.0; M]);
     // The plan's momentum at every accepted step, with the model's F, G at the integrated angles,
     // and the integrated path's distance from the plan's where the motion knows it.
     let observe = |t: f64, state: &SVector<f64, M>| {
-        let (f, g) = arm.momentum_coefficients(&state.as_slice()[1..]);
+        let mut row = [0.0; M];
+        lumped.terms_in::<M>(&state.as_slice()[1..]).momentum_row(&mut row);
         motion.joint_state(t, &mut theta[..n], &mut u[..n]);
-        let p: f64 = f * motion.phi_rate(t) + g.iter().zip(&u[..n]).map(|(g, u)| g * u).sum::<f64>();
-        max_momentum = max_momentum.max(p.abs());
+        let gu: f64 = row[1..].iter().zip(&u[..n]).map(|(g, u)| g * u).sum();
+        max_momentum = max_momentum.max((row[0] * motion.phi_rate(t) + gu).abs());
         if let Some(monitor) = monitor.as_mut() {
             let mut dq = [0.0; M];
             dq[1..].copy_from_slice(&u[..n]);
-            dq[0] = -g.iter().zip(&u[..n]).map(|(g, u)| g * u).sum::<f64>() / f;
+            dq[0] = -gu / row[0];
             monitor.observe(t, state.as_slice(), &dq);
+        }
+        if let Some(limits) = limits.as_mut() {
+            limits.observe(t, state);
         }
         if motion.planned_configuration(t, &mut planned) {
             let d = state.iter().zip(&planned).map(|(y, q)| (y - q).abs()).fold(0.0, f64::max);
@@ -259,6 +266,8 @@ fn run<const M: usize>(
         at_breakpoint(t, y.as_slice())
     })?;
     motion.check()?;
+    let limits = limits.map(LimitMonitor::finish);
+    motion.check()?;
     let final_error = final_error(y.as_slice(), goal);
     Ok(ChainVerification {
         final_error,
@@ -269,7 +278,32 @@ fn run<const M: usize>(
         certified: final_error.is_finite() && final_error <= tolerance,
         stats,
         clearance: monitor.and_then(ClearanceMonitor::finish),
+        limits,
     })
+}
+
+/// The right-hand side of Eq. 7 at `(t, y)`, `y = (phi, theta)`: `theta' = u(t)` from the
+/// motion, `phi' = -(G . u)/F` with the arm's momentum row from its lumped constants (on the
+/// stack, no allocation): the one right-hand side of the velocity certificate and of the limit
+/// monitor's rates between its steps.
+pub(crate) fn eq7_rate<const M: usize>(
+    lumped: &ArmLumped,
+    motion: &dyn JointMotion,
+    t: f64,
+    y: &SVector<f64, M>,
+) -> SVector<f64, M> {
+    let n = M - 1;
+    let (mut rate, mut row) = ([0.0; M], [0.0; M]);
+    motion.joint_rate(t, &mut rate[..n]);
+    lumped.terms_in::<M>(&y.as_slice()[1..]).momentum_row(&mut row);
+    let mut dy = SVector::<f64, M>::zeros();
+    let mut s = 0.0;
+    for j in 0..n {
+        s += row[j + 1] * rate[j];
+        dy[j + 1] = rate[j];
+    }
+    dy[0] = -s / row[0];
+    dy
 }
 
 /// [`Error::Collision`] when `clearance` is below what it requires.
@@ -417,8 +451,7 @@ pub fn verify(
     tolerance: f64,
 ) -> Result<Verification, Error> {
     let view = MotionView::new(motion, problem);
-    let (start, goal) = (problem.start.to_array(), problem.goal.to_array());
-    let v = verify_chain(view.arm(), &view, &start, &goal, ode, tolerance)?;
+    let v = verify_view(&view, view.arm(), problem, ode, tolerance)?;
     Ok(Verification {
         final_error: v.final_error,
         reached: Configuration::new(v.reached[0], v.reached[1], v.reached[2]),
@@ -428,4 +461,29 @@ pub fn verify(
         stats: v.stats,
         clearance: v.clearance,
     })
+}
+
+/// The certificate of a 2-link `motion` planned for `problem`, integrated on `arm`: the
+/// problem's robot as an [`Arm`] ([`Arm::from_params`] or the robot file's 2-link arm) with the
+/// shapes and limits that the 2-link robot's parameters do not carry, so that one pass gives the
+/// final error, the clearance and the use of every limit.
+pub fn verify_on_arm(
+    motion: &dyn Motion,
+    problem: &PlanningProblem,
+    arm: &Arm,
+    ode: &OdeOptions,
+    tolerance: f64,
+) -> Result<ChainVerification, Error> {
+    verify_view(&MotionView::new(motion, problem), arm, problem, ode, tolerance)
+}
+
+fn verify_view(
+    view: &MotionView<'_>,
+    arm: &Arm,
+    problem: &PlanningProblem,
+    ode: &OdeOptions,
+    tolerance: f64,
+) -> Result<ChainVerification, Error> {
+    let (start, goal) = (problem.start.to_array(), problem.goal.to_array());
+    verify_chain(arm, view, &start, &goal, ode, tolerance)
 }

@@ -13,7 +13,7 @@
 use num_dual::Dual64;
 use serde::Serialize;
 
-use super::certificate::{MotionView, verify_chain};
+use super::certificate::verify_on_arm;
 use super::motion::Motion;
 use super::problem::PlanningProblem;
 use crate::error::Error;
@@ -51,10 +51,11 @@ impl Serialize for ClearanceReport {
 }
 
 /// The clearance of a 2-link `motion` planned for `problem`, on the robot with `geometry`: the
-/// velocity certificate's integration ([`verify_chain`] of the motion's [`MotionView`], the
-/// integrator `ode`) run again on the arm with the shapes, the monitor fed at every accepted
-/// step. `None` when the geometry has no pair to check. (The 2-link robot's parameters carry no
-/// geometry, so its planners' certificates cannot see it.)
+/// velocity certificate's integration ([`verify_on_arm`], the integrator `ode`) run again on the
+/// arm with the shapes, the monitor fed at every accepted step. `None` when the geometry has no
+/// pair to check. (The 2-link robot's parameters carry no geometry, so its planners'
+/// certificates cannot see it; the command line's `plan` checks shapes and limits in one such
+/// pass.)
 pub fn motion_clearance(
     motion: &dyn Motion,
     problem: &PlanningProblem,
@@ -64,11 +65,9 @@ pub fn motion_clearance(
     if geometry.is_empty() {
         return Ok(None);
     }
-    let view = MotionView::new(motion, problem);
-    let arm = view.arm().clone().with_geometry(geometry.clone())?;
-    let (start, goal) = (problem.start.to_array(), problem.goal.to_array());
+    let arm = Arm::from_params(&problem.robot).with_geometry(geometry.clone())?;
     // The tolerance only sets the returned `certified`, which is not used here.
-    Ok(verify_chain(&arm, &view, &start, &goal, ode, 1.0)?.clearance)
+    Ok(verify_on_arm(motion, problem, &arm, ode, 1.0)?.clearance)
 }
 
 impl ClearanceReport {
@@ -112,6 +111,12 @@ impl<'a> ClearanceMonitor<'a> {
             }
         }
         self.last = Some((t, values));
+    }
+
+    /// The least clearance seen so far; `None` before the first state, or when the geometry has
+    /// no pair to check.
+    pub fn least(&self) -> Option<&ClearanceReport> {
+        self.best.as_ref()
     }
 
     /// The least clearance seen; `None` when the geometry has no pair to check.

@@ -2,15 +2,17 @@
 //! the robot's limits that every certificate adds, for every method.
 //!
 //! The motion checked is the velocity certificate's (Eq. 7: `phi' = -(G . u)/F`, `theta' = u`
-//! integrated from the start with the planned `u(t)`, piecewise between breakpoints by the same
-//! adaptive Dormand–Prince integrator and options). Between two accepted steps the state is the
+//! integrated from the start with the planned `u(t)`, piecewise between breakpoints): its one
+//! integration feeds every accepted step to a [`LimitMonitor`] (and to the clearance's monitor),
+//! so that a plan is integrated once for all its checks. Between two accepted steps the state is the
 //! cubic Hermite interpolant of the two states and their rates, and each joint velocity the cubic
 //! Hermite interpolant of `u` and the planned `theta''`: their extrema inside a step are found in
 //! closed form, so that an excursion between steps is caught. A joint's extremum is then polished
 //! by Newton on the plan's exact rates (the integrated angle is the plan's plus the integration's
 //! drift, interpolated linearly across the step), to the integration's accuracy; the base angle's
-//! stays the cubic's (error `O(h^4)` in the steps of a `1e-12` integration). Accelerations are read at the steps' ends and middles; torques are the
-//! plan's inverse dynamics (those of the torque level) at the same points.
+//! stays the cubic's (error `O(h^4)` in the steps of a `1e-12` integration). Accelerations are
+//! read at the steps' ends and middles; torques are the plan's inverse dynamics (the closed form
+//! of the torque level, [`ArmDynamics`]) at the same points.
 //!
 //! The use of a range `[lo, hi]` is `|q - mid| / half` (1 at either bound), of a velocity,
 //! acceleration or torque limit `L` it is `|x| / L`. A use beyond `1 + 1e-9` is
@@ -19,10 +21,13 @@
 use nalgebra::SVector;
 use serde::Serialize;
 
-use super::certificate::{JointMotion, by_joints, check_lengths, piecewise};
-use super::torques::chain_torques_at;
+use super::certificate::{JointMotion, check_lengths, eq7_rate, verify_chain};
+use super::limits::MAX_TOLERANCE;
+use super::torques::torques_into;
+use crate::dynamics::arm::ArmDynamics;
 use crate::error::Error;
 use crate::model::arm::Arm;
+use crate::model::arm::lumped::ArmLumped;
 use crate::numerics::ode::OdeOptions;
 
 /// Relative slack of the check: a use up to `1 + LIMIT_SLACK` is inside.
@@ -181,96 +186,135 @@ fn polish(mut t: f64, lo: f64, hi: f64, mut g_and_slope: impl FnMut(f64) -> (f64
 }
 
 /// The use of every limit of `arm` along `motion` from `start` (`n + 1` angles `(phi,
-/// theta)`): the module's check, integrated with `ode`. An arm without limits gives an empty
-/// report (inside).
+/// theta)`), integrated with `ode`: the velocity certificate's one pass
+/// ([`super::certificate::verify_chain`], whose [`ChainVerification::limits`] this is), for a
+/// motion not otherwise certified. An arm without limits gives an empty report (inside).
+///
+/// [`ChainVerification::limits`]: super::certificate::ChainVerification::limits
 pub fn limit_use(arm: &Arm, motion: &dyn JointMotion, start: &[f64], ode: &OdeOptions) -> Result<LimitReport, Error> {
     if arm.limits.is_empty() {
-        return Ok(LimitReport { uses: Vec::new(), inside: true });
+        return Ok(LimitReport::empty());
     }
     check_lengths(arm, motion, start, start)?;
-    by_joints!(arm.joints(), 1, run(arm, motion, start, ode))
+    // The goal and the tolerance only set the certificate's final error, not used here.
+    let v = verify_chain(arm, motion, start, start, ode, MAX_TOLERANCE)?;
+    Ok(v.limits.unwrap_or_else(LimitReport::empty))
 }
 
-fn run<const M: usize>(
-    arm: &Arm,
-    motion: &dyn JointMotion,
-    start: &[f64],
-    ode: &OdeOptions,
-) -> Result<LimitReport, Error> {
-    let n = M - 1;
-    let mut rate = [0.0; M];
-    let mut rhs = |t: f64, y: &SVector<f64, M>| -> Result<SVector<f64, M>, Error> {
-        motion.joint_rate(t, &mut rate[..n]);
-        motion.check()?;
-        let (f, g) = arm.momentum_coefficients(&y.as_slice()[1..]);
-        let mut dy = SVector::<f64, M>::zeros();
-        let mut s = 0.0;
-        for j in 0..n {
-            s += g[j] * rate[j];
-            dy[j + 1] = rate[j];
-        }
-        dy[0] = -s / f;
-        Ok(dy)
-    };
-    let (mut steps, mut marks) = (Vec::new(), Vec::new());
-    let y0 = SVector::<f64, M>::from_column_slice(start);
-    piecewise(motion.breakpoints(), y0, ode, &mut rhs, |t, y| steps.push((t, *y)), |t, y| marks.push((t, *y)))?;
-    steps.extend(marks);
-    steps.sort_by(|a, b| a.0.total_cmp(&b.0));
-    let mut states: Vec<(f64, SVector<f64, M>)> = Vec::with_capacity(steps.len());
-    for (t, y) in steps {
-        if states.last().is_none_or(|(last, _)| t > *last) {
-            states.push((t, y));
-        }
+impl LimitReport {
+    /// The report of an arm without limits: no use, inside.
+    pub fn empty() -> Self {
+        Self { uses: Vec::new(), inside: true }
     }
-    motion.check()?;
-    let limits = &arm.limits;
-    let mut uses = Vec::new();
-    let base = limits.base.map(|r| LimitUse::new(0, Quantity::Position, r));
-    let mut position: Vec<Option<LimitUse>> = Vec::with_capacity(n);
-    let mut velocity = Vec::with_capacity(n);
-    let mut acceleration = Vec::with_capacity(n);
-    let mut torque = Vec::with_capacity(n);
-    for k in 0..n {
-        let j = limits.joint(k);
-        position.push(j.position.map(|r| LimitUse::new(k + 1, Quantity::Position, r)));
-        velocity.push(j.velocity.map(|v| LimitUse::new(k + 1, Quantity::Velocity, [-v, v])));
-        acceleration.push(j.acceleration.map(|v| LimitUse::new(k + 1, Quantity::Acceleration, [-v, v])));
-        torque.push(j.torque.map(|v| LimitUse::new(k + 1, Quantity::Torque, [-v, v])));
+}
+
+/// Watches the use of every declared limit of an arm along the certificate's integrated states
+/// (`M = n + 1`, module docs): fed each accepted step `(t, q)` in time order, it takes the
+/// extrema of the step that ends there; [`LimitMonitor::finish`] gives the report.
+pub struct LimitMonitor<'a, const M: usize> {
+    /// The closed-form inverse dynamics, for the torques (built only with a torque limit).
+    dynamics: Option<ArmDynamics>,
+    motion: &'a dyn JointMotion,
+    lumped: &'a ArmLumped,
+    /// Rates at a step's end are read this far inside the step \[s\].
+    nudge: f64,
+    last: Option<(f64, SVector<f64, M>)>,
+    base: Option<LimitUse>,
+    position: Vec<Option<LimitUse>>,
+    velocity: Vec<Option<LimitUse>>,
+    acceleration: Vec<Option<LimitUse>>,
+    torque: Vec<Option<LimitUse>>,
+}
+
+impl<'a, const M: usize> LimitMonitor<'a, M> {
+    /// A monitor of `arm`'s limits along `motion` (`lumped`: the arm's constants, for the rates
+    /// of Eq. 7); `None` when the arm declares no limit.
+    pub fn new(arm: &'a Arm, motion: &'a dyn JointMotion, lumped: &'a ArmLumped) -> Option<Self> {
+        let limits = &arm.limits;
+        if limits.is_empty() {
+            return None;
+        }
+        let n = M - 1;
+        let any_torque = limits.joints.iter().any(|j| j.torque.is_some());
+        let mut monitor = Self {
+            dynamics: any_torque.then(|| ArmDynamics::new(arm)),
+            motion,
+            lumped,
+            // The controls may lose smoothness at a breakpoint, never inside a step.
+            nudge: 1e-12 * motion.breakpoints().last().copied().unwrap_or(0.0).max(1.0),
+            last: None,
+            base: limits.base.map(|r| LimitUse::new(0, Quantity::Position, r)),
+            position: Vec::with_capacity(n),
+            velocity: Vec::with_capacity(n),
+            acceleration: Vec::with_capacity(n),
+            torque: Vec::with_capacity(n),
+        };
+        for k in 0..n {
+            let j = limits.joint(k);
+            monitor.position.push(j.position.map(|r| LimitUse::new(k + 1, Quantity::Position, r)));
+            monitor.velocity.push(j.velocity.map(|v| LimitUse::new(k + 1, Quantity::Velocity, [-v, v])));
+            monitor.acceleration.push(j.acceleration.map(|v| LimitUse::new(k + 1, Quantity::Acceleration, [-v, v])));
+            monitor.torque.push(j.torque.map(|v| LimitUse::new(k + 1, Quantity::Torque, [-v, v])));
+        }
+        Some(monitor)
     }
-    let mut base = base;
-    let any_torque = torque.iter().any(Option::is_some);
-    let horizon = states.last().map_or(0.0, |s| s.0);
-    // Rates at a step's end, read just inside the step (the controls may lose smoothness at a
-    // breakpoint, never inside a step).
-    let nudge = 1e-12 * horizon.max(1.0);
-    let (mut theta, mut u, mut acc) = ([0.0; M], [0.0; M], [0.0; M]);
-    for w in states.windows(2) {
-        let ((ta, ya), (tb, yb)) = (w[0], w[1]);
+
+    /// The integrated state `y = (phi, theta)` at `t`: the step from the last state to it is
+    /// checked; a time not after the last state's is skipped (a span's first state repeats the
+    /// last one's end).
+    pub fn observe(&mut self, t: f64, y: &SVector<f64, M>) {
+        match self.last {
+            Some((last, _)) if t <= last => return,
+            Some((ta, ya)) => self.step(ta, &ya, t, y),
+            None => {}
+        }
+        self.last = Some((t, *y));
+    }
+
+    /// The report: one entry per declared limit, the base's range first, then joint by joint.
+    pub fn finish(mut self) -> LimitReport {
+        let mut uses: Vec<LimitUse> = self.base.take().into_iter().collect();
+        for k in 0..M - 1 {
+            uses.extend(self.position[k].take());
+            uses.extend(self.velocity[k].take());
+            uses.extend(self.acceleration[k].take());
+            uses.extend(self.torque[k].take());
+        }
+        let inside = uses.iter().all(LimitUse::inside);
+        LimitReport { uses, inside }
+    }
+
+    /// The extrema of the step from `(ta, ya)` to `(tb, yb)` (module docs).
+    fn step(&mut self, ta: f64, ya: &SVector<f64, M>, tb: f64, yb: &SVector<f64, M>) {
+        let (n, motion) = (M - 1, self.motion);
         let h = tb - ta;
-        let (ea, eb) = (ta + nudge.min(0.25 * h), tb - nudge.min(0.25 * h));
-        let dya = rhs(ea, &ya)?;
-        let dyb = rhs(eb, &yb)?;
+        let (ea, eb) = (ta + self.nudge.min(0.25 * h), tb - self.nudge.min(0.25 * h));
+        let dya = eq7_rate(self.lumped, motion, ea, ya);
+        let dyb = eq7_rate(self.lumped, motion, eb, yb);
+        let (mut theta, mut u, mut acc) = ([0.0; M], [0.0; M], [0.0; M]);
         motion.joint_state(ea, &mut theta[..n], &mut u[..n]);
         motion.joint_acceleration(ea, &mut acc[..n]);
         let (ua, aa) = (u, acc);
         motion.joint_state(eb, &mut theta[..n], &mut u[..n]);
         motion.joint_acceleration(eb, &mut acc[..n]);
         let (ub, ab) = (u, acc);
-        if let Some(b) = base.as_mut() {
+        if let Some(b) = self.base.as_mut() {
             for (s, v) in hermite_candidates(ya[0], dya[0], yb[0], dyb[0], h) {
                 b.see(v, ta + s);
             }
         }
+        // The plan's angles at both ends, for the integration's drift.
+        let (mut plan_a, mut plan_b) = ([0.0; M], [0.0; M]);
+        if self.position.iter().any(Option::is_some) {
+            motion.joint_state(ta, &mut plan_a[..n], &mut u[..n]);
+            motion.joint_state(tb, &mut plan_b[..n], &mut u[..n]);
+        }
         for k in 0..n {
-            if let Some(p) = position[k].as_mut() {
+            if let Some(p) = self.position[k].as_mut() {
                 // The integrated angle is the plan's plus the integration's drift (linear across
                 // the step): an interior extremum found on the Hermite cubic is polished by
                 // Newton on the plan's exact `theta' = u`, `theta'' `.
-                motion.joint_state(ta, &mut theta[..n], &mut u[..n]);
-                let drift_a = ya[k + 1] - theta[k];
-                motion.joint_state(tb, &mut theta[..n], &mut u[..n]);
-                let drift_b = yb[k + 1] - theta[k];
+                let (drift_a, drift_b) = (ya[k + 1] - plan_a[k], yb[k + 1] - plan_b[k]);
                 for (s, v) in hermite_candidates(ya[k + 1], dya[k + 1], yb[k + 1], dyb[k + 1], h) {
                     if s > 0.0 && s < h {
                         let (mut th, mut r, mut ac) = ([0.0; M], [0.0; M], [0.0; M]);
@@ -287,7 +331,7 @@ fn run<const M: usize>(
                     }
                 }
             }
-            if let Some(v) = velocity[k].as_mut() {
+            if let Some(v) = self.velocity[k].as_mut() {
                 for (s, x) in hermite_candidates(ua[k], aa[k], ub[k], ab[k], h) {
                     if s > 0.0 && s < h {
                         // Newton on the plan's `theta''` (its rate by central differences).
@@ -310,10 +354,9 @@ fn run<const M: usize>(
             }
         }
         let mid = ta + 0.5 * h;
-        let needs_middle = acceleration.iter().any(Option::is_some) || any_torque;
-        if needs_middle {
+        if self.acceleration.iter().any(Option::is_some) || self.dynamics.is_some() {
             motion.joint_acceleration(mid, &mut acc[..n]);
-            for (k, a) in acceleration.iter_mut().enumerate() {
+            for (k, a) in self.acceleration.iter_mut().enumerate() {
                 if let Some(a) = a.as_mut() {
                     a.see(aa[k], ea);
                     a.see(ab[k], eb);
@@ -321,27 +364,18 @@ fn run<const M: usize>(
                 }
             }
         }
-        if any_torque {
+        if let Some(dynamics) = &self.dynamics {
+            let mut tau = [0.0; M];
             for t in [ea, mid, eb] {
-                let id = chain_torques_at(arm, motion, t);
-                for (k, limit) in torque.iter_mut().enumerate() {
+                torques_into(dynamics, motion, t, &mut tau[..n]);
+                for (k, limit) in self.torque.iter_mut().enumerate() {
                     if let Some(limit) = limit.as_mut() {
-                        limit.see(id.tau[k], t);
+                        limit.see(tau[k], t);
                     }
                 }
             }
         }
     }
-    motion.check()?;
-    uses.extend(base);
-    for k in 0..n {
-        uses.extend(position[k].take());
-        uses.extend(velocity[k].take());
-        uses.extend(acceleration[k].take());
-        uses.extend(torque[k].take());
-    }
-    let inside = uses.iter().all(LimitUse::inside);
-    Ok(LimitReport { uses, inside })
 }
 
 #[cfg(test)]

@@ -37,7 +37,7 @@ pub fn chain_torques_at(arm: &Arm, motion: &dyn JointMotion, t: f64) -> InverseD
 
 /// The joint torques of `motion` at `t` into `tau` (`n` values) [N m]: [`chain_torques_at`]
 /// on stack buffers, with the arm's constants held by `dynamics`.
-fn torques_into(dynamics: &ArmDynamics, motion: &dyn JointMotion, t: f64, tau: &mut [f64]) {
+pub(crate) fn torques_into(dynamics: &ArmDynamics, motion: &dyn JointMotion, t: f64, tau: &mut [f64]) {
     let n = dynamics.joints();
     let (mut theta, mut rate, mut acceleration) = ([0.0; SIZE], [0.0; SIZE], [0.0; SIZE]);
     let (mut dq, mut ddq) = ([0.0; SIZE], [0.0; SIZE]);

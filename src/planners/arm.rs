@@ -20,7 +20,7 @@ use crate::model::InputError;
 use crate::model::arm::Arm;
 use crate::numerics::ode::OdeOptions;
 use crate::plan::certificate::{ChainVerification, JointMotion};
-use crate::plan::limit_use::{LimitReport, limit_use};
+use crate::plan::limit_use::LimitReport;
 use crate::plan::torques::{ChainTorqueCertificate, certify_chain_torques, chain_torques_at};
 use crate::plan::{Method, TorqueOptions};
 
@@ -247,7 +247,8 @@ pub fn plan_arm(arm: &Arm, method: Method, request: &ArmRequest) -> Result<ArmPl
     let trajectory = plan.sample(request.samples);
     let seconds = clock.elapsed().as_secs_f64();
     let torques = request.torques.then(|| arm_torques(arm, &plan, &trajectory, &request.problem)).transpose()?;
-    let limits = limit_use(arm, plan.motion(), &request.problem.start, &OdeOptions::default())?;
+    // The certificate's own pass checked the limits too (one integration for every check).
+    let limits = plan.verification().limits.clone().unwrap_or_else(LimitReport::empty);
     Ok(ArmPlanned { arm: arm.clone(), method, plan, trajectory, torques, seconds, limits })
 }
 

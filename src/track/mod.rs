@@ -71,4 +71,6 @@ pub use run::{
 #[cfg(test)]
 mod tests;
 #[cfg(test)]
+mod tests_clearance;
+#[cfg(test)]
 mod tests_limits;

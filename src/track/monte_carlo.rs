@@ -18,6 +18,7 @@ use crate::analysis::shards::Shard;
 use crate::error::Error;
 use crate::model::InputError;
 use crate::model::arm::Arm;
+use crate::plan::clearance::ClearanceReport;
 use crate::planners::chain::ChainProblem;
 
 /// Most trials of one run: each keeps its result (about 50 bytes per controller), and at about
@@ -77,13 +78,17 @@ pub struct Trial {
     pub controller: Controller,
     /// Final error \[rad\] (infinite if the run failed).
     pub final_error: f64,
-    /// Why the run failed ([`crate::track::Failure::reason`]: `diverged`, or a declared limit
-    /// its motion broke, `position_limit`, `base_limit`, `velocity_limit`); `None` if it did not.
+    /// Why the run failed ([`crate::track::Failure::reason`]: `diverged`, a declared limit its
+    /// motion broke, `position_limit`, `base_limit`, `velocity_limit`, or `collision`); `None`
+    /// if it did not.
     pub failure: Option<&'static str>,
     /// Re-plans used.
     pub replans: usize,
     /// Re-plans failed.
     pub replan_failures: usize,
+    /// The least clearance of the true motion, when the model has shapes
+    /// ([`crate::track::Tracked::clearance`]).
+    pub clearance: Option<ClearanceReport>,
 }
 
 /// Success rate and error quantiles of one controller.
@@ -103,6 +108,11 @@ pub struct Summary {
     /// Of the failed trials, those whose motion broke a declared limit of the arm (a position,
     /// base or velocity limit, [`crate::model::arm::Limits`]).
     pub limit_failures: usize,
+    /// Of the failed trials, those whose true motion came closer than the clearance asked for
+    /// (`collision`, [`crate::track::Tracked::clearance`]).
+    pub collision_failures: usize,
+    /// The least clearance over the trials \[m\], when the model has shapes.
+    pub min_clearance: Option<f64>,
     /// Median final error \[rad\]; `None` without trials, or when it falls on a failed trial
     /// (never a non-finite number).
     pub median_error: Option<f64>,
@@ -186,6 +196,7 @@ pub fn monte_carlo(
                         failure: r.failure.map(|f| f.reason),
                         replans: r.replans,
                         replan_failures: r.replan_failures,
+                        clearance: r.clearance,
                     })
                 })
                 .collect::<Result<Vec<_>, Error>>();
@@ -221,6 +232,8 @@ fn summary(controller: Controller, trials: &[Trial], tolerance: f64) -> Summary 
         success_rate: successes as f64 / n.max(1) as f64,
         failed: errors.iter().filter(|e| !e.is_finite()).count(),
         limit_failures: mine.iter().filter(|t| t.failure.is_some_and(|f| f.ends_with("_limit"))).count(),
+        collision_failures: mine.iter().filter(|t| t.failure == Some("collision")).count(),
+        min_clearance: mine.iter().filter_map(|t| t.clearance.map(|c| c.min)).reduce(f64::min),
         median_error: quantile(0.5),
         p95_error: quantile(0.95),
         max_error: finite(errors.last()),

@@ -103,6 +103,9 @@ pub struct Applied {
     pub broken: Option<&'static str>,
 }
 
+/// A callback `(t, q, q')` on the plant's true state \[s, rad, rad/s\] ([`Plant::step_observed`]).
+pub type StateObserver<'a> = dyn FnMut(f64, &[f64], &[f64]) + 'a;
+
 /// The true robot in motion.
 #[derive(Debug, Clone)]
 pub struct Plant {
@@ -193,6 +196,20 @@ impl Plant {
     /// ([`Plant::is_finite`]), never a panic. After every step the state is held to the arm's
     /// declared position, base and velocity limits ([`Applied::broken`]).
     pub fn step(&mut self, tau: &[f64], dt: f64, substeps: usize) -> Applied {
+        self.step_observed(tau, dt, substeps, 0.0, &mut |_, _, _| {})
+    }
+
+    /// [`Plant::step`] from the time `t0` \[s\], calling `observe(t, q, q')` with the true state
+    /// after every finite integrator step (`t = t0 + (i + 1) dt / substeps`): the clearance of
+    /// the true motion is watched there ([`crate::plan::clearance::ClearanceMonitor`]).
+    pub fn step_observed(
+        &mut self,
+        tau: &[f64],
+        dt: f64,
+        substeps: usize,
+        t0: f64,
+        observe: &mut StateObserver<'_>,
+    ) -> Applied {
         let mut applied = self.actuate(tau);
         let torque = applied.tau.as_slice();
         let limits = &self.arm.limits;
@@ -218,7 +235,7 @@ impl Plant {
                 stage[i] = y[i] + a * k[i];
             }
         };
-        for _ in 0..substeps.max(1) {
+        for i in 0..substeps.max(1) {
             if !y[..len].iter().all(|x| x.is_finite()) {
                 break;
             }
@@ -234,6 +251,9 @@ impl Plant {
             }
             if broken.is_none() && !limits.is_empty() {
                 broken = broken_limit(limits, &y[..m], &y[m..len]);
+            }
+            if y[..len].iter().all(|x| x.is_finite()) {
+                observe(t0 + (i + 1) as f64 * h, &y[..m], &y[m..len]);
             }
         }
         self.state.copy_from_slice(&y[..len]);

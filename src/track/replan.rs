@@ -134,8 +134,9 @@ impl Replanner {
 
     /// A plan on `model` from the measured state at time `t` to the goal at `horizon` \[s\],
     /// warm-started by the rest of `current`, the reference being followed (the planner's full
-    /// search follows where that start does not converge): `None` when the planner fails or its
-    /// plan is not accepted (see [`ReplanOptions::accept`]).
+    /// search follows where that start does not converge): `None` when the planner fails, its
+    /// plan is not accepted (see [`ReplanOptions::accept`]) or its certificate finds it closer
+    /// than the model's clearance to a body or an obstacle.
     pub fn replan(
         &mut self,
         model: &Arm,
@@ -157,6 +158,9 @@ impl Replanner {
         let planner = self.planner.as_mut()?;
         planner.options.warm_start = Self::rest_of(current, t, horizon, 4 * self.options.planner.max_spans + 1);
         let plan = planner.plan(&problem).ok()?;
+        // A plan whose verified motion comes closer than the model's clearance is refused (issue
+        // 21): the last plan stays, as for any refused re-plan.
+        plan.verification.collision().ok()?;
         let e = plan.verification.final_error;
         (e.is_finite() && e <= self.options.accept).then_some(plan)
     }

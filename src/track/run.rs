@@ -16,6 +16,7 @@ use super::replan::{Reference, ReplanOptions, Replanner};
 use crate::error::Error;
 use crate::model::arm::Arm;
 use crate::model::{InputError, wrap_angle};
+use crate::plan::clearance::{ClearanceMonitor, ClearanceReport};
 use crate::planners::chain::ChainProblem;
 
 /// Options of a closed-loop run.
@@ -151,9 +152,10 @@ impl TrackOptions {
 pub struct Failure {
     /// `diverged`: the simulated motion left the finite numbers; `position_limit`,
     /// `base_limit`, `velocity_limit`: the true motion broke the arm's declared limit
-    /// ([`crate::model::arm::Limits`], checked after every integrator step).
+    /// ([`crate::model::arm::Limits`], checked after every integrator step); `collision`: the
+    /// true motion came closer than the clearance asked for ([`Tracked::clearance`]).
     pub reason: &'static str,
-    /// When it happened \[s\].
+    /// When it happened \[s\] (for a collision, the time of the least clearance so far).
     pub t: f64,
 }
 
@@ -276,6 +278,12 @@ pub struct Tracked {
     pub identification: Option<Identification>,
     /// The hold correction of the first plan's feedforward, where the run used one.
     pub hold_correction: Option<HoldSummary>,
+    /// The least clearance of the true motion (issue 21 item 6), when the model has shapes: the
+    /// model's shapes, obstacles and clearance ([`Arm::geometry`]) on the true arm's motion, at
+    /// every integrator step of the plant and between steps by the Hermite minimum of
+    /// [`ClearanceMonitor`]. A run that comes closer than the clearance stops with the
+    /// [`Failure`] `collision`; the report then is the least clearance up to there.
+    pub clearance: Option<ClearanceReport>,
     /// The motion tick by tick, when recorded.
     #[serde(skip)]
     pub history: Option<History>,
@@ -347,6 +355,12 @@ pub fn track_with(
     let (mut replan_seconds, mut replan_max) = (0.0_f64, 0.0_f64);
     let mut diverged_at = None;
     let mut failure = None;
+    let geometry = &model.geometry;
+    let mut clearance = (!geometry.is_empty()).then(|| ClearanceMonitor::new(truth, geometry, geometry.clearance));
+    if let Some(c) = clearance.as_mut() {
+        let s = plant.state();
+        c.observe(0.0, &s.q, &s.dq);
+    }
     let distance = |a: &[f64], b: &[f64]| a.iter().zip(b).fold(0.0_f64, |m, (x, y)| m.max(wrap_angle(x - y).abs()));
     for i in 0..ticks {
         let t = i as f64 * dt;
@@ -390,7 +404,11 @@ pub fn track_with(
             _ => computed_torque(&fitted, &measured, &centre, 0.5 * dt, &options.gains),
         };
         let before = history.is_some().then(|| plant.state().q);
-        let applied = plant.step(&command, dt, options.substeps);
+        let applied = plant.step_observed(&command, dt, options.substeps, t, &mut |s, q, dq| {
+            if let Some(c) = clearance.as_mut() {
+                c.observe(s, q, dq);
+            }
+        });
         let applied_broken = applied.broken;
         // A command that left the finite numbers is the divergence below, not a torque.
         let finite = applied.tau.iter().all(|x| x.is_finite());
@@ -413,6 +431,10 @@ pub fn track_with(
         }
         if let Some(reason) = applied_broken {
             failure = Some(Failure { reason, t: t + dt });
+            break;
+        }
+        if let Some(c) = clearance.as_ref().and_then(ClearanceMonitor::least).filter(|c| !c.holds()) {
+            failure = Some(Failure { reason: "collision", t: c.time });
             break;
         }
     }
@@ -455,6 +477,7 @@ pub fn track_with(
         failure,
         identification,
         hold_correction: correction.map(HoldSummary::from),
+        clearance: clearance.and_then(ClearanceMonitor::finish),
         history,
     })
 }

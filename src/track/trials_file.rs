@@ -4,18 +4,21 @@
 //! can refuse whatever does not belong together and summarise exactly as the unsharded run.
 //!
 //! ```text
-//! # freefloat-track-trials v1 run=<hash> shard=K/N rows=<count> checksum=<hash>
+//! # freefloat-track-trials v2 run=<hash> shard=K/N rows=<count> checksum=<hash>
 //! # run: trials=6 seed=0 controllers=open,ct success_tolerance=0.001 truth=perturbed:0.05,0.0 ...
-//! trial,controller,final_error,diverged,replans,replan_failures,check
-//! 0,open,0.0123...,false,0,0,<hash>
+//! trial,controller,final_error,diverged,replans,replan_failures,min_clearance,clearance_between,clearance_time,clearance_required,check
+//! 0,open,0.0123...,false,0,0,,,,,<hash>
 //! ```
 //!
 //! Every cell is deterministic (no wall time), so a shard run again is the same file, and the
 //! merge of the shards equals the unsharded run's file byte for byte. A diverged run has
 //! `diverged = true` and an empty `final_error`: no cell holds a non-finite number. A run whose
 //! motion broke one of the arm's declared limits has the reason there instead
-//! (`position_limit`, `base_limit`, `velocity_limit`) and an empty `final_error`; the rows of
-//! an arm without limits are those of earlier versions.
+//! (`position_limit`, `base_limit`, `velocity_limit`) and an empty `final_error`, and so does a
+//! run whose true motion came closer than the clearance (`collision`). The four `clearance`
+//! cells give the trial's least clearance \[m\], its pair of bodies (`link 2/obstacle 1`), its
+//! time \[s\] and the clearance asked for \[m\] when the model has shapes, and are empty
+//! otherwise (v2; v1 files had no clearance cells).
 
 use std::cell::OnceCell;
 use std::path::{Path, PathBuf};
@@ -28,13 +31,26 @@ use super::run::TrackOptions;
 use crate::analysis::shards::{self, FileKind, Shard, ShardFile, field, file_error, finite};
 use crate::error::Error;
 use crate::model::arm::Arm;
+use crate::model::arm::collision::Body;
+use crate::plan::clearance::ClearanceReport;
 use crate::planners::chain::ChainProblem;
 
 /// The first words of a trials file.
-pub const MAGIC: &str = "# freefloat-track-trials v1";
+pub const MAGIC: &str = "# freefloat-track-trials v2";
 
 /// The CSV columns: [`TrialRow`]'s fields, then the row's `check`.
-pub const COLUMNS: [&str; 6] = ["trial", "controller", "final_error", "diverged", "replans", "replan_failures"];
+pub const COLUMNS: [&str; 10] = [
+    "trial",
+    "controller",
+    "final_error",
+    "diverged",
+    "replans",
+    "replan_failures",
+    "min_clearance",
+    "clearance_between",
+    "clearance_time",
+    "clearance_required",
+];
 
 /// The trials file's kind: [`MAGIC`] and [`COLUMNS`].
 pub const KIND: FileKind = FileKind { magic: MAGIC, name: "track trials", columns: &COLUMNS };
@@ -55,6 +71,44 @@ pub struct TrialRow {
     pub replans: usize,
     /// Re-plans failed.
     pub replan_failures: usize,
+    /// The least clearance of the true motion \[m\], when the model has shapes.
+    pub min_clearance: Option<f64>,
+    /// Its pair of bodies.
+    pub clearance_between: Option<Pair>,
+    /// Its time \[s\].
+    pub clearance_time: Option<f64>,
+    /// The clearance asked for \[m\].
+    pub clearance_required: Option<f64>,
+}
+
+/// The pair of bodies of a least clearance, the cell `link 2/obstacle 1`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Pair(pub Body, pub Body);
+
+impl Serialize for Pair {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_str(&format!("{}/{}", self.0, self.1))
+    }
+}
+
+impl<'de> Deserialize<'de> for Pair {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let text = String::deserialize(d)?;
+        let body = |t: &str| -> Option<Body> {
+            let number = |rest: &str| rest.parse::<usize>().ok().filter(|&k| k >= 1);
+            match t {
+                "base" => Some(Body::Base),
+                _ => t
+                    .strip_prefix("link ")
+                    .and_then(number)
+                    .map(Body::Link)
+                    .or_else(|| t.strip_prefix("obstacle ").and_then(number).map(Body::Obstacle)),
+            }
+        };
+        text.split_once('/').and_then(|(a, b)| Some(Pair(body(a)?, body(b)?))).ok_or_else(|| {
+            serde::de::Error::custom(format!("clearance_between = `{text}`: expected e.g. link 2/obstacle 1"))
+        })
+    }
 }
 
 /// How a trial ended, the `diverged` cell of its row: `false`, `true`, or the reason of a
@@ -66,19 +120,19 @@ pub enum Ended {
     Horizon,
     /// The motion diverged (`true`).
     Diverged,
-    /// The motion broke a declared limit: the failure's reason.
+    /// The motion broke a declared limit, or collided: the failure's reason.
     Broke(&'static str),
 }
 
 /// The failure reasons a row may name besides `true`/`false`.
-const LIMIT_REASONS: [&str; 3] = ["position_limit", "base_limit", "velocity_limit"];
+const FAILURE_REASONS: [&str; 4] = ["position_limit", "base_limit", "velocity_limit", "collision"];
 
 impl Ended {
     /// The end of a trial that failed for `failure` (`None`: it did not, or it diverged when its
     /// error is infinite).
     fn of(t: &Trial) -> Self {
         match t.failure {
-            Some(reason) if LIMIT_REASONS.contains(&reason) => Ended::Broke(reason),
+            Some(reason) if FAILURE_REASONS.contains(&reason) => Ended::Broke(reason),
             _ if t.final_error.is_finite() => Ended::Horizon,
             _ => Ended::Diverged,
         }
@@ -115,9 +169,9 @@ impl<'de> Deserialize<'de> for Ended {
         match text.as_str() {
             "false" => Ok(Ended::Horizon),
             "true" => Ok(Ended::Diverged),
-            other => LIMIT_REASONS.iter().find(|r| **r == other).map(|r| Ended::Broke(r)).ok_or_else(|| {
+            other => FAILURE_REASONS.iter().find(|r| **r == other).map(|r| Ended::Broke(r)).ok_or_else(|| {
                 serde::de::Error::custom(format!(
-                    "diverged = `{other}`: expected false, true, position_limit, base_limit or velocity_limit"
+                    "diverged = `{other}`: expected false, true, position_limit, base_limit, velocity_limit or collision"
                 ))
             }),
         }
@@ -134,6 +188,10 @@ impl From<&Trial> for TrialRow {
             diverged: Ended::of(t),
             replans: t.replans,
             replan_failures: t.replan_failures,
+            min_clearance: t.clearance.map(|c| c.min),
+            clearance_between: t.clearance.map(|c| Pair(c.a, c.b)),
+            clearance_time: t.clearance.map(|c| c.time),
+            clearance_required: t.clearance.map(|c| c.required),
         }
     }
 }
@@ -147,6 +205,12 @@ impl From<&TrialRow> for Trial {
             failure: r.diverged.failure(),
             replans: r.replans,
             replan_failures: r.replan_failures,
+            clearance: match (r.min_clearance, r.clearance_between, r.clearance_time, r.clearance_required) {
+                (Some(min), Some(Pair(a, b)), Some(time), Some(required)) => {
+                    Some(ClearanceReport { min, a, b, time, required })
+                }
+                _ => None,
+            },
         }
     }
 }
@@ -161,6 +225,10 @@ fn robot_description(r: &Arm) -> String {
     // Declared limits change the rows (a trial may break them); none leaves the words as before.
     if !r.limits.is_empty() {
         out += &format!("/limits:{:?}", r.limits).replace(' ', "");
+    }
+    // So do shapes and obstacles (the clearance cells, collisions).
+    if !r.geometry.is_empty() {
+        out += &format!("/geometry:{:?}", r.geometry).replace(' ', "");
     }
     out
 }
@@ -300,6 +368,16 @@ fn check_row(r: &TrialRow, run: &RunSummary, shard: Shard) -> Result<(), String>
         }
         (None, false) => {}
         _ => return Err(at("a final error is given exactly when the run did not fail".into())),
+    }
+    let cells = [r.min_clearance, r.clearance_time, r.clearance_required];
+    match (cells, r.clearance_between) {
+        ([Some(min), Some(time), Some(required)], Some(_)) => {
+            finite("min_clearance", min).map_err(at)?;
+            finite("clearance_time", time).map_err(at)?;
+            finite("clearance_required", required).map_err(at)?;
+        }
+        ([None, None, None], None) => {}
+        _ => return Err(at("the four clearance cells are all given or all empty".into())),
     }
     Ok(())
 }

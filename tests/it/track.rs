@@ -123,7 +123,7 @@ fn shards_merge_to_the_unsharded_run() {
     let shards: Vec<_> =
         (1..=3).map(|k| trials_file(dir.path(), &format!("s{k}.csv"), &["--shard", &format!("{k}/3")]).0).collect();
     let text = std::fs::read_to_string(&shards[0]).unwrap();
-    assert!(text.starts_with("# freefloat-track-trials v1 ") && text.contains("shard=1/3 rows=4"), "{text}");
+    assert!(text.starts_with("# freefloat-track-trials v2 ") && text.contains("shard=1/3 rows=4"), "{text}");
     assert!(text.lines().skip(3).all(|l| l.starts_with("0,") || l.starts_with("3,")), "{text}");
     let merged = dir.path().join("merged.csv");
     let paths = [shards[2].as_path(), shards[0].as_path(), shards[1].as_path()];
@@ -274,4 +274,50 @@ fn track_refuses_what_the_arm_cannot_do() {
         let o = freefloat(&args);
         refused(&o, named);
     }
+}
+
+/// `track` reads the robot's shapes and the geometry flags as `plan` does (issue 21 item 6): each
+/// run reports the least clearance of the true motion, in JSON and in the table; on the model
+/// itself (`ct`, no noise) it is the plan certificate's to 1e-6 m (the same motion up to the
+/// tracking error). A clearance the plan cannot keep is refused before any run (exit 3), a bad
+/// obstacle is bad input (exit 2).
+#[test]
+fn track_reports_the_clearance_of_each_run() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("shapes.toml");
+    let link = |l: f64, d: f64, m: f64| {
+        format!("[[link]]\nlength = {l}\ncom = {d}\nmass = {m}\ninertia = 0.0\nwidth = 0.04\n")
+    };
+    std::fs::write(
+        &path,
+        format!("[robot]\nM = 12.9\nI = 0.208\n{}{}", link(0.619, 0.313, 4.5), link(0.6, 0.287, 1.5)),
+    )
+    .unwrap();
+    let p = path.to_str().unwrap();
+    // Below the end effector's path (about (-0.5, -0.42) m at 2.5 s, (-0.22, -0.38) m at 5 s):
+    // the least clearance is link 2's, in mid-motion.
+    let shapes = ["--robot", p, "--obstacle", "circle:-0.3,-0.65,0.1"];
+    let o = freefloat(&[&["plan"][..], &shapes[..], &["--format", "json"][..]].concat());
+    assert!(o.status.success(), "{}", stderr(&o));
+    let plan: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let certified = plan["clearance"]["min"].as_f64().expect("the plan's clearance");
+    let o = freefloat(&[&["track"][..], &shapes[..], &["--controller", "ct", "--format", "json"][..]].concat());
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(!stderr(&o).contains("does not check"), "{}", stderr(&o));
+    let runs: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let c = &runs[0]["clearance"];
+    assert!(runs[0]["failure"].is_null() && c["holds"] == true, "{c}");
+    assert_eq!(c["between"][1], "obstacle 1");
+    assert_eq!(plan["clearance"]["between"], c["between"]);
+    let (tracked, time) = (c["min"].as_f64().unwrap(), plan["clearance"]["time"].as_f64().unwrap());
+    assert!(time > 1.0 && time < 9.0, "a least clearance in mid-motion: {}", plan["clearance"]);
+    // The tracking error of `ct` at 1 kHz along the path is about 1e-6 rad.
+    assert!(certified > 0.05 && (tracked - certified).abs() < 2e-6, "trial {tracked} m, certificate {certified} m");
+    let o = freefloat(&[&["track"][..], &shapes[..], &["--controller", "ct"][..]].concat());
+    let table = String::from_utf8_lossy(&o.stdout).into_owned();
+    assert!(o.status.success() && table.contains("min clearance [m]") && table.contains("link2/obstacle1"), "{table}");
+    let o = freefloat(&[&["track"][..], &shapes[..], &["--clearance", "5"][..]].concat());
+    assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
+    let o = freefloat(&["track", "--robot", p, "--obstacle", "circle:-0.3,-0.65"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
 }
