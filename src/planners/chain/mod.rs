@@ -286,3 +286,6 @@ mod tests_cost;
 
 #[cfg(test)]
 mod tests_limits;
+
+#[cfg(test)]
+mod tests_oracle;
