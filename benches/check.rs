@@ -31,6 +31,7 @@ fn bench_check(c: &mut Criterion) {
         ecsa: Default::default(),
         cost: Default::default(),
         smooth_ends: false,
+        shortest_horizon: false,
     };
     let planned = plan_arm(&arm, Method::Optimal, &request).expect("a certified plan");
     let names = default_joint_names(4);

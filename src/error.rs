@@ -283,7 +283,7 @@ pub enum Error {
     /// every limit was found in it, and the shortest horizon with one is longer; the limit that
     /// binds there is named (`joint` from 1, 0 for the base angle).
     #[error(
-        "no plan inside the robot's limits in T = {horizon} s: the shortest feasible horizon found is          {shortest:.6} s, where joint {joint}'s {quantity} limit {limit} binds; give --time {shortest:.6} or          longer (or --time auto)"
+        "no plan inside the robot's limits in T = {horizon} s: the shortest feasible horizon found is {shortest:.6} s, where joint {joint}'s {quantity} limit {limit} binds; give --time {shortest:.6} or longer (or --time auto)"
     )]
     HorizonTooShort {
         /// The given horizon \[s\].

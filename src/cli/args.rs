@@ -99,8 +99,10 @@ pub struct EndsArgs {
     /// (unless --no-wrap), the NFA and the ECSA take them literally.
     #[arg(long, value_name = "PHI,TH1,TH2", default_value = "0,180,140", allow_hyphen_values = true)]
     pub to: String,
-    /// Horizon T in s, from 1e-3 to 1e6.
-    #[arg(long, value_name = "T", default_value_t = 10.0, allow_hyphen_values = true)]
+    /// Horizon T in s, from 1e-3 to 1e6; `plan` of an arm with velocity, acceleration or torque
+    /// limits also takes `auto`: the shortest horizon (to 1 %) in which the motion fits every
+    /// limit, and the minimum-effort plan at it.
+    #[arg(long, value_name = "T", default_value = "10", value_parser = parse_time, allow_hyphen_values = true)]
     pub time: f64,
 }
 
@@ -541,4 +543,17 @@ pub struct CheckArgs {
     /// point).
     #[arg(long, value_name = "FILE")]
     pub out: Option<PathBuf>,
+}
+
+/// `--time`: a number of seconds, or `auto`, kept as `+inf` (no horizon is infinite:
+/// [`super::config::time`] refuses it for every command but `plan` of an arm, which searches).
+fn parse_time(text: &str) -> Result<f64, String> {
+    if text.trim().eq_ignore_ascii_case("auto") {
+        return Ok(f64::INFINITY);
+    }
+    match text.trim().parse::<f64>() {
+        Ok(t) if t.is_infinite() => Err(format!("`{text}` is not a horizon: give T in s (1e-3 to 1e6) or `auto`")),
+        Ok(t) => Ok(t),
+        Err(_) => Err(format!("`{text}` is neither a horizon in s nor `auto`")),
+    }
 }

@@ -31,6 +31,12 @@ pub fn tolerance(x: f64) -> anyhow::Result<f64> {
 
 /// `--time T`: within [`freefloat::plan::HORIZON_RANGE`].
 pub fn time(t: f64) -> anyhow::Result<f64> {
+    if t.is_infinite() && t > 0.0 {
+        anyhow::bail!(
+            "--time auto: the shortest horizon is searched by `plan` for an arm with velocity, acceleration or \
+             torque limits (docs/spec.md §3); give the horizon T in s here"
+        );
+    }
     freefloat::plan::check_horizon("--time", t)?;
     Ok(t)
 }

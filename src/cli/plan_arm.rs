@@ -121,6 +121,7 @@ pub(super) fn plan_problem(
             _ => Cost::Effort,
         },
         smooth_ends: p.smooth_ends && optimal,
+        shortest_horizon: auto_horizon(p),
     };
     // Checked here so that the closure above cannot fail.
     super::config::samples(p.samples)?;
@@ -236,7 +237,11 @@ pub(super) fn plan_problem(
         }
         (_, result) => result,
     };
-    Ok(planned.map(|planned| Planning { planned, problem, notes, to_ee }))
+    Ok(planned.map(|planned| {
+        // The horizon `--time auto` found.
+        problem.horizon = planned.plan.horizon();
+        Planning { planned, problem, notes, to_ee }
+    }))
 }
 
 /// A refusal of `smooth_ends`/`cost` by the library (e.g. with the ECSA) under the flag's name.
@@ -293,6 +298,11 @@ pub(super) fn refuse_flags(p: &ProblemArgs, arm: &Arm) -> anyhow::Result<()> {
     Ok(())
 }
 
+/// Whether `--time auto` was given (kept as `+inf` by the parser).
+fn auto_horizon(p: &ProblemArgs) -> bool {
+    p.ends.time.is_infinite() && p.ends.time > 0.0
+}
+
 /// The problem of the flags for an `n`-link arm: `--from`/`--to` with `n + 1` angles
 /// `PHI,TH1,..,THn` in degrees, `--from-velocity` with `n` (or the default `0,0`: at rest).
 pub(super) fn problem(p: &ProblemArgs, arm: &Arm) -> anyhow::Result<ChainProblem> {
@@ -308,7 +318,8 @@ pub(super) fn problem(p: &ProblemArgs, arm: &Arm) -> anyhow::Result<ChainProblem
         v => bail!("--from-velocity takes {n} joint velocities DTH1,..,DTH{n} in deg/s for this arm, got {}", v.len()),
     };
     // Checked here, naming the flags; the planner checks again under its own names.
-    let horizon = super::config::time(p.ends.time)?;
+    // `--time auto`: the search's first probe is the default horizon.
+    let horizon = if auto_horizon(p) { 10.0 } else { super::config::time(p.ends.time)? };
     Ok(ChainProblem { start, goal, horizon, initial_velocity, wrap: !p.no_wrap })
 }
 

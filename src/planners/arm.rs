@@ -42,6 +42,13 @@ pub struct ArmRequest {
     /// Quintic ends (`theta'' = 0` at both ends, torques from and to zero), for
     /// [`Method::Optimal`] (default false).
     pub smooth_ends: bool,
+    /// The shortest horizon (`--time auto`, issue 20 item 4), for [`Method::Optimal`] and an
+    /// arm with a velocity, acceleration or torque limit: the least horizon, to 1 %, in which a
+    /// certified plan fits every limit ([`ChainPlanner::shortest_horizon`], the problem's horizon
+    /// its first probe), and the minimum-effort plan at it. Default false: the problem's horizon,
+    /// and when it is too short for the limits an [`Error::HorizonTooShort`] naming the limit
+    /// that binds and the shortest horizon found ([`ChainPlanner::plan_within_limits`]).
+    pub shortest_horizon: bool,
 }
 
 impl ArmRequest {
@@ -56,6 +63,7 @@ impl ArmRequest {
             ecsa: EcsaOptions::default(),
             cost: Cost::Effort,
             smooth_ends: false,
+            shortest_horizon: false,
         }
     }
 
@@ -231,7 +239,16 @@ pub fn plan_arm(arm: &Arm, method: Method, request: &ArmRequest) -> Result<ArmPl
                        harmonic basis, with neither",
         }));
     }
+    if request.shortest_horizon && (method != Method::Optimal || !arm.limits.rate_limited()) {
+        return Err(Error::from(InputError::InvalidParameter {
+            name: "--time auto".into(),
+            value: arm.joints() as f64,
+            expected: "the optimal method and an arm with a velocity, acceleration or torque limit: the shortest \
+                       horizon is the one in which the motion fits them",
+        }));
+    }
     let clock = Instant::now();
+    let mut problem = request.problem.clone();
     let plan = if method == Method::Ecsa {
         let options = EcsaOptions { tolerance: request.tolerance, ..request.ecsa };
         ArmPlan::Ecsa(ChainEcsaPlanner::new(arm.clone(), options).plan(&request.problem)?)
@@ -242,11 +259,18 @@ pub fn plan_arm(arm: &Arm, method: Method, request: &ArmRequest) -> Result<ArmPl
             smooth_ends: request.smooth_ends,
             ..ChainOptions::default()
         };
-        ArmPlan::Optimal(ChainPlanner::new(arm.clone(), options).plan(&request.problem)?)
+        let planner = ChainPlanner::new(arm.clone(), options);
+        if request.shortest_horizon {
+            let shortest = planner.shortest_horizon(&problem)?;
+            problem.horizon = shortest.horizon;
+            ArmPlan::Optimal(shortest.plan)
+        } else {
+            ArmPlan::Optimal(planner.plan_within_limits(&problem)?)
+        }
     };
     let trajectory = plan.sample(request.samples);
     let seconds = clock.elapsed().as_secs_f64();
-    let torques = request.torques.then(|| arm_torques(arm, &plan, &trajectory, &request.problem)).transpose()?;
+    let torques = request.torques.then(|| arm_torques(arm, &plan, &trajectory, &problem)).transpose()?;
     // The certificate's own pass checked the limits too (one integration for every check).
     let limits = plan.verification().limits.clone().unwrap_or_else(LimitReport::empty);
     Ok(ArmPlanned { arm: arm.clone(), method, plan, trajectory, torques, seconds, limits })

@@ -53,6 +53,7 @@ pub fn plan_arm3() -> Result<ArmPlanned, Error> {
         ecsa: Default::default(),
         cost: Default::default(),
         smooth_ends: false,
+        shortest_horizon: false,
     };
     plan_arm(&three_link_arm()?, Method::Optimal, &request)
 }

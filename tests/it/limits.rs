@@ -127,3 +127,34 @@ fn the_long_way_round_inside_spart_range_at_the_command_line() {
     let u = use_of(&r, "theta1", "position");
     assert!(u["use"].as_f64().unwrap() <= 1.0 + 1e-9, "{u}");
 }
+
+/// `--time auto` (issue 20 item 4): the shortest horizon in which the motion fits a velocity
+/// limit of 30 deg/s on every joint. The plan there is certified inside the limit and uses it
+/// fully (a shorter horizon would need faster joints); 1.2 % shorter (beyond the 1 % accuracy)
+/// there is no plan; a given horizon too short is exit 3 naming the binding limit and the
+/// shortest horizon found.
+#[test]
+fn time_auto_finds_the_shortest_horizon_and_too_short_names_the_limit() {
+    let limit = ["--limit", "all.velocity=30"];
+    let args = [&["plan", "--robot", THREE, "--format", "json", "--time", "auto"][..], &limit, &THREE_PROBLEM];
+    let o = freefloat(&args.concat());
+    assert!(o.status.success(), "{}", stderr(&o));
+    let r: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(r["certified"], true);
+    assert_eq!(r["limits"]["inside"], true);
+    let shortest = r["time"].as_f64().unwrap();
+    let most = r["limits"]["uses"].as_array().unwrap().iter().map(|u| u["use"].as_f64().unwrap()).fold(0.0, f64::max);
+    assert!(most > 0.98 && most <= 1.0 + 1e-9, "the velocity limit binds at the shortest horizon: {most}");
+    let below = format!("{}", shortest / 1.012);
+    let o = freefloat(&[&["plan", "--robot", THREE, "--time", &below][..], &limit, &THREE_PROBLEM].concat());
+    assert_eq!(o.status.code(), Some(3), "no plan 1.2 % below the shortest horizon: {}", stderr(&o));
+    let e = stderr(&o);
+    assert!(e.contains("shortest feasible horizon") && e.contains("velocity limit"), "{e}");
+    let found: f64 =
+        e.split("horizon found is").nth(1).and_then(|s| s.split_whitespace().next()).unwrap().parse().unwrap();
+    assert!((found / shortest - 1.0).abs() < 0.02, "the error's shortest horizon {found} vs auto's {shortest}");
+    // `auto` without a rate limit is bad input.
+    let o = freefloat(&[&["plan", "--robot", THREE, "--time", "auto"][..], &THREE_PROBLEM].concat());
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("--time auto"), "{}", stderr(&o));
+}

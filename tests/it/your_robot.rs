@@ -77,23 +77,28 @@ fn robot_reads_toml_urdf_and_the_preset_alike() {
 }
 
 /// The guide's worked example plans and certifies on the SPART-like arm.
+/// The guide's worked example with the file's own limits (20 N m, 1 rad/s, +-3.1416 rad): without
+/// them the plan needs more than 20 N m (so the torque limit must bind); with them it is
+/// certified at both levels, inside every limit, at 100 % of a torque limit.
 #[test]
 fn the_guide_plans_the_spart_like_arm() {
-    // The file's own limits (issue 20) are dropped: the constrained planner does not converge
-    // on this problem inside them yet (see `the_spart_like_arm_with_its_limits`).
-    let o = run(&[
-        "plan",
-        "--urdf",
-        SPART,
-        "--from",
-        "0,30,30,30,30",
-        "--to",
-        "10,60,0,40,20",
-        "--torques",
-        "--limit",
-        "all=none",
-    ]);
+    let args = ["plan", "--urdf", SPART, "--from", "0,30,30,30,30", "--to", "10,60,0,40,20", "--torques"];
+    let json = |extra: &[&str]| {
+        let o = run(&[&args[..], extra, &["--format", "json"]].concat());
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        serde_json::from_slice::<serde_json::Value>(&o.stdout).expect("JSON")
+    };
+    let free = json(&["--limit", "all=none"]);
+    let peak = free["max_abs_torque"].as_array().unwrap().iter().map(|v| v.as_f64().unwrap()).fold(0.0, f64::max);
+    assert!(peak > 20.0, "the torque limit binds: {peak} N m without it");
+    let r = json(&[]);
+    assert_eq!(r["certified"], true);
+    assert_eq!(r["limits"]["inside"], true);
+    let uses = r["limits"]["uses"].as_array().unwrap();
+    let torque =
+        uses.iter().filter(|u| u["quantity"] == "torque").map(|u| u["use"].as_f64().unwrap()).fold(0.0, f64::max);
+    assert!(torque > 0.99 && torque <= 1.0 + 1e-9, "at the torque limit: {torque}");
+    let o = run(&args);
     let out = String::from_utf8_lossy(&o.stdout);
-    assert!(o.status.success(), "{}{out}", String::from_utf8_lossy(&o.stderr));
-    assert!(out.contains("4-link arm") && out.contains("CERTIFIED"), "{out}");
+    assert!(out.contains("4-link arm") && out.contains("CERTIFIED") && out.contains("INSIDE"), "{out}");
 }

@@ -51,6 +51,12 @@ impl Limits {
         self.base.is_none() && self.joints.iter().all(JointLimits::is_empty)
     }
 
+    /// Whether a joint has a velocity, acceleration or torque limit (one that a longer horizon
+    /// relieves: time-scaling divides the rates by the factor, the torques by its square).
+    pub fn rate_limited(&self) -> bool {
+        self.joints.iter().any(|j| j.velocity.is_some() || j.acceleration.is_some() || j.torque.is_some())
+    }
+
     /// The limits of joint `i` (0-based); unlimited where none are declared.
     pub fn joint(&self, i: usize) -> JointLimits {
         self.joints.get(i).copied().unwrap_or_default()

@@ -188,13 +188,14 @@ impl ChainPlanner {
         })
     }
 
-    /// [`ChainPlanner::plan`], and when the arm has limits and no plan is found, the shortest
+    /// [`ChainPlanner::plan`], and when the arm has a rate limit (velocity, acceleration or
+    /// torque: [`crate::model::arm::Limits::rate_limited`]) and no plan is found, the shortest
     /// feasible horizon: an [`Error::HorizonTooShort`] naming the limit that binds there when it
     /// is longer than the problem's horizon (else the planner's own error).
     pub fn plan_within_limits(&self, problem: &ChainProblem) -> Result<ChainPlan, Error> {
         let error = match self.plan(problem) {
             Ok(plan) => return Ok(plan),
-            Err(e) if e.is_bad_input() || !self.limited() => return Err(e),
+            Err(e) if e.is_bad_input() || !self.arm().limits.rate_limited() => return Err(e),
             Err(e) => e,
         };
         let shortest = match self.shortest_horizon(&ChainProblem { horizon: problem.horizon * 1.5, ..problem.clone() })

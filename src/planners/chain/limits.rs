@@ -418,10 +418,3 @@ impl ChainProblem {
         Ok(())
     }
 }
-
-impl ChainPlanner {
-    /// Whether the arm declares any limit.
-    pub(crate) fn limited(&self) -> bool {
-        !self.arm().limits.is_empty()
-    }
-}

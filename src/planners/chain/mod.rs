@@ -291,4 +291,7 @@ mod tests_cost;
 mod tests_limits;
 
 #[cfg(test)]
+mod tests_oracle;
+
+#[cfg(test)]
 mod tests_recorded;

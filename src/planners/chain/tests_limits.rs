@@ -84,7 +84,6 @@ fn a_start_outside_a_range_is_refused_naming_it() {
 /// 0.67 rad/s), the constrained one stays inside on the integrated motion and costs at least as
 /// much (it is feasible for the unconstrained problem).
 #[test]
-#[ignore = "issue 20 item 3 unfinished: the S-l1-QP stalls at a relative KKT residual of 6e-2 on this case"]
 fn tight_limits_bind_and_hold() {
     let free = Arm::from_urdf_str(SPART, std::path::Path::new("spart_like_4dof.urdf")).expect("the example URDF");
     let tight = spart(2.0, 0.3, 50.0);
@@ -111,7 +110,6 @@ fn tight_limits_bind_and_hold() {
 /// `T* / 1.01` (1 % shorter, beyond the search's accuracy bound `infeasible_below`) is not
 /// found; a too-short given horizon names the binding limit and the shortest horizon.
 #[test]
-#[ignore = "issue 20 item 4 unfinished: rests on the constrained solve that stalls on the tight case (100 s)"]
 fn shortest_horizon_is_within_one_percent_and_too_short_names_the_limit() {
     let tight = spart(2.0, 0.3, 50.0);
     let problem =

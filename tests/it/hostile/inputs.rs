@@ -83,6 +83,7 @@ fn library_options_carry_the_command_lines_bounds() {
         ecsa: freefloat::EcsaOptions::default(),
         cost: Default::default(),
         smooth_ends: false,
+        shortest_horizon: false,
     };
     let e = plan_arm(&arm, Method::Optimal, &request).map(drop).expect_err("refused");
     assert!(e.is_bad_input() && e.to_string().contains("memory"), "{e}");

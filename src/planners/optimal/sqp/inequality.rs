@@ -8,13 +8,26 @@
 //! step is accepted on the l1 merit `f + mu (|c| + sum max(0, g))` with the trust-region ratio
 //! test, as the equality-only path in the parent module. `W` is the Lagrangian's Hessian of the
 //! cost and the equality, `hess f + lambda hess c` (the inequalities' curvature left out: a
-//! Gauss–Newton model for them), shifted by multiples of the metric `S` until it is positive
-//! definite. Rows that cannot become active inside the trust region
-//! (`g_i + |grad g_i|_1 radius < 0`) are left out of the QP.
+//! Gauss–Newton model for them). The QP needs a convex `W`; at a minimum `W` is positive
+//! definite on the equality's tangent space only, so the augmented term `rho (grad c^T d)^2 / 2`
+//! is added first (an extra variable `w = grad c^T d` keeps the QP banded): it does not change
+//! the step where the linearised equality holds, and makes `W` positive definite for a large
+//! enough `rho` (Debreu's lemma), so Newton's convergence is kept. Only when no `rho` does is `W`
+//! shifted by multiples of the metric `S` (a gradient-like step). Rows that cannot become active
+//! inside the trust region (`g_i + |grad g_i|_1 radius < 0`) are left out of the QP.
+//!
+//! The penalty `mu` follows Byrd, Nocedal and Waltz's steering rules: it is raised only until
+//! the step achieves a tenth of the linearised infeasibility reduction that the trust region
+//! allows, and it is lowered back to twice the largest multiplier once the linearised
+//! constraints hold (a needlessly large `mu` makes the ratio test reject good steps, the Maratos effect, and
+//! drowns the QP's cost in its tolerances). A rejected step gets Fletcher's second-order
+//! correction: the same QP with the constraints' values at the trial point.
 //!
 //! ## Reference
 //! R. Fletcher, *Practical Methods of Optimization*, 2nd ed., Wiley (1987), Sec. 14.4 (the
-//! S-l1-QP method), doi:10.1002/9781118723203; P. J. Goulart, Y. Chen, *Clarabel: An
+//! S-l1-QP method, its second-order correction), doi:10.1002/9781118723203; R. H. Byrd,
+//! J. Nocedal, R. A. Waltz, *Steering exact penalty methods for nonlinear programming*, Optim.
+//! Methods Softw. 23 (2008) 197–213, doi:10.1080/10556780701394169; P. J. Goulart, Y. Chen, *Clarabel: An
 //! interior-point solver for conic programs with quadratic objectives*, arXiv:2405.12762 (2024).
 
 use clarabel::algebra::CscMatrix;
@@ -48,87 +61,136 @@ struct Step {
     z: Vec<f64>,
 }
 
-/// Solves the S-l1-QP subproblem at `(e, g)` with the convex `w`; `None` when Clarabel fails.
-fn subproblem(w: &DMatrix<f64>, hb: usize, e: &Evaluation, g: &Inequalities, mu: f64, radius: f64) -> Option<Step> {
-    let dim = e.grad_f.len();
-    let reach = |i: usize| g.rows[i].iter().map(|(_, a)| a.abs()).sum::<f64>() * radius;
-    let active: Vec<usize> = (0..g.values.len()).filter(|&i| g.values[i] + reach(i) >= 0.0).collect();
-    let m = active.len();
-    // Variables: d (dim), s+ and s- of the equality, t_k of each active row.
-    let nv = dim + 2 + m;
-    let (sp, sm) = (dim, dim + 1);
-    // P: W's upper band in the d block.
-    let mut cols: Vec<Vec<(usize, f64)>> = vec![Vec::new(); nv];
-    for (j, col) in cols.iter_mut().enumerate().take(dim) {
-        for i in j.saturating_sub(hb)..=j {
-            let v = w[(i, j)] / mu;
-            if v != 0.0 {
-                col.push((i, v));
+/// The QP's data at an iterate: the convex model `W` (with the augmented weight `rho` on
+/// `(grad c^T d)^2`), the cost's and the constraints' gradients.
+struct Model<'a> {
+    w: DMatrix<f64>,
+    rho: f64,
+    hb: usize,
+    e: &'a Evaluation,
+    rows: &'a [Vec<(usize, f64)>],
+}
+
+impl Model<'_> {
+    /// Solves the S-l1-QP subproblem with the constraints' values `c` and `values` (those at the
+    /// iterate, or at a trial point shifted back by its step for the second-order correction);
+    /// `None` when Clarabel fails.
+    fn solve(&self, c: f64, values: &[f64], mu: f64, radius: f64) -> Option<Step> {
+        let (e, hb) = (self.e, self.hb);
+        let dim = e.grad_f.len();
+        let reach = |i: usize| self.rows[i].iter().map(|(_, a)| a.abs()).sum::<f64>() * radius;
+        let active: Vec<usize> = (0..values.len()).filter(|&i| values[i] + reach(i) >= 0.0).collect();
+        let m = active.len();
+        // Variables: d (dim), s+ and s- of the equality, w = grad c^T d, t_k of each active row.
+        let nv = dim + 3 + m;
+        let (sp, sm, wv) = (dim, dim + 1, dim + 2);
+        // P: W's upper band in the d block, rho on w (all divided by mu: the slacks' weight is 1,
+        // the same minimiser, and Clarabel's relative tolerances stay meaningful).
+        let mut cols: Vec<Vec<(usize, f64)>> = vec![Vec::new(); nv];
+        for (j, col) in cols.iter_mut().enumerate().take(dim) {
+            for i in j.saturating_sub(hb)..=j {
+                let v = self.w[(i, j)] / mu;
+                if v != 0.0 {
+                    col.push((i, v));
+                }
             }
         }
-    }
-    let p = csc(nv, nv, &cols);
-    let mut q = vec![0.0; nv];
-    // The objective divided by mu (the slacks' weight 1): the same minimiser, and Clarabel's
-    // relative tolerances stay meaningful when the penalty is large.
-    for (qk, gk) in q.iter_mut().zip(e.grad_f.iter()) {
-        *qk = gk / mu;
-    }
-    for qk in &mut q[dim..] {
-        *qk = 1.0;
-    }
-    // Rows of A x + s = b: the equality (zero cone), then s+- >= 0, t >= 0, the active rows,
-    // and the box |d_k| <= radius (nonnegative cone).
-    let mut a: Vec<Vec<(usize, f64)>> = vec![Vec::new(); nv];
-    let mut b = Vec::new();
-    let mut row = 0;
-    for (k, v) in e.grad_c.iter().enumerate() {
-        if *v != 0.0 {
-            a[k].push((row, *v));
+        if self.rho > 0.0 {
+            cols[wv].push((wv, self.rho / mu));
         }
-    }
-    a[sp].push((row, -1.0));
-    a[sm].push((row, 1.0));
-    b.push(-e.c);
-    row += 1;
-    for col in a.iter_mut().skip(dim) {
-        col.push((row, -1.0));
-        b.push(0.0);
-        row += 1;
-    }
-    for (r, &i) in active.iter().enumerate() {
-        for &(k, v) in &g.rows[i] {
-            a[k].push((row, v));
+        let p = csc(nv, nv, &cols);
+        let mut q = vec![0.0; nv];
+        for (qk, gk) in q.iter_mut().zip(e.grad_f.iter()) {
+            *qk = gk / mu;
         }
-        a[dim + 2 + r].push((row, -1.0));
-        b.push(-g.values[i]);
-        row += 1;
+        q[sp] = 1.0;
+        q[sm] = 1.0;
+        for qk in &mut q[dim + 3..] {
+            *qk = 1.0;
+        }
+        // Rows of A x + s = b: the equality and w's definition (zero cone), then s+- >= 0,
+        // t >= 0, the active rows, and the box |d_k| <= radius (nonnegative cone).
+        let mut a: Vec<Vec<(usize, f64)>> = vec![Vec::new(); nv];
+        let mut b = Vec::new();
+        for (k, v) in e.grad_c.iter().enumerate() {
+            if *v != 0.0 {
+                a[k].push((0, *v));
+                a[k].push((1, *v));
+            }
+        }
+        a[sp].push((0, -1.0));
+        a[sm].push((0, 1.0));
+        a[wv].push((1, -1.0));
+        b.extend([-c, 0.0]);
+        let mut row = 2;
+        for k in [sp, sm].into_iter().chain(dim + 3..nv) {
+            a[k].push((row, -1.0));
+            b.push(0.0);
+            row += 1;
+        }
+        for (r, &i) in active.iter().enumerate() {
+            for &(k, v) in &self.rows[i] {
+                a[k].push((row, v));
+            }
+            a[dim + 3 + r].push((row, -1.0));
+            b.push(-values[i]);
+            row += 1;
+        }
+        for col in a.iter_mut().take(dim) {
+            col.push((row, 1.0));
+            col.push((row + 1, -1.0));
+            b.extend([radius, radius]);
+            row += 2;
+        }
+        let a = csc(row, nv, &a);
+        let cones: [SupportedConeT<f64>; 2] = [ZeroConeT(2), NonnegativeConeT(row - 2)];
+        let settings = DefaultSettingsBuilder::default()
+            .verbose(false)
+            .max_iter(100)
+            .tol_gap_abs(QP_TOLERANCE)
+            .tol_gap_rel(QP_TOLERANCE)
+            .tol_feas(QP_TOLERANCE)
+            .build()
+            .ok()?;
+        let mut solver = DefaultSolver::new(&p, &q, &a, &b, &cones, settings).ok()?;
+        solver.solve();
+        let sol = &solver.solution;
+        if !matches!(sol.status, SolverStatus::Solved | SolverStatus::AlmostSolved) {
+            return None;
+        }
+        let d = DVector::from_column_slice(&sol.x[..dim]);
+        if !d.iter().all(|v| v.is_finite()) {
+            return None;
+        }
+        let mut z = vec![0.0; values.len()];
+        for (r, &i) in active.iter().enumerate() {
+            z[i] = mu * sol.z[4 + m + r].max(0.0);
+        }
+        // The equality's multiplier: its row's and w's (whose row carries rho grad c^T d).
+        Some(Step { d, lambda: mu * (sol.z[0] + sol.z[1]), z })
     }
-    for col in a.iter_mut().take(dim) {
-        col.push((row, 1.0));
-        col.push((row + 1, -1.0));
-        b.extend([radius, radius]);
-        row += 2;
+
+    /// The linearised infeasibility `|c + grad c^T d| + sum max(0, g_i + grad g_i^T d)`.
+    fn infeasibility(&self, c: f64, values: &[f64], d: &DVector<f64>) -> f64 {
+        (c + self.e.grad_c.dot(d)).abs()
+            + values
+                .iter()
+                .zip(self.rows)
+                .map(|(v, row)| (v + row.iter().map(|&(k, a)| a * d[k]).sum::<f64>()).max(0.0))
+                .sum::<f64>()
     }
-    let a = csc(row, nv, &a);
-    let cones: [SupportedConeT<f64>; 2] = [ZeroConeT(1), NonnegativeConeT(row - 1)];
-    let settings = DefaultSettingsBuilder::default().verbose(false).max_iter(100).build().ok()?;
-    let mut solver = DefaultSolver::new(&p, &q, &a, &b, &cones, settings).ok()?;
-    solver.solve();
-    let sol = &solver.solution;
-    if !matches!(sol.status, SolverStatus::Solved | SolverStatus::AlmostSolved) {
-        return None;
+
+    /// `grad f^T d + 1/2 d^T (W + rho grad c grad c^T) d`.
+    fn quadratic(&self, d: &DVector<f64>) -> f64 {
+        let wd = matvec(&self.w, self.hb, d);
+        let ad = self.e.grad_c.dot(d);
+        self.e.grad_f.dot(d) + 0.5 * (d.dot(&wd) + self.rho * ad * ad)
     }
-    let d = DVector::from_column_slice(&sol.x[..dim]);
-    if !d.iter().all(|v| v.is_finite()) {
-        return None;
-    }
-    let mut z = vec![0.0; g.values.len()];
-    for (r, &i) in active.iter().enumerate() {
-        z[i] = mu * sol.z[3 + m + r].max(0.0);
-    }
-    Some(Step { d, lambda: mu * sol.z[0], z })
 }
+
+/// Clarabel's gap and feasibility tolerances (its default 1e-8 is too loose for the multipliers
+/// of a QP whose cost is divided by a large penalty).
+const QP_TOLERANCE: f64 = 1e-10;
 
 /// A CSC matrix from its columns' `(row, value)` entries (rows increasing within a column).
 fn csc(m: usize, n: usize, cols: &[Vec<(usize, f64)>]) -> CscMatrix<f64> {
@@ -147,20 +209,34 @@ fn csc(m: usize, n: usize, cols: &[Vec<(usize, f64)>]) -> CscMatrix<f64> {
     CscMatrix::new(m, n, colptr, rowval, nzval)
 }
 
-/// `W + tau S` with the least `tau` in `0, 1e-4, 1e-3, ..` that is positive definite.
-fn convexify(w: DMatrix<f64>, s: &DMatrix<f64>, hb: usize) -> DMatrix<f64> {
+/// The convex model of `w`: `(w, 0)` when it is positive definite; else the least `rho` in
+/// `r, 10 r, .., 1e8 r` (`r = max_i w_ii / |a|^2`) that makes `w + rho a a^T` positive definite
+/// (dense Cholesky), with `w` unchanged; else `(w + tau S, 0)` with the least `tau` in `1e-4,
+/// 1e-3, ..` that is positive definite.
+fn convexify(w: DMatrix<f64>, a: &DVector<f64>, s: &DMatrix<f64>, hb: usize) -> (DMatrix<f64>, f64) {
     if BandCholesky::new(&w, hb).is_some() {
-        return w;
+        return (w, 0.0);
+    }
+    let aa = a.norm_squared();
+    if aa > 0.0 {
+        let r = w.diagonal().amax().max(1e-300) / aa;
+        let outer = a * a.transpose();
+        for k in 0..=8 {
+            let rho = r * 10f64.powi(k);
+            if (&w + &outer * rho).cholesky().is_some() {
+                return (w, rho);
+            }
+        }
     }
     let mut tau = 1e-4;
     for _ in 0..12 {
         let shifted = &w + s * tau;
         if BandCholesky::new(&shifted, hb).is_some() {
-            return shifted;
+            return (shifted, 0.0);
         }
         tau *= 10.0;
     }
-    s.clone()
+    (s.clone(), 0.0)
 }
 
 /// The relative KKT residual `|grad f + lambda grad c + sum z_i grad g_i|_{S^-1} / max(1,
@@ -181,9 +257,13 @@ fn kkt(m: &Metric, e: &Evaluation, g: &Inequalities, lambda: f64, z: &[f64]) -> 
     (norm + complementarity) / scale
 }
 
+/// Most times the penalty is lowered in one solve (a guard against cycling).
+const PENALTY_DECREASES: usize = 8;
+
 /// Solves `min f` subject to `c = 0`, `g <= 0` from `x0` (see the module docs). Converged means
 /// `|c| <= constraint_tolerance`, `max g <= constraint_tolerance` (the rows are scaled to the
-/// limits, so this is relative) and the KKT residual below `kkt_tolerance`.
+/// limits, so this is relative) and the KKT residual, the least of the QPs' at the iterate,
+/// below `kkt_tolerance`.
 pub(super) fn solve<P: Discretised>(
     problem: &P,
     x0: DVector<f64>,
@@ -208,8 +288,10 @@ pub(super) fn solve<P: Discretised>(
     let mut mu = guess.map_or(1.0, |v| (2.0 * v.abs()).max(1.0));
     let mut radius = (m.norm(&x) * 0.5).max(1.0);
     let mut iterations = 0;
-    let mut kkt_value = f64::INFINITY;
-    let (mut best_kkt, mut since_best) = (f64::INFINITY, 0);
+    // The least KKT residual of the QPs solved at the current iterate.
+    let mut kkt_here = f64::INFINITY;
+    let (mut best_kkt, mut since_best, mut decreases) = (f64::INFINITY, 0, 0);
+    let (mut least_infeasibility, mut since_infeasibility) = (f64::INFINITY, 0);
     let tol = options.constraint_tolerance;
     let termination = loop {
         if !(e.f.is_finite() && e.c.is_finite() && g.values.iter().all(|v| v.is_finite())) {
@@ -220,7 +302,7 @@ pub(super) fn solve<P: Discretised>(
             }));
         }
         let feasible = e.c.abs() <= tol && violation(&g) <= tol;
-        if feasible && kkt_value <= options.kkt_tolerance {
+        if feasible && kkt_here <= options.kkt_tolerance {
             break Termination::Converged;
         }
         if feasible && since_best >= options.stall_iterations {
@@ -232,70 +314,85 @@ pub(super) fn solve<P: Discretised>(
         if radius < 1e-15 * (1.0 + m.norm(&x)) {
             break Termination::RadiusCollapsed;
         }
+        // Infeasible and no longer reducing the infeasibility by 1 % in twice `stall_iterations`
+        // (a representative or a horizon the limits rule out, or a local minimum of the
+        // infeasibility): stop rather than crawl.
+        let infeasibility = e.c.abs() + penalty(&g);
+        if infeasibility < 0.99 * least_infeasibility {
+            (least_infeasibility, since_infeasibility) = (infeasibility, 0);
+        }
+        if !feasible && since_infeasibility >= 2 * options.stall_iterations {
+            break Termination::Stalled;
+        }
         iterations += 1;
         since_best += 1;
-        let w = convexify(&e.hess_f + &e.hess_c * lambda, m.s, hb);
-        let infeasibility = e.c.abs() + penalty(&g);
-        let model_penalty = |d: &DVector<f64>| {
-            (e.c + e.grad_c.dot(d)).abs()
-                + g.values
-                    .iter()
-                    .zip(&g.rows)
-                    .map(|(v, row)| (v + row.iter().map(|&(k, a)| a * d[k]).sum::<f64>()).max(0.0))
-                    .sum::<f64>()
-        };
-        // Steering: while the elastic variables take part of the linearised infeasibility, a ten
-        // times larger penalty is tried, and kept when it reduces that infeasibility by a tenth
-        // more (a trust region too small to reach feasibility keeps the smaller one).
-        let Some(mut step) = subproblem(&w, hb, &e, &g, mu, radius) else {
+        since_infeasibility += 1;
+        let (w, rho) = convexify(&e.hess_f + &e.hess_c * lambda, &e.grad_c, m.s, hb);
+        let model = Model { w, rho, hb, e: &e, rows: &g.rows };
+        let left = |d: &DVector<f64>| model.infeasibility(e.c, &g.values, d);
+        let Some(mut step) = model.solve(e.c, &g.values, mu, radius) else {
             radius *= 0.25;
             continue;
         };
-        for _ in 0..4 {
-            let left = model_penalty(&step.d);
-            if infeasibility <= tol || left <= 1e-12 * (1.0 + infeasibility) || mu >= 1e8 {
-                break;
-            }
-            let Some(more) = subproblem(&w, hb, &e, &g, 10.0 * mu, radius) else { break };
-            if infeasibility - model_penalty(&more.d) > 1.1 * (infeasibility - left) {
-                (step, mu) = (more, 10.0 * mu);
-            } else {
-                break;
+        // Steering: when the step leaves linearised infeasibility, the reduction the trust region
+        // allows (the step of a 1e4 times larger penalty) is the reference; the penalty is raised
+        // tenfold (up to three times) until the step achieves a tenth of it.
+        if infeasibility > tol && left(&step.d) > 1e-12 * (1.0 + infeasibility) && mu < 1e8 {
+            let best = model.solve(e.c, &g.values, 1e4 * mu, radius).map(|s| infeasibility - left(&s.d));
+            if let Some(best) = best.filter(|b| *b > 0.0) {
+                for _ in 0..3 {
+                    if infeasibility - left(&step.d) >= 0.1 * best {
+                        break;
+                    }
+                    let Some(more) = model.solve(e.c, &g.values, 10.0 * mu, radius) else { break };
+                    (step, mu) = (more, 10.0 * mu);
+                }
             }
         }
         // The QP at x: its multipliers are those of x when its step vanishes.
-        kkt_value = kkt(m, &e, &g, step.lambda, &step.z);
-        if kkt_value < 0.5 * best_kkt {
-            (best_kkt, since_best) = (kkt_value, 0);
+        let kkt_value = kkt(m, &e, &g, step.lambda, &step.z);
+        kkt_here = kkt_here.min(kkt_value);
+        if kkt_here < 0.5 * best_kkt {
+            (best_kkt, since_best) = (kkt_here, 0);
         }
-        if feasible && kkt_value <= options.kkt_tolerance {
+        if feasible && kkt_here <= options.kkt_tolerance {
             (lambda, z) = (step.lambda, step.z);
             break Termination::Converged;
         }
         let d = &step.d;
-        if model_penalty(d) <= 1e-12 * (1.0 + infeasibility) {
-            let largest = step.z.iter().fold(step.lambda.abs(), |a, b| a.max(*b));
+        let largest = step.z.iter().fold(step.lambda.abs(), |a, b| a.max(*b));
+        if left(d) <= 1e-12 * (1.0 + infeasibility) {
+            // A linearisation that holds with a needlessly large penalty: back to twice the
+            // multipliers.
+            if mu > 20.0 * largest.max(0.5) && decreases < PENALTY_DECREASES {
+                mu = 2.0 * largest.max(0.5);
+                decreases += 1;
+            }
             mu = mu.max(1.2 * largest);
         }
-        let wd = matvec(&w, hb, d);
-        let quad = e.grad_f.dot(d) + 0.5 * d.dot(&wd);
+        let quad = model.quadratic(d);
         // The penalty that makes the predicted reduction at least 0.3 mu dc (as the equality-only
-        // path; Nocedal, Wright Eq. 18.36).
-        let dc = infeasibility - model_penalty(d);
-        if dc > 0.0 {
+        // path; Nocedal, Wright Eq. 18.36), while the infeasibility is above the constraints'
+        // rounding (below it the ratio explodes, and the multipliers' bound keeps the penalty
+        // exact).
+        let dc = infeasibility - left(d);
+        if dc > 1e-8 {
             mu = mu.max(quad / (0.7 * dc) + 1e-8);
         }
-        let merit = e.f + mu * (e.c.abs() + penalty(&g));
-        let pred = merit - (e.f + quad + mu * model_penalty(d));
+        let merit = e.f + mu * infeasibility;
+        let pred = merit - (e.f + quad + mu * left(d));
         let trial_merit = |x: &DVector<f64>| {
             let tr = problem.evaluate(x, 0);
-            let tg = problem.inequalities(x, 0);
-            match tg {
-                Some(tg) if tr.f.is_finite() && tr.c.is_finite() => tr.f + mu * (tr.c.abs() + penalty(&tg)),
-                _ => f64::INFINITY,
+            match problem.inequalities(x, 0) {
+                Some(tg) if tr.f.is_finite() && tr.c.is_finite() => {
+                    (tr.f + mu * (tr.c.abs() + penalty(&tg)), Some((tr.c, tg.values)))
+                }
+                _ => (f64::INFINITY, None),
             }
         };
-        let noise = 1e-14 * (e.f.abs() + mu * e.c.abs() + 1e-300);
+        // The merit's rounding floor: the cost's relative 1e-14 and the penalty times the
+        // constraints' absolute rounding (quadrature sums of order 1e-13 rad).
+        let noise = 1e-14 * e.f.abs() + 1e-13 * mu;
         let ratio_of = |value: f64| {
             let ared = merit - value;
             if !value.is_finite() {
@@ -308,20 +405,21 @@ pub(super) fn solve<P: Discretised>(
                 -1.0
             }
         };
-        let trial_x = &x + d;
-        let mut ratio = ratio_of(trial_merit(&trial_x));
+        let (trial, at_trial) = trial_merit(&(&x + d));
+        let mut ratio = ratio_of(trial);
         let mut accepted_step = d.clone();
-        if ratio < 1e-8 {
-            // Second-order correction of the equality: back along the metric's normal.
-            let a_s = m.chol.solve(&e.grad_c);
-            let den = e.grad_c.dot(&a_s);
-            let tr = problem.evaluate(&trial_x, 0);
-            if den > 0.0 && tr.c.is_finite() {
-                let soc = &a_s * (-tr.c / den);
-                let ratio2 = ratio_of(trial_merit(&(&trial_x + &soc)));
+        if ratio < 1e-8
+            && let Some((c_t, g_t)) = at_trial
+        {
+            // Fletcher's second-order correction: the QP at x with the constraints' values at
+            // the trial point, shifted back by the step.
+            let shifted: Vec<f64> =
+                g_t.iter().zip(&g.rows).map(|(v, row)| v - row.iter().map(|&(k, a)| a * d[k]).sum::<f64>()).collect();
+            if let Some(soc) = model.solve(c_t - e.grad_c.dot(d), &shifted, mu, radius) {
+                let ratio2 = ratio_of(trial_merit(&(&x + &soc.d)).0);
                 if ratio2 >= 1e-8 {
                     ratio = ratio2;
-                    accepted_step = d + soc;
+                    accepted_step = soc.d;
                 }
             }
         }
@@ -331,6 +429,7 @@ pub(super) fn solve<P: Discretised>(
             e = problem.evaluate(&x, 2);
             g = problem.inequalities(&x, 1).ok_or_else(no_rows)?;
             (lambda, z) = (step.lambda, step.z);
+            kkt_here = f64::INFINITY;
             if ratio > 0.75 && step_norm > 0.8 * radius {
                 radius = (2.0 * radius).min(1e4);
             } else if ratio < 0.25 {
@@ -340,7 +439,7 @@ pub(super) fn solve<P: Discretised>(
             radius = 0.25 * step_norm.min(radius);
         }
     };
-    let kkt_final = if kkt_value.is_finite() { kkt_value } else { kkt(m, &e, &g, lambda, &z) };
+    let kkt_final = if kkt_here.is_finite() { kkt_here } else { kkt(m, &e, &g, lambda, &z) };
     Ok(SqpResult {
         x,
         lambda,
