@@ -102,7 +102,7 @@ pub struct EndsArgs {
     /// Horizon T in s, from 1e-3 to 1e6; `plan` of an arm with velocity, acceleration or torque
     /// limits also takes `auto`: the shortest horizon (to 1 %) in which the motion fits every
     /// limit, and the minimum-effort plan at it.
-    #[arg(long, value_name = "T", default_value = "10", value_parser = parse_time, allow_hyphen_values = true)]
+    #[arg(long, value_name = "T", default_value = "10", value_parser = super::config::parse_time, allow_hyphen_values = true)]
     pub time: f64,
 }
 
@@ -543,17 +543,4 @@ pub struct CheckArgs {
     /// point).
     #[arg(long, value_name = "FILE")]
     pub out: Option<PathBuf>,
-}
-
-/// `--time`: a number of seconds, or `auto`, kept as `+inf` (no horizon is infinite:
-/// [`super::config::time`] refuses it for every command but `plan` of an arm, which searches).
-fn parse_time(text: &str) -> Result<f64, String> {
-    if text.trim().eq_ignore_ascii_case("auto") {
-        return Ok(f64::INFINITY);
-    }
-    match text.trim().parse::<f64>() {
-        Ok(t) if t.is_infinite() => Err(format!("`{text}` is not a horizon: give T in s (1e-3 to 1e6) or `auto`")),
-        Ok(t) => Ok(t),
-        Err(_) => Err(format!("`{text}` is neither a horizon in s nor `auto`")),
-    }
 }

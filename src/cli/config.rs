@@ -190,3 +190,16 @@ impl From<super::args::MethodArg> for freefloat::Method {
         }
     }
 }
+
+/// `--time`: a number of seconds, or `auto`, kept as `+inf` (no horizon is infinite:
+/// [`time`] refuses it for every command but `plan` of an arm, which searches).
+pub(super) fn parse_time(text: &str) -> Result<f64, String> {
+    if text.trim().eq_ignore_ascii_case("auto") {
+        return Ok(f64::INFINITY);
+    }
+    match text.trim().parse::<f64>() {
+        Ok(t) if t.is_infinite() => Err(format!("`{text}` is not a horizon: give T in s (1e-3 to 1e6) or `auto`")),
+        Ok(t) => Ok(t),
+        Err(_) => Err(format!("`{text}` is neither a horizon in s nor `auto`")),
+    }
+}
