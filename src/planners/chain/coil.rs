@@ -12,6 +12,7 @@ use std::f64::consts::TAU;
 
 use super::connection::{Connection, Local};
 use super::seeds::{Line, Seed};
+use crate::planners::optimal::seeds::ramped;
 
 /// Points per angle of the curvature grid of a plane.
 const GRID: usize = 32;
@@ -195,22 +196,6 @@ impl Line {
             *o += u0 * h;
         }
         true
-    }
-}
-
-/// From 0 to 1 on `[0, 1]` at constant speed but for ramps of duration `ramp` at both ends,
-/// where the speed follows the smooth step (zero slope at both ends).
-fn ramped(s: f64, ramp: f64) -> f64 {
-    let s = s.clamp(0.0, 1.0);
-    // Speed v = 1 / (1 - ramp) between the ramps; a ramp covers v ramp / 2.
-    let v = 1.0 / (1.0 - ramp);
-    if s < ramp {
-        let x = s / ramp;
-        v * ramp * (x * x * x - 0.5 * x * x * x * x)
-    } else if s > 1.0 - ramp {
-        1.0 - ramped(1.0 - s, ramp)
-    } else {
-        v * (ramp / 2.0 + (s - ramp))
     }
 }
 

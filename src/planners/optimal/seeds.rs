@@ -108,7 +108,7 @@ fn smooth_step(s: f64) -> f64 {
 
 /// From 0 to 1 on `[0, 1]` at constant speed but for ramps of duration `ramp` at both ends,
 /// where the speed follows the smooth step: zero slope at both ends, nearly the least effort.
-fn ramped(s: f64, ramp: f64) -> f64 {
+pub(crate) fn ramped(s: f64, ramp: f64) -> f64 {
     let s = s.clamp(0.0, 1.0);
     // Speed v = 1 / (1 - ramp) between the ramps; a ramp covers v ramp / 2
     // (the integral of the smooth step, x^3 - x^4 / 2).
