@@ -5,17 +5,28 @@
 //! horizon `k T` with the same path (positions and base angle unchanged), velocities divided by
 //! `k`, and accelerations and torques (Eq. 6 at zero momentum: `M theta'' + C theta'`) by `k^2`.
 //! So the search brackets the shortest horizon and bisects it (geometrically). Two bounds
-//! shorten it: below, a rest-to-rest joint path cannot average more than its velocity limit,
-//! `T >= |theta_d - theta_0| / v_max`; above, a feasible plan at `T` with the largest uses
-//! `u_v` of a velocity, `u_a` of an acceleration and `u_tau` of a torque limit time-scales to a
-//! feasible motion at `T max(u_v, sqrt(u_a), sqrt(u_tau))`, which is probed next when it lies
-//! in the upper half of the bracket. Its cost is that of the plans it probes (reported in
-//! [`ShortestHorizon::probes`]): about 1 + log2(log(hi / lo) / log 1.01) plans, fewer when the
-//! time-scaling bound is tight.
+//! shorten it: below, a joint cannot average more than its velocity limit,
+//! `T >= |theta_d - theta_0| / v_max` (with an acceleration limit from rest, the bang-bang
+//! time; [`super::limits::least_time`]); above, a plan at `T` with the largest uses `u_v` of a
+//! velocity, `u_a` of an acceleration and `u_tau` of a torque limit time-scales to a feasible
+//! motion at `T max(u_v, sqrt(u_a), sqrt(u_tau))`.
+//!
+//! The bracket's top is the plan without the rate limits (ranges kept) time-scaled that way and
+//! re-solved with them; full searches at doubling horizons only when that fails. Each probe of
+//! the bisection starts from the best plan so far, time-scaled to the probe's horizon, and is
+//! solved on its goal representative alone (a failed full search costs every seed of every
+//! representative; a probe about as much as one refinement). The shortest horizon is thus that of
+//! the plan's own family of paths; the full search then runs once at it and its plan is kept where
+//! it costs less. Its cost: one unconstrained and one constrained search, and about
+//! `log2(log(hi / lo) / log 1.01)` probes, fewer when the time-scaling bound is tight
+//! ([`ShortestHorizon::probes`]).
 
+use std::f64::consts::TAU;
 use std::time::Instant;
 
-use super::{ChainPlan, ChainPlanner, ChainProblem};
+use super::discrete::Targets;
+use super::search::Tables;
+use super::{ChainPlan, ChainPlanner, ChainProblem, WarmStart};
 use crate::dynamics::arm::inverse_dynamics;
 use crate::error::Error;
 use crate::model::wrap_angle;
@@ -129,23 +140,33 @@ impl ChainPlanner {
             let l = arm.limits.joint(j);
             let delta = problem.goal[j + 1] - problem.start[j + 1];
             let delta = if problem.wrap && l.position.is_none() { wrap_angle(delta) } else { delta };
-            if let Some(v) = l.velocity
-                && problem.initial_velocity.iter().all(|u| u.abs() < 1e-300)
-            {
-                lo = lo.max(delta.abs() / v);
-            }
+            let at_rest = problem.initial_velocity.iter().all(|w| *w == 0.0);
+            lo = lo.max(super::limits::least_time(delta, l.velocity, l.acceleration, at_rest));
         }
         let mut probes = 0;
-        let mut attempt = |t: f64| {
-            probes += 1;
-            self.plan(&ChainProblem { horizon: t, ..problem.clone() })
-        };
-        // The bracket: up from the first horizon until a plan is found.
+        // The bracket: the plan without the rate limits at the first horizon, time-scaled to
+        // where it fits them (see the module docs), and re-solved there with them; when that
+        // fails, full searches at doubling horizons.
         let mut t = problem.horizon.max(lo * (1.0 + HORIZON_ACCURACY));
         let mut found: Option<(f64, ChainPlan)> = None;
         let mut last_error = None;
+        probes += 1;
+        match self.without_rate_limits().plan(&ChainProblem { horizon: t, ..problem.clone() }) {
+            Ok(free) => {
+                let (_, scale) = uses(self, &free);
+                let scaled = t * (scale * 1.002).max(1.0);
+                if scaled <= HORIZON_RANGE.1
+                    && let Some(plan) = self.probe(problem, &free, scaled)?
+                {
+                    found = Some((scaled, plan));
+                }
+            }
+            Err(e) if e.is_bad_input() => return Err(e),
+            Err(e) => last_error = Some(e),
+        }
         while found.is_none() && t <= HORIZON_RANGE.1 {
-            match attempt(t) {
+            probes += 1;
+            match self.plan(&ChainProblem { horizon: t, ..problem.clone() }) {
                 Ok(plan) => found = Some((t, plan)),
                 Err(e) if e.is_bad_input() => return Err(e),
                 Err(e) => {
@@ -165,15 +186,44 @@ impl ChainPlanner {
                 termination: "no_horizon",
             }));
         };
-        while hi > lo * (1.0 + HORIZON_ACCURACY) {
-            let (_, scale) = uses(self, &plan);
-            let mid = (lo * hi).sqrt();
-            let scaled = hi * scale * 1.002;
-            let probe = if scale > 0.0 && scaled > mid && scaled < hi * 0.998 { scaled } else { mid };
-            match attempt(probe) {
-                Ok(p) => (hi, plan) = (probe, p),
+        // Bisection, each probe from the time-scaled plan at `hi` alone; where the probes close
+        // the bracket above a failure of the full search (or the bound), the full search at the
+        // probes' failing horizon decides it: a plan there moves the top down, and the
+        // bisection goes on below it.
+        let mut full = false;
+        loop {
+            let mut below = lo;
+            while hi > below * (1.0 + HORIZON_ACCURACY) {
+                let (_, scale) = uses(self, &plan);
+                let mid = (below * hi).sqrt();
+                let scaled = hi * scale * 1.002;
+                let t = if scale > 0.0 && scaled > mid && scaled < hi * 0.998 { scaled } else { mid };
+                probes += 1;
+                match self.probe(problem, &plan, t)? {
+                    Some(p) => (hi, plan, full) = (t, p, false),
+                    None => below = t,
+                }
+            }
+            if below <= lo {
+                break;
+            }
+            probes += 1;
+            match self.plan(&ChainProblem { horizon: below, ..problem.clone() }) {
+                Ok(p) => (hi, plan, full) = (below, p, true),
                 Err(e) if e.is_bad_input() => return Err(e),
-                Err(_) => lo = probe,
+                Err(_) => {
+                    lo = below;
+                    break;
+                }
+            }
+        }
+        // The minimum-effort plan at the horizon found: the full search, where it does better.
+        if !full {
+            probes += 1;
+            if let Ok(f) = self.plan(&ChainProblem { horizon: hi, ..problem.clone() })
+                && f.stats.cost < plan.stats.cost
+            {
+                plan = f;
             }
         }
         let (binding, _) = uses(self, &plan);
@@ -186,6 +236,50 @@ impl ChainPlanner {
             seconds: clock.elapsed().as_secs_f64(),
             binding,
         })
+    }
+
+    /// This planner with the arm's velocity, acceleration and torque limits removed (its ranges
+    /// kept).
+    fn without_rate_limits(&self) -> ChainPlanner {
+        let mut limits = self.arm().limits.clone();
+        for j in &mut limits.joints {
+            (j.velocity, j.acceleration, j.torque) = (None, None, None);
+        }
+        let arm = self.arm().clone().with_limits(limits).expect("the arm's own ranges");
+        ChainPlanner::new(arm, self.options.clone())
+    }
+
+    /// The plan at horizon `t` from `plan` time-scaled to it (same path, same goal
+    /// representative) alone, inside every limit; `None` when it does not converge, certify and
+    /// fit.
+    pub(super) fn probe(&self, problem: &ChainProblem, plan: &ChainPlan, t: f64) -> Result<Option<ChainPlan>, Error> {
+        let horizon = plan.horizon();
+        let k = horizon / t;
+        let samples = 16 * plan.stats.spans.max(8);
+        let (mut times, mut theta, mut rate) = (Vec::new(), Vec::new(), Vec::new());
+        for i in 0..=samples {
+            let p = plan.at(horizon * i as f64 / samples as f64);
+            times.push(t * i as f64 / samples as f64);
+            theta.push(p.theta);
+            rate.push(p.rate.iter().map(|v| v * k).collect());
+        }
+        let path = WarmStart { t: times, theta, rate };
+        let end = plan.at(horizon);
+        let goal0 = problem.goal[0];
+        let targets = Targets {
+            start: problem.start[1..].to_vec(),
+            initial_velocity: problem.initial_velocity.clone(),
+            end: end.theta,
+            phi_start: problem.start[0],
+            phi_end: goal0 + TAU * ((end.phi - goal0) / TAU).round(),
+        };
+        let scaled = ChainProblem { horizon: t, ..problem.clone() };
+        // A table is built on one horizon's basis: a probe's are its own.
+        let Some(p) = self.solve_from(&scaled, targets, &path, &Tables::default(), Instant::now())? else {
+            return Ok(None);
+        };
+        let inside = p.verification.limits.as_ref().is_none_or(|l| l.inside);
+        Ok(inside.then_some(p))
     }
 
     /// [`ChainPlanner::plan`], and when the arm has a rate limit (velocity, acceleration or

@@ -367,6 +367,31 @@ pub(crate) fn inside_ranges(limits: &Limits, goals: &mut Vec<Vec<f64>>, phi_targ
     *goals = kept;
 }
 
+/// The least time in which one joint can move by `distance` \[rad\] with `|theta'| <= v` and
+/// `|theta''| <= a` (either may be absent): `distance / v` from any start velocity; from rest to
+/// rest, the bang-bang time `2 sqrt(distance / a)`, or with both `distance / v + v / a` once the
+/// joint reaches `v` (`distance >= v^2 / a`). 0 without either limit.
+pub(crate) fn least_time(distance: f64, velocity: Option<f64>, acceleration: Option<f64>, at_rest: bool) -> f64 {
+    let d = distance.abs();
+    match (velocity, acceleration.filter(|_| at_rest)) {
+        (Some(v), Some(a)) if d >= v * v / a => d / v + v / a,
+        (_, Some(a)) => 2.0 * (d / a).sqrt(),
+        (Some(v), None) => d / v,
+        (None, None) => 0.0,
+    }
+}
+
+/// Drops the goal representatives that a joint cannot reach in `horizon` within its velocity
+/// and acceleration limits ([`least_time`]; a necessary condition, so no feasible plan is lost).
+pub(crate) fn within_reach(limits: &Limits, start: &[f64], at_rest: bool, horizon: f64, goals: &mut Vec<Vec<f64>>) {
+    goals.retain(|g| {
+        g.iter().zip(start).enumerate().all(|(j, (g, s))| {
+            let l = limits.joint(j);
+            least_time(g - s, l.velocity, l.acceleration, at_rest) <= horizon * (1.0 + 1e-9)
+        })
+    });
+}
+
 /// Keeps the base-angle targets inside the base range (moved by whole turns, as
 /// [`inside_ranges`]); unchanged without a base range.
 fn base_inside(limits: &Limits, targets: &mut Vec<f64>) {

@@ -108,8 +108,9 @@ impl ChainPlanner {
                 }
             }
             coarse.sort_by(|a, b| b.feasible().cmp(&a.feasible()).then(a.result.f.total_cmp(&b.result.f)));
-            // The best line beside a coil is refined too, as an extra finalist, where its coarse
-            // solution is near the constraint and its cost within 20 % of the best one's.
+            // The best line beside a coil (or on the finest basis, see `solve_seeds`) is refined
+            // too, as an extra finalist, where its solution is near the constraint and its cost
+            // within 20 % of the best one's.
             let first = coarse.first().filter(|c| c.feasible()).map_or(refined_best, |c| c.result.f.min(refined_best));
             let near = |c: &Candidate| c.result.c.abs() <= EXTRA_RESIDUAL && c.result.f.is_finite();
             let extra = extras.into_iter().filter(near).min_by(|a, b| a.result.f.total_cmp(&b.result.f));
@@ -185,11 +186,24 @@ impl ChainPlanner {
         clock: Instant,
     ) -> Result<Option<ChainPlan>, Error> {
         path.validate(self.arm.joints())?;
-        let o = &self.options;
         let Some(end) = path.theta.last() else { return Ok(None) };
         let near = |p: &&Prepared| p.targets.end.iter().zip(end).all(|(a, b)| (a - b).abs() <= 1e-6);
         let Some(p) = prepared.iter().find(near) else { return Ok(None) };
-        let disc = self.discretise(problem, p.targets.clone(), o.coarse_spans, o.quadrature_nodes, tables)?;
+        self.solve_from(problem, p.targets.clone(), path, tables, clock)
+    }
+
+    /// The plan from `path` to `targets` alone (no search): its projection on the coarse basis,
+    /// solved, refined and certified; `None` when any step fails.
+    pub(super) fn solve_from(
+        &self,
+        problem: &ChainProblem,
+        targets: Targets,
+        path: &super::WarmStart,
+        tables: &Tables,
+        clock: Instant,
+    ) -> Result<Option<ChainPlan>, Error> {
+        let o = &self.options;
+        let disc = self.discretise(problem, targets, o.coarse_spans, o.quadrature_nodes, tables)?;
         let Ok(x0) = disc.project(|t, out| path.at(t, out)) else { return Ok(None) };
         let Ok(result) = super::limits::solve(self, &disc, x0, &COARSE_SQP, None) else { return Ok(None) };
         if !(result.c.abs() <= 1e-6 && result.f.is_finite()) {
@@ -230,8 +244,10 @@ impl ChainPlanner {
         })
     }
 
-    /// Doubles the spans until the effort settles (or `max_spans`), then raises the quadrature
-    /// nodes until the finer quadrature of the plan's base angle agrees to 1% of the tolerance.
+    /// Doubles the spans until the effort settles (or `max_spans`; a candidate on the coarse
+    /// basis or not converged on `max_spans` is solved again there with the refined solves'
+    /// options), then raises the quadrature nodes until the finer quadrature of the plan's base
+    /// angle agrees to 1% of the tolerance.
     pub(super) fn refine(&self, problem: &ChainProblem, mut c: Candidate, tables: &Tables) -> Result<Candidate, Error> {
         let o = &self.options;
         let mut previous: Option<f64> = None;
@@ -249,7 +265,7 @@ impl ChainPlanner {
             }
             previous = Some(c.result.f);
         }
-        if c.spans == self.options.coarse_spans {
+        if c.spans == self.options.coarse_spans || !c.result.converged() {
             c = self.resolve(problem, &c, c.spans, c.nodes, tables)?;
         }
         while c.nodes < 32 && self.holonomy_residual(&c) > 0.01 * o.tolerance {

@@ -43,7 +43,7 @@ impl ChainPlanner {
     /// The goal representatives with their lines and seeds, least effort bound first: `phid`,
     /// `phid +- 2 pi` nearest the start, with `wrap` the joint goals nearest it, one joint a turn
     /// further, and (up to [`PAIRED_JOINTS`] joints) two joints a turn further each; only those
-    /// inside the ranges.
+    /// inside the ranges and within the joints' reach in the horizon.
     pub(super) fn prepare(&self, problem: &ChainProblem) -> Result<Vec<Prepared>, Error> {
         let n = self.arm.joints();
         let (q0, qd) = (&problem.start, &problem.goal);
@@ -78,6 +78,8 @@ impl ChainPlanner {
             vec![qd[0]]
         };
         super::limits::inside_ranges(&self.arm.limits, &mut joint_goals, &mut phi_targets);
+        let at_rest = problem.initial_velocity.iter().all(|w| *w == 0.0);
+        super::limits::within_reach(&self.arm.limits, &theta0, at_rest, problem.horizon, &mut joint_goals);
         let kappa_max = seeds::curvature_bound(&self.connection);
         let mut sites = Sites::default();
         // The bound is in the cost's units: the energy's is the effort's times a floor of R.
@@ -122,7 +124,9 @@ impl ChainPlanner {
     }
 
     /// The coarse solutions of a representative, each marked `true` where it is the line beside
-    /// a coil (ranked apart, see [`ChainPlanner::plan`]): the line on the coarse basis; each loop
+    /// a coil or the line on the finest basis (ranked apart, see [`ChainPlanner::plan`]): the
+    /// line on the coarse basis (with a rate limit, where it cannot meet the constraint there,
+    /// on the finest basis too); each loop
     /// as estimated and re-fitted to the constraint (they lead to different local minima); each
     /// coil re-fitted, on [`SPANS_PER_TURN`] spans per turn, with the multiplier guessed from
     /// `lambda ~ -2 f / needed` (the effort grows as the square of the coil's length, the
@@ -146,25 +150,72 @@ impl ChainPlanner {
             let project = |seed: Seed| disc.project(|t, out| line.path(seed, t, out));
             let residual = |s: Seed| project(s).map_or(f64::NAN, |x| disc.evaluate(&x, 0).c);
             let mut starts = Vec::new();
+            let reach = |s: Seed| seed == Seed::Line || self.within_speeds(line, s);
             match seed {
                 Seed::Line => starts.push((project(seed)?, None)),
                 Seed::Loop { .. } => {
-                    starts.push((project(seed)?, None));
-                    starts.push((project(line.fit_radius(seed, o.max_loop_radius, residual))?, None));
+                    let fitted = line.fit_radius(seed, o.max_loop_radius, residual);
+                    for s in [seed, fitted].into_iter().filter(|s| reach(*s)) {
+                        starts.push((project(s)?, None));
+                    }
                 }
                 Seed::Coil { .. } => {
-                    let x0 = project(line.fit_radius(seed, o.max_loop_radius, residual))?;
-                    let guess = (p.needed.abs() > 0.0).then(|| -2.0 * disc.evaluate(&x0, 0).f / p.needed);
-                    starts.push((x0, guess));
+                    let fitted = line.fit_radius(seed, o.max_loop_radius, residual);
+                    if reach(fitted) {
+                        let x0 = project(fitted)?;
+                        let guess = (p.needed.abs() > 0.0).then(|| -2.0 * disc.evaluate(&x0, 0).f / p.needed);
+                        starts.push((x0, guess));
+                    }
                 }
             }
             for (x0, guess) in starts {
                 let Ok(result) = super::limits::solve(self, &disc, x0, &COARSE_SQP, guess) else { continue };
                 let (nodes, iterations) = (o.quadrature_nodes, result.iterations);
+                let feasible = result.c.abs() <= 1e-6;
                 let c = Candidate { disc: disc.clone(), result, spans, nodes, iterations };
                 out.push((c, coil && seed == Seed::Line));
+                // A rate limit's control-point rows are conservative by `O(h^2)` on spans of
+                // width `h`: where the coarse line cannot meet the constraint inside them, the
+                // line again on the finest basis.
+                if seed == Seed::Line && !feasible && self.arm.limits.rate_limited() && o.max_spans > spans {
+                    let fine = self.discretise(problem, p.targets.clone(), o.max_spans, o.quadrature_nodes, tables)?;
+                    let x0 = fine.project(|t, out| line.path(seed, t, out))?;
+                    if let Ok(result) = super::limits::solve(self, &fine, x0, &COARSE_SQP, None) {
+                        let iterations = result.iterations;
+                        let c = Candidate { disc: fine, result, spans: o.max_spans, nodes, iterations };
+                        out.push((c, true));
+                    }
+                }
             }
         }
         Ok(out)
+    }
+
+    /// Whether every velocity-limited joint can follow `seed`'s path in the horizon: its total
+    /// variation along the path (sampled at 64 points per turn) at most `v T`. A loop or coil
+    /// beyond it leads to a path of the same winding, which the limit does not allow (its solve
+    /// is skipped).
+    fn within_speeds(&self, line: &Line, seed: Seed) -> bool {
+        let limits = &self.arm.limits;
+        let n = self.arm.joints();
+        if (0..n).all(|j| limits.joint(j).velocity.is_none()) {
+            return true;
+        }
+        let turns = match seed {
+            Seed::Loop { turns, .. } | Seed::Coil { turns, .. } => turns.max(1),
+            Seed::Line => 1,
+        };
+        let samples = 64 * turns;
+        let (mut previous, mut at) = (vec![0.0; n], vec![0.0; n]);
+        let mut variation = vec![0.0; n];
+        line.path(seed, 0.0, &mut previous);
+        for k in 1..=samples {
+            line.path(seed, line.horizon * k as f64 / samples as f64, &mut at);
+            for j in 0..n {
+                variation[j] += (at[j] - previous[j]).abs();
+            }
+            std::mem::swap(&mut previous, &mut at);
+        }
+        (0..n).all(|j| limits.joint(j).velocity.is_none_or(|v| variation[j] <= v * line.horizon * (1.0 + 1e-9)))
     }
 }

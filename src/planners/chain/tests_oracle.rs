@@ -344,7 +344,6 @@ fn the_constrained_minimum_matches_an_independent_oracle() {
 /// [`the_constrained_minimum_matches_an_independent_oracle`] with a velocity limit, and velocity
 /// with torque.
 #[test]
-#[ignore = "fails since the chain search took the two-joint planner's seeds (stop 29): the velocity case ends at 7.947 against the oracle's 7.142 (+11 %), certified and inside the limit"]
 fn the_constrained_minimum_matches_the_oracle_with_a_velocity_limit() {
     against_the_oracle(&[(&["velocity"][..], 0.8), (&["velocity", "torque"][..], 0.85)]);
 }
