@@ -188,6 +188,11 @@ impl ChainPlanner {
                 }
             }
         }
+        // Where no coil or loop was solved (all beyond the joints' reach), the lines are the
+        // representative's only solutions: ranked with the others, not apart.
+        if out.iter().all(|(_, extra)| *extra) {
+            out.iter_mut().for_each(|(_, extra)| *extra = false);
+        }
         Ok(out)
     }
 

@@ -405,3 +405,69 @@ fn a_binding_position_range_matches_an_independent_oracle() {
     assert!(reference.is_finite(), "the oracle found a feasible point");
     assert!(plan.effort() <= 1.01 * reference, "{} vs oracle {reference}", plan.effort());
 }
+
+/// Issue 20's measure: the planner against the oracle on 20 constrained problems of the 3-link
+/// example it was not tuned on (random starts and goals within 60 deg of the example's, 10 s;
+/// torque, velocity, both, or the widest joint's range at a fraction of the free plan's use, in
+/// turn). Each ratio is printed; at least 19 of 20 within 1 % of the oracle (or below it), and
+/// no problem where the oracle finds a feasible point and the planner none.
+#[test]
+#[ignore = "slow (about 2 min), and fails: measured at stop 30, 11 of 20 within 1 % (ratios 0.85 to 1.009), 9 planner failures (SQP stalled or at max iterations, mostly feasible with KKT 3e-5 to 1e-3) where the oracle finds a feasible point"]
+fn twenty_constrained_problems_against_the_oracle() {
+    let free = three_link();
+    let mut state: u64 = 0x2545_f491_4f6c_dd1d;
+    let mut random = move || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        (state >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+    };
+    let cases: [(&[&str], f64); 4] =
+        [(&["torque"], 0.7), (&["velocity"], 0.8), (&["velocity", "torque"], 0.85), (&["position"], 0.5)];
+    let (mut within, mut misses, mut ratios) = (0, Vec::new(), Vec::new());
+    for k in 0..20 {
+        let jitter = |base: [f64; 4], random: &mut dyn FnMut() -> f64| -> Vec<f64> {
+            base.iter().map(|b| (b + 60.0 * random()).to_radians()).collect()
+        };
+        let start = jitter([0.0, 60.0, -30.0, -30.0], &mut random);
+        let goal = jitter([30.0, 120.0, 40.0, -60.0], &mut random);
+        let problem = ChainProblem { wrap: false, ..ChainProblem::rest_to_rest(start, goal, 10.0) };
+        let (quantities, fraction) = cases[k % cases.len()];
+        let Ok(unconstrained) = ChainPlanner::new(free.clone(), ChainOptions::default()).plan(&problem) else {
+            misses.push(format!("{k}: no free plan"));
+            continue;
+        };
+        let arm = tightened(&free, &unconstrained, &problem, quantities, fraction);
+        let planner = ChainPlanner::new(arm.clone(), ChainOptions::default());
+        let reference = oracle(&arm, &problem, 40, 3);
+        let clock = std::time::Instant::now();
+        let plan = planner.plan(&problem);
+        let ms = 1e3 * clock.elapsed().as_secs_f64();
+        match plan {
+            Ok(plan) if plan.verification.certified => {
+                let ratio = plan.effort() / reference;
+                eprintln!(
+                    "{k} {quantities:?}: planner {:.6} ({ms:.0} ms), oracle {reference:.6}, ratio {ratio:.5}",
+                    plan.effort()
+                );
+                ratios.push(ratio);
+                if ratio <= 1.01 || !reference.is_finite() {
+                    within += 1;
+                } else {
+                    misses.push(format!("{k} {quantities:?}: ratio {ratio:.4}"));
+                }
+            }
+            other => {
+                eprintln!("{k} {quantities:?}: planner failed ({:?}), oracle {reference:.6}", other.err());
+                if reference.is_finite() {
+                    misses.push(format!("{k} {quantities:?}: the planner failed, the oracle {reference:.6}"));
+                } else {
+                    within += 1;
+                }
+            }
+        }
+    }
+    ratios.sort_by(f64::total_cmp);
+    eprintln!("within 1 %: {within} of 20; ratios {ratios:.4?}; misses {misses:?}");
+    assert!(within >= 19 && !misses.iter().any(|m| m.contains("failed")), "{misses:?}");
+}
