@@ -64,13 +64,35 @@ def plan(robot: _Union[Robot, Arm], start: _Any, goal: _Any = None, T: _Any = No
     harmonics, window, smooth_ends, cost, limits, obstacles, clearance, no_collide`` and returns an :class:`ArmPlan` with the same arrays
     (``goal_ee`` for such an arm is the command line's ``--to-ee`` for now). Bad input raises
     :class:`BadInput`, a plan that is not certified :class:`NotCertified`.
+
+    ``T="auto"`` (the command line's ``--time auto``; issue 20 item 4), for an :class:`Arm` of any
+    number of links with a velocity, acceleration or torque limit (its own or ``limits=``) and
+    ``method="optimal"``: plans at the shortest horizon, to 1 %, in which a certified plan fits
+    every limit (the search's first probe is 10 s); the returned plan's ``horizon``, ``t[-1]``
+    and ``certificate["time"]`` are the horizon found. Elsewhere (no such limit, another method,
+    a :class:`Robot` without ``limits=``) ``T="auto"`` raises :class:`BadInput` naming
+    ``T="auto"`` and why; any other string for ``T`` is :class:`BadInput`.
     """
     arm_only = any(kwargs.get(k) is not None for k in _ARM_ONLY)
+    auto = isinstance(T, str) and T == "auto"
     if arm_only and isinstance(robot, Robot):
         # Issues 20, 21: the 2-link pipeline does not carry limits or shapes; an arm's does.
         robot = Arm.from_robot(robot)
+    if auto and isinstance(robot, Robot):
+        # Issue 20 item 4: the shortest horizon is the one inside the arm's limits.
+        expected = (
+            "the optimal method and an arm with a velocity, acceleration or torque limit: the shortest horizon "
+            "is the one in which the motion fits them"
+        )
+        raise BadInput(
+            f'plan: T="auto": a Robot (the 2-link pipeline) has no limits; expected {expected} '
+            "(give limits=, and the Robot is planned as an Arm)",
+            kind="invalid_parameter",
+            details={"name": 'T="auto"', "value": 2, "expected": expected},
+        )
     if isinstance(robot, Arm):
-        if robot.joints == 2 and not arm_only:
+        # An arm's own limits (its robot file) stay with it for T="auto".
+        if robot.joints == 2 and not arm_only and not auto:
             try:
                 robot = robot.to_robot()
             except BadInput:

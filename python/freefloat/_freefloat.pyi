@@ -549,6 +549,9 @@ class ArmPlan:
     def joints(self) -> int:
         """The number of joints ``n``."""
     @property
+    def horizon(self) -> float:
+        """The horizon ``T`` [s]: the one given, or with ``T="auto"`` the shortest one found."""
+    @property
     def effort(self) -> float:
         """The effort ``integral_0^T |theta'(t)|^2 dt`` [rad^2/s], exact (Gauss-Legendre on the
         plan's spline spans)."""
@@ -576,7 +579,7 @@ def plan_arm(
     arm: Union[Arm, Robot],
     start: _Angles,
     goal: _Angles,
-    T: float,
+    T: Union[float, Literal["auto"]],
     *,
     samples: int = 1001,
     torques: bool = False,
@@ -604,6 +607,10 @@ def plan_arm(
     :func:`plan` remains the full-featured 2-link path (NFA, ECSA, ``goal_ee``, ``cost``,
     ``smooth_ends``, task-space arrays).
 
+    ``T="auto"`` (issue 20 item 4; the command line's ``--time auto``): the shortest horizon,
+    to 1 %, in which a certified plan fits every limit, for ``method="optimal"`` and an arm with
+    a velocity, acceleration or torque limit (else :class:`BadInput` naming ``T="auto"``); the
+    plan's ``horizon`` is the one found.
     ``initial_velocity`` = (dtheta_1..dtheta_n) [rad/s] at t = 0 (default: at rest);
     ``wrap=False`` takes the goal's angles literally instead of modulo 2 pi; ``samples`` is the
     number of samples of the arrays (at least 2). ``torques=True`` adds the joint torques and

@@ -284,6 +284,9 @@ pub struct PyArmPlan {
     /// The number of joints n.
     #[pyo3(get)]
     joints: usize,
+    /// The horizon T [s]: the one given, or with `T="auto"` the shortest one found.
+    #[pyo3(get)]
+    horizon: f64,
     /// integral of |theta'|^2 dt [rad^2/s] (exact).
     #[pyo3(get)]
     effort: f64,
@@ -323,6 +326,7 @@ impl PyArmPlan {
         state.set_item("tau", self.tau.as_ref().map(|a| a.clone_ref(py)))?;
         state.set_item("method", &self.method)?;
         state.set_item("joints", self.joints)?;
+        state.set_item("horizon", self.horizon)?;
         state.set_item("effort", self.effort)?;
         state.set_item("final_error", self.final_error)?;
         state.set_item("tolerance", self.tolerance)?;
@@ -370,14 +374,42 @@ fn any_arm(arm: &Bound<'_, PyAny>) -> PyResult<Arm> {
     Err(PyTypeError::new_err(format!("plan_arm: arm must be a freefloat.Arm or a freefloat.Robot, not {type_name}")))
 }
 
-/// The library's refusal of a method names the command line's flag; here it is the keyword.
+/// The library's refusal of a method or of the shortest horizon names the command line's flag
+/// (`--method`, `--time auto`); here it is the keyword (`method`, `T="auto"`).
 fn python_names(e: freefloat::Error) -> freefloat::Error {
     match e {
-        freefloat::Error::Input(InputError::InvalidParameter { name, value, expected }) if name == "--method" => {
-            freefloat::Error::Input(InputError::InvalidParameter { name: "method".into(), value, expected })
+        freefloat::Error::Input(InputError::InvalidParameter { name, value, expected })
+            if name == "--method" || name == "--time auto" =>
+        {
+            let name = if name == "--method" { "method" } else { "T=\"auto\"" };
+            freefloat::Error::Input(InputError::InvalidParameter { name: name.into(), value, expected })
         }
         e => e,
     }
+}
+
+/// The first probe of `T="auto"`'s search [s], the command line's for `--time auto`
+/// (src/cli/plan_arm.rs, `problem`).
+const AUTO_FIRST_PROBE: f64 = 10.0;
+
+/// The horizon keyword `T` of `plan` for an arm: a number of seconds, or `"auto"` for the
+/// shortest horizon ([`ArmRequest::shortest_horizon`], issue 20 item 4), whose search starts at
+/// [`AUTO_FIRST_PROBE`]. Returns the horizon and whether it is to be searched; any other string
+/// is `BadInput`, any other type `TypeError`.
+fn horizon_keyword(py: Python<'_>, value: &Bound<'_, PyAny>) -> PyResult<(f64, bool)> {
+    if let Ok(text) = value.extract::<String>() {
+        if text == "auto" {
+            return Ok((AUTO_FIRST_PROBE, true));
+        }
+        let message = format!("unknown horizon T={text:?}");
+        let expected = "a horizon in seconds, or \"auto\" (the shortest horizon inside the arm's limits)";
+        return Err(BindingError::Key { kind: "invalid_parameter", name: "T".into(), message, expected }.into_pyerr(py));
+    }
+    let horizon = value.extract::<f64>().map_err(|_| {
+        let type_name = value.get_type().name().map(|n| n.to_string()).unwrap_or_else(|_| "?".into());
+        PyTypeError::new_err(format!("T: expected a number of seconds or \"auto\", got {type_name}"))
+    })?;
+    Ok((horizon, false))
 }
 
 /// Plans a motion of `arm` from `start` to `goal` in `T` and certifies it; see the stub.
@@ -393,7 +425,7 @@ pub fn plan_arm<'py>(
     arm: &Bound<'py, PyAny>,
     start: Reals,
     goal: Reals,
-    T: f64,
+    T: &Bound<'py, PyAny>,
     samples: i64,
     torques: bool,
     wrap: bool,
@@ -410,6 +442,7 @@ pub fn plan_arm<'py>(
     no_collide: Option<Vec<(String, String)>>,
 ) -> PyResult<Bound<'py, PyArmPlan>> {
     let arm = any_arm(arm)?;
+    let (horizon, shortest_horizon) = horizon_keyword(py, T)?;
     // Issue 20: `limits=` over the arm's own (module `limits`).
     let arm = match &limits {
         Some(l) => {
@@ -456,7 +489,7 @@ pub fn plan_arm<'py>(
         None => vec![0.0; n],
         Some(v) => exactly(py, "initial_velocity", v, n, "n numbers (dtheta_1..dtheta_n) [rad/s]")?,
     };
-    let problem = ChainProblem { start, goal, horizon: T, initial_velocity, wrap };
+    let problem = ChainProblem { start, goal, horizon, initial_velocity, wrap };
     problem.validate(&arm).py_result(py)?;
     let cost = match cost {
         "effort" => Cost::Effort,
@@ -469,7 +502,16 @@ pub fn plan_arm<'py>(
             );
         }
     };
-    let request = ArmRequest { samples, tolerance, torques, ecsa, cost, smooth_ends, ..ArmRequest::new(problem) };
+    let request = ArmRequest {
+        samples,
+        tolerance,
+        torques,
+        ecsa,
+        cost,
+        smooth_ends,
+        shortest_horizon,
+        ..ArmRequest::new(problem)
+    };
     let planned = py.detach(|| library_plan_arm(&arm, method, &request)).map_err(python_names).py_result(py)?;
 
     let report = ArmReport::new(&planned, &request.problem.start, &request.problem.goal, false);
@@ -490,6 +532,7 @@ pub fn plan_arm<'py>(
         tau: tr.tau.as_deref().map(|tau| matrix(py, tau, n).map(Bound::unbind)).transpose()?,
         method: planned.method.name().to_string(),
         joints: n,
+        horizon: planned.plan.horizon(),
         effort: planned.effort(),
         final_error: v.final_error,
         tolerance: v.tolerance,
@@ -525,6 +568,7 @@ pub fn _arm_plan_from_state(state: &Bound<'_, PyDict>) -> PyResult<PyArmPlan> {
         tau: get("tau")?.extract()?,
         method: get("method")?.extract()?,
         joints: get("joints")?.extract()?,
+        horizon: get("horizon")?.extract()?,
         effort: get("effort")?.extract()?,
         final_error: get("final_error")?.extract()?,
         tolerance: get("tolerance")?.extract()?,
