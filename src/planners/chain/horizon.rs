@@ -7,7 +7,7 @@
 //! So the search brackets the shortest horizon and bisects it (geometrically). Two bounds
 //! shorten it: below, a joint cannot average more than its velocity limit,
 //! `T >= |theta_d - theta_0| / v_max` (with an acceleration limit from rest, the bang-bang
-//! time; [`super::limits::least_time`]); above, a plan at `T` with the largest uses `u_v` of a
+//! time, `limits::least_time`); above, a plan at `T` with the largest uses `u_v` of a
 //! velocity, `u_a` of an acceleration and `u_tau` of a torque limit time-scales to a feasible
 //! motion at `T max(u_v, sqrt(u_a), sqrt(u_tau))`.
 //!
