@@ -48,7 +48,8 @@ pub(super) struct Candidate {
 }
 
 impl Candidate {
-    fn feasible(&self) -> bool {
+    /// The holonomy constraint met to 1e-6 rad at a finite cost.
+    pub(super) fn feasible(&self) -> bool {
         self.result.c.abs() <= 1e-6 && self.result.f.is_finite()
     }
 }

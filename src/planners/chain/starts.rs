@@ -171,8 +171,8 @@ impl ChainPlanner {
             for (x0, guess) in starts {
                 let Ok(result) = super::limits::solve(self, &disc, x0, &COARSE_SQP, guess) else { continue };
                 let (nodes, iterations) = (o.quadrature_nodes, result.iterations);
-                let feasible = result.c.abs() <= 1e-6;
                 let c = Candidate { disc: disc.clone(), result, spans, nodes, iterations };
+                let feasible = c.feasible();
                 out.push((c, coil && seed == Seed::Line));
                 // A rate limit's control-point rows are conservative by `O(h^2)` on spans of
                 // width `h`: where the coarse line cannot meet the constraint inside them, the
@@ -197,9 +197,9 @@ impl ChainPlanner {
     }
 
     /// Whether every velocity-limited joint can follow `seed`'s path in the horizon: its total
-    /// variation along the path (sampled at 64 points per turn) at most `v T`. A loop or coil
-    /// beyond it leads to a path of the same winding, which the limit does not allow (its solve
-    /// is skipped).
+    /// variation along the path (sampled at 64 points per turn) at most `v T`. A rule of thumb,
+    /// not a proof: the solve from a loop or coil beyond it keeps the seed's winding, and is
+    /// skipped (a smaller loop of the same winding might fit, and is then not tried).
     fn within_speeds(&self, line: &Line, seed: Seed) -> bool {
         let limits = &self.arm.limits;
         let n = self.arm.joints();
