@@ -1,4 +1,4 @@
-//! The paper's results of Sec. 5 (Figs. 4-14), and four beyond it (Figs. 15-18), as plans,
+//! The paper's results of Sec. 5 (Figs. 4-14), and five beyond it (Figs. 15-19), as plans,
 //! figures, a summary and a self-contained report page: what `freefloat reproduce` writes.
 //!
 //! Every number here is computed by the planners on the paper's problem

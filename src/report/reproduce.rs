@@ -1,5 +1,5 @@
-//! The reproduction of the paper's results of Sec. 5 (Figs. 4-14) and four beyond it
-//! (Figs. 15-18) on the built-in defaults, as figures (SVG and PNG), `summary.md`,
+//! The reproduction of the paper's results of Sec. 5 (Figs. 4-14) and five beyond it
+//! (Figs. 15-19) on the built-in defaults, as figures (SVG and PNG), `summary.md`,
 //! `summary.json` and a self-contained `report.html` with an animation of every plan: what
 //! `freefloat reproduce` writes.
 
