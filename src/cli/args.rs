@@ -244,6 +244,9 @@ pub struct PlanArgs {
     /// page draws it, the horizon played in 5 to 8 s (T clamped to that range), looping.
     #[arg(long, value_name = "FILE.gif")]
     pub gif: Option<PathBuf>,
+    /// Also draw an arm's plan (--robot/--urdf) to FILE (.svg or .png), its limits dashed.
+    #[arg(long, value_name = "FILE")]
+    pub plot: Option<PathBuf>,
     #[command(flatten)]
     pub gif_options: GifArgs,
 }

@@ -114,7 +114,11 @@ fn method(args: &PlanArgs) -> anyhow::Result<Method> {
 /// is checked before planning and written before anything is printed, so that stdout never
 /// shows a result of a run that then fails.
 pub fn run(args: &PlanArgs) -> anyhow::Result<ExitCode> {
-    super::config::distinct_outputs(&[("--out", args.out.as_deref()), ("--gif", args.gif.as_deref())])?;
+    super::config::distinct_outputs(&[
+        ("--out", args.out.as_deref()),
+        ("--gif", args.gif.as_deref()),
+        ("--plot", args.plot.as_deref()),
+    ])?;
     let out = match &args.out {
         Some(path) => {
             let kind = super::ros::out_kind(path, args.format)?;
@@ -132,6 +136,9 @@ pub fn run(args: &PlanArgs) -> anyhow::Result<ExitCode> {
             return super::plan_arm::run(args, &arm, out, base_out);
         }
         limited = Some(arm);
+    }
+    if args.plot.is_some() {
+        bail!("--plot draws an arm's plan (--robot or --urdf, not --method nfa): not the 2-link NFA's");
     }
     let gif = super::checked_gif(args)?;
     let problem = super::problem(&args.problem)?;

@@ -13,9 +13,10 @@ use freefloat::planners::arm::{ArmPlanned, ArmRequest, plan_arm};
 use freefloat::planners::chain::ChainProblem;
 use freefloat::planners::optimal::Cost;
 use freefloat::report::arm::{ArmReport, PoseBranch, PoseGoal, arm_csv};
+use freefloat::report::arm_plan_figure;
 use freefloat::report::io::write_atomic;
 use freefloat::report::numbers::{error_number, number, rounded, scientific};
-use freefloat::report::plot::arm_animation_gif;
+use freefloat::report::plot::{PictureFormat, arm_animation_gif, plan_picture};
 
 use freefloat::plan::ros::Encoding;
 
@@ -37,6 +38,14 @@ pub fn run(
     let (arm, geometry_notes) = super::geometry::arm_with_flags(arm, &p.robot, &p.geometry)?;
     let arm = &arm;
     let gif = super::checked_gif(args)?;
+    let plot = match &args.plot {
+        Some(path) => {
+            let format = PictureFormat::from_path(path)?;
+            freefloat::report::io::check_writable(path)?;
+            Some((path, format))
+        }
+        None => None,
+    };
     let method = args.method.map(Method::from).unwrap_or(Method::Optimal);
     if method == Method::Ecsa && (p.smooth_ends || p.cost != CostArg::Effort || p.no_wrap) {
         bail!("--smooth-ends/--cost/--no-wrap apply to --method optimal, not to --method ecsa");
@@ -80,6 +89,17 @@ pub fn run(
             number(problem.horizon)
         );
         write_atomic(path, &arm_animation_gif(&planned, &title, &options, path)?)?;
+    }
+    if let Some((path, format)) = plot {
+        let title = format!(
+            "freefloat plan: {}, {}-link arm, T = {} s",
+            planned.method.name(),
+            arm.joints(),
+            number(problem.horizon)
+        );
+        let file =
+            p.robot.robot.as_ref().or(p.robot.urdf.as_ref()).map_or("the robot".into(), |f| f.display().to_string());
+        write_atomic(path, &plan_picture(&arm_plan_figure(&planned, title, &file), format, path)?)?;
     }
     super::emit(&text)?;
     planned.certified()?;

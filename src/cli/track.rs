@@ -430,6 +430,7 @@ fn figure(runs: &[Tracked]) -> PlanFigure {
         series,
         text: Vec::new(),
         include_zero: false,
+        bounds: vec![],
     };
     let name = |r: &Tracked, what: &str| {
         if recorded.len() == 1 { what.to_string() } else { format!("{what} ({})", r.controller.name()) }

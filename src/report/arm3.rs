@@ -7,10 +7,11 @@ use serde::Serialize;
 
 use super::figures::{Animation, BASE_SIZE};
 use super::html::{escape, head_cell};
-use super::plot::{Panel, PlanFigure, Series};
+use super::plot::{Bound, Panel, PlanFigure, Series, joints_at_limit, watches_limits};
 use crate::error::Error;
-use crate::model::arm::Arm;
+use crate::model::arm::{Arm, JointLimits, Limits};
 use crate::plan::Method;
+use crate::plan::limit_use::{LimitReport, Quantity};
 use crate::planners::arm::{ArmPlanned, ArmRequest, plan_arm};
 use crate::planners::chain::ChainProblem;
 
@@ -30,6 +31,14 @@ pub const ARM3_HORIZON: f64 = 10.0;
 pub const ARM3_ANIMATION_TITLE: &str = "Fig. 18: a 3-link arm";
 /// Samples of the trajectory, both ends included (as the paper's cases).
 pub const ARM3_SAMPLES: usize = 1001;
+
+/// The figure of the case inside a velocity limit ([`plan_arm3_limited`]).
+pub const ARM3_LIMITED_FIGURE: &str = "fig19";
+/// The animation's title of the limited case (the page's and `anim-arm3-limits.gif`'s).
+pub const ARM3_LIMITED_ANIMATION_TITLE: &str = "Fig. 19: the 3-link arm inside a velocity limit";
+/// The velocity limit of every joint in the limited case, as a share of the free plan's peak
+/// joint speed (over joints and time): 80 %, so that the limit binds.
+pub const ARM3_VELOCITY_SHARE: f64 = 0.8;
 
 /// The 3-link arm of [`THREE_LINK_TOML`].
 pub fn three_link_arm() -> Result<Arm, Error> {
@@ -56,6 +65,31 @@ pub fn plan_arm3() -> Result<ArmPlanned, Error> {
         shortest_horizon: false,
     };
     plan_arm(&three_link_arm()?, Method::Optimal, &request)
+}
+
+/// The largest `|theta_j'|` of a plan \[rad/s\]: the planner's (sampled finely) or the
+/// samples', whichever is larger.
+fn peak_velocity(p: &ArmPlanned) -> f64 {
+    let samples = p.trajectory.iter().flat_map(|s| s.rate.iter().map(|r| r.abs())).fold(0.0, f64::max);
+    samples.max(p.stats().map_or(0.0, |s| s.peak_velocity))
+}
+
+/// The 3-link arm with every joint's velocity limited to [`ARM3_VELOCITY_SHARE`] of `free`'s
+/// peak joint speed \[rad/s\] (no other limit).
+pub fn arm3_limited_arm(free: &ArmPlanned) -> Result<Arm, Error> {
+    let velocity = ARM3_VELOCITY_SHARE * peak_velocity(free);
+    let joint = JointLimits { velocity: Some(velocity), ..JointLimits::default() };
+    let arm = three_link_arm()?;
+    let n = arm.joints();
+    Ok(arm.with_limits(Limits { joints: vec![joint; n], base: None })?)
+}
+
+/// Plans the case again inside a velocity limit that binds ([`arm3_limited_arm`]): the
+/// minimum-effort planner honours it as a constraint, both certificates and the limits' use
+/// checked as for any plan (Fig. 19, the `arm3_limited` entry of `summary.*`).
+pub fn plan_arm3_limited(free: &ArmPlanned) -> Result<ArmPlanned, Error> {
+    let request = ArmRequest { torques: true, ..ArmRequest::new(arm3_problem()) };
+    plan_arm(&arm3_limited_arm(free)?, Method::Optimal, &request)
 }
 
 /// The `arm3` entry of `summary.json`. Numbers are `null` only without a plan (then `error`
@@ -99,6 +133,9 @@ pub struct Arm3Row {
     pub seconds: Option<[f64; 2]>,
     /// Why there is no plan.
     pub error: Option<String>,
+    /// The use of each declared limit along the verified motion (absent without limits).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub limits: Option<LimitReport>,
 }
 
 impl Arm3Row {
@@ -123,6 +160,7 @@ impl Arm3Row {
             torque_certified: false,
             seconds: None,
             error: None,
+            limits: None,
         };
         let p = match outcome {
             Ok(p) => p,
@@ -132,6 +170,8 @@ impl Arm3Row {
             }
         };
         let v = p.verification();
+        row.arm = Some(p.arm.clone());
+        row.limits = (!p.limits.uses.is_empty()).then(|| p.limits.clone());
         row.effort = Some(p.effort());
         let n = p.arm.joints();
         let rates: Vec<f64> =
@@ -148,6 +188,12 @@ impl Arm3Row {
         }
         row.seconds = Some([p.seconds, p.torques.as_ref().map_or(0.0, |t| t.seconds)]);
         row
+    }
+
+    /// The row of the case inside a velocity limit ([`plan_arm3_limited`]): figure
+    /// [`ARM3_LIMITED_FIGURE`].
+    pub fn limited(outcome: Result<&ArmPlanned, &Error>) -> Self {
+        Self { figure: ARM3_LIMITED_FIGURE.into(), ..Self::new(outcome) }
     }
 
     fn cells(&self) -> [String; 8] {
@@ -226,8 +272,156 @@ pub fn arm3_html(row: &Arm3Row) -> String {
     s
 }
 
-/// Fig. 18: angles, joint velocities (with the base's rate), torques, and the arm's parameters.
+/// The limited case, in words (`summary.md`, the page).
+pub fn arm3_limited_text(row: &Arm3Row) -> String {
+    let limit = row.arm.as_ref().and_then(|a| a.limits.joint(0).velocity);
+    format!(
+        "The same problem with every joint's speed limited to {:.0} % of the free plan's peak (|θj'| ≤ {} rad/s), \
+         by the same planner, which honours the limit as a constraint: the limit binds (its use is 100 %) and the \
+         effort rises. Fig. {} draws the limits as dashed lines; its animation draws a joint at ≥ 99 % of its \
+         limit, and the link it drives, in red.",
+        100.0 * ARM3_VELOCITY_SHARE,
+        limit.map_or("-".to_string(), |v| format!("{v:.4}")),
+        ARM3_LIMITED_FIGURE.trim_start_matches("fig"),
+    )
+}
+
+/// The rows of a limit-use table: limit, bound, largest use \[%\], value there, time \[s\].
+fn limit_cells(report: &LimitReport) -> Vec<[String; 5]> {
+    report
+        .uses
+        .iter()
+        .map(|u| {
+            let unit = match u.quantity {
+                Quantity::Position => "rad",
+                Quantity::Velocity => "rad/s",
+                Quantity::Acceleration => "rad/s²",
+                Quantity::Torque => "N m",
+            };
+            let bound = match u.quantity {
+                Quantity::Position => format!("[{:.4}, {:.4}] {unit}", u.limit[0], u.limit[1]),
+                _ => format!("± {:.4} {unit}", u.limit[1]),
+            };
+            [
+                format!("{} {}", u.name, u.quantity.name()),
+                bound,
+                format!("{:.2}", 100.0 * u.used),
+                format!("{:.5} {unit}", u.value),
+                format!("{:.3}", u.time),
+            ]
+        })
+        .collect()
+}
+
+const LIMIT_HEADS: [&str; 5] = ["limit", "bound", "largest use [%]", "value there", "at t [s]"];
+
+/// The limited case's section of `summary.md`: its text, its row, and the use of each limit.
+pub fn arm3_limited_markdown(row: &Arm3Row) -> String {
+    let mut s = format!("\n### Inside a velocity limit (Fig. 19)\n\n{}\n\n", arm3_limited_text(row));
+    let heads: Vec<String> = HEADS.iter().map(|h| h.replace('|', "\\|")).collect();
+    s += &format!("| {} |\n|{}\n| {} |\n", heads.join(" | "), " --- |".repeat(HEADS.len()), row.cells().join(" | "));
+    if let Some(report) = &row.limits {
+        s += &format!("\n| {} |\n|{}\n", LIMIT_HEADS.join(" | "), " --- |".repeat(LIMIT_HEADS.len()));
+        for cells in limit_cells(report) {
+            s += &format!("| {} |\n", cells.join(" | "));
+        }
+    }
+    if let Some(err) = &row.error {
+        s += &format!("\nNo plan: {err}\n");
+    }
+    s
+}
+
+/// The limited case's part of the page's 3-link section: its text, its row, and the use of each
+/// limit.
+pub fn arm3_limited_html(row: &Arm3Row) -> String {
+    let mut s = format!(
+        "<h3>Inside a velocity limit (<a href=\"#{ARM3_LIMITED_FIGURE}\">Fig. 19</a>)</h3>\n{}",
+        arm3_html(row).replacen(
+            &format!("<p>{}</p>", escape(&arm3_text().replace('`', ""))),
+            &format!("<p>{}</p>", escape(&arm3_limited_text(row))),
+            1
+        )
+    );
+    if let Some(report) = &row.limits {
+        s += "<div class=\"scroll\"><table class=\"limits\">\n<tr>";
+        for h in LIMIT_HEADS {
+            s += &head_cell(h);
+        }
+        s += "</tr>\n";
+        for cells in limit_cells(report) {
+            s += "<tr>";
+            for c in cells {
+                s += &format!("<td>{}</td>", escape(&c));
+            }
+            s += "</tr>\n";
+        }
+        s += "</table></div>\n";
+    }
+    s
+}
+
+/// Fig. 19: the limited case ([`plan_arm3_limited`]) as [`arm_plan_figure`] draws it, its
+/// velocity limits dashed on the rate panel.
+pub fn arm3_limited_figure(p: &ArmPlanned) -> PlanFigure {
+    let title =
+        "Fig. 19 (beyond the paper): the 3-link arm inside a velocity limit (80 % of Fig. 18's peak)".to_string();
+    arm_plan_figure(p, title, "examples/robots/three_link.toml, velocity limits")
+}
+
+/// Fig. 18: angles, joint velocities (with the base's rate), torques, and the arm's parameters
+/// ([`arm_plan_figure`] with the case's title and a note on the torque peaks).
 pub fn arm3_figure(p: &ArmPlanned) -> PlanFigure {
+    let title = "Fig. 18 (beyond the paper): a 3-link arm, the base turned by 30 deg, minimum effort".to_string();
+    let mut figure = arm_plan_figure(p, title, "examples/robots/three_link.toml");
+    figure.caption.push(
+        "the minimum-effort plan leaves and reaches rest through steep velocity ramps in short end spans: the torque \
+         peaks sit at t = 0 and t = T"
+            .to_string(),
+    );
+    figure
+}
+
+/// The limit lines of an arm's figure ([`arm_plan_figure`]), in each panel's units and in the
+/// colour of the curve they bound: `[angles, rates, torques]`. On the angle panel \[deg\] each
+/// joint's position range (both ends, series `j + 1`) and the base's range (series 0); on the
+/// rate panel \[rad/s\] `±` each joint's velocity limit; on the torque panel \[N m\] `±` each
+/// joint's torque limit. A quantity without a limit draws nothing.
+pub fn arm_limit_bounds(arm: &Arm) -> [Vec<Bound>; 3] {
+    let limits = &arm.limits;
+    let mut angles = Vec::new();
+    if let Some([lo, hi]) = limits.base {
+        for v in [lo, hi] {
+            angles.push(Bound { value: v.to_degrees(), label: "φ range".into(), series: Some(0) });
+        }
+    }
+    let (mut rates, mut torques) = (Vec::new(), Vec::new());
+    for j in 0..arm.joints() {
+        let l = limits.joint(j);
+        if let Some([lo, hi]) = l.position {
+            for v in [lo, hi] {
+                angles.push(Bound { value: v.to_degrees(), label: format!("θ{} range", j + 1), series: Some(j + 1) });
+            }
+        }
+        if let Some(v) = l.velocity {
+            for v in [v, -v] {
+                rates.push(Bound { value: v, label: format!("θ{}' limit", j + 1), series: Some(j) });
+            }
+        }
+        if let Some(v) = l.torque {
+            for v in [v, -v] {
+                torques.push(Bound { value: v, label: format!("τ{} limit", j + 1), series: Some(j) });
+            }
+        }
+    }
+    [angles, rates, torques]
+}
+
+/// The figure of any arm's plan: angles \[deg\], joint velocities with the base's rate
+/// \[rad/s\], torques \[N m\] (when computed), each with the arm's declared limits as dashed
+/// lines ([`arm_limit_bounds`]), and the arm's parameters (read from `source`); the caption
+/// gives both certificates and, with limits, the most-used one.
+pub fn arm_plan_figure(p: &ArmPlanned, title: String, source: &str) -> PlanFigure {
     let tr = &p.trajectory;
     let n = p.arm.joints();
     let series = |label: String, f: &dyn Fn(usize) -> f64| Series {
@@ -243,14 +437,15 @@ pub fn arm3_figure(p: &ArmPlanned) -> PlanFigure {
         Some(t) => (0..n).map(|j| series(format!("τ{}", j + 1), &|i| t.tau[i][j])).collect(),
         None => vec![],
     };
+    let [angle_bounds, rate_bounds, torque_bounds] = arm_limit_bounds(&p.arm);
     let mut text = vec![
-        "examples/robots/three_link.toml:".to_string(),
-        format!("base: M = {} kg, I = {} kg m² (the paper's SRC base)", p.arm.base.mass, p.arm.base.inertia),
+        format!("{source}:"),
+        format!("base: M = {} kg, I = {} kg m²", p.arm.base.mass, p.arm.base.inertia),
         format!("mount: a = {} m, b = {} m", p.arm.mount.a, p.arm.mount.b),
     ];
     for (k, l) in p.arm.links.iter().enumerate() {
         text.push(format!(
-            "link {}: l = {} m, d = {} m, m = {} kg, I = {:.4} kg m² (uniform rod)",
+            "link {}: l = {} m, d = {} m, m = {} kg, I = {:.4} kg m²",
             k + 1,
             l.length,
             l.com,
@@ -265,6 +460,7 @@ pub fn arm3_figure(p: &ArmPlanned) -> PlanFigure {
             x_label: x_label.clone(),
             y_label: "angle [deg]".into(),
             series: angles,
+            bounds: angle_bounds,
             ..Default::default()
         },
         Panel {
@@ -272,16 +468,19 @@ pub fn arm3_figure(p: &ArmPlanned) -> PlanFigure {
             x_label: x_label.clone(),
             y_label: "rate [rad/s]".into(),
             series: rates,
-            text: vec![],
             include_zero: true,
+            bounds: rate_bounds,
+            ..Default::default()
         },
         Panel {
             title: "Joint torques τ".into(),
             x_label,
             y_label: "τ [N m]".into(),
             series: torques,
-            text: vec![],
             include_zero: true,
+            // Without torques the panel is empty: its limits alone are no picture.
+            bounds: if p.torques.is_some() { torque_bounds } else { vec![] },
+            ..Default::default()
         },
         Panel { title: "The arm".into(), text, ..Default::default() },
     ];
@@ -307,17 +506,28 @@ pub fn arm3_figure(p: &ArmPlanned) -> PlanFigure {
             peaks.join(", ")
         ));
     }
-    caption.push(
-        "the minimum-effort plan leaves and reaches rest through steep velocity ramps in short end spans: the torque \
-         peaks sit at t = 0 and t = T"
-            .to_string(),
-    );
-    let title = "Fig. 18 (beyond the paper): a 3-link arm, the base turned by 30 deg, minimum effort".to_string();
+    if let Some(u) = p.limits.most_used() {
+        caption.push(format!(
+            "limits (dashed): the most used is {}'s {} limit, {:.1} % at t = {:.2} s; {}",
+            u.name,
+            u.quantity.name(),
+            100.0 * u.used,
+            u.time,
+            if p.limits.inside { "every limit holds on the verified motion" } else { "a limit is EXCEEDED" }
+        ));
+    }
     PlanFigure { title, panels, caption }
 }
 
 /// The animation of the case: the arm's points ([`Arm::joint_positions`]) at up to 501 samples.
 pub fn arm3_animation(p: &ArmPlanned) -> Animation {
+    arm_animation(p, "arm3", ARM3_ANIMATION_TITLE)
+}
+
+/// The page's animation of an arm's plan, `id` and `title` its own: the arm's points
+/// ([`Arm::joint_positions`]) at up to 501 samples, and the joints at their limit at each
+/// ([`joints_at_limit`], on the samples' angles and rates).
+pub fn arm_animation(p: &ArmPlanned, id: &str, title: &str) -> Animation {
     let n = p.trajectory.len();
     let step = n.div_ceil(501).max(1);
     let mut indices: Vec<usize> = (0..n).step_by(step).collect();
@@ -333,14 +543,27 @@ pub fn arm3_animation(p: &ArmPlanned) -> Animation {
             p.arm.joint_positions(&q).iter().flat_map(|xy| xy.map(round)).collect()
         })
         .collect();
+    let at_limit = if watches_limits(&p.arm.limits) {
+        indices
+            .iter()
+            .map(|&i| {
+                let s = &p.trajectory[i];
+                let hot = joints_at_limit(&p.arm.limits, &s.theta, &s.rate);
+                hot.iter().enumerate().filter(|(_, h)| **h).map(|(j, _)| j + 1).collect()
+            })
+            .collect()
+    } else {
+        Vec::new()
+    };
     Animation {
-        id: "arm3".into(),
-        title: ARM3_ANIMATION_TITLE.into(),
+        id: id.into(),
+        title: title.into(),
         mount: [p.arm.mount.a, p.arm.mount.b],
         base_size: BASE_SIZE,
         t: indices.iter().map(|&i| round(p.trajectory[i].t)).collect(),
         phi: indices.iter().map(|&i| round(p.trajectory[i].phi)).collect(),
         points,
+        at_limit,
     }
 }
 
@@ -365,5 +588,113 @@ mod tests {
         assert_eq!(figure.panels[2].series.len(), 3);
         let md = arm3_markdown(&row);
         assert_eq!(md.matches("(yes)").count(), 2, "{md}");
+    }
+
+    /// Fig. 19: the velocity limit at 80 % of the free plan's peak binds (its verified use is
+    /// 100 %), the plan is certified inside it, and the figure draws exactly `±limit` \[rad/s\]
+    /// on the rate panel and nothing on the panels without limits; the markdown lists the use.
+    #[test]
+    fn the_limited_case_binds_and_its_figure_draws_the_limits() {
+        let free = plan_arm3().expect("the 3-link case has a plan");
+        let p = plan_arm3_limited(&free).expect("a plan inside the limit");
+        p.certified().expect("certified inside every limit");
+        let limit = ARM3_VELOCITY_SHARE * peak_velocity(&free);
+        let used = p.limits.most_used().expect("limits are declared");
+        assert!(used.used > 0.99 && p.limits.inside, "{used:?}");
+        assert!(p.effort() > free.effort());
+        let figure = arm3_limited_figure(&p);
+        let values: Vec<f64> = figure.panels[1].bounds.iter().map(|b| b.value).collect();
+        assert_eq!(values.len(), 6, "± the limit of each of 3 joints");
+        for (k, v) in values.iter().enumerate() {
+            let expected = if k % 2 == 0 { limit } else { -limit };
+            assert!((v - expected).abs() <= 1e-15 * limit, "{v} vs {expected}");
+        }
+        let series: Vec<Option<usize>> = figure.panels[1].bounds.iter().map(|b| b.series).collect();
+        assert_eq!(series, [Some(0), Some(0), Some(1), Some(1), Some(2), Some(2)]);
+        assert!(figure.panels[0].bounds.is_empty() && figure.panels[2].bounds.is_empty());
+        assert!(figure.caption.iter().any(|c| c.contains("velocity limit")), "{:?}", figure.caption);
+        // The free plan's figure has no limits to draw.
+        assert!(arm3_figure(&free).panels.iter().all(|panel| panel.bounds.is_empty()));
+        let row = Arm3Row::limited(Ok(&p));
+        let md = arm3_limited_markdown(&row);
+        assert!(md.contains("theta1 velocity") && md.contains("largest use"), "{md}");
+        let svg = crate::report::plot::plan_picture(&figure, crate::report::plot::PictureFormat::Svg, "x.svg".as_ref())
+            .expect("renders");
+        let svg = String::from_utf8(svg).expect("UTF-8");
+        let doc = roxmltree::Document::parse(&svg).expect("the SVG parses");
+        let legend = doc
+            .descendants()
+            .filter(|n| n.has_tag_name("text") && n.text().map(str::trim) == Some("limits (dashed)"))
+            .count();
+        let texts: Vec<&str> =
+            doc.descendants().filter_map(|n| n.has_tag_name("text").then(|| n.text()).flatten()).collect();
+        assert_eq!(legend, 1, "one legend entry for the joints' limits: {texts:?}");
+    }
+
+    /// The angle panel draws a joint's position range in degrees (the panel's unit) and the
+    /// base's range on φ's colour; the torque panel `±` the torque limit \[N m\].
+    #[test]
+    fn limit_bounds_are_in_the_panels_units() {
+        let joint = JointLimits { position: Some([-1.0, 2.0]), torque: Some(7.0), ..JointLimits::default() };
+        let arm = three_link_arm()
+            .unwrap()
+            .with_limits(Limits {
+                joints: vec![joint, JointLimits::default(), JointLimits::default()],
+                base: Some([-0.5, 0.5]),
+            })
+            .unwrap();
+        let [angles, rates, torques] = arm_limit_bounds(&arm);
+        let got: Vec<(f64, Option<usize>)> = angles.iter().map(|b| (b.value, b.series)).collect();
+        let deg = f64::to_degrees;
+        let want = [(deg(-0.5), Some(0)), (deg(0.5), Some(0)), (deg(-1.0), Some(1)), (deg(2.0), Some(1))];
+        assert_eq!(got.len(), want.len());
+        for ((v, s), (w, t)) in got.iter().zip(want) {
+            assert!((v - w).abs() < 1e-12 && *s == t, "{v} {s:?} vs {w} {t:?}");
+        }
+        assert!(rates.is_empty());
+        let t: Vec<f64> = torques.iter().map(|b| b.value).collect();
+        assert!(t.len() == 2 && (t[0] - 7.0).abs() < 1e-15 && (t[1] + 7.0).abs() < 1e-15, "{t:?}");
+    }
+
+    /// A joint is highlighted in exactly the frames where its exact speed uses ≥ 99 % of its
+    /// limit: such frames exist (the limit binds), the first (at rest) is not one; the GIF's
+    /// frame is drawn in the highlight colour only then; the page's animation lists the same
+    /// joints, and the free plan's none.
+    #[test]
+    fn a_joint_at_its_limit_is_highlighted() {
+        use crate::report::plot::{AT_LIMIT_COLOUR, GifOptions, GifView};
+        let free = plan_arm3().expect("the 3-link case has a plan");
+        let p = plan_arm3_limited(&free).expect("a plan inside the limit");
+        let limit = p.arm.limits.joint(0).velocity.expect("a velocity limit");
+        let view = GifView::arm(&p, &GifOptions::default());
+        let (mut theta, mut rate) = ([0.0; 3], [0.0; 3]);
+        let (mut hot, mut cold) = (None, None);
+        for (k, (t, _)) in view.frames().iter().enumerate() {
+            p.plan.motion().joint_state(*t, &mut theta, &mut rate);
+            let marks = view.at_limit(k);
+            for j in 0..3 {
+                let used = rate[j].abs() / limit;
+                assert_eq!(marks[j], used >= 0.99, "frame {k} joint {} use {used}", j + 1);
+                if used >= 0.99 {
+                    hot = Some(k);
+                }
+                if used < 0.5 && marks.iter().all(|m| !m) {
+                    cold.get_or_insert(k);
+                }
+            }
+        }
+        let (hot, cold) = (hot.expect("a frame at the limit"), cold.expect("a frame far below it"));
+        assert_eq!(cold, 0, "at rest at t = 0");
+        // The joint's marker (the legend's swatch is a stroke in every frame).
+        let colour = format!("fill=\"{AT_LIMIT_COLOUR}\"");
+        assert!(view.svg("t", hot).contains(&colour));
+        assert!(!view.svg("t", cold).contains(&colour));
+        // Without limits, nothing is ever highlighted.
+        let free_view = GifView::arm(&free, &GifOptions::default());
+        assert!((0..free_view.frames().len()).all(|k| free_view.at_limit(k).iter().all(|m| !m)));
+        assert!(arm3_animation(&free).at_limit.is_empty());
+        let anim = arm_animation(&p, "arm3-limits", ARM3_LIMITED_ANIMATION_TITLE);
+        assert_eq!(anim.at_limit.len(), anim.t.len());
+        assert!(anim.at_limit.iter().any(|joints| !joints.is_empty()) && anim.at_limit[0].is_empty());
     }
 }

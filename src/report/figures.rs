@@ -66,6 +66,7 @@ pub fn plan_figure(o: &CaseOutcome) -> PlanFigure {
         series: vec![series("u1 = θ1'", &|i| tr.dq[i][1]), series("u2 = θ2'", &|i| tr.dq[i][2])],
         text: vec![],
         include_zero: true,
+        bounds: vec![],
     };
     let torques = match &tr.tau {
         Some(tau) => Panel {
@@ -75,6 +76,7 @@ pub fn plan_figure(o: &CaseOutcome) -> PlanFigure {
             series: vec![series("τ1", &|i| tau[i][0]), series("τ2", &|i| tau[i][1])],
             text: vec![],
             include_zero: true,
+            bounds: vec![],
         },
         None => Panel { title: "(no torques)".into(), ..Default::default() },
     };
@@ -135,6 +137,11 @@ pub struct Animation {
     /// Flattened poses per time \[m\]: `[base x, base y, joint1 x, y, .., joint n x, y, tip x, y]`
     /// (`2 (n + 2)` numbers for `n` links; the mounting point is joint 1).
     pub points: Vec<Vec<f64>>,
+    /// Per time, the joints (counted from 1) at their position range or velocity limit
+    /// ([`crate::report::plot::joints_at_limit`]), drawn in red by `page.js`; empty (and left out
+    /// of the page's data) for a robot without such limits.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub at_limit: Vec<Vec<usize>>,
 }
 
 /// The animation of a planned case.
@@ -163,5 +170,6 @@ pub fn animation(o: &CaseOutcome) -> Animation {
         t: indices.iter().map(|&i| round(tr.t[i])).collect(),
         phi: indices.iter().map(|&i| round(tr.q[i][0])).collect(),
         points,
+        at_limit: Vec::new(),
     }
 }

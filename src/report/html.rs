@@ -33,6 +33,8 @@ pub struct Page<'a> {
     pub methods: &'a [MethodRow],
     /// The 3-link arm (Fig. 18).
     pub arm3: Option<&'a super::Arm3Row>,
+    /// The 3-link arm inside a velocity limit (Fig. 19).
+    pub arm3_limited: Option<&'a super::Arm3Row>,
     /// The figures, in order.
     pub figures: &'a [FigureEmbed],
     /// Wall time of the whole computation \[s\].
@@ -251,6 +253,9 @@ pub fn page(p: &Page) -> Result<String, serde_json::Error> {
     if let Some(row) = p.arm3 {
         s += "<h2>A 3-link arm (<a href=\"#fig18\">Fig. 18</a>)</h2>\n";
         s += &super::arm3::arm3_html(row);
+        if let Some(limited) = p.arm3_limited {
+            s += &super::arm3::arm3_limited_html(limited);
+        }
     }
     s += "<h2>Figures</h2>\n";
     s += "<p class=\"note\">Animations: the base (grey rectangle, 0.6 m × 0.5 m, illustrative) at its \

@@ -1,4 +1,4 @@
-//! The paper's results of Sec. 5 (Figs. 4-14), and four beyond it (Figs. 15-18), as plans,
+//! The paper's results of Sec. 5 (Figs. 4-14), and five beyond it (Figs. 15-19), as plans,
 //! figures, a summary and a self-contained report page: what `freefloat reproduce` writes.
 //!
 //! Every number here is computed by the planners on the paper's problem
@@ -28,7 +28,10 @@ pub mod reproduce;
 pub mod ros;
 pub mod summary;
 
-pub use arm3::{ARM3_FIGURE, Arm3Row, arm3_animation, arm3_figure, plan_arm3};
+pub use arm3::{
+    ARM3_FIGURE, ARM3_LIMITED_FIGURE, Arm3Row, arm_animation, arm_limit_bounds, arm_plan_figure, arm3_animation,
+    arm3_figure, arm3_limited_figure, plan_arm3, plan_arm3_limited,
+};
 pub use cases::{Case, CaseMethod, CaseOutcome, PaperSeconds, cases};
 pub use figures::{Animation, BASE_SIZE, animation, plan_figure};
 pub use methods::{COMPARED_METHODS, METHOD_MOUNTS, MethodRow, methods_markdown};

@@ -25,6 +25,12 @@
   // Link colours, from the base outwards (Okabe and Ito; links 1 and 2 as in the 2-link figures).
   var LINK_COLOURS = ["#0072b2", "#009e73", "#cc79a7", "#e69f00", "#56b4e9", "#f0e442"];
   function linkColour(k) { return LINK_COLOURS[k % LINK_COLOURS.length]; }
+  // A joint at its position range or velocity limit (>= 99 %) and the link it drives
+  // (plot/animation.rs, AT_LIMIT_COLOUR); anim.at_limit lists them per frame, counted from 1.
+  var AT_LIMIT_COLOUR = "#e8000b";
+  function atLimit(anim, i, joint) {
+    return Boolean(anim.at_limit && anim.at_limit[i] && anim.at_limit[i].indexOf(joint) >= 0);
+  }
   // A frame is [base x, y, joint 1 x, y, .., joint n x, y, tip x, y]: n links.
   function linkCount(anim) { return anim.points[0].length / 2 - 2; }
 
@@ -79,6 +85,7 @@
     for (var k = 0; k < links; k++) entries.push(["bar", linkColour(k), "link " + (k + 1)]);
     entries.push(["line", "#d55e00", "end-effector path"]);
     entries.push(["line", "#0072b2", "base's centre of mass path"]);
+    if (anim.at_limit) entries.push(["bar", AT_LIMIT_COLOUR, "joint at its limit (\u2265 99 %)"]);
     // The legend in rows under the drawing: entries left to right, a new row when the next
     // would pass the right edge, each label measured with the canvas's font, so that no entry
     // overlaps another (two fixed columns did; the GIF frames' legend is laid out the same way,
@@ -204,10 +211,14 @@
       line([[p[0], p[1]], [p[2], p[3]]], "#444", 3);
       // The links, each from its joint to the next (the last to the tip), then the joints.
       for (var k = 0; k < links; k++) {
-        line([[p[2 * k + 2], p[2 * k + 3]], [p[2 * k + 4], p[2 * k + 5]]], linkColour(k), 6);
+        var colour = atLimit(anim, i, k + 1) ? AT_LIMIT_COLOUR : linkColour(k);
+        line([[p[2 * k + 2], p[2 * k + 3]], [p[2 * k + 4], p[2 * k + 5]]], colour, 6);
       }
       dot([p[0], p[1]], 4, "#444");
-      for (var j = 1; j <= links; j++) dot([p[2 * j], p[2 * j + 1]], 5, "#000");
+      for (var j = 1; j <= links; j++) {
+        if (atLimit(anim, i, j)) dot([p[2 * j], p[2 * j + 1]], 8, AT_LIMIT_COLOUR);
+        else dot([p[2 * j], p[2 * j + 1]], 5, "#000");
+      }
       dot([p[p.length - 2], p[p.length - 1]], 5, "#d55e00");
       ctx.fillStyle = "#000";
       ctx.font = "15px sans-serif";

@@ -1,5 +1,5 @@
-//! The reproduction of the paper's results of Sec. 5 (Figs. 4-14) and four beyond it
-//! (Figs. 15-18) on the built-in defaults, as figures (SVG and PNG), `summary.md`,
+//! The reproduction of the paper's results of Sec. 5 (Figs. 4-14) and five beyond it
+//! (Figs. 15-19) on the built-in defaults, as figures (SVG and PNG), `summary.md`,
 //! `summary.json` and a self-contained `report.html` with an animation of every plan: what
 //! `freefloat reproduce` writes.
 
@@ -9,7 +9,11 @@ use std::time::Instant;
 use rayon::prelude::*;
 use serde::Serialize;
 
-use super::arm3::{ARM3_ANIMATION_TITLE, ARM3_FIGURE, Arm3Row, arm3_animation, arm3_figure, arm3_markdown, plan_arm3};
+use super::arm3::{
+    ARM3_ANIMATION_TITLE, ARM3_FIGURE, ARM3_LIMITED_ANIMATION_TITLE, ARM3_LIMITED_FIGURE, Arm3Row, arm_animation,
+    arm3_animation, arm3_figure, arm3_limited_figure, arm3_limited_markdown, arm3_markdown, plan_arm3,
+    plan_arm3_limited,
+};
 use super::cases::{Case, CaseMethod, CaseOutcome, cases};
 use super::figures::{animation, plan_figure};
 use super::html::{FigureEmbed, Page, page};
@@ -38,6 +42,8 @@ struct Summary<'a> {
     methods: &'a [MethodRow],
     /// The 3-link arm (Fig. 18).
     arm3: &'a Arm3Row,
+    /// The 3-link arm inside a velocity limit (Fig. 19).
+    arm3_limited: &'a Arm3Row,
     /// Wall time of the computation and the pictures (before the page and the summary) \[s\].
     seconds: f64,
 }
@@ -83,10 +89,10 @@ fn description(outcome: &CaseOutcome) -> String {
 }
 
 /// The number of jobs that [`reproduce`] reports to its progress callback (with `gif`, one
-/// more per plan: the animation of each case and of the 3-link arm).
+/// more per plan: the animation of each case and of the 3-link arm's two plans).
 pub fn job_count(gif: bool) -> usize {
     let cases = cases().len();
-    cases + 2 * DOMAIN_FIGURES.len() + 1 + method_jobs().len() + 1 + if gif { cases + 1 } else { 0 }
+    cases + 2 * DOMAIN_FIGURES.len() + 1 + method_jobs().len() + 2 + if gif { cases + 2 } else { 0 }
 }
 
 /// What [`reproduce`] wrote and found.
@@ -214,10 +220,31 @@ fn reproduce_into(
             Err(_) => "no plan".into(),
         };
         progress(&format!("{ARM3_FIGURE:<14} 3-link arm, optimal"), clock.elapsed().as_secs_f64(), &status);
-        planned
+        // Then the same problem inside a velocity limit at 80 % of this plan's peak (Fig. 19).
+        let clock = Instant::now();
+        let limited = match &planned {
+            Ok(free) => plan_arm3_limited(free),
+            // No peak to take 80 % of.
+            Err(_) => Err(Error::from(InputError::InvalidParameter {
+                name: "fig18".into(),
+                value: f64::NAN,
+                expected: "a plan of Fig. 18, whose peak speed sets Fig. 19's velocity limit",
+            })),
+        };
+        let status = match &limited {
+            Ok(p) => {
+                let ok = if p.certified().is_ok() { "" } else { " (NOT certified)" };
+                let used = p.limits.most_used().map_or(f64::NAN, |u| 100.0 * u.used);
+                format!("{:.1e} rad, limit used {used:.1} %{ok}", p.verification().final_error)
+            }
+            Err(_) => "no plan".into(),
+        };
+        let what = format!("{ARM3_LIMITED_FIGURE:<14} 3-link arm, optimal, velocity limit");
+        progress(&what, clock.elapsed().as_secs_f64(), &status);
+        (planned, limited)
     };
     let robot = RobotParams::src();
-    let ((((outcomes, panels), method_rows), arm3), sweep) = rayon::join(
+    let ((((outcomes, panels), method_rows), (arm3, arm3_limited)), sweep) = rayon::join(
         || {
             rayon::join(
                 || {
@@ -256,6 +283,7 @@ fn reproduce_into(
     let sweep_summary = SweepSummary::new(&sweep_opts, &sweep_rows, sweep_seconds);
     let rows: Vec<SummaryRow> = all.iter().zip(&outcomes).map(|(c, o)| SummaryRow::new(c, o.as_ref())).collect();
     let arm3_row = Arm3Row::new(arm3.as_ref());
+    let arm3_limited_row = Arm3Row::limited(arm3_limited.as_ref());
 
     // Pictures, each as SVG and PNG, rendered in parallel.
     enum Picture<'a> {
@@ -264,6 +292,7 @@ fn reproduce_into(
         Sweep,
         Methods,
         Arm3(&'a crate::planners::arm::ArmPlanned),
+        Arm3Limited(&'a crate::planners::arm::ArmPlanned),
     }
     let mut pictures: Vec<(String, Picture)> = Vec::new();
     for (case, outcome) in all.iter().zip(&outcomes) {
@@ -279,6 +308,9 @@ fn reproduce_into(
     pictures.push(("fig17".into(), Picture::Methods));
     if let Ok(p) = &arm3 {
         pictures.push((ARM3_FIGURE.into(), Picture::Arm3(p)));
+    }
+    if let Ok(p) = &arm3_limited {
+        pictures.push((ARM3_LIMITED_FIGURE.into(), Picture::Arm3Limited(p)));
     }
     // The paper's figures first, then the cases beyond them.
     pictures.sort_by_key(|(name, _)| (!name.starts_with("fig"), name.clone()));
@@ -296,6 +328,7 @@ fn reproduce_into(
                     Picture::Sweep => sweep_picture(&sweep_rows, format, &path),
                     Picture::Methods => methods_picture(&method_rows, format, &path),
                     Picture::Arm3(p) => plan_picture(&arm3_figure(p), format, &path),
+                    Picture::Arm3Limited(p) => plan_picture(&arm3_limited_figure(p), format, &path),
                 }
             };
             let (svg, png) = rayon::join(|| draw(PictureFormat::Svg), || draw(PictureFormat::Png));
@@ -328,6 +361,18 @@ fn reproduce_into(
         write_atomic(&path, &bytes)?;
         progress(
             &format!("{:<14} animation", "arm3"),
+            clock.elapsed().as_secs_f64(),
+            &format!("{} KiB", bytes.len() / 1024),
+        );
+        gifs.push(name);
+    }
+    if let (Some(options), Ok(p)) = (gif, &arm3_limited) {
+        let (name, clock) = ("anim-arm3-limits.gif".to_string(), Instant::now());
+        let path = out.join(&name);
+        let bytes = arm_animation_gif(p, ARM3_LIMITED_ANIMATION_TITLE, options, &path)?;
+        write_atomic(&path, &bytes)?;
+        progress(
+            &format!("{:<14} animation", "arm3-limits"),
             clock.elapsed().as_secs_f64(),
             &format!("{} KiB", bytes.len() / 1024),
         );
@@ -390,6 +435,19 @@ fn reproduce_into(
                     ),
                     Some(arm3_animation(p)),
                 ),
+                Picture::Arm3Limited(p) => (
+                    arm3_limited_figure(p).title,
+                    format!(
+                        "{} {}",
+                        super::arm3::arm3_limited_text(&arm3_limited_row),
+                        if p.certified().is_ok() {
+                            "Both levels certified, inside every limit."
+                        } else {
+                            "NOT certified (see the caption)."
+                        }
+                    ),
+                    Some(arm_animation(p, "arm3-limits", ARM3_LIMITED_ANIMATION_TITLE)),
+                ),
             };
             FigureEmbed { name: name.clone(), title, description, png: Some(png.clone()), animation: anim }
         })
@@ -401,6 +459,7 @@ fn reproduce_into(
         sweep: Some(&sweep_summary),
         methods: &method_rows,
         arm3: Some(&arm3_row),
+        arm3_limited: Some(&arm3_limited_row),
         figures: &figures,
         seconds,
     })
@@ -415,6 +474,7 @@ fn reproduce_into(
         sweep: &sweep_summary,
         methods: &method_rows,
         arm3: &arm3_row,
+        arm3_limited: &arm3_limited_row,
         seconds,
     };
     let json = serde_json::to_vec_pretty(&summary)
@@ -422,7 +482,8 @@ fn reproduce_into(
     write_atomic(&out.join("summary.json"), &json)?;
     let mut md = summary_markdown(&rows, &domain_rows, Some(&sweep_summary))
         + &methods_markdown(&method_rows)
-        + &arm3_markdown(&arm3_row);
+        + &arm3_markdown(&arm3_row)
+        + &arm3_limited_markdown(&arm3_limited_row);
     if !gifs.is_empty() {
         md += &format!(
             "\n## Animations\n\nEach plan's animation as a GIF, beside this file (the report page shows them \
@@ -448,6 +509,10 @@ fn reproduce_into(
     }
     if let Err(e) = arm3.as_ref().map_err(|e| e.to_string()).and_then(|p| p.certified().map_err(|e| e.to_string())) {
         failures.push(format!("{ARM3_FIGURE}: the 3-link arm: {e}"));
+    }
+    let limited = arm3_limited.as_ref().map_err(|e| e.to_string());
+    if let Err(e) = limited.and_then(|p| p.certified().map_err(|e| e.to_string())) {
+        failures.push(format!("{ARM3_LIMITED_FIGURE}: the 3-link arm inside a velocity limit: {e}"));
     }
     Ok(Reproduction { markdown: md, files, seconds: clock.elapsed().as_secs_f64(), failures })
 }

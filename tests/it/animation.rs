@@ -286,4 +286,8 @@ fn reproduce_writes_one_gif_per_case() {
     let horizon = freefloat::report::arm3::ARM3_HORIZON;
     assert_eq!((arm3.size, arm3.frames.len()), ((240, 240), options.frame_count(horizon)));
     assert!(summary.contains("anim-arm3.gif"), "summary.md does not list anim-arm3.gif");
+    // And its plan inside a velocity limit (Fig. 19).
+    let limited = decode(&std::fs::read(out.join("anim-arm3-limits.gif")).expect("anim-arm3-limits.gif"));
+    assert_eq!((limited.size, limited.frames.len()), ((240, 240), options.frame_count(horizon)));
+    assert!(summary.contains("anim-arm3-limits.gif"));
 }

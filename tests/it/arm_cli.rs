@@ -498,3 +498,34 @@ fn arm_plan_takes_cost_energy() {
         assert!(energy["effort"].as_f64().unwrap() >= effort["effort"].as_f64().unwrap() * (1.0 - 1e-9));
     }
 }
+
+/// `plan --robot three_link.toml --plot` draws the arm's plan (issue 20 item 7): with a
+/// velocity limit the SVG has the dashed limits' legend and the caption's most-used limit; a
+/// PNG renders too; a bad extension and the 2-link NFA's plan exit 2 before writing anything.
+#[test]
+fn three_link_arm_plot_draws_its_limits() {
+    let dir = tempfile::tempdir().unwrap();
+    let toml = example("three_link.toml");
+    let svg = dir.path().join("arm.svg");
+    let png = dir.path().join("arm.png");
+    let base = ["plan", "--robot", &toml, "--from", FROM, "--to", TO, "--samples", "201", "--quiet"];
+    let limited = ["--limit", "all.velocity=40", "--torques"];
+    let o = freefloat(&[&base[..], &limited[..], &["--plot", svg.to_str().unwrap()]].concat());
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let text = std::fs::read_to_string(&svg).expect("the SVG is written");
+    for label in ["limits (dashed)", "rate [rad/s]", "the most used is theta", "velocity level"] {
+        assert!(text.contains(label), "no `{label}` in the SVG");
+    }
+    let o = freefloat(&[&base[..], &["--plot", png.to_str().unwrap()]].concat());
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert_eq!(&std::fs::read(&png).expect("the PNG is written")[..8], b"\x89PNG\r\n\x1a\n");
+    let bad = tempfile::tempdir().unwrap();
+    let pdf = bad.path().join("arm.pdf");
+    let o = freefloat(&[&base[..], &["--plot", pdf.to_str().unwrap()]].concat());
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    let two = bad.path().join("two.svg");
+    let o = freefloat(&["plan", "--quiet", "--plot", two.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("--plot"), "{}", stderr(&o));
+    assert_eq!(std::fs::read_dir(bad.path()).unwrap().count(), 0, "a refused run wrote a file");
+}

@@ -36,6 +36,8 @@ fn figures() -> Vec<(String, (u32, u32))> {
     figures.push(("fig17".into(), METHODS_SIZE));
     // The 3-link arm (issue 14), beyond the paper.
     figures.push(("fig18".into(), PLAN_FIGURE_SIZE));
+    // The 3-link arm inside a velocity limit (issue 20 item 7).
+    figures.push(("fig19".into(), PLAN_FIGURE_SIZE));
     // The sin²-windowed ECSA, beyond the paper: plan pictures named by their case.
     for a in ["0.0", "0.1", "0.2", "0.3"] {
         figures.push((format!("ecsa-sin2-{a}"), PLAN_FIGURE_SIZE));
@@ -85,7 +87,7 @@ fn reproduce_writes_every_file_whole_and_the_planners_numbers() {
     let o = reproduce(dir.path());
     let seconds = clock.elapsed().as_secs_f64();
     let stdout = String::from_utf8_lossy(&o.stdout);
-    assert!(stdout.contains("wrote 41 files"), "{stdout}");
+    assert!(stdout.contains("wrote 43 files"), "{stdout}");
     assert!(seconds < 60.0, "reproduce took {seconds} s");
 
     // Every file exists and is not empty; nothing else (no temporary files) is left.
@@ -102,7 +104,7 @@ fn reproduce_writes_every_file_whole_and_the_planners_numbers() {
         assert_eq!(root.tag_name().name(), "svg", "{name}.svg");
         assert_eq!(root.attribute("width"), Some(size.0.to_string().as_str()), "{name}.svg");
         assert!(root.descendants().filter(|n| n.has_tag_name("text")).count() > 10, "{name}.svg has labels");
-        if name == "fig18" {
+        if name == "fig18" || name == "fig19" {
             for label in
                 ["t [s]", "angle [deg]", "rate [rad/s]", "τ [N m]", "θ3", "τ3", "velocity level", "torque level"]
             {
@@ -153,7 +155,7 @@ fn reproduce_writes_every_file_whole_and_the_planners_numbers() {
     }
     // Self-contained: no external resources.
     assert!(!html.contains("http://") && !html.contains("https://") && !html.contains("src=\"/"));
-    assert_eq!(html.matches("data:image/png;base64,").count(), 19, "a picture for every plan");
+    assert_eq!(html.matches("data:image/png;base64,").count(), 20, "a picture for every plan");
     // Self-contained: no link to a file beside the page, only to anchors on it.
     for link in words.split("href=\"").skip(1) {
         assert!(link.starts_with('#'), "a link off the page: {}", &link[..link.len().min(40)]);
@@ -220,6 +222,19 @@ fn reproduce_writes_every_file_whole_and_the_planners_numbers() {
     for (k, t) in tau.iter().enumerate() {
         close(arm3["max_abs_torque"][k].as_f64().expect("a number"), *t);
     }
+
+    // Fig. 19: the 3-link arm inside a velocity limit that binds, certified, its limits' use listed.
+    let limited = &summary["arm3_limited"];
+    assert_eq!(
+        (limited["figure"].as_str(), &limited["certified"], &limited["torque_certified"]),
+        (Some("fig19"), &true.into(), &true.into()),
+        "{limited}"
+    );
+    let uses = limited["limits"]["uses"].as_array().expect("the limits' use");
+    assert_eq!(uses.len(), 3, "one velocity limit per joint");
+    let most = uses.iter().map(|u| f64_at(u, "use")).fold(0.0, f64::max);
+    assert!(most > 0.99 && most <= 1.0 + 1e-9, "the limit binds: {most}");
+    assert_eq!(limited["limits"]["inside"], true);
 
     // The values are the planners': recompute an NFA case, an ECSA case and Fig. 15 here.
     let robot = |a: f64, b: f64| RobotParams::src().with_mount(Mount::new(a, b).expect("mount")).expect("robot");

@@ -14,7 +14,7 @@
 use super::GifOptions;
 use super::legend::{Entry, FIRST_ROW, FONT_SIZE, LABEL_OFFSET, Legend, ROW, SWATCH_WIDTH, Swatch};
 use crate::model::Configuration;
-use crate::model::arm::Arm;
+use crate::model::arm::{Arm, Limits};
 use crate::model::kinematics::pose;
 use crate::plan::Plan;
 use crate::planners::arm::ArmPlanned;
@@ -24,6 +24,38 @@ use crate::report::html::escape;
 /// The links' colours from the base outwards, repeated beyond six links (Okabe and Ito's
 /// colour-blind-safe set; links 1 and 2 as in the 2-link figures, and as `page.js` draws them).
 pub const LINK_COLOURS: [&str; 6] = ["#0072b2", "#009e73", "#cc79a7", "#e69f00", "#56b4e9", "#f0e442"];
+
+/// The colour of a joint at its limit and of the link it drives (the GIF's and `page.js`'s).
+pub const AT_LIMIT_COLOUR: &str = "#e8000b";
+
+/// The use of a position range or a velocity limit from which a joint counts as at its limit
+/// (drawn in [`AT_LIMIT_COLOUR`]): 99 %.
+pub const AT_LIMIT_USE: f64 = 0.99;
+
+/// Which joints are at a limit at angles `theta` \[rad\] and rates `rate` \[rad/s\]: the use of
+/// the joint's position range (`|theta - mid| / half`) or of its velocity limit (`|rate| / L`) is
+/// at least [`AT_LIMIT_USE`] (as [`crate::plan::limit_use`] counts uses). One entry per joint;
+/// all `false` for an arm without such limits.
+pub fn joints_at_limit(limits: &Limits, theta: &[f64], rate: &[f64]) -> Vec<bool> {
+    theta
+        .iter()
+        .zip(rate)
+        .enumerate()
+        .map(|(j, (&q, &r))| {
+            let l = limits.joint(j);
+            let range =
+                l.position.is_some_and(|[lo, hi]| ((q - 0.5 * (lo + hi)) / (0.5 * (hi - lo))).abs() >= AT_LIMIT_USE);
+            let speed = l.velocity.is_some_and(|v| r.abs() / v >= AT_LIMIT_USE);
+            range || speed
+        })
+        .collect()
+}
+
+/// Whether an arm has a limit that [`joints_at_limit`] watches (a position range or a velocity
+/// limit of a joint).
+pub fn watches_limits(limits: &Limits) -> bool {
+    limits.joints.iter().any(|j| j.position.is_some() || j.velocity.is_some())
+}
 
 /// How many samples of the paths are drawn, at most.
 const PATH_POINTS: usize = 500;
@@ -58,6 +90,9 @@ pub struct GifView {
     path: Vec<(f64, Points)>,
     /// The legend, laid out for the frame's width.
     legend: Legend,
+    /// Per frame, per joint: at a limit ([`joints_at_limit`]); empty for a robot without
+    /// position or velocity limits.
+    at_limit: Vec<Vec<bool>>,
 }
 
 impl GifView {
@@ -67,7 +102,7 @@ impl GifView {
         let tr = &plan.trajectory;
         let robot = &plan.problem.robot;
         let q: Vec<Vec<f64>> = tr.q.iter().map(|q| q.to_vec()).collect();
-        Self::of_motion(&tr.t, &q, options, &|q| {
+        Self::of_motion(&tr.t, &q, options, false, &|q| {
             let p = pose(robot, &Configuration::from_array([q[0], q[1], q[2]]));
             vec![p.base, p.joint1, p.joint2, p.tip]
         })
@@ -75,7 +110,9 @@ impl GifView {
 
     /// The view of an arm's motion at `options`' size: frames at evenly spaced instants from
     /// the first sample to the last (configurations interpolated linearly between samples), the
-    /// scale fitted to the whole motion; points from [`Arm::joint_positions`].
+    /// scale fitted to the whole motion; points from [`Arm::joint_positions`]. A joint at its
+    /// position range or velocity limit ([`joints_at_limit`], on the plan's exact angles and rates
+    /// at the frame's instant) is drawn in [`AT_LIMIT_COLOUR`] with the link it drives.
     pub fn arm(planned: &ArmPlanned, options: &GifOptions) -> Self {
         let t: Vec<f64> = planned.trajectory.iter().map(|p| p.t).collect();
         let q: Vec<Vec<f64>> = planned
@@ -84,12 +121,33 @@ impl GifView {
             .map(|p| std::iter::once(p.phi).chain(p.theta.iter().copied()).collect())
             .collect();
         let arm: &Arm = &planned.arm;
-        Self::of_motion(&t, &q, options, &|q| arm.joint_positions(q))
+        let watched = watches_limits(&arm.limits);
+        let mut view = Self::of_motion(&t, &q, options, watched, &|q| arm.joint_positions(q));
+        if watched {
+            let motion = planned.plan.motion();
+            let n = arm.joints();
+            let (mut theta, mut rate) = (vec![0.0; n], vec![0.0; n]);
+            view.at_limit = view
+                .frames
+                .iter()
+                .map(|(t, _, _)| {
+                    motion.joint_state(*t, &mut theta, &mut rate);
+                    joints_at_limit(&arm.limits, &theta, &rate)
+                })
+                .collect();
+        }
+        view
     }
 
     /// The view of the samples `(ts, qs)` (times ascending), `points` giving a configuration's
-    /// points.
-    fn of_motion(ts: &[f64], qs: &[Vec<f64>], options: &GifOptions, points: &dyn Fn(&[f64]) -> Points) -> Self {
+    /// points; `limited`: the legend lists a joint at its limit.
+    fn of_motion(
+        ts: &[f64],
+        qs: &[Vec<f64>],
+        options: &GifOptions,
+        limited: bool,
+        points: &dyn Fn(&[f64]) -> Points,
+    ) -> Self {
         let (t0, t1) = (ts.first().copied().unwrap_or(0.0), ts.last().copied().unwrap_or(0.0));
         let n = options.frame_count(t1 - t0);
         let frames: Vec<(f64, Vec<f64>, Points)> = (0..n)
@@ -118,7 +176,7 @@ impl GifView {
         let (width, height) = (f64::from(options.width), f64::from(options.height));
         let unit = width.min(height) / 480.0;
         let links = frames.first().map_or(0, |f| f.2.len().saturating_sub(2));
-        let legend = Legend::new(legend_entries(links), width / unit);
+        let legend = Legend::new(legend_entries(links, limited), width / unit);
         let (top, strip, margin) = (TOP * unit, legend.height() * unit, MARGIN * unit);
         let scale = ((width - 2.0 * margin) / (b[1] - b[0])).min((height - top - strip - 2.0 * margin) / (b[3] - b[2]));
         Self {
@@ -132,6 +190,7 @@ impl GifView {
             frames,
             path,
             legend,
+            at_limit: Vec::new(),
         }
     }
 
@@ -143,6 +202,13 @@ impl GifView {
     /// The frames: instant \[s\] and configuration `(phi, theta_1..theta_n)` \[rad\].
     pub fn frames(&self) -> Vec<(f64, &[f64])> {
         self.frames.iter().map(|(t, q, _)| (*t, q.as_slice())).collect()
+    }
+
+    /// Per joint, whether it is drawn at its limit in frame `k` (all `false` without position or
+    /// velocity limits).
+    pub fn at_limit(&self, k: usize) -> Vec<bool> {
+        let links = self.frames.get(k).map_or(0, |f| f.2.len().saturating_sub(2));
+        self.at_limit.get(k).cloned().unwrap_or_else(|| vec![false; links])
     }
 
     /// Where the point `p` of the plane \[m\] (the system's centre of mass at the origin, y up)
@@ -212,12 +278,15 @@ impl GifView {
         // The bar to the mounting point, each link from its joint to the next (the last to the
         // tip), then the joints and the end effector.
         s += &polyline(&[centre, now[1]], "#444", 3.0);
-        for (k, pair) in now[1..].windows(2).enumerate() {
-            s += &polyline(pair, LINK_COLOURS[k % LINK_COLOURS.len()], 6.0);
+        let hot = self.at_limit(k);
+        let hot = |j: usize| hot.get(j).copied().unwrap_or(false);
+        for (j, pair) in now[1..].windows(2).enumerate() {
+            let colour = if hot(j) { AT_LIMIT_COLOUR } else { LINK_COLOURS[j % LINK_COLOURS.len()] };
+            s += &polyline(pair, colour, 6.0);
         }
         s += &dot(centre, 4.0, "#444");
-        for &joint in &now[1..now.len() - 1] {
-            s += &dot(joint, 5.0, "#000");
+        for (j, &joint) in now[1..now.len() - 1].iter().enumerate() {
+            s += &if hot(j) { dot(joint, 8.0, AT_LIMIT_COLOUR) } else { dot(joint, 5.0, "#000") };
         }
         s += &dot(tip(now), 5.0, "#d55e00");
         s += &self.captions(title, *t, q[0]);
@@ -297,8 +366,9 @@ impl GifView {
     }
 }
 
-/// The legend's entries for `links` links, in the order `page.js` lists them.
-fn legend_entries(links: usize) -> Vec<Entry> {
+/// The legend's entries for `links` links, in the order `page.js` lists them; `limited`: and a
+/// joint at its limit.
+fn legend_entries(links: usize, limited: bool) -> Vec<Entry> {
     let mut entries = vec![
         Entry::new(Swatch::Cross, "#999", "system's centre of mass (fixed)"),
         Entry::new(Swatch::Bar, "#444", "base to mounting point (a, b)"),
@@ -308,6 +378,9 @@ fn legend_entries(links: usize) -> Vec<Entry> {
     );
     entries.push(Entry::new(Swatch::Line, "#d55e00", "end-effector path"));
     entries.push(Entry::new(Swatch::Line, "#0072b2", "base's centre of mass path"));
+    if limited {
+        entries.push(Entry::new(Swatch::Bar, AT_LIMIT_COLOUR, "joint at its limit (≥ 99 %)"));
+    }
     entries
 }
 

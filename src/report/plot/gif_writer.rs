@@ -14,7 +14,7 @@ use std::path::Path;
 
 use rayon::prelude::*;
 
-use super::animation::LINK_COLOURS;
+use super::animation::{AT_LIMIT_COLOUR, LINK_COLOURS};
 use super::{GifView, picture_error, rgba_pixels};
 use crate::error::Error;
 use crate::model::InputError;
@@ -127,7 +127,8 @@ fn palette_indices(quantiser: &color_quant::NeuQuant, rgba: &[u8]) -> Vec<u8> {
 /// The drawing's own colours besides the links' ([`LINK_COLOURS`]), as `#rrggbb`: a swatch of
 /// each joins the palette's training pixels, so that the robot keeps its exact colours however
 /// few pixels it covers.
-const SWATCH: [&str; 7] = ["#ffffff", "#000000", "#444444", "#999999", "#d55e00", "#d9d9d9", "#dbe6f0"];
+const SWATCH: [&str; 8] =
+    ["#ffffff", "#000000", "#444444", "#999999", "#d55e00", "#d9d9d9", "#dbe6f0", AT_LIMIT_COLOUR];
 
 /// The RGBA of a `#rrggbb` colour (black if malformed).
 fn rgba(colour: &str) -> [u8; 4] {

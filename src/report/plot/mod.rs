@@ -25,11 +25,11 @@ mod sweep;
 #[cfg(test)]
 mod tests;
 
-pub use animation::{GifView, LINK_COLOURS};
+pub use animation::{AT_LIMIT_COLOUR, AT_LIMIT_USE, GifView, LINK_COLOURS, joints_at_limit, watches_limits};
 pub use domain::{DOMAIN_PAIR_SIZE, DomainOverlay, domain_pair_picture, domain_picture};
 pub use gif_writer::{GifOptions, animation_gif, arm_animation_gif, check_gif_path};
 pub use methods::{METHODS_SIZE, methods_picture};
-pub use plan::{PLAN_FIGURE_SIZE, Panel, PlanFigure, Series, plan_picture};
+pub use plan::{BOUNDS_LABEL, Bound, PLAN_FIGURE_SIZE, Panel, PlanFigure, Series, plan_picture};
 pub use sweep::{SWEEP_SIZE, sweep_picture};
 
 /// The file format of a picture.

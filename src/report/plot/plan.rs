@@ -20,6 +20,26 @@ pub struct Series {
     pub points: Vec<(f64, f64)>,
 }
 
+/// A horizontal limit line of a [`Panel`] (e.g. a joint's velocity limit): drawn dashed across
+/// the panel, in the colour of its series (or grey), and always inside the vertical range, so
+/// that a limit far from the curves still shows how far they stay from it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Bound {
+    /// The value, in the panel's units (a non-finite value is not drawn).
+    pub value: f64,
+    /// The legend's label, e.g. `θ1' limit`, when every line of the panel has it; lines of
+    /// several labels share one entry, [`BOUNDS_LABEL`] (each drawn in its curve's colour).
+    pub label: String,
+    /// The index of the [`Series`] whose colour the line takes; `None`: grey.
+    pub series: Option<usize>,
+}
+
+/// The legend's entry for limit lines of several labels.
+pub const BOUNDS_LABEL: &str = "limits (dashed)";
+
+/// The colour of a [`Bound`] without a series.
+const BOUND_GREY: RGBColor = RGBColor(110, 110, 110);
+
 /// One panel of a plan picture: curves against time, or (without curves) lines of text.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct Panel {
@@ -36,6 +56,8 @@ pub struct Panel {
     /// The vertical axis reaches down (or up) to zero, so that a small ripple on a large value
     /// looks small.
     pub include_zero: bool,
+    /// Horizontal limit lines (dashed; empty: none). The vertical axis reaches each of them.
+    pub bounds: Vec<Bound>,
 }
 
 /// A plan picture: a title, up to four panels in a 2 x 2 grid, and a caption of a few lines
@@ -106,6 +128,9 @@ fn draw_panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, panel: &Panel) 
     if panel.include_zero {
         (y0, y1) = (y0.min(0.0), y1.max(0.0));
     }
+    for b in panel.bounds.iter().filter(|b| b.value.is_finite()) {
+        (y0, y1) = (y0.min(b.value), y1.max(b.value));
+    }
     if !(x1 > x0) {
         x1 = x0 + 1.0;
     }
@@ -125,6 +150,22 @@ fn draw_panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, panel: &Panel) 
         let (width, _) =
             strip.estimate_text_size(&series.label, &TextStyle::from((FONT, 15).into_font())).map_err(e)?;
         x += 28 + width as i32 + 24;
+    }
+    // One legend entry for the limit lines: their label when they share one (a joint's +limit and
+    // -limit), else "limits (dashed)" in grey (each line has its curve's colour): room for the
+    // curves' entries.
+    let drawn: Vec<&Bound> = panel.bounds.iter().filter(|b| b.value.is_finite()).collect();
+    if let Some(first) = drawn.first() {
+        let shared = drawn.iter().all(|b| b.label == first.label);
+        let (label, colour) =
+            if shared { (first.label.clone(), bound_colour(first)) } else { (BOUNDS_LABEL.to_string(), BOUND_GREY) };
+        let y = LEGEND_HEIGHT as i32 / 2;
+        for k in 0..3 {
+            let x = x + 8 * k;
+            strip.draw(&PathElement::new(vec![(x, y), (x + 5, y)], colour.stroke_width(2))).map_err(e)?;
+        }
+        let text = Text::new(label, (x + 28, y - 8), (FONT, 15).into_font().color(&BLACK));
+        strip.draw(&text).map_err(e)?;
     }
     let mut chart = ChartBuilder::on(&area)
         .margin_right(14)
@@ -149,5 +190,23 @@ fn draw_panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, panel: &Panel) 
         let style = ShapeStyle::from(&colour).stroke_width(2);
         chart.draw_series(LineSeries::new(series.points.iter().copied().filter(|p| finite(&p)), style)).map_err(e)?;
     }
+    for b in panel.bounds.iter().filter(|b| b.value.is_finite()) {
+        let style = ShapeStyle::from(&bound_colour(b)).stroke_width(2);
+        let dashes = dashes(x0, x1, 60);
+        chart
+            .draw_series(dashes.into_iter().map(|(a, c)| PathElement::new(vec![(a, b.value), (c, b.value)], style)))
+            .map_err(e)?;
+    }
     Ok(())
+}
+
+/// The colour of a limit line: its series' colour, or grey.
+fn bound_colour(b: &Bound) -> RGBColor {
+    b.series.map_or(BOUND_GREY, |k| SERIES_COLOURS[k % SERIES_COLOURS.len()])
+}
+
+/// `count` dashes from `x0` to `x1`: `(start, end)` of each, the gaps as long as the dashes.
+fn dashes(x0: f64, x1: f64, count: usize) -> Vec<(f64, f64)> {
+    let step = (x1 - x0) / count as f64;
+    (0..count).map(|k| (x0 + step * k as f64, x0 + step * (k as f64 + 0.5))).collect()
 }

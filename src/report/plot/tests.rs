@@ -46,6 +46,7 @@ fn plan_pictures_label_axes_and_skip_non_finite_points() {
         series,
         text: vec![],
         include_zero: false,
+        bounds: vec![],
     };
     let figure = PlanFigure {
         title: "test figure".into(),
@@ -88,6 +89,7 @@ fn png_curves_are_anti_aliased() {
             }],
             text: vec![],
             include_zero: false,
+            bounds: vec![],
         }],
         caption: vec![],
     };
@@ -189,4 +191,59 @@ fn domain_components_are_coloured_by_their_signs() {
         String::from_utf8(domain_picture(&maps[0], &overlay, PictureFormat::Svg, Path::new("x.svg")).unwrap()).unwrap();
     assert!(svg.contains("θ1 [deg]") && svg.contains("branch +, σ &gt; 0") || svg.contains("branch +, σ > 0"));
     assert!(!svg.contains("theta1"));
+}
+
+/// A panel's limit lines are drawn dashed at their values, inside the vertical range even far
+/// from the curves, with one legend entry per label; the picture renders as PNG too.
+#[test]
+fn limit_lines_are_dashed_at_their_values_and_always_visible() {
+    // A ramp from (0, 0) to (10, 1): its two ends give the axis' scale in pixels.
+    let ramp = Series { label: "θ1'".into(), points: (0..=10).map(|i| (f64::from(i), f64::from(i) / 10.0)).collect() };
+    let bound = |value: f64| Bound { value, label: "θ1' limit".into(), series: Some(0) };
+    let panel = Panel {
+        title: "rates".into(),
+        x_label: "t [s]".into(),
+        y_label: "rate [rad/s]".into(),
+        series: vec![ramp],
+        bounds: vec![bound(3.0), bound(-3.0), Bound { value: f64::NAN, label: "never".into(), series: None }],
+        ..Default::default()
+    };
+    let figure = PlanFigure { title: "limits".into(), panels: vec![panel], caption: vec![] };
+    let svg = String::from_utf8(plan_picture(&figure, PictureFormat::Svg, Path::new("x.svg")).unwrap()).unwrap();
+    let doc = roxmltree::Document::parse(&svg).unwrap();
+    let lines: Vec<Vec<(f64, f64)>> = doc
+        .descendants()
+        .filter(|n| n.has_tag_name("polyline"))
+        .map(|n| {
+            let points = n.attribute("points").unwrap_or_default().split_whitespace();
+            points.filter_map(|p| p.split_once(',')).map(|(x, y)| (x.parse().unwrap(), y.parse().unwrap())).collect()
+        })
+        .collect();
+    // The ramp is the one polyline of 11 points.
+    let ramp = lines.iter().find(|l| l.len() == 11).expect("the ramp");
+    let (zero, one) = (ramp[0].1, ramp[10].1);
+    let pixel = |v: f64| zero + v * (one - zero);
+    for value in [3.0, -3.0] {
+        let dashes = lines
+            .iter()
+            .filter(|l| l.len() == 2 && (l[0].1 - l[1].1).abs() < 1e-9 && (l[0].1 - pixel(value)).abs() < 1.5)
+            .count();
+        assert!(dashes >= 50, "{dashes} dashes at {value} (pixel {})", pixel(value));
+    }
+    assert_eq!(svg_geometry(&svg, "θ1' limit").0.len(), 1, "one legend entry for both signs");
+    assert!(svg_geometry(&svg, "never").0.is_empty(), "a non-finite bound is not drawn");
+    let png = plan_picture(&figure, PictureFormat::Png, Path::new("x.png")).unwrap();
+    assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n");
+}
+
+/// Limit lines of several labels share one legend entry, [`BOUNDS_LABEL`].
+#[test]
+fn limit_lines_of_several_labels_share_one_legend_entry() {
+    let flat = Series { label: "u".into(), points: vec![(0.0, 0.0), (1.0, 0.5)] };
+    let bound = |value: f64, label: &str| Bound { value, label: label.into(), series: None };
+    let panel = Panel { series: vec![flat], bounds: vec![bound(1.0, "a"), bound(-1.0, "b")], ..Default::default() };
+    let figure = PlanFigure { title: "limits".into(), panels: vec![panel], caption: vec![] };
+    let svg = String::from_utf8(plan_picture(&figure, PictureFormat::Svg, Path::new("x.svg")).unwrap()).unwrap();
+    assert_eq!(svg_geometry(&svg, BOUNDS_LABEL).0.len(), 1);
+    assert!(svg_geometry(&svg, "a").0.is_empty() && svg_geometry(&svg, "b").0.is_empty());
 }
