@@ -5,9 +5,10 @@
 
 use serde::Serialize;
 
-use super::figures::{Animation, BASE_SIZE};
+use super::arm_figure::{arm_animation, arm_plan_figure};
+use super::figures::Animation;
 use super::html::{escape, head_cell};
-use super::plot::{Bound, Panel, PlanFigure, Series, joints_at_limit, watches_limits};
+use super::plot::PlanFigure;
 use crate::error::Error;
 use crate::model::arm::{Arm, JointLimits, Limits};
 use crate::plan::Method;
@@ -382,194 +383,15 @@ pub fn arm3_figure(p: &ArmPlanned) -> PlanFigure {
     figure
 }
 
-/// The limit lines of an arm's figure ([`arm_plan_figure`]), in each panel's units and in the
-/// colour of the curve they bound: `[angles, rates, torques]`. On the angle panel \[deg\] each
-/// joint's position range (both ends, series `j + 1`) and the base's range (series 0); on the
-/// rate panel \[rad/s\] `±` each joint's velocity limit; on the torque panel \[N m\] `±` each
-/// joint's torque limit. A quantity without a limit draws nothing.
-pub fn arm_limit_bounds(arm: &Arm) -> [Vec<Bound>; 3] {
-    let limits = &arm.limits;
-    let mut angles = Vec::new();
-    if let Some([lo, hi]) = limits.base {
-        for v in [lo, hi] {
-            angles.push(Bound { value: v.to_degrees(), label: "φ range".into(), series: Some(0) });
-        }
-    }
-    let (mut rates, mut torques) = (Vec::new(), Vec::new());
-    for j in 0..arm.joints() {
-        let l = limits.joint(j);
-        if let Some([lo, hi]) = l.position {
-            for v in [lo, hi] {
-                angles.push(Bound { value: v.to_degrees(), label: format!("θ{} range", j + 1), series: Some(j + 1) });
-            }
-        }
-        if let Some(v) = l.velocity {
-            for v in [v, -v] {
-                rates.push(Bound { value: v, label: format!("θ{}' limit", j + 1), series: Some(j) });
-            }
-        }
-        if let Some(v) = l.torque {
-            for v in [v, -v] {
-                torques.push(Bound { value: v, label: format!("τ{} limit", j + 1), series: Some(j) });
-            }
-        }
-    }
-    [angles, rates, torques]
-}
-
-/// The figure of any arm's plan: angles \[deg\], joint velocities with the base's rate
-/// \[rad/s\], torques \[N m\] (when computed), each with the arm's declared limits as dashed
-/// lines ([`arm_limit_bounds`]), and the arm's parameters (read from `source`); the caption
-/// gives both certificates and, with limits, the most-used one.
-pub fn arm_plan_figure(p: &ArmPlanned, title: String, source: &str) -> PlanFigure {
-    let tr = &p.trajectory;
-    let n = p.arm.joints();
-    let series = |label: String, f: &dyn Fn(usize) -> f64| Series {
-        label,
-        points: tr.iter().enumerate().map(|(i, s)| (s.t, f(i))).collect(),
-    };
-    let x_label = "t [s]".to_string();
-    let mut angles = vec![series("φ".into(), &|i| tr[i].phi.to_degrees())];
-    angles.extend((0..n).map(|j| series(format!("θ{}", j + 1), &|i| tr[i].theta[j].to_degrees())));
-    let mut rates: Vec<Series> = (0..n).map(|j| series(format!("θ{}'", j + 1), &|i| tr[i].rate[j])).collect();
-    rates.push(series("φ' (Eq. 7)".into(), &|i| p.arm.base_rate(&tr[i].theta, &tr[i].rate)));
-    let torques = match &p.torques {
-        Some(t) => (0..n).map(|j| series(format!("τ{}", j + 1), &|i| t.tau[i][j])).collect(),
-        None => vec![],
-    };
-    let [angle_bounds, rate_bounds, torque_bounds] = arm_limit_bounds(&p.arm);
-    let mut text = vec![
-        format!("{source}:"),
-        format!("base: M = {} kg, I = {} kg m²", p.arm.base.mass, p.arm.base.inertia),
-        format!("mount: a = {} m, b = {} m", p.arm.mount.a, p.arm.mount.b),
-    ];
-    for (k, l) in p.arm.links.iter().enumerate() {
-        text.push(format!(
-            "link {}: l = {} m, d = {} m, m = {} kg, I = {:.4} kg m²",
-            k + 1,
-            l.length,
-            l.com,
-            l.mass,
-            l.inertia
-        ));
-    }
-    text.push(format!("effort ∫|θ'|² dt = {:.4} rad²/s, plan {:.1} ms", p.effort(), p.seconds * 1e3));
-    let panels = vec![
-        Panel {
-            title: "Base orientation and joint angles".into(),
-            x_label: x_label.clone(),
-            y_label: "angle [deg]".into(),
-            series: angles,
-            bounds: angle_bounds,
-            ..Default::default()
-        },
-        Panel {
-            title: "Joint velocities (controls) and the base's rate".into(),
-            x_label: x_label.clone(),
-            y_label: "rate [rad/s]".into(),
-            series: rates,
-            include_zero: true,
-            bounds: rate_bounds,
-            ..Default::default()
-        },
-        Panel {
-            title: "Joint torques τ".into(),
-            x_label,
-            y_label: "τ [N m]".into(),
-            series: torques,
-            include_zero: true,
-            // Without torques the panel is empty: its limits alone are no picture.
-            bounds: if p.torques.is_some() { torque_bounds } else { vec![] },
-            ..Default::default()
-        },
-        Panel { title: "The arm".into(), text, ..Default::default() },
-    ];
-    let v = p.verification();
-    let verdict = |ok: bool| if ok { "certified" } else { "NOT certified" };
-    let mut caption = vec![format!(
-        "velocity level: verified final error {:.2e} rad (tolerance {:.0e}): {};  max |momentum| {:.1e} kg m²/s;  \
-         peak |θ'| = {:.4} rad/s",
-        v.final_error,
-        v.tolerance,
-        verdict(v.certified),
-        v.max_abs_momentum,
-        p.stats().map_or(0.0, |s| s.peak_velocity)
-    )];
-    if let Some(t) = &p.torques {
-        let c = &t.certificate;
-        let peaks: Vec<String> = t.max_abs_torque.iter().map(|x| format!("{x:.4}")).collect();
-        caption.push(format!(
-            "torque level: forward dynamics from rest, final error {:.2e} rad (tolerance {:.0e}): {};  peak |τ| = {} N m",
-            c.final_error,
-            c.tolerance,
-            verdict(c.certified),
-            peaks.join(", ")
-        ));
-    }
-    if let Some(u) = p.limits.most_used() {
-        caption.push(format!(
-            "limits (dashed): the most used is {}'s {} limit, {:.1} % at t = {:.2} s; {}",
-            u.name,
-            u.quantity.name(),
-            100.0 * u.used,
-            u.time,
-            if p.limits.inside { "every limit holds on the verified motion" } else { "a limit is EXCEEDED" }
-        ));
-    }
-    PlanFigure { title, panels, caption }
-}
-
 /// The animation of the case: the arm's points ([`Arm::joint_positions`]) at up to 501 samples.
 pub fn arm3_animation(p: &ArmPlanned) -> Animation {
     arm_animation(p, "arm3", ARM3_ANIMATION_TITLE)
 }
 
-/// The page's animation of an arm's plan, `id` and `title` its own: the arm's points
-/// ([`Arm::joint_positions`]) at up to 501 samples, and the joints at their limit at each
-/// ([`joints_at_limit`], on the samples' angles and rates).
-pub fn arm_animation(p: &ArmPlanned, id: &str, title: &str) -> Animation {
-    let n = p.trajectory.len();
-    let step = n.div_ceil(501).max(1);
-    let mut indices: Vec<usize> = (0..n).step_by(step).collect();
-    if n > 0 && indices.last() != Some(&(n - 1)) {
-        indices.push(n - 1);
-    }
-    let round = |x: f64| (x * 1e5).round() / 1e5;
-    let points = indices
-        .iter()
-        .map(|&i| {
-            let s = &p.trajectory[i];
-            let q: Vec<f64> = std::iter::once(s.phi).chain(s.theta.iter().copied()).collect();
-            p.arm.joint_positions(&q).iter().flat_map(|xy| xy.map(round)).collect()
-        })
-        .collect();
-    let at_limit = if watches_limits(&p.arm.limits) {
-        indices
-            .iter()
-            .map(|&i| {
-                let s = &p.trajectory[i];
-                let hot = joints_at_limit(&p.arm.limits, &s.theta, &s.rate);
-                hot.iter().enumerate().filter(|(_, h)| **h).map(|(j, _)| j + 1).collect()
-            })
-            .collect()
-    } else {
-        Vec::new()
-    };
-    Animation {
-        id: id.into(),
-        title: title.into(),
-        mount: [p.arm.mount.a, p.arm.mount.b],
-        base_size: BASE_SIZE,
-        t: indices.iter().map(|&i| round(p.trajectory[i].t)).collect(),
-        phi: indices.iter().map(|&i| round(p.trajectory[i].phi)).collect(),
-        points,
-        at_limit,
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::report::arm_figure::arm_limit_bounds;
 
     /// The case plans and is certified at both levels; the base ends turned by 30 deg; the
     /// animation has `n + 2` points per frame; the figure has four panels with three torques.

@@ -16,6 +16,7 @@
 
 pub mod arm;
 pub mod arm3;
+pub mod arm_figure;
 pub mod cases;
 pub mod figures;
 pub mod html;
@@ -28,9 +29,10 @@ pub mod reproduce;
 pub mod ros;
 pub mod summary;
 
+pub use arm_figure::{arm_animation, arm_limit_bounds, arm_plan_figure};
 pub use arm3::{
-    ARM3_FIGURE, ARM3_LIMITED_FIGURE, Arm3Row, arm_animation, arm_limit_bounds, arm_plan_figure, arm3_animation,
-    arm3_figure, arm3_limited_figure, plan_arm3, plan_arm3_limited,
+    ARM3_FIGURE, ARM3_LIMITED_FIGURE, Arm3Row, arm3_animation, arm3_figure, arm3_limited_figure, plan_arm3,
+    plan_arm3_limited,
 };
 pub use cases::{Case, CaseMethod, CaseOutcome, PaperSeconds, cases};
 pub use figures::{Animation, BASE_SIZE, animation, plan_figure};

@@ -9,10 +9,10 @@ use std::time::Instant;
 use rayon::prelude::*;
 use serde::Serialize;
 
+use super::arm_figure::arm_animation;
 use super::arm3::{
-    ARM3_ANIMATION_TITLE, ARM3_FIGURE, ARM3_LIMITED_ANIMATION_TITLE, ARM3_LIMITED_FIGURE, Arm3Row, arm_animation,
-    arm3_animation, arm3_figure, arm3_limited_figure, arm3_limited_markdown, arm3_markdown, plan_arm3,
-    plan_arm3_limited,
+    ARM3_ANIMATION_TITLE, ARM3_FIGURE, ARM3_LIMITED_ANIMATION_TITLE, ARM3_LIMITED_FIGURE, Arm3Row, arm3_animation,
+    arm3_figure, arm3_limited_figure, arm3_limited_markdown, arm3_markdown, plan_arm3, plan_arm3_limited,
 };
 use super::cases::{Case, CaseMethod, CaseOutcome, cases};
 use super::figures::{animation, plan_figure};

@@ -353,7 +353,11 @@ fn report_page_runs_in_a_headless_browser() {
     };
     assert_eq!(attribute("data-status"), "ok", "the page's script failed: {body}\n{log}");
     assert!(!log.contains("Uncaught"), "console errors: {log}");
-    assert_eq!(attribute("data-canvases"), "15", "one animation per plan (the 3-link arm's among them)");
+    assert_eq!(
+        attribute("data-canvases"),
+        "16",
+        "one animation per plan (the 3-link arm's, free and inside its velocity limits, among them)"
+    );
     let painted: usize = attribute("data-painted").parse().expect("a pixel count");
     assert!(painted > 2000, "an animation canvas is (nearly) blank: {painted} pixels drawn");
 

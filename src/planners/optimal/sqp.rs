@@ -26,6 +26,8 @@ use crate::error::Error;
 use crate::model::InputError;
 
 mod inequality;
+#[cfg(test)]
+mod tests_inequality;
 
 /// Inequalities `g(x) <= 0` at a point: values and sparse gradient rows.
 #[derive(Debug, Clone, Default, PartialEq)]
