@@ -3,7 +3,7 @@
 //! limit in each animation frame. Fig. 18 and Fig. 19 ([`super::arm3`]) and `plan --robot
 //! --plot` draw through these.
 
-use super::figures::{Animation, BASE_SIZE};
+use super::figures::{Animation, BASE_SIZE, animation_samples};
 use super::plot::{Bound, Panel, PlanFigure, Series, joints_at_limit, watches_limits};
 use crate::model::arm::Arm;
 use crate::planners::arm::ArmPlanned;
@@ -149,12 +149,7 @@ pub fn arm_plan_figure(p: &ArmPlanned, title: String, source: &str) -> PlanFigur
 /// ([`Arm::joint_positions`]) at up to 501 samples, and the joints at their limit at each
 /// ([`joints_at_limit`], on the samples' angles and rates).
 pub fn arm_animation(p: &ArmPlanned, id: &str, title: &str) -> Animation {
-    let n = p.trajectory.len();
-    let step = n.div_ceil(501).max(1);
-    let mut indices: Vec<usize> = (0..n).step_by(step).collect();
-    if n > 0 && indices.last() != Some(&(n - 1)) {
-        indices.push(n - 1);
-    }
+    let indices = animation_samples(p.trajectory.len());
     let round = |x: f64| (x * 1e5).round() / 1e5;
     let points = indices
         .iter()

@@ -144,15 +144,21 @@ pub struct Animation {
     pub at_limit: Vec<Vec<usize>>,
 }
 
-/// The animation of a planned case.
-pub fn animation(o: &CaseOutcome) -> Animation {
-    let tr = &o.plan.trajectory;
-    let n = tr.t.len();
+/// The indices of at most about 501 evenly spaced samples of `n`, the last one included: the
+/// frames of a page's animation.
+pub(crate) fn animation_samples(n: usize) -> Vec<usize> {
     let step = n.div_ceil(501).max(1);
     let mut indices: Vec<usize> = (0..n).step_by(step).collect();
     if n > 0 && indices.last() != Some(&(n - 1)) {
         indices.push(n - 1);
     }
+    indices
+}
+
+/// The animation of a planned case.
+pub fn animation(o: &CaseOutcome) -> Animation {
+    let tr = &o.plan.trajectory;
+    let indices = animation_samples(tr.t.len());
     let round = |x: f64| (x * 1e5).round() / 1e5;
     let robot = &o.plan.problem.robot;
     let points = indices

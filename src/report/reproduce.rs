@@ -354,29 +354,21 @@ fn reproduce_into(
             gifs.push(name);
         }
     }
-    if let (Some(options), Ok(p)) = (gif, &arm3) {
-        let (name, clock) = ("anim-arm3.gif".to_string(), Instant::now());
-        let path = out.join(&name);
-        let bytes = arm_animation_gif(p, ARM3_ANIMATION_TITLE, options, &path)?;
-        write_atomic(&path, &bytes)?;
-        progress(
-            &format!("{:<14} animation", "arm3"),
-            clock.elapsed().as_secs_f64(),
-            &format!("{} KiB", bytes.len() / 1024),
-        );
-        gifs.push(name);
-    }
-    if let (Some(options), Ok(p)) = (gif, &arm3_limited) {
-        let (name, clock) = ("anim-arm3-limits.gif".to_string(), Instant::now());
-        let path = out.join(&name);
-        let bytes = arm_animation_gif(p, ARM3_LIMITED_ANIMATION_TITLE, options, &path)?;
-        write_atomic(&path, &bytes)?;
-        progress(
-            &format!("{:<14} animation", "arm3-limits"),
-            clock.elapsed().as_secs_f64(),
-            &format!("{} KiB", bytes.len() / 1024),
-        );
-        gifs.push(name);
+    let arm_gifs =
+        [("arm3", &arm3, ARM3_ANIMATION_TITLE), ("arm3-limits", &arm3_limited, ARM3_LIMITED_ANIMATION_TITLE)];
+    for (id, planned, title) in arm_gifs {
+        if let (Some(options), Ok(p)) = (gif, planned) {
+            let (name, clock) = (format!("anim-{id}.gif"), Instant::now());
+            let path = out.join(&name);
+            let bytes = arm_animation_gif(p, title, options, &path)?;
+            write_atomic(&path, &bytes)?;
+            progress(
+                &format!("{id:<14} animation"),
+                clock.elapsed().as_secs_f64(),
+                &format!("{} KiB", bytes.len() / 1024),
+            );
+            gifs.push(name);
+        }
     }
     let seconds = clock.elapsed().as_secs_f64();
 
