@@ -21,6 +21,8 @@
 //! Every limit is tightened by a relative `1e-9` of itself so that a solution within the SQP's
 //! tolerance is inside the declared one.
 
+mod clearance;
+
 use std::f64::consts::TAU;
 
 use nalgebra::DVector;
@@ -62,6 +64,8 @@ pub(crate) struct Limited<'a> {
     /// `(joint, 1 / tau_max)` of the torque-limited joints.
     torque: Vec<(usize, f64)>,
     base: Option<[f64; 2]>,
+    /// The clearance rows of an arm with shapes (issue 21).
+    clearance: Option<clearance::Clearance>,
     /// Free index of coefficient `i` of joint `j`: `free[i]` times `n` plus `j`.
     free: Vec<Option<usize>>,
 }
@@ -137,7 +141,8 @@ impl<'a> Limited<'a> {
             }
         }
         let base = arm.limits.base.map(|[lo, hi]| [lo + MARGIN * (hi - lo), hi - MARGIN * (hi - lo)]);
-        Some(Self { disc, arm, connection, linear, torque, base, free })
+        let clearance = clearance::Clearance::new(arm);
+        Some(Self { disc, arm, connection, linear, torque, base, clearance, free })
     }
 
     /// `x` with every position-limited joint's free coefficients clipped into its range (a seed
@@ -239,51 +244,97 @@ impl<'a> Limited<'a> {
     /// The base-range rows (two per breakpoint after `t = 0`) into `out`.
     fn base(&self, c: &[Vec<f64>], order: usize, out: &mut Inequalities) {
         let Some([lo, hi]) = self.base else { return };
+        for point in self.phi_path(c, 1, order) {
+            out.values.push(point.phi - hi);
+            out.values.push(lo - point.phi);
+            if order >= 1 {
+                let row: Vec<(usize, f64)> =
+                    point.grad.iter().enumerate().filter(|(_, v)| **v != 0.0).map(|(i, v)| (i, *v)).collect();
+                out.rows.push(row.clone());
+                out.rows.push(row.into_iter().map(|(i, v)| (i, -v)).collect());
+            }
+        }
+    }
+
+    /// The base angle `phi(t) = phi(0) - integral_0^t g` (Eq. 7 at zero momentum) at the ends of
+    /// the `pieces` equal parts of every knot span (`t = T` last), by 8-node Gauss–Legendre
+    /// quadrature per part, with its exact gradient in the free coefficients for `order >= 1`
+    /// (empty otherwise).
+    fn phi_path(&self, c: &[Vec<f64>], pieces: usize, order: usize) -> Vec<PathPoint> {
         let basis = self.disc.basis();
         let (p, n) = (basis.degree(), self.arm.joints());
         let connection = self.connection;
         let rule = GaussLegendre::new(8);
         let b = basis.breakpoints();
         let mut phi = self.disc.targets().phi_start;
-        let mut grad = vec![0.0; self.disc.dim()];
+        let mut grad = vec![0.0; if order >= 1 { self.disc.dim() } else { 0 }];
         let mut local = Local::new(n);
         let (mut th, mut w) = (vec![0.0; n], vec![0.0; n]);
+        let mut out = Vec::with_capacity(pieces * (b.len() - 1));
         for (s, win) in b.windows(2).enumerate() {
             let span = basis.span_of_interval(s);
             let first = span - p;
-            let (mid, half) = ((win[0] + win[1]) / 2.0, (win[1] - win[0]) / 2.0);
-            for (xi, wi) in rule.nodes.iter().zip(&rule.weights) {
-                let t = mid + half * xi;
-                let [value, rate] = basis.values_and_rates(span, t);
-                for j in 0..n {
-                    th[j] = (0..=p).map(|l| value[l] * c[j][first + l]).sum();
-                    w[j] = (0..=p).map(|l| rate[l] * c[j][first + l]).sum();
-                }
-                let weight = half * wi;
-                if order >= 1 {
-                    connection.local(&th, &w, &mut local);
-                    phi -= weight * local.value;
-                    for l in 0..=p {
-                        for j in 0..n {
-                            if let Some(idx) = self.index(first + l, j) {
-                                grad[idx] -= weight * (local.gradient[j] * value[l] + local.a[j] * rate[l]);
+            let width = (win[1] - win[0]) / pieces as f64;
+            for k in 0..pieces {
+                let (from, to) =
+                    (win[0] + width * k as f64, if k + 1 == pieces { win[1] } else { win[0] + width * (k + 1) as f64 });
+                let (mid, half) = ((from + to) / 2.0, (to - from) / 2.0);
+                for (xi, wi) in rule.nodes.iter().zip(&rule.weights) {
+                    let t = mid + half * xi;
+                    let [value, rate] = basis.values_and_rates(span, t);
+                    for j in 0..n {
+                        th[j] = (0..=p).map(|l| value[l] * c[j][first + l]).sum();
+                        w[j] = (0..=p).map(|l| rate[l] * c[j][first + l]).sum();
+                    }
+                    let weight = half * wi;
+                    if order >= 1 {
+                        connection.local(&th, &w, &mut local);
+                        phi -= weight * local.value;
+                        for l in 0..=p {
+                            for j in 0..n {
+                                if let Some(idx) = self.index(first + l, j) {
+                                    grad[idx] -= weight * (local.gradient[j] * value[l] + local.a[j] * rate[l]);
+                                }
                             }
                         }
+                    } else {
+                        phi -= weight * connection.value(&th, &w);
                     }
-                } else {
-                    phi -= weight * connection.value(&th, &w);
                 }
-            }
-            out.values.push(phi - hi);
-            out.values.push(lo - phi);
-            if order >= 1 {
-                let row: Vec<(usize, f64)> =
-                    grad.iter().enumerate().filter(|(_, v)| **v != 0.0).map(|(i, v)| (i, *v)).collect();
-                out.rows.push(row.clone());
-                out.rows.push(row.into_iter().map(|(i, v)| (i, -v)).collect());
+                out.push(PathPoint { t: to, span, phi, grad: grad.clone() });
             }
         }
+        out
     }
+}
+
+impl Limited<'_> {
+    /// The times of [`Limited::phi_path`] without the base angle (`phi` 0, no gradient).
+    fn path_points(&self, pieces: usize) -> Vec<PathPoint> {
+        let b = self.disc.basis().breakpoints();
+        let p = self.disc.basis().degree();
+        let mut out = Vec::with_capacity(pieces * (b.len() - 1));
+        for (s, win) in b.windows(2).enumerate() {
+            let width = (win[1] - win[0]) / pieces as f64;
+            for k in 1..=pieces {
+                let t = if k == pieces { win[1] } else { win[0] + width * k as f64 };
+                out.push(PathPoint { t, span: s + p, phi: 0.0, grad: Vec::new() });
+            }
+        }
+        out
+    }
+}
+
+/// The base angle at one time of [`Limited::phi_path`].
+struct PathPoint {
+    /// The time \[s\].
+    t: f64,
+    /// The knot span (of the basis' numbering) the point closes.
+    span: usize,
+    /// `phi(t)` \[rad\].
+    phi: f64,
+    /// `d phi(t) / dx` in the free coefficients (empty for order 0).
+    grad: Vec<f64>,
 }
 
 impl Discretised for Limited<'_> {
@@ -315,6 +366,7 @@ impl Discretised for Limited<'_> {
         }
         self.torques(&c, order, &mut out);
         self.base(&c, order, &mut out);
+        self.clearance(&c, order, &mut out);
         Some(out)
     }
 }
@@ -329,7 +381,7 @@ pub(crate) fn solve(
     options: &SqpOptions,
     guess: Option<f64>,
 ) -> Result<SqpResult, Error> {
-    if planner.arm.limits.is_empty() {
+    if planner.arm.limits.is_empty() && planner.arm.geometry.pairs(planner.arm.joints()).is_empty() {
         return sqp::solve(disc, x0, options, guess);
     }
     match Limited::new(planner, disc) {

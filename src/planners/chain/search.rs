@@ -25,6 +25,9 @@ pub(super) const COARSE_SQP: SqpOptions =
 /// line is solved in any case.
 const LATER_ESTIMATE_RATIO: f64 = 10.0;
 
+/// How many times a plan under the clearance between the rows' points is solved again.
+const CLEARANCE_RETRIES: usize = 3;
+
 /// The tables built in one planning call, by (uniform spans, quadrature nodes).
 #[derive(Default)]
 pub(super) struct Tables(RefCell<Vec<TableEntry>>);
@@ -146,11 +149,23 @@ impl ChainPlanner {
             }
         }
         done.sort_by(|a, b| a.result.f.total_cmp(&b.result.f));
+        // A plan under the clearance between the rows' points (issue 21) is solved again keeping
+        // more; if none clears, the least bad is returned for its certificate to report.
+        let mut closest: Option<ChainPlan> = None;
         for c in &done {
-            match self.certified(problem, c, seeds, iterations, clock) {
-                Ok(plan) => return Ok(plan),
+            match self.certified_clear(problem, c, seeds, iterations, clock, &tables) {
+                Ok(Ok(plan)) => return Ok(plan),
+                Ok(Err(plan)) => {
+                    let min = |p: &ChainPlan| p.verification.clearance.map_or(f64::NEG_INFINITY, |r| r.min);
+                    if closest.as_ref().is_none_or(|b| min(&plan) > min(b)) {
+                        closest = Some(plan);
+                    }
+                }
                 Err(e) => not_certified = not_certified.or(Some(e)),
             }
+        }
+        if let Some(plan) = closest {
+            return Ok(plan);
         }
         if let Some(e) = not_certified {
             return Err(e);
@@ -306,6 +321,41 @@ impl ChainPlanner {
         let result = super::limits::solve(self, &disc, x0, &self.options.sqp, guess)?;
         let iterations = c.iterations + result.iterations;
         Ok(Candidate { disc, result, spans, nodes, iterations })
+    }
+
+    /// [`Self::certified`], and where the certified plan comes under the clearance (the rows
+    /// hold at their points only, see [`super::limits`]), the candidate solved again with the
+    /// rows keeping the deficit twice over, up to [`CLEARANCE_RETRIES`] times; `Ok(Err(plan))`
+    /// with the closest plan when none clears.
+    fn certified_clear(
+        &self,
+        problem: &ChainProblem,
+        c: &Candidate,
+        seeds: usize,
+        iterations: usize,
+        clock: Instant,
+        tables: &Tables,
+    ) -> Result<Result<ChainPlan, ChainPlan>, Error> {
+        let mut plan = self.certified(problem, c, seeds, iterations, clock)?;
+        let required = self.arm.geometry.clearance;
+        let mut keep = required;
+        for _ in 0..CLEARANCE_RETRIES {
+            let Some(report) = plan.verification.clearance.filter(|r| !r.holds()) else { return Ok(Ok(plan)) };
+            keep += 2.0 * (required - report.min);
+            let mut arm = (*self.arm).clone();
+            arm.geometry.clearance = keep;
+            let stricter =
+                ChainPlanner { arm: Arc::new(arm), options: self.options.clone(), connection: self.connection.clone() };
+            let again = stricter.resolve(problem, c, c.spans, c.nodes, tables)?;
+            if !again.result.converged() {
+                break;
+            }
+            match self.certified(problem, &again, seeds, iterations + again.iterations, clock) {
+                Ok(p) => plan = p,
+                Err(_) => break,
+            }
+        }
+        if plan.verification.clearance.is_none_or(|r| r.holds()) { Ok(Ok(plan)) } else { Ok(Err(plan)) }
     }
 
     fn plan_of(&self, c: &Candidate, stats: ChainStats) -> ChainPlan {
