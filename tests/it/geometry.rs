@@ -132,23 +132,23 @@ fn toml_width_and_shape_keys() {
     assert!(e.contains("link[1].shape"), "{e}");
 }
 
-/// The SPART-like plan passes link 4 through the base: never certified (exit 3 naming the bodies,
-/// the time and the depth; the JSON report says `"certified": false` with its `clearance`); with
-/// the base's pairs excluded the links clear each other and the plan is certified with its
-/// clearance block.
+/// The SPART-like fixture's plan (its own limits): the unconstrained minimum passes link 4
+/// through the base (measured -0.279 m at t = 6.4 s without clearance rows, issue 21); the
+/// planner keeps the clearance asked for as a constraint, so the plan with `--clearance 0.02` is
+/// certified on the integrated motion with at least 0.02 m between every pair, and costs more
+/// than the plan that ignores the base (which clears the links among themselves, > 0.1 m, and is
+/// certified with its clearance block).
 #[test]
-fn the_spart_like_plan_collides_with_the_base_and_clears_without_it() {
+fn the_spart_like_plan_keeps_its_clearance_from_the_base() {
     let f = fixture();
-    let plan = ["plan", "--urdf", &f, "--from", FROM, "--to", TO, "--limit", "all=none", "--format", "json"];
-    let o = freefloat(&plan);
-    assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
-    assert!(stderr(&o).contains("base and link 4 come") && stderr(&o).contains("into each other"), "{}", stderr(&o));
+    let plan = ["plan", "--urdf", &f, "--from", FROM, "--to", TO, "--format", "json"];
+    let o = freefloat(&[&plan[..], &["--clearance", "0.02"]].concat());
+    assert!(o.status.success(), "{}", stderr(&o));
     let r: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
-    assert_eq!(r["certified"], false);
+    assert_eq!(r["certified"], true);
     let c = &r["clearance"];
-    assert_eq!(c["between"], serde_json::json!(["base", "link 4"]));
-    let (min, time) = (c["min"].as_f64().unwrap(), c["time"].as_f64().unwrap());
-    assert!((-0.35..-0.2).contains(&min) && (5.5..7.0).contains(&time), "{c}");
+    assert!(c["min"].as_f64().unwrap() >= 0.02 && c["holds"] == true, "{c}");
+    let kept = r["effort"].as_f64().unwrap();
 
     let o = freefloat(&[&plan[..], &NO_BASE[..]].concat());
     assert!(o.status.success(), "{}", stderr(&o));
@@ -156,10 +156,8 @@ fn the_spart_like_plan_collides_with_the_base_and_clears_without_it() {
     let c = &r["clearance"];
     assert_eq!((&r["certified"], &c["between"]), (&serde_json::json!(true), &serde_json::json!(["link 1", "link 3"])));
     assert!(c["min"].as_f64().unwrap() > 0.1 && c["holds"] == true, "{c}");
-    // --clearance above it: not certified.
-    let o = freefloat(&[&plan[..], &NO_BASE[..], &["--clearance", "0.2"]].concat());
-    assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
-    assert!(stderr(&o).contains("link 1 and link 3 come within"), "{}", stderr(&o));
+    let free = r["effort"].as_f64().unwrap();
+    assert!(kept > free, "kept clear {kept} against {free} ignoring the base");
 }
 
 /// An obstacle where the unconstrained plan's end effector arrives: exit 3 naming the obstacle,

@@ -101,7 +101,7 @@ fn derivative_rows(knots: &[f64], p: usize, len: usize, order: usize) -> Vec<Vec
 impl<'a> Limited<'a> {
     /// The constraints of `arm`'s limits on `disc`; `None` when the basis' knots are not the
     /// clamped simple ones this module assumes (never for the planner's bases).
-    fn new(planner: &'a ChainPlanner, disc: &'a Discretisation) -> Option<Self> {
+    pub(super) fn new(planner: &'a ChainPlanner, disc: &'a Discretisation) -> Option<Self> {
         let (arm, connection) = (&*planner.arm, &*planner.connection);
         let basis = disc.basis();
         let (p, len) = (basis.degree(), basis.len());
@@ -141,7 +141,7 @@ impl<'a> Limited<'a> {
             }
         }
         let base = arm.limits.base.map(|[lo, hi]| [lo + MARGIN * (hi - lo), hi - MARGIN * (hi - lo)]);
-        let clearance = clearance::Clearance::new(arm);
+        let clearance = planner.clearance_rows.then(|| clearance::Clearance::new(arm)).flatten();
         Some(Self { disc, arm, connection, linear, torque, base, clearance, free })
     }
 
@@ -381,7 +381,7 @@ pub(crate) fn solve(
     options: &SqpOptions,
     guess: Option<f64>,
 ) -> Result<SqpResult, Error> {
-    if planner.arm.limits.is_empty() && planner.arm.geometry.pairs(planner.arm.joints()).is_empty() {
+    if planner.arm.limits.is_empty() && !keeps_clearance(planner) {
         return sqp::solve(disc, x0, options, guess);
     }
     match Limited::new(planner, disc) {
@@ -395,6 +395,12 @@ pub(crate) fn solve(
             expected: "a clamped spline basis with simple interior knots",
         })),
     }
+}
+
+/// True when `planner` solves with clearance rows: its arm has shapes on two of its own bodies
+/// that are checked, and the rows are on.
+pub(crate) fn keeps_clearance(planner: &ChainPlanner) -> bool {
+    planner.clearance_rows && clearance::Clearance::new(&planner.arm).is_some()
 }
 
 /// Keeps the goal representatives inside the ranges: each limited joint's goal is moved by whole

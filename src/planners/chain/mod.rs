@@ -255,13 +255,16 @@ pub struct ChainPlanner {
     /// Options.
     pub options: ChainOptions,
     connection: Arc<connection::Connection>,
+    /// The clearance between the robot's own bodies as constraints (issue 21; off for the first,
+    /// unconstrained search, whose plan is the constrained minimum when it clears).
+    clearance_rows: bool,
 }
 
 impl ChainPlanner {
     /// A planner for `arm` with `options`.
     pub fn new(arm: Arm, options: ChainOptions) -> Self {
         let connection = Arc::new(connection::Connection::new(&arm));
-        Self { arm: Arc::new(arm), options, connection }
+        Self { arm: Arc::new(arm), options, connection, clearance_rows: true }
     }
 
     /// The arm.
@@ -283,6 +286,9 @@ impl ChainPlanner {
 
 #[cfg(test)]
 mod tests;
+
+#[cfg(test)]
+mod tests_clearance;
 
 #[cfg(test)]
 mod tests_cost;

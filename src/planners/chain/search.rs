@@ -10,6 +10,7 @@ use super::motion::{ChainPlan, ChainStats};
 use super::starts::Prepared;
 use super::{ChainPlanner, ChainProblem};
 use crate::error::Error;
+use crate::model::arm::collision::Body;
 use crate::plan::certificate::verify_chain;
 use crate::planners::optimal::spline::SplineBasis;
 use crate::planners::optimal::sqp::{SqpOptions, SqpResult, Termination};
@@ -71,6 +72,18 @@ impl ChainPlanner {
             return self.single_joint(problem, prepared, &tables, clock);
         }
         let o = &self.options;
+        // With clearance rows, first the search without them: where its plan clears, it is the
+        // constrained minimum too (the rows would not be active), found at the unconstrained
+        // search's speed. Where it comes closest to an obstacle, which no row keeps, it is
+        // returned for its certificate to report.
+        if super::limits::keeps_clearance(self) {
+            let free = ChainPlanner { clearance_rows: false, ..self.clone() };
+            if let Ok(plan) = free.plan(problem)
+                && plan.verification.clearance.is_none_or(|r| r.holds() || matches!(r.b, Body::Obstacle(_)))
+            {
+                return Ok(plan);
+            }
+        }
         if let Some(path) = &o.warm_start
             && let Some(plan) = self.warm(problem, path, &prepared, &tables, clock)?
         {
@@ -337,6 +350,9 @@ impl ChainPlanner {
         tables: &Tables,
     ) -> Result<Result<ChainPlan, ChainPlan>, Error> {
         let mut plan = self.certified(problem, c, seeds, iterations, clock)?;
+        if !super::limits::keeps_clearance(self) {
+            return Ok(if plan.verification.clearance.is_none_or(|r| r.holds()) { Ok(plan) } else { Err(plan) });
+        }
         let required = self.arm.geometry.clearance;
         let mut keep = required;
         for _ in 0..CLEARANCE_RETRIES {
@@ -344,8 +360,7 @@ impl ChainPlanner {
             keep += 2.0 * (required - report.min);
             let mut arm = (*self.arm).clone();
             arm.geometry.clearance = keep;
-            let stricter =
-                ChainPlanner { arm: Arc::new(arm), options: self.options.clone(), connection: self.connection.clone() };
+            let stricter = ChainPlanner { arm: Arc::new(arm), ..self.clone() };
             let again = stricter.resolve(problem, c, c.spans, c.nodes, tables)?;
             if !again.result.converged() {
                 break;
