@@ -38,7 +38,7 @@ pub(super) struct Clearance {
 }
 
 impl Clearance {
-    /// The rows for the arm's geometry; `None` when no pair is checked.
+    /// The rows for the arm's geometry; `None` when no pair of its own bodies is checked.
     pub(super) fn new(arm: &crate::model::arm::Arm) -> Option<Self> {
         let geometry: &Geometry = &arm.geometry;
         if !geometry.pairs(arm.joints()).iter().any(|&(_, b)| !matches!(b, Body::Obstacle(_))) {
