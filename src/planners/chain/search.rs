@@ -71,21 +71,36 @@ impl ChainPlanner {
         if self.arm.joints() == 1 {
             return self.single_joint(problem, prepared, &tables, clock);
         }
-        let o = &self.options;
         // With clearance rows, first the search without them: where its plan clears, it is the
         // constrained minimum too (the rows would not be active), found at the unconstrained
         // search's speed. Where it comes closest to an obstacle, which no row keeps, it is
         // returned for its certificate to report.
+        // Where the search with rows finds no plan, the one without is returned likewise.
         if super::limits::keeps_clearance(self) {
             let free = ChainPlanner { clearance_rows: false, ..self.clone() };
-            if let Ok(plan) = free.plan(problem)
+            let free = free.plan(problem);
+            if let Ok(plan) = &free
                 && plan.verification.clearance.is_none_or(|r| r.holds() || matches!(r.b, Body::Obstacle(_)))
             {
-                return Ok(plan);
+                return free;
             }
+            let kept = self.search(problem, prepared, &tables, clock);
+            return if kept.is_err() && free.is_ok() { free } else { kept };
         }
+        self.search(problem, prepared, &tables, clock)
+    }
+
+    /// The search of [`Self::plan`] after its checks (module docs).
+    fn search(
+        &self,
+        problem: &ChainProblem,
+        prepared: Vec<Prepared>,
+        tables: &Tables,
+        clock: Instant,
+    ) -> Result<ChainPlan, Error> {
+        let o = &self.options;
         if let Some(path) = &o.warm_start
-            && let Some(plan) = self.warm(problem, path, &prepared, &tables, clock)?
+            && let Some(plan) = self.warm(problem, path, &prepared, tables, clock)?
         {
             return Ok(plan);
         }
@@ -115,7 +130,7 @@ impl ChainPlanner {
                 } else {
                     taken += 1;
                 }
-                for (c, extra) in self.solve_seeds(problem, &p, &tables)? {
+                for (c, extra) in self.solve_seeds(problem, &p, tables)? {
                     seeds += 1;
                     iterations += c.iterations;
                     if !extra && c.feasible() {
@@ -150,7 +165,7 @@ impl ChainPlanner {
                 }
                 refined.push(f);
                 tried += usize::from(!extra);
-                let c = self.refine(problem, c, &tables)?;
+                let c = self.refine(problem, c, tables)?;
                 iterations += c.iterations;
                 if c.result.converged() {
                     converged += usize::from(!extra);
@@ -166,7 +181,7 @@ impl ChainPlanner {
         // more; if none clears, the least bad is returned for its certificate to report.
         let mut closest: Option<ChainPlan> = None;
         for c in &done {
-            match self.certified_clear(problem, c, seeds, iterations, clock, &tables) {
+            match self.certified_clear(problem, c, seeds, iterations, clock, tables) {
                 Ok(Ok(plan)) => return Ok(plan),
                 Ok(Err(plan)) => {
                     let min = |p: &ChainPlan| p.verification.clearance.map_or(f64::NEG_INFINITY, |r| r.min);
