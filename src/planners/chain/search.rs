@@ -75,7 +75,8 @@ impl ChainPlanner {
         // constrained minimum too (the rows would not be active), found at the unconstrained
         // search's speed. Where it comes closest to an obstacle, which no row keeps, it is
         // returned for its certificate to report.
-        // Where the search with rows finds no plan, the one without is returned likewise.
+        // Where the search with rows finds no plan that clears, the less bad of the two is
+        // returned likewise (its certificate names the pair, the time and the depth).
         if super::limits::keeps_clearance(self) {
             let free = ChainPlanner { clearance_rows: false, ..self.clone() };
             let free = free.plan(problem);
@@ -85,7 +86,12 @@ impl ChainPlanner {
                 return free;
             }
             let kept = self.search(problem, prepared, &tables, clock);
-            return if kept.is_err() && free.is_ok() { free } else { kept };
+            let least = |p: &ChainPlan| p.verification.clearance.map_or(f64::INFINITY, |r| r.min);
+            return match (kept, free) {
+                (Ok(k), Ok(f)) if least(&f) > least(&k) => Ok(f),
+                (Err(_), Ok(f)) => Ok(f),
+                (kept, _) => kept,
+            };
         }
         self.search(problem, prepared, &tables, clock)
     }

@@ -8,8 +8,15 @@ use crate::model::arm::{JointLimits, Limits};
 
 const SPART: &str = include_str!("../../../examples/robots/spart_like_4dof.urdf");
 
-fn spart(position: f64, velocity: f64, torque: f64) -> Arm {
+/// The example without its shapes: these tests are of the limits (the clearance rows, a
+/// constraint of their own, are tested in `tests_clearance` and tests/it/geometry.rs).
+fn shape_free() -> Arm {
     let arm = Arm::from_urdf_str(SPART, std::path::Path::new("spart_like_4dof.urdf")).expect("the example URDF");
+    Arm { geometry: Default::default(), ..arm }
+}
+
+fn spart(position: f64, velocity: f64, torque: f64) -> Arm {
+    let arm = shape_free();
     let joint = JointLimits {
         position: Some([-position, position]),
         velocity: Some(velocity),
@@ -85,7 +92,7 @@ fn a_start_outside_a_range_is_refused_naming_it() {
 /// much (it is feasible for the unconstrained problem).
 #[test]
 fn tight_limits_bind_and_hold() {
-    let free = Arm::from_urdf_str(SPART, std::path::Path::new("spart_like_4dof.urdf")).expect("the example URDF");
+    let free = shape_free();
     let tight = spart(2.0, 0.3, 50.0);
     let problem =
         ChainProblem::rest_to_rest(deg([0.0, 20.0, -30.0, 40.0, 10.0]), deg([30.0, 60.0, 30.0, -20.0, 40.0]), 30.0);

@@ -396,8 +396,10 @@ fn against_the_oracle(cases: &[(&[&str], f64)]) {
 /// the oracle's.
 #[test]
 fn a_binding_position_range_matches_an_independent_oracle() {
+    // Without the example's shapes: the oracle knows no clearance.
     let free = Arm::from_urdf_str(include_str!("../../../examples/robots/spart_like_4dof.urdf"), "spart.urdf".as_ref())
         .expect("the example URDF");
+    let free = Arm { geometry: Default::default(), ..free };
     let joint =
         JointLimits { position: Some([-2.0, 2.0]), velocity: Some(0.3), torque: Some(50.0), acceleration: None };
     let tight = free.clone().with_limits(Limits { joints: vec![joint; 4], base: None }).expect("valid limits");
