@@ -16,7 +16,8 @@
 //! - `replan`: `ct` plus receding-horizon re-planning ([`replan`], the `n`-joint minimum-effort
 //!   planner) from the measured state to the goal in the remaining time, which steers `phi` back;
 //! - `adaptive`: `replan` on a model whose momentum map (Eqs. 5, 8 for `n` links) is identified
-//!   on line ([`identify`]), so that the re-plans aim right.
+//!   on line ([`identify`]), so that the re-plans aim right, and whose common factor the joint
+//!   torques' work fixes ([`energy`]), so that the computed torque is the robot's.
 //!
 //! [`track()`] runs one of them; [`monte_carlo()`] runs many seeded trials in parallel, whole or
 //! in shards whose checked files ([`trials_file`]) merge into the whole.
@@ -41,6 +42,7 @@
 
 pub mod certificate;
 pub mod control;
+pub mod energy;
 pub mod hold;
 pub mod identify;
 pub mod monte_carlo;
@@ -72,5 +74,7 @@ pub use run::{
 mod tests;
 #[cfg(test)]
 mod tests_clearance;
+#[cfg(test)]
+mod tests_hard;
 #[cfg(test)]
 mod tests_limits;

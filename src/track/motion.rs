@@ -30,6 +30,11 @@ pub trait ArmMotion: Sync {
     fn joints_at(&self, t: f64) -> Result<JointPoint, Error>;
     /// The base angle `phi` at `t` \[s\] (clamped to `[0, T]`) \[rad\].
     fn phi(&self, t: f64) -> Result<f64, Error>;
+    /// The breakpoints `0 = b_0 < .. < b_N = T` of the motion's spline basis \[s\], where it is
+    /// a spline (the minimum-effort planner's): a re-plan keeps them ([`super::replan`]).
+    fn breakpoints(&self) -> Option<Vec<f64>> {
+        None
+    }
     /// `q = (phi, theta)` at `t` \[s\] \[rad\].
     fn q(&self, t: f64) -> Result<Vec<f64>, Error> {
         let mut q = vec![self.phi(t)?];
@@ -61,6 +66,10 @@ impl ArmMotion for ChainPlan {
 
     fn phi(&self, t: f64) -> Result<f64, Error> {
         Ok(ChainPlan::phi(self, t))
+    }
+
+    fn breakpoints(&self) -> Option<Vec<f64>> {
+        Some(self.basis().breakpoints().to_vec())
     }
 }
 
@@ -103,6 +112,13 @@ impl ArmMotion for ArmPlan {
         match self {
             ArmPlan::Optimal(p) => ArmMotion::phi(p, t),
             ArmPlan::Ecsa(p) => ArmMotion::phi(p, t),
+        }
+    }
+
+    fn breakpoints(&self) -> Option<Vec<f64>> {
+        match self {
+            ArmPlan::Optimal(p) => ArmMotion::breakpoints(p),
+            ArmPlan::Ecsa(_) => None,
         }
     }
 }

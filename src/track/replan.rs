@@ -11,6 +11,10 @@ use crate::model::arm::Arm;
 use crate::numerics::ode::OdeOptions;
 use crate::planners::chain::{ChainOptions, ChainPlan, ChainPlanner, ChainProblem, WarmStart};
 
+/// The most spans of a re-plan's basis ([`Replanner`]): a motion of 25 joint turns, the
+/// hardest of issue 22's hard set, takes about 160.
+pub const MAX_REPLAN_SPANS: usize = 256;
+
 /// Options of the re-planning.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ReplanOptions {
@@ -46,6 +50,8 @@ impl Default for ReplanOptions {
             planner: ChainOptions {
                 coarse_spans: 6,
                 max_spans: 6,
+                // No thin end layer (see `Replanner::knots_for`).
+                grading: 0,
                 targets_solved: 1,
                 finalists: 1,
                 loop_planes: 1,
@@ -156,7 +162,20 @@ impl Replanner {
             self.planner = Some(ChainPlanner::new(model.clone(), self.options.planner.clone()));
         }
         let planner = self.planner.as_mut()?;
-        planner.options.warm_start = Self::rest_of(current, t, horizon, 4 * self.options.planner.max_spans + 1);
+        let knots = Self::knots_for(current, t, horizon);
+        let times: Vec<f64> = match &knots {
+            // Cubic Hermite samples at every breakpoint and midpoint reproduce the rest of a
+            // spline of those knots exactly.
+            Some(b) => b.windows(2).flat_map(|w| [w[0], 0.5 * (w[0] + w[1])]).chain(b.last().copied()).collect(),
+            None => {
+                let spans = Self::spans_for(current, t, horizon, self.options.planner.coarse_spans);
+                (0..=4 * spans).map(|i| (horizon - t) * i as f64 / (4 * spans) as f64).collect()
+            }
+        };
+        let spans = knots.as_ref().map_or((times.len() - 1) / 4, |b| b.len() - 1);
+        (planner.options.coarse_spans, planner.options.max_spans) = (spans, spans);
+        planner.options.knots = knots;
+        planner.options.warm_start = Self::rest_of(current, t, &times);
         let plan = planner.plan(&problem).ok()?;
         // A plan whose verified motion comes closer than the model's clearance is refused (issue
         // 21): the last plan stays, as for any refused re-plan.
@@ -165,13 +184,71 @@ impl Replanner {
         (e.is_finite() && e <= self.options.accept).then_some(plan)
     }
 
-    /// The joint path of `current` from `t` to `horizon` at `n` equally spaced times, with its
+    /// The spans of a re-plan's basis from `t` to `horizon`: enough for the rest of `current` to
+    /// be a warm start, one per radian of the largest joint travel left (a joint loop takes six,
+    /// as the planner's own bases give them), at least `least` and at most [`MAX_REPLAN_SPANS`].
+    /// On a coarser basis the projection of a reference of many loops misses the goal's base
+    /// angle by up to a radian, and each re-plan falls back to the planner's full search.
+    fn spans_for(current: &Reference, t: f64, horizon: f64, least: usize) -> usize {
+        const SAMPLES: usize = 400;
+        let mut travel: Vec<f64> = Vec::new();
+        let mut last: Option<Vec<f64>> = None;
+        for i in 0..=SAMPLES {
+            let Ok(p) = current.joints_at(t + (horizon - t) * i as f64 / SAMPLES as f64) else { return least };
+            if let Some(last) = &last {
+                travel.resize(p.theta.len(), 0.0);
+                for ((d, a), b) in travel.iter_mut().zip(&p.theta).zip(last) {
+                    *d += (a - b).abs();
+                }
+            }
+            last = Some(p.theta);
+        }
+        let most = travel.iter().fold(0.0_f64, |m, d| m.max(*d));
+        (most.ceil() as usize).clamp(least, MAX_REPLAN_SPANS.max(least))
+    }
+
+    /// The breakpoints of a re-plan's basis from `t` to `horizon` (its own time from 0), where
+    /// `current` is a spline: its breakpoints after `t`, the first dropped when it is nearer to
+    /// `t` than half its span (a thin first span conditions the solve badly), those of a thin
+    /// last layer dropped; the last span's two halves where only it is left. `None` where
+    /// `current` is no spline.
+    fn knots_for(current: &Reference, t: f64, horizon: f64) -> Option<Vec<f64>> {
+        let (motion, t0) = current.motion();
+        let b = motion.breakpoints()?;
+        if ((t0 + motion.horizon()) - horizon).abs() > 1e-9 * horizon {
+            return None;
+        }
+        let mut knots = vec![0.0];
+        for w in b.windows(2) {
+            let (start, end) = (t0 + w[0], t0 + w[1]);
+            if end > t && end < horizon && (knots.len() > 1 || end - t >= 0.5 * (end - start)) {
+                knots.push(end - t);
+            }
+        }
+        // No thin last span: the minimum-effort plan brakes within its last span (the optimum of
+        // the effort has impulsive ends), and the torque of a stop in a thin layer, times the
+        // actuators' relative noise, is the final error of the run.
+        let mut widths: Vec<f64> = b.windows(2).map(|w| w[1] - w[0]).collect();
+        widths.sort_by(f64::total_cmp);
+        let typical = widths[widths.len() / 2];
+        while knots.len() > 1 && (horizon - t) - knots[knots.len() - 1] < 0.75 * typical {
+            knots.pop();
+        }
+        // The last span alone left (the final correction): its two halves.
+        if knots.len() == 1 {
+            knots.push(0.5 * (horizon - t));
+        }
+        knots.push(horizon - t);
+        Some(knots)
+    }
+
+    /// The joint path of `current` from `t` at the times `times` from 0 (increasing), with its
     /// own time starting at 0; `None` if it cannot be evaluated.
-    fn rest_of(current: &Reference, t: f64, horizon: f64, n: usize) -> Option<WarmStart> {
+    fn rest_of(current: &Reference, t: f64, times: &[f64]) -> Option<WarmStart> {
+        let n = times.len();
         let mut path =
             WarmStart { t: Vec::with_capacity(n), theta: Vec::with_capacity(n), rate: Vec::with_capacity(n) };
-        for i in 0..n {
-            let s = (horizon - t) * i as f64 / (n - 1) as f64;
+        for &s in times {
             let p = current.joints_at(t + s).ok()?;
             path.t.push(s);
             path.theta.push(p.theta);

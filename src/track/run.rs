@@ -6,6 +6,7 @@ use std::time::Instant;
 use serde::Serialize;
 
 use super::control::{Controller, Gains, computed_torque, feedforward};
+use super::energy::EnergyBalance;
 use super::hold::HoldCorrection;
 use super::identify::{
     Constants, Identifier, IdentifyOptions, fit_arm, momentum_map_error, parameter_names, parameters,
@@ -346,6 +347,7 @@ pub fn track_with(
     let controller = options.controller;
     let mut replanner = Replanner::new(plan.q(horizon)?, options.replan.clone());
     let mut identifier = Identifier::new(model, options.identify);
+    let mut energy = EnergyBalance::new(n, options.identify.forgetting_time);
     let mut fitted = model.clone();
     let mut reference = Reference::Initial(plan);
     let mut plant =
@@ -379,10 +381,15 @@ pub fn track_with(
         };
         if due && off > options.replan.threshold {
             let started = Instant::now();
-            if controller == Controller::Adaptive
-                && let Ok((arm, _)) = fit_arm(&identifier.estimate(), &fitted)
-            {
-                fitted = arm;
+            // The momentum fixes the parameters up to a common factor, the joint torques' work
+            // fixes the factor ([`super::energy`]): the computed torque needs both.
+            if controller == Controller::Adaptive {
+                let estimate = identifier.estimate();
+                let factor = energy.factor(&estimate);
+                let target: Vec<f64> = estimate.iter().map(|x| x * factor).collect();
+                if let Ok((arm, _)) = fit_arm(&target, &fitted) {
+                    fitted = arm;
+                }
             }
             match replanner.replan(&fitted, &measured, t, horizon, &reference) {
                 Some(motion) => {
@@ -403,6 +410,13 @@ pub fn track_with(
             Controller::Open => feedforward(&fitted, &centre),
             _ => computed_torque(&fitted, &measured, &centre, 0.5 * dt, &options.gains),
         };
+        if controller == Controller::Adaptive {
+            // The torque as the actuators take it: clamped at the limits the controller knows.
+            let limit =
+                |j: usize| model.limits.joint(j).torque.unwrap_or(f64::INFINITY).min(options.disturbances.torque_limit);
+            let held: Vec<f64> = command.iter().enumerate().map(|(j, t)| t.clamp(-limit(j), limit(j))).collect();
+            energy.update(&measured, &held, dt);
+        }
         let before = history.is_some().then(|| plant.state().q);
         let applied = plant.step_observed(&command, dt, options.substeps, t, &mut |s, q, dq| {
             if let Some(c) = clearance.as_mut() {

@@ -138,12 +138,17 @@ pub struct ChainOptions {
     /// basis, solved and refined on the goal representative it ends at; when that converges and
     /// certifies it is the plan, else the full search runs. Default none.
     pub warm_start: Option<WarmStart>,
+    /// The breakpoints `0 = b_0 < .. < b_N = T` of every basis of the search instead of
+    /// `coarse_spans` to `max_spans` uniform ones (set both to `N` then): a re-plan keeps the
+    /// knots of the reference it corrects, whose rest is then a spline of the basis and its
+    /// warm start exact. Default none.
+    pub knots: Option<Vec<f64>>,
 }
 
 /// Sampled `(t, theta, theta')` of `n` joints, interpolated by cubic Hermite polynomials.
 #[derive(Debug, Clone, PartialEq)]
 pub struct WarmStart {
-    /// Equally spaced times from 0 \[s\].
+    /// Increasing times from 0 \[s\].
     pub t: Vec<f64>,
     /// Joint angles at the times \[rad\], `n` per sample.
     pub theta: Vec<Vec<f64>>,
@@ -211,6 +216,7 @@ impl Default for ChainOptions {
             max_loop_radius: 2.0,
             sqp: SqpOptions::default(),
             warm_start: None,
+            knots: None,
         }
     }
 }

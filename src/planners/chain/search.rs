@@ -10,6 +10,7 @@ use super::motion::{ChainPlan, ChainStats};
 use super::starts::Prepared;
 use super::{ChainPlanner, ChainProblem};
 use crate::error::Error;
+use crate::model::InputError;
 use crate::model::arm::collision::Body;
 use crate::plan::certificate::verify_chain;
 use crate::planners::optimal::spline::SplineBasis;
@@ -281,7 +282,19 @@ impl ChainPlanner {
         let table = match cached {
             Some(t) => t,
             None => {
-                let basis = SplineBasis::graded(self.degree(), problem.horizon, spans, self.options.grading)?;
+                let basis = match &self.options.knots {
+                    Some(b) if b.last().is_some_and(|&t| (t - problem.horizon).abs() <= 1e-12 * problem.horizon) => {
+                        SplineBasis::on_breakpoints(self.degree(), b)?
+                    }
+                    Some(b) => {
+                        return Err(Error::from(InputError::InvalidParameter {
+                            name: "knots".into(),
+                            value: b.last().copied().unwrap_or(f64::NAN),
+                            expected: "breakpoints that end at the problem's horizon",
+                        }));
+                    }
+                    None => SplineBasis::graded(self.degree(), problem.horizon, spans, self.options.grading)?,
+                };
                 let t = Arc::new(Table::new(basis, self.arm.joints(), self.fixed(), nodes)?);
                 tables.0.borrow_mut().push(((spans, nodes), t.clone()));
                 t

@@ -62,6 +62,30 @@ impl SplineBasis {
         Ok(Self { degree, knots, breakpoints: b })
     }
 
+    /// The basis of degree `degree` on the given breakpoints `0 = b_0 < .. < b_N = T` (at least
+    /// two spans; a re-plan's basis keeps the breakpoints of the reference it corrects, so that
+    /// the reference's rest is a spline of it).
+    pub fn on_breakpoints(degree: usize, breakpoints: &[f64]) -> Result<Self, Error> {
+        let horizon = breakpoints.last().copied().unwrap_or(0.0);
+        let increasing = breakpoints.windows(2).all(|w| w[1] > w[0]) && breakpoints.iter().all(|b| b.is_finite());
+        if !(1..=MAX_DEGREE).contains(&degree)
+            || breakpoints.len() < 3
+            || breakpoints[0] != 0.0
+            || !increasing
+            || !(horizon > 0.0)
+        {
+            return Err(Error::from(InputError::InvalidParameter {
+                name: "breakpoints".into(),
+                value: breakpoints.len() as f64,
+                expected: "a degree from 1 to 5 and at least 3 finite, increasing breakpoints from 0",
+            }));
+        }
+        let mut knots = vec![0.0; degree];
+        knots.extend_from_slice(breakpoints);
+        knots.extend(std::iter::repeat_n(horizon, degree));
+        Ok(Self { degree, knots, breakpoints: breakpoints.to_vec() })
+    }
+
     /// The degree `p`.
     pub fn degree(&self) -> usize {
         self.degree
