@@ -32,7 +32,7 @@
 
 use nalgebra::{DMatrix, DVector};
 
-use super::identify::parameter_count;
+use super::identify::{parameter_count, relative_angles};
 use super::plant::State;
 
 /// The energy regressor `e` of the module docs at a state: `x . e = T`, the kinetic energy
@@ -40,14 +40,7 @@ use super::plant::State;
 pub fn regressor(state: &State) -> Vec<f64> {
     let n = state.q.len() - 1;
     let w = state.dq[0];
-    let (mut theta, mut psi_rate) = (Vec::with_capacity(n), Vec::with_capacity(n));
-    let (mut sum, mut rate) = (0.0, w);
-    for i in 0..n {
-        sum += state.q[i + 1];
-        rate += state.dq[i + 1];
-        theta.push(sum);
-        psi_rate.push(rate);
-    }
+    let (theta, psi_rate) = relative_angles(state);
     let mut e: Vec<f64> = psi_rate.iter().map(|r| 0.5 * r * r).collect();
     for i in 0..n {
         for j in i + 1..n {

@@ -113,19 +113,28 @@ pub fn parameters(arm: &Arm) -> Constants {
     x
 }
 
-/// The regressor `r` of the module docs at a state: `r . x = F phi' + G . theta'`, for
-/// [`parameters`] `x`.
-pub fn regressor(state: &State) -> Vec<f64> {
+/// The sums `Theta_i = theta_1 + .. + theta_i` \[rad\] and the links' absolute rates `psi_i' =
+/// phi' + theta_1' + .. + theta_i'` [rad/s] at a state (module docs): what the momentum and the
+/// energy regressors ([`super::energy::regressor`]) are made of.
+pub fn relative_angles(state: &State) -> (Vec<f64>, Vec<f64>) {
     let n = state.q.len() - 1;
-    let w = state.dq[0];
     let (mut theta, mut psi_rate) = (Vec::with_capacity(n), Vec::with_capacity(n));
-    let (mut sum, mut rate) = (0.0, w);
+    let (mut sum, mut rate) = (0.0, state.dq[0]);
     for i in 0..n {
         sum += state.q[i + 1];
         rate += state.dq[i + 1];
         theta.push(sum);
         psi_rate.push(rate);
     }
+    (theta, psi_rate)
+}
+
+/// The regressor `r` of the module docs at a state: `r . x = F phi' + G . theta'`, for
+/// [`parameters`] `x`.
+pub fn regressor(state: &State) -> Vec<f64> {
+    let n = state.q.len() - 1;
+    let w = state.dq[0];
+    let (theta, psi_rate) = relative_angles(state);
     let mut r = psi_rate.clone();
     for i in 0..n {
         for j in i + 1..n {
