@@ -1,6 +1,7 @@
 //! Criterion benches of closed-loop execution (issue 12; docs/spec.md §5): one 10 s run of the
 //! paper's problem at 1 kHz per controller, and of the adaptive controller at a = 1, b = -1
-//! (target: <= 0.5 s), and of `ct` and `adaptive` on the 3-link example arm. Before timing, the
+//! (target: <= 0.5 s), of `ct` and `adaptive` on the 3-link example arm, and of `adaptive` on
+//! problem 0 of issue 22's hard set (target: <= 0.5 s). Before timing, the
 //! final errors of `ct` and `replan` on the nominal robot without noise are printed for the
 //! paper's five cases and for a = 1, b = -1 (target: <= 1e-8 rad); they are reported, not gated.
 
@@ -63,6 +64,16 @@ fn three_link() -> (Arm, ChainProblem) {
     (arm, ChainProblem::rest_to_rest(rad([0.0, 60.0, -30.0, -30.0]), rad([30.0, 120.0, 40.0, -60.0]), 10.0))
 }
 
+/// Problem 0 of issue 22's hard set (`tests/fixtures/hard_set.csv`): a 25-turn plan at
+/// `|mount|` 1.9 m with a 175 deg base turn, the slowest of the set to track.
+fn hard_problem() -> (Arm, ChainProblem) {
+    let text = include_str!("../tests/fixtures/hard_set.csv");
+    let row = text.lines().find(|l| l.starts_with("0,")).expect("problem 0");
+    let v: Vec<f64> = row.split(',').map(|x| x.parse().expect("a number")).collect();
+    let arm = Arm { mount: Mount { a: v[1], b: v[2] }, ..Arm::from_params(&RobotParams::src()) };
+    (arm, ChainProblem::rest_to_rest(v[3..6].to_vec(), v[6..9].to_vec(), 10.0))
+}
+
 fn bench_track(c: &mut Criterion) {
     nominal_errors();
     let mut group = c.benchmark_group("track");
@@ -73,6 +84,7 @@ fn bench_track(c: &mut Criterion) {
         ("", paper(0.1, 0.1), &Controller::ALL[..]),
         ("_a1_b-1", paper(1.0, -1.0), &[Controller::Adaptive][..]),
         ("_3link", three_link(), &[Controller::Ct, Controller::Adaptive][..]),
+        ("_hard0", hard_problem(), &[Controller::Adaptive][..]),
     ] {
         let plan = optimal(&arm, &chain);
         let truth = Perturbation { relative: 0.05, mount: 0.01 }.apply(&arm, 1).expect("robot");

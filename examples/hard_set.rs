@@ -9,7 +9,7 @@
 //! the minimum-effort planner does not plan is drawn again (none was, when the set was made).
 //!
 //! `cargo run --release --example hard_set -- --trials 100 [--controller adaptive] [--replan-rate 50]
-//! [--torque-noise 0.01] [--only 0,3,9]`
+//! [--torque-noise 0.01] [--kp 40000] [--kd 400] [--rate 1000] [--only 0,3,9]`
 //! runs each problem of the fixture file through `track`'s Monte Carlo with the disturbances of
 //! the measurements (5 % parameters, 1 cm mount, 1 % torque noise, 1e-5 rad and 1e-5
 //! rad/s measurement noise, 1 kHz control, seed 1) and prints, per problem, the success rate
@@ -92,6 +92,17 @@ fn run_set(args: &[String]) -> Result<(), Box<dyn std::error::Error>> {
     if let Some(noise) = flag(args, "--torque-noise") {
         options.disturbances.torque_noise = noise.parse()?;
     }
+    if let Some(rate) = flag(args, "--rate") {
+        options.rate = rate.parse()?;
+    }
+    let mut gains = options.gains();
+    if let Some(kp) = flag(args, "--kp") {
+        gains.kp = kp.parse()?;
+    }
+    if let Some(kd) = flag(args, "--kd") {
+        gains.kd = kd.parse()?;
+    }
+    options.gains = Some(gains);
     let only: Option<Vec<usize>> = flag(args, "--only").map(|v| v.split(',').map(str::parse).collect()).transpose()?;
     let mc = MonteCarloOptions {
         trials,

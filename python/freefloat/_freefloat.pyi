@@ -411,7 +411,7 @@ def track(
     q_noise: float = 0.0,
     dq_noise: float = 0.0,
     rate: float = 1000.0,
-    replan_rate: float = 50.0,
+    replan_rate: float = 5.0,
     seed: int = 0,
 ) -> dict[str, Any]:
     """Plans ``start -> goal`` [rad] (``n + 1`` angles each) in ``T`` [s] with the minimum-effort

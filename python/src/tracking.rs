@@ -50,7 +50,7 @@ fn controller(name: &str) -> Result<Controller, BindingError> {
 #[pyo3(signature = (
     robot, start, goal, T, *, controller = "adaptive", true_robot = None, perturb = 0.0,
     perturb_mount = 0.0, torque_noise = 0.0, q_noise = 0.0, dq_noise = 0.0, rate = 1000.0,
-    replan_rate = 50.0, seed = 0
+    replan_rate = 5.0, seed = 0
 ))]
 #[allow(non_snake_case, clippy::too_many_arguments)]
 pub fn track<'py>(

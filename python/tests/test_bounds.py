@@ -57,9 +57,9 @@ def test_domain_memory_is_bounded(src):
 @pytest.mark.parametrize(
     "kwargs",
     [
-        dict(rate=1.0, replan_rate=1.0),  # kd / rate = 100: the held loop is unstable
+        dict(rate=0.5, replan_rate=0.5),  # below the 1 Hz floor (the default gains suit any rate above)
         dict(rate=1e6, T=1e6),  # 1e12 control ticks
-        dict(T=1e5),  # 5e6 re-plans at 50 Hz
+        dict(T=1e5),  # 5e5 re-plans at 5 Hz
     ],
 )
 def test_track_budgets_and_stability_are_bounded(src, kwargs):

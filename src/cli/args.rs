@@ -468,17 +468,17 @@ pub struct TrackArgs {
     #[arg(long)]
     pub no_hold_correction: bool,
     /// Re-planning rate in Hz.
-    #[arg(long, value_name = "HZ", default_value_t = 50.0, allow_hyphen_values = true)]
+    #[arg(long, value_name = "HZ", default_value_t = 5.0, allow_hyphen_values = true)]
     pub replan_rate: f64,
     /// No re-plan starts in the last S seconds (the last one is the final correction).
     #[arg(long, value_name = "S", default_value_t = 0.3, allow_hyphen_values = true)]
     pub final_window: f64,
-    /// Proportional gain of the joint loop in 1/s^2.
-    #[arg(long, default_value_t = 2500.0, allow_hyphen_values = true)]
-    pub kp: f64,
-    /// Derivative gain of the joint loop in 1/s.
-    #[arg(long, default_value_t = 100.0, allow_hyphen_values = true)]
-    pub kd: f64,
+    /// Joint-loop gains in 1/s^2 and 1/s [default: critically damped at min(200, rate/5) rad/s].
+    #[arg(long, allow_hyphen_values = true)]
+    pub kp: Option<f64>,
+    /// Derivative gain (see --kp).
+    #[arg(long, allow_hyphen_values = true)]
+    pub kd: Option<f64>,
     /// Forgetting time of the identification in s.
     #[arg(long, value_name = "S", default_value_t = 5.0, allow_hyphen_values = true)]
     pub forgetting: f64,

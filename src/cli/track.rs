@@ -67,7 +67,10 @@ fn options(args: &TrackArgs, n: usize) -> anyhow::Result<TrackOptions> {
         controller: Controller::Adaptive,
         rate: args.rate,
         substeps: 1,
-        gains: Gains { kp: args.kp, kd: args.kd },
+        gains: (args.kp.is_some() || args.kd.is_some()).then(|| {
+            let default = Gains::for_rate(args.rate);
+            Gains { kp: args.kp.unwrap_or(default.kp), kd: args.kd.unwrap_or(default.kd) }
+        }),
         replan: ReplanOptions { rate: args.replan_rate, final_window: args.final_window, ..Default::default() },
         identify: IdentifyOptions { forgetting_time: args.forgetting, ..Default::default() },
         disturbances: Disturbances {

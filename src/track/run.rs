@@ -30,8 +30,9 @@ pub struct TrackOptions {
     pub rate: f64,
     /// Runge–Kutta steps of the plant per control tick; default 1.
     pub substeps: usize,
-    /// Joint-loop gains.
-    pub gains: Gains,
+    /// Joint-loop gains; default `None`, [`Gains::for_rate`] at [`TrackOptions::rate`]
+    /// ([`TrackOptions::gains`]).
+    pub gains: Option<Gains>,
     /// Re-planning (for `replan` and `adaptive`).
     pub replan: ReplanOptions,
     /// Identification (for `adaptive`).
@@ -52,7 +53,7 @@ impl Default for TrackOptions {
             controller: Controller::default(),
             rate: 1000.0,
             substeps: 1,
-            gains: Gains::default(),
+            gains: None,
             replan: ReplanOptions::default(),
             identify: IdentifyOptions::default(),
             disturbances: Disturbances::default(),
@@ -81,9 +82,10 @@ impl TrackOptions {
             }
             .into());
         }
-        self.gains.validate()?;
+        let gains = self.gains();
+        gains.validate()?;
         if self.controller != Controller::Open {
-            self.gains.validate_sampled(self.rate)?;
+            gains.validate_sampled(self.rate)?;
         }
         self.replan.validate(self.rate)?;
         self.identify.validate()?;
@@ -105,6 +107,12 @@ pub const MAX_REPLANS: f64 = 10_000.0;
 pub const BYTES_PER_TICK: u128 = 512;
 
 impl TrackOptions {
+    /// The joint loop's gains: the given ones, or the default at the control rate
+    /// ([`Gains::for_rate`]).
+    pub fn gains(&self) -> Gains {
+        self.gains.unwrap_or_else(|| Gains::for_rate(self.rate))
+    }
+
     /// The number of control ticks of a run of `horizon` \[s\]: `T * rate` rounded, at least 1.
     pub fn ticks(&self, horizon: f64) -> f64 {
         (horizon * self.rate).round().max(1.0)
@@ -220,7 +228,7 @@ pub fn hold_correction(
     if !options.hold_correction {
         return Ok(None);
     }
-    HoldCorrection::new(model, problem, plan, options.rate, options.substeps, options.gains)
+    HoldCorrection::new(model, problem, plan, options.rate, options.substeps, options.gains())
 }
 
 /// Checks a run's pieces against each other: the problem against the model
@@ -343,6 +351,7 @@ pub fn track_with(
     options.check_budget(horizon)?;
     let ticks = options.ticks(horizon) as usize;
     let dt = horizon / ticks as f64;
+    let gains = options.gains();
     let every = (options.rate / options.replan.rate).round().max(1.0) as usize;
     let controller = options.controller;
     let mut replanner = Replanner::new(plan.q(horizon)?, options.replan.clone());
@@ -408,7 +417,7 @@ pub fn track_with(
         }
         let command = match controller {
             Controller::Open => feedforward(&fitted, &centre),
-            _ => computed_torque(&fitted, &measured, &centre, 0.5 * dt, &options.gains),
+            _ => computed_torque(&fitted, &measured, &centre, 0.5 * dt, &gains),
         };
         if controller == Controller::Adaptive {
             // The torque as the actuators take it: clamped at the limits the controller knows.

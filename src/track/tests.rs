@@ -306,7 +306,7 @@ fn invalid_options_are_input_errors() {
     let bad = [
         TrackOptions { rate: 0.0, ..Default::default() },
         TrackOptions { rate: f64::NAN, ..Default::default() },
-        TrackOptions { gains: Gains { kp: -1.0, kd: 1.0 }, ..Default::default() },
+        TrackOptions { gains: Some(Gains { kp: -1.0, kd: 1.0 }), ..Default::default() },
         TrackOptions { disturbances: Disturbances { torque_noise: -0.1, ..Default::default() }, ..Default::default() },
         TrackOptions { disturbances: Disturbances { torque_limit: 0.0, ..Default::default() }, ..Default::default() },
         TrackOptions { replan: ReplanOptions { rate: 2000.0, ..Default::default() }, ..Default::default() },
@@ -410,7 +410,7 @@ fn trials_file_round_trip_and_row_checks() {
     changed.push(with(&|_, m| m.truth = Some(Arm::from_params(&RobotParams::src()))));
     changed.push(with(&|o, _| o.disturbances.torque_bias = vec![0.1, 0.0]));
     changed.push(with(&|o, _| o.rate = 500.0));
-    changed.push(with(&|o, _| o.gains.kp = 100.0));
+    changed.push(with(&|o, _| o.gains = Some(Gains { kp: 100.0, ..o.gains() })));
     changed.push(with(&|o, _| o.replan.rate = 20.0));
     changed.push(with(&|o, _| o.replan.planner.coarse_spans = 5));
     changed.push(with(&|o, _| o.identify.forgetting_time = 2.0));
@@ -463,11 +463,13 @@ fn hold_correction_brings_the_nominal_loop_to_the_goal() {
         let hold = run.hold_correction.expect("a correction");
         assert!(hold.error_before > 1e-8 && hold.error_after <= 1e-10);
         // The correction is a feedforward for the hold's lag (mostly the final layer's
-        // velocity), not a new plan: far below the plan's own accelerations.
+        // velocity), not a new plan: below the plan's own accelerations. The loop follows a
+        // feedforward `c` as an offset of about `c / kp`, so the correction grows with the
+        // stiffness: 1.2e-1 of the peak at the default kp = 40000 (below 1e-2 at kp = 2500).
         let peak = (0..=1000)
             .map(|i| planned.plan.joints_at(problem.horizon * i as f64 / 1000.0).unwrap().acceleration)
             .fold(0.0_f64, |m, a| a.iter().fold(m, |m, x| m.max(x.abs())));
-        assert!(hold.peak_acceleration < 1e-2 * peak, "{:.3e} against {peak:.3e}", hold.peak_acceleration);
+        assert!(hold.peak_acceleration < 0.25 * peak, "{:.3e} against {peak:.3e}", hold.peak_acceleration);
     }
     let open = TrackOptions { controller: Controller::Open, ..Default::default() };
     assert!(track(&arm, &problem, &planned.plan, &arm, &open, 0).unwrap().hold_correction.is_none());

@@ -7,6 +7,7 @@ mod check;
 mod cli;
 mod first_hour;
 mod geometry;
+mod hard_set;
 mod hostile;
 mod hostile_files;
 mod layout;

@@ -7,7 +7,6 @@ use std::time::Instant;
 
 use super::discrete::{Discretisation, Table, Targets};
 use super::motion::{ChainPlan, ChainStats};
-use super::starts::Prepared;
 use super::{ChainPlanner, ChainProblem};
 use crate::error::Error;
 use crate::model::InputError;
@@ -68,9 +67,8 @@ impl ChainPlanner {
         problem.validate(&self.arm)?;
         let clock = Instant::now();
         let tables = Tables::default();
-        let prepared = self.prepare(problem)?;
         if self.arm.joints() == 1 {
-            return self.single_joint(problem, prepared, &tables, clock);
+            return self.single_joint(problem, self.prepare(problem)?, &tables, clock);
         }
         // With clearance rows, first the search without them: where its plan clears, it is the
         // constrained minimum too (the rows would not be active), found at the unconstrained
@@ -86,7 +84,7 @@ impl ChainPlanner {
             {
                 return free;
             }
-            let kept = self.search(problem, prepared, &tables, clock);
+            let kept = self.search(problem, &tables, clock);
             let least = |p: &ChainPlan| p.verification.clearance.map_or(f64::INFINITY, |r| r.min);
             return match (kept, free) {
                 (Ok(k), Ok(f)) if least(&f) > least(&k) => Ok(f),
@@ -94,23 +92,29 @@ impl ChainPlanner {
                 (kept, _) => kept,
             };
         }
-        self.search(problem, prepared, &tables, clock)
+        self.search(problem, &tables, clock)
     }
 
     /// The search of [`Self::plan`] after its checks (module docs).
-    fn search(
-        &self,
-        problem: &ChainProblem,
-        prepared: Vec<Prepared>,
-        tables: &Tables,
-        clock: Instant,
-    ) -> Result<ChainPlan, Error> {
+    fn search(&self, problem: &ChainProblem, tables: &Tables, clock: Instant) -> Result<ChainPlan, Error> {
         let o = &self.options;
-        if let Some(path) = &o.warm_start
-            && let Some(plan) = self.warm(problem, path, &prepared, tables, clock)?
-        {
-            return Ok(plan);
+        let mut prepared = None;
+        if let Some(path) = &o.warm_start {
+            // A literal goal has one representative, found without the seeds (whose loops and
+            // coils cost a re-plan more than its solve does).
+            let targets = if problem.wrap {
+                prepared.insert(self.prepare(problem)?).iter().map(|p| p.targets.clone()).collect()
+            } else {
+                self.literal_targets(problem)
+            };
+            if let Some(plan) = self.warm(problem, path, &targets, tables, clock)? {
+                return Ok(plan);
+            }
         }
+        let prepared = match prepared {
+            Some(p) => p,
+            None => self.prepare(problem)?,
+        };
         let (mut seeds, mut iterations) = (0, 0);
         let mut best_failure: Option<Candidate> = None;
         let mut not_certified: Option<Error> = None;
@@ -232,15 +236,15 @@ impl ChainPlanner {
         &self,
         problem: &ChainProblem,
         path: &super::WarmStart,
-        prepared: &[Prepared],
+        representatives: &[Targets],
         tables: &Tables,
         clock: Instant,
     ) -> Result<Option<ChainPlan>, Error> {
         path.validate(self.arm.joints())?;
         let Some(end) = path.theta.last() else { return Ok(None) };
-        let near = |p: &&Prepared| p.targets.end.iter().zip(end).all(|(a, b)| (a - b).abs() <= 1e-6);
-        let Some(p) = prepared.iter().find(near) else { return Ok(None) };
-        self.solve_from(problem, p.targets.clone(), path, tables, clock)
+        let near = |t: &&Targets| t.end.iter().zip(end).all(|(a, b)| (a - b).abs() <= 1e-6);
+        let Some(targets) = representatives.iter().find(near) else { return Ok(None) };
+        self.solve_from(problem, targets.clone(), path, tables, clock)
     }
 
     /// The plan from `path` to `targets` alone (no search): its projection on the coarse basis,

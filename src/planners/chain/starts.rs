@@ -45,41 +45,8 @@ impl ChainPlanner {
     /// further, and (up to [`PAIRED_JOINTS`] joints) two joints a turn further each; only those
     /// inside the ranges and within the joints' reach in the horizon.
     pub(super) fn prepare(&self, problem: &ChainProblem) -> Result<Vec<Prepared>, Error> {
-        let n = self.arm.joints();
-        let (q0, qd) = (&problem.start, &problem.goal);
-        let theta0 = q0[1..].to_vec();
-        let mut joint_goals = Vec::new();
-        if problem.wrap {
-            let near: Vec<f64> = (1..=n).map(|j| q0[j] + wrap_angle(qd[j] - q0[j])).collect();
-            joint_goals.push(near.clone());
-            for j in 0..n {
-                for turn in [-TAU, TAU] {
-                    let mut g = near.clone();
-                    g[j] += turn;
-                    joint_goals.push(g);
-                }
-            }
-            for j in (0..n).filter(|_| n <= PAIRED_JOINTS) {
-                for k in j + 1..n {
-                    for (tj, tk) in [(-TAU, -TAU), (-TAU, TAU), (TAU, -TAU), (TAU, TAU)] {
-                        let mut g = near.clone();
-                        (g[j], g[k]) = (g[j] + tj, g[k] + tk);
-                        joint_goals.push(g);
-                    }
-                }
-            }
-        } else {
-            joint_goals.push(qd[1..].to_vec());
-        }
-        let mut phi_targets: Vec<f64> = if problem.wrap {
-            let near = q0[0] + wrap_angle(qd[0] - q0[0]);
-            vec![near, near - TAU, near + TAU]
-        } else {
-            vec![qd[0]]
-        };
-        super::limits::inside_ranges(&self.arm.limits, &mut joint_goals, &mut phi_targets);
-        let at_rest = problem.initial_velocity.iter().all(|w| *w == 0.0);
-        super::limits::within_reach(&self.arm.limits, &theta0, at_rest, problem.horizon, &mut joint_goals);
+        let (q0, theta0) = (&problem.start, problem.start[1..].to_vec());
+        let (joint_goals, phi_targets) = self.goals(problem);
         let kappa_max = seeds::curvature_bound(&self.connection);
         let mut sites = Sites::default();
         // The bound is in the cost's units: the energy's is the effort's times a floor of R.
@@ -121,6 +88,70 @@ impl ChainPlanner {
         }
         out.sort_by(|a, b| a.estimate.total_cmp(&b.estimate));
         Ok(out)
+    }
+
+    /// The representatives of a problem whose goal is taken literally (`wrap = false`): the goal
+    /// itself, or none where it is outside a range or out of the joints' reach (those of
+    /// [`Self::prepare`], without their seeds); none with `wrap`.
+    pub(super) fn literal_targets(&self, problem: &ChainProblem) -> Vec<Targets> {
+        if problem.wrap {
+            return Vec::new();
+        }
+        let (joint_goals, phi_targets) = self.goals(problem);
+        let q0 = &problem.start;
+        let mut out = Vec::new();
+        for end in joint_goals {
+            for &phi_end in &phi_targets {
+                out.push(Targets {
+                    start: q0[1..].to_vec(),
+                    initial_velocity: problem.initial_velocity.clone(),
+                    end: end.clone(),
+                    phi_start: q0[0],
+                    phi_end,
+                });
+            }
+        }
+        out
+    }
+
+    /// The joint goals and base goals of [`Self::prepare`]'s representatives: those inside the
+    /// ranges and within the joints' reach in the horizon.
+    fn goals(&self, problem: &ChainProblem) -> (Vec<Vec<f64>>, Vec<f64>) {
+        let n = self.arm.joints();
+        let (q0, qd) = (&problem.start, &problem.goal);
+        let mut joint_goals = Vec::new();
+        if problem.wrap {
+            let near: Vec<f64> = (1..=n).map(|j| q0[j] + wrap_angle(qd[j] - q0[j])).collect();
+            joint_goals.push(near.clone());
+            for j in 0..n {
+                for turn in [-TAU, TAU] {
+                    let mut g = near.clone();
+                    g[j] += turn;
+                    joint_goals.push(g);
+                }
+            }
+            for j in (0..n).filter(|_| n <= PAIRED_JOINTS) {
+                for k in j + 1..n {
+                    for (tj, tk) in [(-TAU, -TAU), (-TAU, TAU), (TAU, -TAU), (TAU, TAU)] {
+                        let mut g = near.clone();
+                        (g[j], g[k]) = (g[j] + tj, g[k] + tk);
+                        joint_goals.push(g);
+                    }
+                }
+            }
+        } else {
+            joint_goals.push(qd[1..].to_vec());
+        }
+        let mut phi_targets: Vec<f64> = if problem.wrap {
+            let near = q0[0] + wrap_angle(qd[0] - q0[0]);
+            vec![near, near - TAU, near + TAU]
+        } else {
+            vec![qd[0]]
+        };
+        super::limits::inside_ranges(&self.arm.limits, &mut joint_goals, &mut phi_targets);
+        let at_rest = problem.initial_velocity.iter().all(|w| *w == 0.0);
+        super::limits::within_reach(&self.arm.limits, &q0[1..], at_rest, problem.horizon, &mut joint_goals);
+        (joint_goals, phi_targets)
     }
 
     /// The coarse solutions of a representative, each marked `true` where it is the line beside

@@ -258,7 +258,7 @@ fn urdf_mimic_foreign_root_and_infinite_axis_are_refused() {
 fn unstable_gains_and_rates_are_refused() {
     let cases: [&[&str]; 5] = [
         &["--kp", "1e300", "--controller", "ct"],
-        &["--rate", "1", "--replan-rate", "1"],
+        &["--rate", "1", "--replan-rate", "1", "--kp", "2500"],
         &["--kd", "1e300", "--controller", "ct"],
         &["--kp", "1e6", "--controller", "ct", "--rate", "100"],
         &["--kd", "2000", "--controller", "replan"],
