@@ -23,7 +23,7 @@ pub enum Command {
     /// Run the optimal planner, the NFA and the ECSA on the same problem, side by side.
     Compare(CompareArgs),
     /// Regenerate the paper's results (Sec. 5) on the built-in defaults.
-    Reproduce(ReproduceArgs),
+    Reproduce(super::reproduce::ReproduceArgs),
     /// Map the domain of existence of a feedback transformation on the joint torus (Figs. 13-14).
     Domain(DomainArgs),
     /// Sweep mounting points (a, b): domain of Eq. (14) and NFA success rate; shardable.
@@ -280,18 +280,6 @@ pub enum CompareFormat {
     Table,
     /// One JSON object.
     Json,
-}
-
-#[derive(Debug, Args)]
-pub struct ReproduceArgs {
-    /// Output directory.
-    #[arg(long, value_name = "DIR", default_value = "out")]
-    pub out: PathBuf,
-    /// Also write an animated GIF of every plan, `anim-CASE.gif` (e.g. `anim-fig06.gif`), into DIR.
-    #[arg(long)]
-    pub gif: bool,
-    #[command(flatten)]
-    pub gif_options: GifArgs,
 }
 
 /// Flags of `freefloat domain`.

@@ -168,6 +168,38 @@ impl Case {
     }
 }
 
+/// What a figure shows, in words, with the verdict of its certificates.
+pub fn description(outcome: &CaseOutcome) -> String {
+    let case = &outcome.case;
+    let title = case.title();
+    let paper = title.split(':').next().unwrap_or_default();
+    let verdict = match (outcome.plan.verification.certified, outcome.torques.certificate.certified) {
+        (true, true) => "Both levels certified.",
+        (true, false) => "Certified at the velocity level, not at the torque level (see the caption).",
+        (false, _) => "NOT certified at the velocity level (see the caption).",
+    };
+    match case.method {
+        CaseMethod::Nfa(Transform::Global) => format!(
+            "Beyond the paper: a = 1 m, b = -1 m, where the paper calls the NFA impossible (q0 and qd lie in \
+             different components of the domain of Eq. (14), Fig. 14 right). The global normal form plans it with \
+             band steering; the open-loop torque plan of such fast loops is ill-conditioned. {verdict}"
+        ),
+        CaseMethod::Nfa(_) => format!(
+            "As the paper's {paper}: base orientation and joint positions; normal-form variables z; velocity \
+             controls u; torques τ from the inverse dynamics (6). {verdict}"
+        ),
+        CaseMethod::Ecsa(_) if case.figure.is_none() => format!(
+            "Beyond the paper, no figure: the ECSA's controls times sin²(πt/T), so that the plan starts and ends at \
+             rest like the NFA's; its torques are then certified from rest. {verdict}"
+        ),
+        CaseMethod::Ecsa(_) => format!(
+            "As the paper's {paper}: base orientation and joint positions; velocity controls u (constant + first \
+             harmonic: not zero at the ends); torques τ. The forward dynamics of the torque certificate starts \
+             from rest, the plain series does not (the sin² window, in the summary, does). {verdict}"
+        ),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

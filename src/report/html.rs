@@ -35,6 +35,8 @@ pub struct Page<'a> {
     pub arm3: Option<&'a super::Arm3Row>,
     /// The 3-link arm inside a velocity limit (Fig. 19).
     pub arm3_limited: Option<&'a super::Arm3Row>,
+    /// The closed loop's Monte Carlo (Fig. 20).
+    pub closed_loop: Option<&'a super::closed_loop::ClosedLoop>,
     /// The figures, in order.
     pub figures: &'a [FigureEmbed],
     /// Wall time of the whole computation \[s\].
@@ -256,6 +258,10 @@ pub fn page(p: &Page) -> Result<String, serde_json::Error> {
         if let Some(limited) = p.arm3_limited {
             s += &super::arm3::arm3_limited_html(limited);
         }
+    }
+    if let Some(c) = p.closed_loop {
+        s += "<h2>Closed loop (<a href=\"#fig20\">Fig. 20</a>)</h2>\n";
+        s += &super::closed_loop::closed_loop_html(c);
     }
     s += "<h2>Figures</h2>\n";
     s += "<p class=\"note\">Animations: the base (grey rectangle, 0.6 m × 0.5 m, illustrative) at its \

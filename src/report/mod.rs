@@ -1,4 +1,4 @@
-//! The paper's results of Sec. 5 (Figs. 4-14), and five beyond it (Figs. 15-19), as plans,
+//! The paper's results of Sec. 5 (Figs. 4-14), and six beyond it (Figs. 15-20), as plans,
 //! figures, a summary and a self-contained report page: what `freefloat reproduce` writes.
 //!
 //! Every number here is computed by the planners on the paper's problem
@@ -18,6 +18,7 @@ pub mod arm;
 pub mod arm3;
 pub mod arm_figure;
 pub mod cases;
+pub mod closed_loop;
 pub mod figures;
 pub mod html;
 pub mod io;

@@ -1,5 +1,5 @@
-//! The reproduction of the paper's results of Sec. 5 (Figs. 4-14) and five beyond it
-//! (Figs. 15-19) on the built-in defaults, as figures (SVG and PNG), `summary.md`,
+//! The reproduction of the paper's results of Sec. 5 (Figs. 4-14) and six beyond it
+//! (Figs. 15-20) on the built-in defaults, as figures (SVG and PNG), `summary.md`,
 //! `summary.json` and a self-contained `report.html` with an animation of every plan: what
 //! `freefloat reproduce` writes.
 
@@ -14,7 +14,11 @@ use super::arm3::{
     ARM3_ANIMATION_TITLE, ARM3_FIGURE, ARM3_LIMITED_ANIMATION_TITLE, ARM3_LIMITED_FIGURE, Arm3Row, arm3_animation,
     arm3_figure, arm3_limited_figure, arm3_limited_markdown, arm3_markdown, plan_arm3, plan_arm3_limited,
 };
-use super::cases::{Case, CaseMethod, CaseOutcome, cases};
+use super::cases::{Case, CaseOutcome, cases, description};
+use super::closed_loop::{
+    CLOSED_LOOP_FIGURE, ClosedLoop, closed_loop, closed_loop_figure, closed_loop_jobs, closed_loop_markdown,
+    closed_loop_text,
+};
 use super::figures::{animation, plan_figure};
 use super::html::{FigureEmbed, Page, page};
 use super::io::write_atomic;
@@ -29,7 +33,6 @@ use super::summary::{
 use crate::analysis::sweep::Shard;
 use crate::error::Error;
 use crate::model::{Configuration, InputError, RobotParams, paper_problem};
-use crate::planners::nfa::normal_form::Transform;
 
 /// `summary.json`.
 #[derive(Serialize)]
@@ -44,6 +47,8 @@ struct Summary<'a> {
     arm3: &'a Arm3Row,
     /// The 3-link arm inside a velocity limit (Fig. 19).
     arm3_limited: &'a Arm3Row,
+    /// The closed loop's Monte Carlo (Fig. 20).
+    closed_loop: &'a ClosedLoop,
     /// Wall time of the computation and the pictures (before the page and the summary) \[s\].
     seconds: f64,
 }
@@ -56,43 +61,17 @@ struct Problem {
     samples: usize,
 }
 
-/// What a figure shows, in words, with the verdict of its certificates.
-fn description(outcome: &CaseOutcome) -> String {
-    let case = &outcome.case;
-    let title = case.title();
-    let paper = title.split(':').next().unwrap_or_default();
-    let verdict = match (outcome.plan.verification.certified, outcome.torques.certificate.certified) {
-        (true, true) => "Both levels certified.",
-        (true, false) => "Certified at the velocity level, not at the torque level (see the caption).",
-        (false, _) => "NOT certified at the velocity level (see the caption).",
-    };
-    match case.method {
-        CaseMethod::Nfa(Transform::Global) => format!(
-            "Beyond the paper: a = 1 m, b = -1 m, where the paper calls the NFA impossible (q0 and qd lie in \
-             different components of the domain of Eq. (14), Fig. 14 right). The global normal form plans it with \
-             band steering; the open-loop torque plan of such fast loops is ill-conditioned. {verdict}"
-        ),
-        CaseMethod::Nfa(_) => format!(
-            "As the paper's {paper}: base orientation and joint positions; normal-form variables z; velocity \
-             controls u; torques τ from the inverse dynamics (6). {verdict}"
-        ),
-        CaseMethod::Ecsa(_) if case.figure.is_none() => format!(
-            "Beyond the paper, no figure: the ECSA's controls times sin²(πt/T), so that the plan starts and ends at \
-             rest like the NFA's; its torques are then certified from rest. {verdict}"
-        ),
-        CaseMethod::Ecsa(_) => format!(
-            "As the paper's {paper}: base orientation and joint positions; velocity controls u (constant + first \
-             harmonic: not zero at the ends); torques τ. The forward dynamics of the torque certificate starts \
-             from rest, the plain series does not (the sin² window, in the summary, does). {verdict}"
-        ),
-    }
-}
-
 /// The number of jobs that [`reproduce`] reports to its progress callback (with `gif`, one
 /// more per plan: the animation of each case and of the 3-link arm's two plans).
 pub fn job_count(gif: bool) -> usize {
     let cases = cases().len();
-    cases + 2 * DOMAIN_FIGURES.len() + 1 + method_jobs().len() + 2 + if gif { cases + 2 } else { 0 }
+    cases
+        + 2 * DOMAIN_FIGURES.len()
+        + 1
+        + method_jobs().len()
+        + 2
+        + closed_loop_jobs()
+        + if gif { cases + 2 } else { 0 }
 }
 
 /// What [`reproduce`] wrote and found.
@@ -127,6 +106,7 @@ pub struct Reproduction {
 pub fn reproduce(
     out: &Path,
     gif: Option<&GifOptions>,
+    trials: usize,
     progress: &(dyn Fn(&str, f64, &str) + Sync),
 ) -> Result<Reproduction, Error> {
     use super::io::{create_temporary, forget_temporary, remove_stale_temporaries, split_path, temporary_name};
@@ -134,6 +114,7 @@ pub fn reproduce(
         let path = path.to_path_buf();
         move |source| Error::from(InputError::Io { path, source })
     };
+    super::closed_loop::check_trials(trials)?;
     super::out_dir::check_out_dir(out)?;
     let (parent, name) = split_path(out);
     std::fs::create_dir_all(&parent).map_err(io(&parent))?;
@@ -141,7 +122,7 @@ pub fn reproduce(
     let fresh = parent.join(temporary_name(&name, "tmpdir"));
     let result = create_temporary(&fresh, |p| std::fs::create_dir(p))
         .map_err(io(&fresh))
-        .and_then(|()| reproduce_into(&fresh, gif, progress));
+        .and_then(|()| reproduce_into(&fresh, gif, trials, progress));
     let result = result.and_then(|r| {
         super::io::uninterrupted(|| super::out_dir::move_into(&fresh, out)).map_err(io(out))??;
         Ok(r)
@@ -156,6 +137,7 @@ pub fn reproduce(
 fn reproduce_into(
     out: &Path,
     gif: Option<&GifOptions>,
+    trials: usize,
     progress: &(dyn Fn(&str, f64, &str) + Sync),
 ) -> Result<Reproduction, Error> {
     let clock = Instant::now();
@@ -244,40 +226,46 @@ fn reproduce_into(
         (planned, limited)
     };
     let robot = RobotParams::src();
-    let ((((outcomes, panels), method_rows), (arm3, arm3_limited)), sweep) = rayon::join(
+    let (((((outcomes, panels), method_rows), (arm3, arm3_limited)), sweep), closed) = rayon::join(
         || {
             rayon::join(
                 || {
                     rayon::join(
                         || {
                             rayon::join(
-                                || all.par_iter().map(run_case).collect::<Vec<_>>(),
-                                || domain_jobs.par_iter().map(|&j| run_domain(j)).collect::<Vec<_>>(),
+                                || {
+                                    rayon::join(
+                                        || all.par_iter().map(run_case).collect::<Vec<_>>(),
+                                        || domain_jobs.par_iter().map(|&j| run_domain(j)).collect::<Vec<_>>(),
+                                    )
+                                },
+                                || method_jobs.par_iter().map(run_method).collect::<Vec<_>>(),
                             )
                         },
-                        || method_jobs.par_iter().map(run_method).collect::<Vec<_>>(),
+                        run_arm3,
                     )
                 },
-                run_arm3,
+                || {
+                    let clock = Instant::now();
+                    let rows = crate::analysis::sweep::run(
+                        &crate::model::arm::Arm::from_params(&robot),
+                        &sweep_opts,
+                        Shard::ALL,
+                        &|| {},
+                    );
+                    let seconds = clock.elapsed().as_secs_f64();
+                    progress(
+                        &format!("{:<14} mount sweep, {} points", "fig16", sweep_opts.points()),
+                        seconds,
+                        if rows.is_ok() { "done" } else { "failed" },
+                    );
+                    rows.map(|rows| (rows, seconds))
+                },
             )
         },
-        || {
-            let clock = Instant::now();
-            let rows = crate::analysis::sweep::run(
-                &crate::model::arm::Arm::from_params(&robot),
-                &sweep_opts,
-                Shard::ALL,
-                &|| {},
-            );
-            let seconds = clock.elapsed().as_secs_f64();
-            progress(
-                &format!("{:<14} mount sweep, {} points", "fig16", sweep_opts.points()),
-                seconds,
-                if rows.is_ok() { "done" } else { "failed" },
-            );
-            rows.map(|rows| (rows, seconds))
-        },
+        || closed_loop(trials, progress),
     );
+    let closed = closed?;
     let panels: Vec<DomainPanel> = panels.into_iter().collect::<Result<_, _>>()?;
     let (sweep_rows, sweep_seconds) = sweep?;
     let sweep_summary = SweepSummary::new(&sweep_opts, &sweep_rows, sweep_seconds);
@@ -293,6 +281,7 @@ fn reproduce_into(
         Methods,
         Arm3(&'a crate::planners::arm::ArmPlanned),
         Arm3Limited(&'a crate::planners::arm::ArmPlanned),
+        ClosedLoop,
     }
     let mut pictures: Vec<(String, Picture)> = Vec::new();
     for (case, outcome) in all.iter().zip(&outcomes) {
@@ -312,6 +301,7 @@ fn reproduce_into(
     if let Ok(p) = &arm3_limited {
         pictures.push((ARM3_LIMITED_FIGURE.into(), Picture::Arm3Limited(p)));
     }
+    pictures.push((CLOSED_LOOP_FIGURE.into(), Picture::ClosedLoop));
     // The paper's figures first, then the cases beyond them.
     pictures.sort_by_key(|(name, _)| (!name.starts_with("fig"), name.clone()));
     let rendered: Vec<(String, Vec<u8>, Vec<u8>)> = pictures
@@ -329,6 +319,7 @@ fn reproduce_into(
                     Picture::Methods => methods_picture(&method_rows, format, &path),
                     Picture::Arm3(p) => plan_picture(&arm3_figure(p), format, &path),
                     Picture::Arm3Limited(p) => plan_picture(&arm3_limited_figure(p), format, &path),
+                    Picture::ClosedLoop => plan_picture(&closed_loop_figure(&closed), format, &path),
                 }
             };
             let (svg, png) = rayon::join(|| draw(PictureFormat::Svg), || draw(PictureFormat::Png));
@@ -440,6 +431,7 @@ fn reproduce_into(
                     ),
                     Some(arm_animation(p, "arm3-limits", ARM3_LIMITED_ANIMATION_TITLE)),
                 ),
+                Picture::ClosedLoop => (closed_loop_figure(&closed).title, closed_loop_text(&closed), None),
             };
             FigureEmbed { name: name.clone(), title, description, png: Some(png.clone()), animation: anim }
         })
@@ -452,6 +444,7 @@ fn reproduce_into(
         methods: &method_rows,
         arm3: Some(&arm3_row),
         arm3_limited: Some(&arm3_limited_row),
+        closed_loop: Some(&closed),
         figures: &figures,
         seconds,
     })
@@ -467,6 +460,7 @@ fn reproduce_into(
         methods: &method_rows,
         arm3: &arm3_row,
         arm3_limited: &arm3_limited_row,
+        closed_loop: &closed,
         seconds,
     };
     let json = serde_json::to_vec_pretty(&summary)
@@ -475,7 +469,8 @@ fn reproduce_into(
     let mut md = summary_markdown(&rows, &domain_rows, Some(&sweep_summary))
         + &methods_markdown(&method_rows)
         + &arm3_markdown(&arm3_row)
-        + &arm3_limited_markdown(&arm3_limited_row);
+        + &arm3_limited_markdown(&arm3_limited_row)
+        + &closed_loop_markdown(&closed);
     if !gifs.is_empty() {
         md += &format!(
             "\n## Animations\n\nEach plan's animation as a GIF, beside this file (the report page shows them \

@@ -6,11 +6,14 @@ use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
 use approx::assert_relative_eq;
+use freefloat::model::arm::Arm;
 use freefloat::plan::{TorqueOptions, torque_plan};
+use freefloat::planners::arm::{ArmRequest, plan_arm};
+use freefloat::planners::chain::ChainProblem;
 use freefloat::report::plot::{DOMAIN_PAIR_SIZE, METHODS_SIZE, PLAN_FIGURE_SIZE, SWEEP_SIZE};
 use freefloat::{
-    EcsaOptions, EcsaPlanner, Mount, NfaOptions, NormalFormPlanner, Planned, Planner, PlanningProblem, RobotParams,
-    Transform,
+    EcsaOptions, EcsaPlanner, Method, Mount, NfaOptions, NormalFormPlanner, Planned, Planner, PlanningProblem,
+    RobotParams, Transform,
 };
 use serde_json::Value;
 
@@ -38,6 +41,8 @@ fn figures() -> Vec<(String, (u32, u32))> {
     figures.push(("fig18".into(), PLAN_FIGURE_SIZE));
     // The 3-link arm inside a velocity limit (issue 20 item 7).
     figures.push(("fig19".into(), PLAN_FIGURE_SIZE));
+    // The closed loop's Monte Carlo (issue 22 items 4 and 5).
+    figures.push(("fig20".into(), PLAN_FIGURE_SIZE));
     // The sin²-windowed ECSA, beyond the paper: plan pictures named by their case.
     for a in ["0.0", "0.1", "0.2", "0.3"] {
         figures.push((format!("ecsa-sin2-{a}"), PLAN_FIGURE_SIZE));
@@ -87,7 +92,7 @@ fn reproduce_writes_every_file_whole_and_the_planners_numbers() {
     let o = reproduce(dir.path());
     let seconds = clock.elapsed().as_secs_f64();
     let stdout = String::from_utf8_lossy(&o.stdout);
-    assert!(stdout.contains("wrote 43 files"), "{stdout}");
+    assert!(stdout.contains("wrote 45 files"), "{stdout}");
     assert!(seconds < 60.0, "reproduce took {seconds} s");
 
     // Every file exists and is not empty; nothing else (no temporary files) is left.
@@ -107,6 +112,11 @@ fn reproduce_writes_every_file_whole_and_the_planners_numbers() {
         if name == "fig18" || name == "fig19" {
             for label in
                 ["t [s]", "angle [deg]", "rate [rad/s]", "τ [N m]", "θ3", "τ3", "velocity level", "torque level"]
+            {
+                assert!(text.contains(label), "{name}.svg has no `{label}`");
+            }
+        } else if name == "fig20" {
+            for label in ["log10 final error [rad]", "share of the trials [%]", "success: 1e-3 rad", "adaptive", "open"]
             {
                 assert!(text.contains(label), "{name}.svg has no `{label}`");
             }
@@ -155,7 +165,7 @@ fn reproduce_writes_every_file_whole_and_the_planners_numbers() {
     }
     // Self-contained: no external resources.
     assert!(!html.contains("http://") && !html.contains("https://") && !html.contains("src=\"/"));
-    assert_eq!(html.matches("data:image/png;base64,").count(), 20, "a picture for every plan");
+    assert_eq!(html.matches("data:image/png;base64,").count(), 21, "a picture for every figure");
     // Self-contained: no link to a file beside the page, only to anchors on it.
     for link in words.split("href=\"").skip(1) {
         assert!(link.starts_with('#'), "a link off the page: {}", &link[..link.len().min(40)]);
@@ -235,6 +245,47 @@ fn reproduce_writes_every_file_whole_and_the_planners_numbers() {
     let most = uses.iter().map(|u| f64_at(u, "use")).fold(0.0, f64::max);
     assert!(most > 0.99 && most <= 1.0 + 1e-9, "the limit binds: {most}");
     assert_eq!(limited["limits"]["inside"], true);
+
+    // Fig. 20: every controller on the same 20 perturbed trials per problem, adaptive's success
+    // as a torque limit tightens; the tracked plans are the minimum-effort planner's.
+    let closed = &summary["closed_loop"];
+    assert_eq!((closed["trials"].as_u64(), closed["curve_trials"].as_u64()), (Some(20), Some(10)), "{closed}");
+    let cases = closed["cases"].as_array().expect("the closed loop's cases");
+    assert_eq!(cases.len(), 2);
+    for case in cases {
+        let rate = |name: &str| {
+            let s = case["controllers"].as_array().expect("summaries").iter().find(|s| s["controller"] == name);
+            let s = s.unwrap_or_else(|| panic!("{name} in {case}"));
+            assert_eq!(s["trials"].as_u64(), Some(20));
+            f64_at(s, "success_rate")
+        };
+        // Issue 22: adaptive holds >= 95 % on hard problems and at the paper's mounts, and no
+        // controller with less feedback does better on the same trials.
+        assert!(rate("adaptive") >= 0.95, "{case}");
+        for other in ["open", "ct", "replan"] {
+            assert!(rate(other) <= rate("adaptive"), "{other} beats adaptive: {case}");
+        }
+        let mount = pair_at(case, "mount");
+        let deg = |key: &str| case[key].as_array().expect("angles").iter().map(|x| x.as_f64().unwrap().to_radians());
+        let problem = ChainProblem::rest_to_rest(deg("start_deg").collect(), deg("goal_deg").collect(), 10.0);
+        let arm =
+            Arm { mount: Mount::new(mount[0], mount[1]).expect("mount"), ..Arm::from_params(&RobotParams::src()) };
+        let request = ArmRequest { torques: true, ..ArmRequest::new(problem) };
+        let planned = plan_arm(&arm, Method::Optimal, &request).expect("the tracked plan");
+        close(f64_at(case, "effort"), planned.effort());
+        let peak = planned.torques.as_ref().expect("torques").max_abs_torque.iter().copied().fold(0.0, f64::max);
+        close(f64_at(case, "peak_torque"), peak);
+    }
+    let curve = closed["torque_curve"].as_array().expect("the torque curve");
+    let peak = f64_at(&cases[0], "peak_torque");
+    for p in curve {
+        close(f64_at(p, "limit"), f64_at(p, "fraction") * peak);
+    }
+    let success = |p: &Value| f64_at(&p["adaptive"], "success_rate");
+    let (tightest, loosest) = (curve.first().expect("points"), curve.last().expect("points"));
+    // A tenth of the plan's peak torque cannot follow the plan; the plan's own peak can.
+    assert!(f64_at(tightest, "fraction") <= 0.1 && f64_at(loosest, "fraction") >= 1.0);
+    assert!(success(tightest) < success(loosest) && success(loosest) >= 0.95, "{closed}");
 
     // The values are the planners': recompute an NFA case, an ECSA case and Fig. 15 here.
     let robot = |a: f64, b: f64| RobotParams::src().with_mount(Mount::new(a, b).expect("mount")).expect("robot");
@@ -416,4 +467,22 @@ fn report_page_runs_in_a_headless_browser() {
     assert!(shot.exists(), "no screenshot: {log}");
     assert!(decode_png(&shot).1 > 20, "the screenshot looks blank");
     eprintln!("screenshot: {}", shot.display());
+}
+
+/// `reproduce --trials 0` (or above the Monte Carlo's bound) is refused before any work, exit
+/// 2 naming the flag's quantity, and writes nothing.
+#[test]
+fn reproduce_refuses_a_bad_trial_count_before_any_work() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    for trials in ["0", "1000001"] {
+        let o = Command::new(env!("CARGO_BIN_EXE_freefloat"))
+            .args(["reproduce", "--trials", trials, "--out"])
+            .arg(dir.path().join("out"))
+            .output()
+            .expect("the binary runs");
+        let stderr = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{stderr}");
+        assert!(stderr.contains("trials"), "{stderr}");
+    }
+    assert_eq!(std::fs::read_dir(dir.path()).expect("dir").count(), 0, "nothing is written");
 }
