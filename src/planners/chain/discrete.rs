@@ -300,7 +300,7 @@ impl Discretised for Discretisation {
                 c: residual(integral),
                 grad_f: empty.clone(),
                 grad_c: empty,
-                hess_f: none.clone(),
+                hess_f: Some(none.clone()),
                 hess_c: none,
             };
         }
@@ -315,9 +315,10 @@ impl Discretised for Discretisation {
         let mut idx = [usize::MAX; MAX_DEGREE + 1];
         let mut row = vec![0.0; n];
         let mut hess_f = match (second, &self.energy) {
-            (true, None) => table.effort_hessian.clone(),
-            (true, Some(_)) => DMatrix::zeros(dim, dim),
-            (false, _) => DMatrix::zeros(0, 0),
+            // The effort's Hessian is the table's, not copied ([`Evaluation::hess_f_or`]).
+            (true, None) => None,
+            (true, Some(_)) => Some(DMatrix::zeros(dim, dim)),
+            (false, _) => Some(DMatrix::zeros(0, 0)),
         };
         let mut e_local = EnergyLocal::new(n);
         for node in &table.nodes {
@@ -352,8 +353,8 @@ impl Discretised for Discretisation {
             if !second {
                 continue;
             }
-            if self.energy.is_some() {
-                add_energy_hessian(&mut hess_f, &e_local, node, &idx[..=p], n, w);
+            if let (Some(_), Some(h)) = (&self.energy, hess_f.as_mut()) {
+                add_energy_hessian(h, &e_local, node, &idx[..=p], n, w);
             }
             let data = hess_c.as_mut_slice();
             for l in 0..=p {

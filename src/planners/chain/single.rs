@@ -100,7 +100,7 @@ fn minimise_energy(disc: &Discretisation, mut x: DVector<f64>) -> DVector<f64> {
         if e.grad_f.norm() <= 1e-10 * e.f.abs().max(1e-12) {
             break;
         }
-        let Some(chol) = e.hess_f.clone().cholesky() else { break };
+        let Some(chol) = e.hess_f_or(disc.effort_hessian()).clone().cholesky() else { break };
         let step = chol.solve(&e.grad_f);
         let mut t = 1.0;
         let mut improved = false;

@@ -257,10 +257,28 @@ pub struct Evaluation {
     pub grad_f: DVector<f64>,
     /// `dc/dx` (empty for order 0).
     pub grad_c: DVector<f64>,
-    /// `d^2 f/dx^2` (empty below order 2).
-    pub hess_f: DMatrix<f64>,
+    /// `d^2 f/dx^2` (empty below order 2); `None` where it is the discretisation's effort Hessian
+    /// `S` ([`crate::planners::optimal::sqp::Discretised::effort_hessian`], the effort cost's own,
+    /// a constant), so that it is not copied at every evaluation: [`Evaluation::hess_f_or`].
+    pub hess_f: Option<DMatrix<f64>>,
     /// `d^2 c/dx^2` (empty below order 2).
     pub hess_c: DMatrix<f64>,
+}
+
+impl Evaluation {
+    /// `d^2 f/dx^2` at order 2: [`Evaluation::hess_f`], or `s`, the effort Hessian, where it is
+    /// `None`.
+    pub fn hess_f_or<'a>(&'a self, s: &'a DMatrix<f64>) -> &'a DMatrix<f64> {
+        self.hess_f.as_ref().unwrap_or(s)
+    }
+
+    /// The Lagrangian's Hessian `d^2 f/dx^2 + lambda d^2 c/dx^2` at order 2 (`s`: the effort
+    /// Hessian, for a `None` [`Evaluation::hess_f`]).
+    pub fn lagrangian_hessian(&self, s: &DMatrix<f64>, lambda: f64) -> DMatrix<f64> {
+        let mut w = &self.hess_c * lambda;
+        w += self.hess_f_or(s);
+        w
+    }
 }
 
 /// The discretised problem on one basis.
@@ -383,15 +401,22 @@ impl Discretisation {
             let residual = self.targets.phi_start - integral - self.targets.phi_end;
             let empty = || DVector::zeros(0);
             let none = || DMatrix::zeros(0, 0);
-            return Evaluation { f, c: residual, grad_f: empty(), grad_c: empty(), hess_f: none(), hess_c: none() };
+            return Evaluation {
+                f,
+                c: residual,
+                grad_f: empty(),
+                grad_c: empty(),
+                hess_f: Some(none()),
+                hess_c: none(),
+            };
         }
         let second = order >= 2;
         let (mut grad_f, mut grad_c) = (DVector::zeros(dim), DVector::zeros(dim));
         let mut hess_c = if second { DMatrix::zeros(dim, dim) } else { DMatrix::zeros(0, 0) };
         let mut hess_f = match (second, self.cost) {
-            (true, Cost::Effort) => table.effort_hessian.clone(),
-            (true, Cost::Energy) => DMatrix::zeros(dim, dim),
-            (false, _) => DMatrix::zeros(0, 0),
+            (true, Cost::Effort) => None,
+            (true, Cost::Energy) => Some(DMatrix::zeros(dim, dim)),
+            (false, _) => Some(DMatrix::zeros(0, 0)),
         };
         let energy = self.cost == Cost::Energy;
         for chunk in table.nodes.chunks(table.per_span) {
@@ -417,7 +442,7 @@ impl Discretisation {
             }
             let first = chunk[0].first;
             table.scatter(first, &bc, &mut grad_c, second.then_some(&mut hess_c));
-            table.scatter(first, &bf, &mut grad_f, (second && energy).then_some(&mut hess_f));
+            table.scatter(first, &bf, &mut grad_f, if second && energy { hess_f.as_mut() } else { None });
         }
         let residual = self.targets.phi_start - integral - self.targets.phi_end;
         Evaluation { f, c: residual, grad_f, grad_c, hess_f, hess_c }

@@ -230,7 +230,7 @@ pub fn solve<P: Discretised>(
         }
         iterations += 1;
         since_best += 1;
-        let w = &e.hess_f + &e.hess_c * lambda_w;
+        let w = e.lagrangian_hessian(m.s, lambda_w);
         let a_s = m.chol.solve(&e.grad_c);
         let den = e.grad_c.dot(&a_s);
         if !(den > 0.0) && e.c.abs() > options.constraint_tolerance {

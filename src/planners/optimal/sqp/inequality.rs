@@ -367,7 +367,7 @@ pub(super) fn solve<P: Discretised>(
         let largest_z = z.iter().fold(0.0_f64, |m, v| m.max(*v));
         let active: Vec<&[(usize, f64)]> =
             (0..z.len()).filter(|&i| z[i] > 1e-6 * largest_z.max(1.0)).map(|i| g.rows[i].as_slice()).collect();
-        let (w, rho) = convexify(&e.hess_f + &e.hess_c * lambda, &e.grad_c, &active, m.s, hb);
+        let (w, rho) = convexify(e.lagrangian_hessian(m.s, lambda), &e.grad_c, &active, m.s, hb);
         let model = Model { w, rho, hb, e: &e, rows: &g.rows };
         let left = |d: &DVector<f64>| model.infeasibility(e.c, &g.values, d);
         let Some(mut step) = model.solve(e.c, &g.values, mu, radius) else {

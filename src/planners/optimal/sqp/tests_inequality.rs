@@ -41,7 +41,7 @@ impl Discretised for Concave {
         } else {
             (DVector::zeros(0), DVector::zeros(0), DMatrix::zeros(0, 0), DMatrix::zeros(0, 0))
         };
-        Evaluation { f, c: x[0] - 1.0, grad_f, grad_c, hess_f, hess_c }
+        Evaluation { f, c: x[0] - 1.0, grad_f, grad_c, hess_f: Some(hess_f), hess_c }
     }
     fn inequalities(&self, x: &DVector<f64>, order: usize) -> Option<Inequalities> {
         let rows = if order >= 1 { vec![vec![(2, 1.0)], vec![(2, -1.0)]] } else { Vec::new() };
