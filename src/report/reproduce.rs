@@ -47,8 +47,8 @@ struct Summary<'a> {
     arm3: &'a Arm3Row,
     /// The 3-link arm inside a velocity limit (Fig. 19).
     arm3_limited: &'a Arm3Row,
-    /// The closed loop's Monte Carlo (Fig. 20).
-    closed_loop: &'a ClosedLoop,
+    /// The closed loop's Monte Carlo (Fig. 20); `null` when its plans failed (see the failures).
+    closed_loop: Option<&'a ClosedLoop>,
     /// Wall time of the computation and the pictures (before the page and the summary) \[s\].
     seconds: f64,
 }
@@ -265,7 +265,6 @@ fn reproduce_into(
         },
         || closed_loop(trials, progress),
     );
-    let closed = closed?;
     let panels: Vec<DomainPanel> = panels.into_iter().collect::<Result<_, _>>()?;
     let (sweep_rows, sweep_seconds) = sweep?;
     let sweep_summary = SweepSummary::new(&sweep_opts, &sweep_rows, sweep_seconds);
@@ -281,7 +280,7 @@ fn reproduce_into(
         Methods,
         Arm3(&'a crate::planners::arm::ArmPlanned),
         Arm3Limited(&'a crate::planners::arm::ArmPlanned),
-        ClosedLoop,
+        ClosedLoop(&'a ClosedLoop),
     }
     let mut pictures: Vec<(String, Picture)> = Vec::new();
     for (case, outcome) in all.iter().zip(&outcomes) {
@@ -301,7 +300,9 @@ fn reproduce_into(
     if let Ok(p) = &arm3_limited {
         pictures.push((ARM3_LIMITED_FIGURE.into(), Picture::Arm3Limited(p)));
     }
-    pictures.push((CLOSED_LOOP_FIGURE.into(), Picture::ClosedLoop));
+    if let Ok(c) = &closed {
+        pictures.push((CLOSED_LOOP_FIGURE.into(), Picture::ClosedLoop(c)));
+    }
     // The paper's figures first, then the cases beyond them.
     pictures.sort_by_key(|(name, _)| (!name.starts_with("fig"), name.clone()));
     let rendered: Vec<(String, Vec<u8>, Vec<u8>)> = pictures
@@ -319,7 +320,7 @@ fn reproduce_into(
                     Picture::Methods => methods_picture(&method_rows, format, &path),
                     Picture::Arm3(p) => plan_picture(&arm3_figure(p), format, &path),
                     Picture::Arm3Limited(p) => plan_picture(&arm3_limited_figure(p), format, &path),
-                    Picture::ClosedLoop => plan_picture(&closed_loop_figure(&closed), format, &path),
+                    Picture::ClosedLoop(c) => plan_picture(&closed_loop_figure(c), format, &path),
                 }
             };
             let (svg, png) = rayon::join(|| draw(PictureFormat::Svg), || draw(PictureFormat::Png));
@@ -431,7 +432,7 @@ fn reproduce_into(
                     ),
                     Some(arm_animation(p, "arm3-limits", ARM3_LIMITED_ANIMATION_TITLE)),
                 ),
-                Picture::ClosedLoop => (closed_loop_figure(&closed).title, closed_loop_text(&closed), None),
+                Picture::ClosedLoop(c) => (closed_loop_figure(c).title, closed_loop_text(c), None),
             };
             FigureEmbed { name: name.clone(), title, description, png: Some(png.clone()), animation: anim }
         })
@@ -444,7 +445,7 @@ fn reproduce_into(
         methods: &method_rows,
         arm3: Some(&arm3_row),
         arm3_limited: Some(&arm3_limited_row),
-        closed_loop: Some(&closed),
+        closed_loop: closed.as_ref().ok(),
         figures: &figures,
         seconds,
     })
@@ -460,7 +461,7 @@ fn reproduce_into(
         methods: &method_rows,
         arm3: &arm3_row,
         arm3_limited: &arm3_limited_row,
-        closed_loop: &closed,
+        closed_loop: closed.as_ref().ok(),
         seconds,
     };
     let json = serde_json::to_vec_pretty(&summary)
@@ -470,7 +471,7 @@ fn reproduce_into(
         + &methods_markdown(&method_rows)
         + &arm3_markdown(&arm3_row)
         + &arm3_limited_markdown(&arm3_limited_row)
-        + &closed_loop_markdown(&closed);
+        + &closed.as_ref().map_or(String::new(), closed_loop_markdown);
     if !gifs.is_empty() {
         md += &format!(
             "\n## Animations\n\nEach plan's animation as a GIF, beside this file (the report page shows them \
@@ -500,6 +501,9 @@ fn reproduce_into(
     let limited = arm3_limited.as_ref().map_err(|e| e.to_string());
     if let Err(e) = limited.and_then(|p| p.certified().map_err(|e| e.to_string())) {
         failures.push(format!("{ARM3_LIMITED_FIGURE}: the 3-link arm inside a velocity limit: {e}"));
+    }
+    if let Err(e) = &closed {
+        failures.push(format!("{CLOSED_LOOP_FIGURE}: the closed loop: {e}"));
     }
     Ok(Reproduction { markdown: md, files, seconds: clock.elapsed().as_secs_f64(), failures })
 }
