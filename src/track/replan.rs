@@ -23,9 +23,10 @@ pub struct ReplanOptions {
     /// correct the base's drift: on issue 22's hard set 5 Hz ends every trial as 50 Hz did, at a
     /// tenth of the work.
     pub rate: f64,
-    /// No re-plan starts in the last `final_window` seconds \[s\]: the last one, this long before
-    /// the end, is the final correction, tracked to the end by the joint loop (shorter horizons
-    /// ask for accelerations that amplify the noise); default 0.3 s.
+    /// No re-plan starts in the last `final_window` seconds \[s\]: the last one, the last tick of
+    /// the re-plan rate at least this long before the end (at 5 Hz and 0.3 s: 0.4 s before a 10 s
+    /// horizon's end), is the final correction, tracked to the end by the joint loop (shorter
+    /// horizons ask for accelerations that amplify the noise); default 0.3 s.
     pub final_window: f64,
     /// A re-plan is used only when its velocity-level certificate (on the model, from the
     /// measured state) ends within this of the goal \[rad\]; otherwise it counts as a failure and
