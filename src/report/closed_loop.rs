@@ -3,7 +3,7 @@
 //! distribution on the paper's problem at a = b = 0.1 m and on a hard public problem, and the
 //! success of `adaptive` as the actuators' torque limit tightens below the plan's peak.
 //!
-//! Every trial is a [`monte_carlo`] trial with the disturbances of issue 22's measurements
+//! Every trial is a [`monte_carlo()`] trial with the disturbances of issue 22's measurements
 //! ([`closed_loop_options`]): 5 % parameters, 1 cm mount, 1 % torque noise, 1e-5 rad and
 //! 1e-5 rad/s sensor noise, 1 kHz, seed 1. `reproduce` runs [`CLOSED_LOOP_TRIALS`] per controller
 //! and case, so that it stays under a minute; `reproduce --trials 1000` runs the full version.
