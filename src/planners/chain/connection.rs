@@ -27,6 +27,8 @@ pub struct Connection {
     k: Vec<f64>,
     /// `beta = atan2(b, a)` of the mount \[rad\].
     beta: f64,
+    /// `(sin beta, cos beta)`, the first segment's (constant) direction.
+    beta_sin_cos: (f64, f64),
     /// The constant part of `F`: `sum_t K_tt + I_0 + sum_k I_k`.
     f0: f64,
     /// The constant part of `G_j`: `sum_{t >= j} (K_tt + I_t)`.
@@ -109,7 +111,7 @@ impl Connection {
         let spin = |t: usize| if t == 0 { arm.base.inertia } else { arm.links[t - 1].inertia };
         let f0 = (0..=n).map(|t| k[t * (n + 1) + t] + spin(t)).sum();
         let g0 = (1..=n).map(|j| (j..=n).map(|t| k[t * (n + 1) + t] + spin(t)).sum()).collect();
-        Self { n, k, beta, f0, g0 }
+        Self { n, k, beta, beta_sin_cos: beta.sin_cos(), f0, g0 }
     }
 
     /// The number of joints.
@@ -123,7 +125,7 @@ impl Connection {
         let mut e = [(0.0, 0.0); MAX_JOINTS + 1];
         let mut w = [0.0; MAX_JOINTS + 1];
         let mut psi = self.beta;
-        e[0] = psi.sin_cos();
+        e[0] = self.beta_sin_cos;
         for j in 0..n {
             psi = if j == 0 { theta[0] } else { psi + theta[j] };
             e[j + 1] = psi.sin_cos();
@@ -173,7 +175,8 @@ impl Connection {
             out.psi[j + 1] = if j == 0 { theta[0] } else { out.psi[j] + theta[j] };
             out.rate_sum[j + 1] = out.rate_sum[j] + rate[j];
         }
-        for s in 0..n1 {
+        out.cs[0] = self.beta_sin_cos;
+        for s in 1..n1 {
             out.cs[s] = out.psi[s].sin_cos();
         }
         // X_st for s < t: [2K C, h C, 2K S, h S] with h = K (W_s + W_t).

@@ -141,7 +141,7 @@ impl<'a> Limited<'a> {
             }
         }
         let base = arm.limits.base.map(|[lo, hi]| [lo + MARGIN * (hi - lo), hi - MARGIN * (hi - lo)]);
-        let clearance = planner.clearance_rows.then(|| clearance::Clearance::new(arm)).flatten();
+        let clearance = planner.clearance_rows.then(|| clearance::Clearance::new(arm, planner.obstacle_rows)).flatten();
         Some(Self { disc, arm, connection, linear, torque, base, clearance, free })
     }
 
@@ -397,10 +397,10 @@ pub(crate) fn solve(
     }
 }
 
-/// True when `planner` solves with clearance rows: its arm has shapes on two of its own bodies
-/// that are checked, and the rows are on.
+/// True when `planner` solves with clearance rows: its arm has a pair of bodies (or a body and
+/// an obstacle, with obstacle rows on) that is checked, and the rows are on.
 pub(crate) fn keeps_clearance(planner: &ChainPlanner) -> bool {
-    planner.clearance_rows && clearance::Clearance::new(&planner.arm).is_some()
+    planner.clearance_rows && clearance::Clearance::new(&planner.arm, planner.obstacle_rows).is_some()
 }
 
 /// Keeps the goal representatives inside the ranges: each limited joint's goal is moved by whole

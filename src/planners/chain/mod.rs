@@ -264,13 +264,16 @@ pub struct ChainPlanner {
     /// The clearance between the robot's own bodies as constraints (issue 21; off for the first,
     /// unconstrained search, whose plan is the constrained minimum when it clears).
     clearance_rows: bool,
+    /// The clearance to the obstacles as constraints too (dense rows through `phi(t)`; off for
+    /// the search with rows, on for the repair of its plan, see [`Self::plan`]).
+    obstacle_rows: bool,
 }
 
 impl ChainPlanner {
     /// A planner for `arm` with `options`.
     pub fn new(arm: Arm, options: ChainOptions) -> Self {
         let connection = Arc::new(connection::Connection::new(&arm));
-        Self { arm: Arc::new(arm), options, connection, clearance_rows: true }
+        Self { arm: Arc::new(arm), options, connection, clearance_rows: true, obstacle_rows: true }
     }
 
     /// The arm.

@@ -10,7 +10,6 @@ use super::motion::{ChainPlan, ChainStats};
 use super::{ChainPlanner, ChainProblem};
 use crate::error::Error;
 use crate::model::InputError;
-use crate::model::arm::collision::Body;
 use crate::plan::certificate::verify_chain;
 use crate::planners::optimal::spline::SplineBasis;
 use crate::planners::optimal::sqp::{SqpOptions, SqpResult, Termination};
@@ -72,24 +71,42 @@ impl ChainPlanner {
         }
         // With clearance rows, first the search without them: where its plan clears, it is the
         // constrained minimum too (the rows would not be active), found at the unconstrained
-        // search's speed. Where it comes closest to an obstacle, which no row keeps, it is
-        // returned for its certificate to report.
-        // Where the search with rows finds no plan that clears, the less bad of the two is
-        // returned likewise (its certificate names the pair, the time and the depth).
+        // search's speed. Else that plan pushed clear by the rows in its own basin (a few solves
+        // on its own basis); else the search with the rows of the robot's own bodies (every seed
+        // under them; the obstacles' rows are dense, and that search would not be bounded in
+        // time), its plan pushed clear of the obstacles likewise. Where none clears, the least
+        // bad is returned for its certificate to report (the pair, the time and the depth).
         if super::limits::keeps_clearance(self) {
-            let free = ChainPlanner { clearance_rows: false, ..self.clone() };
-            let free = free.plan(problem);
-            if let Ok(plan) = &free
-                && plan.verification.clearance.is_none_or(|r| r.holds() || matches!(r.b, Body::Obstacle(_)))
-            {
-                return free;
+            let clears = |p: &ChainPlan| p.verification.clearance.is_none_or(|r| r.holds());
+            let own = ChainPlanner { obstacle_rows: false, ..self.clone() };
+            let with_own_rows = super::limits::keeps_clearance(&own);
+            let free = ChainPlanner { clearance_rows: false, ..self.clone() }.plan(problem);
+            let Ok(free) = free else {
+                return if with_own_rows { own.search(problem, &tables, clock) } else { free };
+            };
+            if clears(&free) {
+                return Ok(free);
             }
-            let kept = self.search(problem, &tables, clock);
+            if let Ok(Some(repaired)) = self.repair(problem, &free, &tables, clock) {
+                return Ok(repaired);
+            }
+            if !with_own_rows {
+                return Ok(free);
+            }
+            let kept = match own.search(problem, &tables, clock) {
+                Ok(k) if !clears(&k) && !self.arm.geometry.obstacles.is_empty() => {
+                    match self.repair(problem, &k, &tables, clock) {
+                        Ok(Some(repaired)) => return Ok(repaired),
+                        _ => Ok(k),
+                    }
+                }
+                kept => kept,
+            };
             let least = |p: &ChainPlan| p.verification.clearance.map_or(f64::INFINITY, |r| r.min);
-            return match (kept, free) {
-                (Ok(k), Ok(f)) if least(&f) > least(&k) => Ok(f),
-                (Err(_), Ok(f)) => Ok(f),
-                (kept, _) => kept,
+            return match kept {
+                Ok(k) if least(&free) > least(&k) => Ok(free),
+                Err(_) => Ok(free),
+                kept => kept,
             };
         }
         self.search(problem, &tables, clock)
@@ -372,6 +389,44 @@ impl ChainPlanner {
         let result = super::limits::solve(self, &disc, x0, &self.options.sqp, guess)?;
         let iterations = c.iterations + result.iterations;
         Ok(Candidate { disc, result, spans, nodes, iterations })
+    }
+
+    /// The certified plan that keeps the clearance from `free`'s path: solved with the rows on
+    /// `free`'s own basis from its exact coefficients, to the goal representative it reaches,
+    /// then [`Self::certified_clear`]; `None` when the solve does not converge or no plan clears
+    /// (an error, e.g. a failed projection, likewise leaves the caller's plan as it is).
+    fn repair(
+        &self,
+        problem: &ChainProblem,
+        free: &ChainPlan,
+        tables: &Tables,
+        clock: Instant,
+    ) -> Result<Option<ChainPlan>, Error> {
+        let end = free.at(problem.horizon);
+        let near = |x: f64, goal: f64| goal + std::f64::consts::TAU * ((x - goal) / std::f64::consts::TAU).round();
+        let targets = Targets {
+            start: problem.start[1..].to_vec(),
+            initial_velocity: problem.initial_velocity.clone(),
+            end: end.theta.iter().zip(&problem.goal[1..]).map(|(x, g)| near(*x, *g)).collect(),
+            phi_start: problem.start[0],
+            phi_end: near(end.phi, problem.goal[0]),
+        };
+        let (spans, nodes) = (free.stats.spans, free.stats.quadrature_nodes);
+        let disc = self.discretise(problem, targets, spans, nodes, tables)?;
+        let x0 = disc.project(|t, out| {
+            for (o, c) in out.iter_mut().zip(&free.coefficients) {
+                *o = free.basis.evaluate(c, t)[0];
+            }
+        })?;
+        let Ok(result) = super::limits::solve(self, &disc, x0, &self.options.sqp, Some(free.stats.multiplier)) else {
+            return Ok(None);
+        };
+        if !result.converged() {
+            return Ok(None);
+        }
+        let iterations = result.iterations;
+        let c = Candidate { disc, result, spans, nodes, iterations };
+        Ok(self.certified_clear(problem, &c, 1, iterations, clock, tables).ok().and_then(Result::ok))
     }
 
     /// [`Self::certified`], and where the certified plan comes under the clearance (the rows

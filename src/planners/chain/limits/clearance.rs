@@ -5,8 +5,10 @@
 //! mean link length (rows of order one, as the limits' are). Such a distance does not depend on
 //! the base angle `phi`: turning the whole system about its centre of mass (what `phi` does at
 //! fixed `theta`) moves no body relative to another, so each row is local in the coefficients.
-//! Obstacle pairs are not constrained yet (their rows would depend on `phi(t)`, the whole path up
-//! to `t`); the certificate checks them.
+//! A body against an obstacle (fixed in the inertial frame, as the system's centre of mass is)
+//! does depend on `phi(t) = phi(0) - integral_0^t g` (Eq. 7 at zero momentum), so its row takes
+//! `phi(t)`'s exact gradient in every coefficient before `t` ([`Limited::phi_path`]): dense in
+//! the path up to `t`, and `d d_ab / d phi` times that gradient beside the local terms.
 //!
 //! The signed distances are exact and so are their derivatives: one dual-number pass of
 //! [`Geometry::clearances`] per joint angle, then the chain rule through the basis' values. The
@@ -20,13 +22,21 @@ use num_dual::Dual64;
 
 use super::Limited;
 use crate::model::arm::collision::{Body, Geometry, PairClearance};
-use crate::planners::optimal::sqp::Inequalities;
+use crate::planners::optimal::sqp::{Discretised, Inequalities};
 
 /// Points per knot span at which every pair's clearance is bounded.
 pub(super) const PIECES: usize = 4;
 
+/// Points per knot span with an obstacle: a link sweeps past a small obstacle between rows
+/// that are further apart (its tip moves about 6 cm in a quarter span of a 10 s plan at 1 m/s).
+pub(super) const OBSTACLE_PIECES: usize = 16;
+
 /// Extra clearance each row keeps \[m\] (a distance's dip between points, module docs).
 const MARGIN: f64 = 1e-3;
+
+/// A body's row against an obstacle carries its gradient only within this distance of the
+/// clearance kept \[m\]: the dense rows of far bodies would fill the QP's factor for nothing.
+const NEAR: f64 = 0.1;
 
 /// The clearance rows of an arm with shapes.
 #[derive(Debug, Clone)]
@@ -35,23 +45,29 @@ pub(super) struct Clearance {
     keep: f64,
     /// `1 / L` \[1/m\].
     scale: f64,
+    /// Some body against an obstacle is checked: those pairs get rows too (through `phi(t)`).
+    obstacles: bool,
 }
 
 impl Clearance {
-    /// The rows for the arm's geometry; `None` when no pair of its own bodies is checked.
-    pub(super) fn new(arm: &crate::model::arm::Arm) -> Option<Self> {
+    /// The rows for the arm's geometry, the obstacles' pairs only with `obstacles`; `None` when
+    /// no pair has a row.
+    pub(super) fn new(arm: &crate::model::arm::Arm, obstacles: bool) -> Option<Self> {
         let geometry: &Geometry = &arm.geometry;
-        if !geometry.pairs(arm.joints()).iter().any(|&(_, b)| !matches!(b, Body::Obstacle(_))) {
+        let pairs = geometry.pairs(arm.joints());
+        let against = |&(_, b): &(Body, Body)| matches!(b, Body::Obstacle(_));
+        let obstacles = obstacles && pairs.iter().any(against);
+        if !obstacles && pairs.iter().all(against) {
             return None;
         }
         let mean = arm.links.iter().map(|l| l.length).sum::<f64>() / arm.joints() as f64;
-        Some(Self { keep: geometry.clearance + MARGIN, scale: 1.0 / mean.max(1e-3) })
+        Some(Self { keep: geometry.clearance + MARGIN, scale: 1.0 / mean.max(1e-3), obstacles })
     }
 }
 
-/// True for a pair of the robot's own bodies (not an obstacle).
-fn own<D>(pair: &PairClearance<D>) -> bool {
-    !matches!(pair.b, Body::Obstacle(_))
+/// True for a pair of a body and an obstacle.
+fn obstacle<D>(pair: &PairClearance<D>) -> bool {
+    matches!(pair.b, Body::Obstacle(_))
 }
 
 impl Limited<'_> {
@@ -64,9 +80,12 @@ impl Limited<'_> {
         let horizon = basis.horizon();
         let mut q = vec![0.0; n + 1];
         // Distances between the robot's own bodies do not change when the whole system turns
-        // about its centre of mass, which is what `phi` does at fixed `theta`: the base angle is
-        // not needed, and the rows are local in the coefficients.
-        for point in self.path_points(PIECES) {
+        // about its centre of mass, which is what `phi` does at fixed `theta`: without obstacles
+        // the base angle is not needed, and the rows are local in the coefficients.
+        let points = if rows.obstacles { self.phi_path(c, OBSTACLE_PIECES, order) } else { self.path_points(PIECES) };
+        let from = if rows.obstacles { 0 } else { 1 };
+        let dim = self.disc.dim();
+        for point in points {
             if point.t >= horizon {
                 continue;
             }
@@ -76,40 +95,63 @@ impl Limited<'_> {
             for j in 0..n {
                 q[j + 1] = (0..=p).map(|l| value[l] * c[j][first + l]).sum();
             }
+            let rowed = |pair: &PairClearance<_>| rows.obstacles || !obstacle(pair);
             if order == 0 {
-                for pair in geometry.clearances(self.arm, &q).into_iter().filter(own) {
+                for pair in geometry.clearances(self.arm, &q).into_iter().filter(rowed) {
                     out.values.push((rows.keep - pair.distance) * rows.scale);
                 }
                 continue;
             }
-            // d d_ab / d q_i, one dual pass per coordinate.
+            // d d_ab / d q_i, one dual pass per coordinate (phi's only with obstacles).
             let mut slopes: Vec<Vec<f64>> = Vec::new();
             let mut values = Vec::new();
-            for i in 1..=n {
+            let mut against_obstacle = Vec::new();
+            for i in from..=n {
                 let dq: Vec<Dual64> = q
                     .iter()
                     .enumerate()
                     .map(|(k, &v)| if k == i { Dual64::new(v, 1.0) } else { Dual64::from(v) })
                     .collect();
-                let pairs: Vec<_> = geometry.clearances(self.arm, &dq).into_iter().filter(own).collect();
+                let pairs: Vec<_> =
+                    geometry.clearances(self.arm, &dq).into_iter().filter(|p| rows.obstacles || !obstacle(p)).collect();
                 if slopes.is_empty() {
                     values = pairs.iter().map(|x| x.distance.re).collect();
+                    against_obstacle = pairs.iter().map(obstacle).collect();
                     slopes = vec![vec![0.0; n + 1]; pairs.len()];
                 }
                 for (s, x) in slopes.iter_mut().zip(&pairs) {
                     s[i] = x.distance.eps;
                 }
             }
-            for (d, s) in values.iter().zip(&slopes) {
+            for ((d, s), far) in values.iter().zip(&slopes).zip(&against_obstacle) {
                 out.values.push((rows.keep - d) * rows.scale);
-                // Through theta(t): the p + 1 coefficients of the span, per joint.
+                // Through theta(t): the p + 1 coefficients of the span, per joint; and against
+                // an obstacle through phi(t) too, whose gradient reaches every earlier one.
+                let mut dense = vec![0.0; if *far { dim } else { 0 }];
+                for (k, g) in dense.iter_mut().zip(&point.grad) {
+                    *k = -rows.scale * s[0] * g;
+                }
                 let mut row: Vec<(usize, f64)> = Vec::with_capacity((p + 1) * n);
                 for (l, v) in value.iter().enumerate().take(p + 1) {
                     for j in 0..n {
                         if let Some(idx) = self.index(first + l, j) {
-                            row.push((idx, -rows.scale * s[j + 1] * v));
+                            let term = -rows.scale * s[j + 1] * v;
+                            match dense.get_mut(idx) {
+                                Some(slot) => *slot += term,
+                                None => row.push((idx, term)),
+                            }
                         }
                     }
+                }
+                if *far {
+                    // A body more than NEAR from the obstacle keeps its row but not its dense
+                    // gradient: the row cannot become active in one step (the merit function
+                    // judges every step on the rows' values), and the QP stays sparse.
+                    row = if *d <= rows.keep + NEAR {
+                        dense.into_iter().enumerate().filter(|(_, v)| *v != 0.0).collect()
+                    } else {
+                        Vec::new()
+                    };
                 }
                 out.rows.push(row);
             }
