@@ -70,6 +70,11 @@ fn obstacle<D>(pair: &PairClearance<D>) -> bool {
     matches!(pair.b, Body::Obstacle(_))
 }
 
+/// True for a pair that has a row: every pair with obstacle rows, else the robot's own.
+fn rowed<D>(obstacles: bool, pair: &PairClearance<D>) -> bool {
+    obstacles || !obstacle(pair)
+}
+
 impl Limited<'_> {
     /// The clearance rows (one per pair and point) into `out`.
     pub(super) fn clearance(&self, c: &[Vec<f64>], order: usize, out: &mut Inequalities) {
@@ -95,9 +100,8 @@ impl Limited<'_> {
             for j in 0..n {
                 q[j + 1] = (0..=p).map(|l| value[l] * c[j][first + l]).sum();
             }
-            let rowed = |pair: &PairClearance<_>| rows.obstacles || !obstacle(pair);
             if order == 0 {
-                for pair in geometry.clearances(self.arm, &q).into_iter().filter(rowed) {
+                for pair in geometry.clearances(self.arm, &q).into_iter().filter(|x| rowed(rows.obstacles, x)) {
                     out.values.push((rows.keep - pair.distance) * rows.scale);
                 }
                 continue;
@@ -113,7 +117,7 @@ impl Limited<'_> {
                     .map(|(k, &v)| if k == i { Dual64::new(v, 1.0) } else { Dual64::from(v) })
                     .collect();
                 let pairs: Vec<_> =
-                    geometry.clearances(self.arm, &dq).into_iter().filter(|p| rows.obstacles || !obstacle(p)).collect();
+                    geometry.clearances(self.arm, &dq).into_iter().filter(|x| rowed(rows.obstacles, x)).collect();
                 if slopes.is_empty() {
                     values = pairs.iter().map(|x| x.distance.re).collect();
                     against_obstacle = pairs.iter().map(obstacle).collect();
@@ -127,6 +131,13 @@ impl Limited<'_> {
                 out.values.push((rows.keep - d) * rows.scale);
                 // Through theta(t): the p + 1 coefficients of the span, per joint; and against
                 // an obstacle through phi(t) too, whose gradient reaches every earlier one.
+                // A body more than NEAR from the obstacle keeps its row but not its dense
+                // gradient: the row cannot become active in one step (the merit function judges
+                // every step on the rows' values), and the QP stays sparse.
+                if *far && *d > rows.keep + NEAR {
+                    out.rows.push(Vec::new());
+                    continue;
+                }
                 let mut dense = vec![0.0; if *far { dim } else { 0 }];
                 for (k, g) in dense.iter_mut().zip(&point.grad) {
                     *k = -rows.scale * s[0] * g;
@@ -144,14 +155,7 @@ impl Limited<'_> {
                     }
                 }
                 if *far {
-                    // A body more than NEAR from the obstacle keeps its row but not its dense
-                    // gradient: the row cannot become active in one step (the merit function
-                    // judges every step on the rows' values), and the QP stays sparse.
-                    row = if *d <= rows.keep + NEAR {
-                        dense.into_iter().enumerate().filter(|(_, v)| *v != 0.0).collect()
-                    } else {
-                        Vec::new()
-                    };
+                    row = dense.into_iter().enumerate().filter(|(_, v)| *v != 0.0).collect();
                 }
                 out.rows.push(row);
             }
