@@ -5,6 +5,12 @@
 //!
 //! `cargo run --release --example make_two_link_fixture > tests/fixtures/two_link_300.csv`
 //!
+//! With `--two-joint` it writes `tests/fixtures/two_link_300_two_joint.csv` instead: the same
+//! 300 problems (read back from `tests/fixtures/two_link_300.csv`) planned by the 2-joint planner
+//! of the day it is run, the planner that the n-joint one replaces (issue 19):
+//!
+//! `cargo run --release --example make_two_link_fixture -- --two-joint > tests/fixtures/two_link_300_two_joint.csv`
+//!
 //! The distribution: a xorshift64* generator seeded with `0x5EED_0019`; per problem, in this
 //! order, the mount `a`, `b` uniform in `[-1.5, 1.5]` \[m\], the start `(phi, theta1, theta2)`
 //! and the goal `(phi, theta1, theta2)` each uniform in `[-pi, pi)` \[rad\]; rest to rest,
@@ -37,6 +43,9 @@ impl Rng {
 type Outcome = (f64, bool, f64);
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
+    if std::env::args().any(|a| a == "--two-joint") {
+        return two_joint_today();
+    }
     let mut rng = Rng(0x5EED_0019);
     let mut problems = Vec::new();
     for _ in 0..300 {
@@ -102,5 +111,34 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         );
     }
     eprintln!("2-joint better: {two_wins}, n-joint better: {n_wins}, equal within 1e-6: {ties}");
+    Ok(())
+}
+
+/// The `--two-joint` table (module docs): index, effort, certified, for each recorded problem.
+fn two_joint_today() -> Result<(), Box<dyn std::error::Error>> {
+    let text = std::fs::read_to_string("tests/fixtures/two_link_300.csv")?;
+    let mut problems = Vec::new();
+    for line in text.lines().filter(|l| !l.starts_with('#') && !l.starts_with("i,")) {
+        let f: Vec<f64> = line.split(',').skip(1).take(8).map(str::parse).collect::<Result<_, _>>()?;
+        let robot = RobotParams::src().with_mount(Mount::new(f[0], f[1])?)?;
+        let start = Configuration { phi: f[2], theta1: f[3], theta2: f[4] };
+        let goal = Configuration { phi: f[5], theta1: f[6], theta2: f[7] };
+        problems.push(PlanningProblem::new(robot, start, goal, 10.0)?);
+    }
+    let rows: Vec<(f64, bool)> = problems
+        .par_iter()
+        .map(|problem| match OptimalPlanner::default().plan(problem) {
+            Ok(p) => (p.plan.effort, p.plan.verification.certified),
+            Err(_) => (f64::NAN, false),
+        })
+        .collect();
+    println!("# issue 19 item 2: the 300 problems of two_link_300.csv planned by the 2-joint planner as");
+    println!("# it stands before the merge (default options), the planner the n-joint one replaces.");
+    println!("# made by: cargo run --release --example make_two_link_fixture -- --two-joint > tests/fixtures/two_link_300_two_joint.csv");
+    println!("# effort in rad^2/s (NaN: no plan); certified: the velocity-level certificate at 1e-9 rad.");
+    println!("i,effort_2joint,certified_2joint");
+    for (i, (effort, certified)) in rows.iter().enumerate() {
+        println!("{i},{effort:.12e},{certified}");
+    }
     Ok(())
 }

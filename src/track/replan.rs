@@ -58,6 +58,8 @@ impl Default for ReplanOptions {
                 grading: 0,
                 targets_solved: 1,
                 finalists: 1,
+                // A re-plan starts from the plan it corrects; its search is the fallback.
+                infeasible_finalists: 0,
                 loop_planes: 1,
                 tolerance: 1e-6,
                 ode: OdeOptions { rtol: 1e-9, atol: 1e-9, max_steps: 100_000 },

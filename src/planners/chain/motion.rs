@@ -26,6 +26,8 @@ fn phi_rule() -> &'static GaussLegendre {
 pub struct ChainStats {
     /// SQP iterations, summed over every seed and refinement level.
     pub iterations: usize,
+    /// SQP iterations of the last solve (finest basis) of the plan.
+    pub final_iterations: usize,
     /// Seeds solved.
     pub seeds: usize,
     /// The effort `integral_0^T |theta'|^2 dt` \[rad^2/s\].
@@ -35,6 +37,8 @@ pub struct ChainStats {
     pub cost: f64,
     /// Largest `|theta_j'(t)|` over joints and time (sampled finely) \[rad/s\].
     pub peak_velocity: f64,
+    /// `|phi(T) - phi_target|` of the last solve's quadrature \[rad\].
+    pub constraint_residual: f64,
     /// `|phi(T) - phi_target|` with [`PHI_NODES`] nodes per span \[rad\].
     pub holonomy_residual: f64,
     /// Relative KKT residual of the last solve.

@@ -22,11 +22,10 @@ pub(super) const COARSE_SQP: SqpOptions =
 /// After the first converged refinement, a representative's loops and coils are solved only
 /// when its estimate is at most this times the best cost found (the two-joint planner's rule:
 /// coil estimates are pessimistic, but one far above the best plan does not overtake it); its
-/// line is solved in any case.
-const LATER_ESTIMATE_RATIO: f64 = 10.0;
-
-/// How many times a plan under the clearance between the rows' points is solved again.
-const CLEARANCE_RETRIES: usize = 3;
+/// line is solved in any case. The two-joint planner's ratio is 10 on estimates without the 1.2
+/// of [`super::seeds::Line::effort_estimate`]; at 10 here, its better plan on one of the 300
+/// recorded problems (index 232, 4.23 against 7.35 rad^2/s) was cut.
+const LATER_ESTIMATE_RATIO: f64 = 12.0;
 
 /// The tables built in one planning call, by (uniform spans, quadrature nodes).
 #[derive(Default)]
@@ -69,51 +68,14 @@ impl ChainPlanner {
         if self.arm.joints() == 1 {
             return self.single_joint(problem, self.prepare(problem)?, &tables, clock);
         }
-        // With clearance rows, first the search without them: where its plan clears, it is the
-        // constrained minimum too (the rows would not be active), found at the unconstrained
-        // search's speed. Else that plan pushed clear by the rows in its own basin (a few solves
-        // on its own basis); else the search with the rows of the robot's own bodies (every seed
-        // under them; the obstacles' rows are dense, and that search would not be bounded in
-        // time), its plan pushed clear of the obstacles likewise. Where none clears, the least
-        // bad is returned for its certificate to report (the pair, the time and the depth).
         if super::limits::keeps_clearance(self) {
-            let clears = |p: &ChainPlan| p.verification.clearance.is_none_or(|r| r.holds());
-            let own = ChainPlanner { obstacle_rows: false, ..self.clone() };
-            let with_own_rows = super::limits::keeps_clearance(&own);
-            let free = ChainPlanner { clearance_rows: false, ..self.clone() }.plan(problem);
-            let Ok(free) = free else {
-                return if with_own_rows { own.search(problem, &tables, clock) } else { free };
-            };
-            if clears(&free) {
-                return Ok(free);
-            }
-            if let Ok(Some(repaired)) = self.repair(problem, &free, &tables, clock) {
-                return Ok(repaired);
-            }
-            if !with_own_rows {
-                return Ok(free);
-            }
-            let kept = match own.search(problem, &tables, clock) {
-                Ok(k) if !clears(&k) && !self.arm.geometry.obstacles.is_empty() => {
-                    match self.repair(problem, &k, &tables, clock) {
-                        Ok(Some(repaired)) => return Ok(repaired),
-                        _ => Ok(k),
-                    }
-                }
-                kept => kept,
-            };
-            let least = |p: &ChainPlan| p.verification.clearance.map_or(f64::INFINITY, |r| r.min);
-            return match kept {
-                Ok(k) if least(&free) > least(&k) => Ok(free),
-                Err(_) => Ok(free),
-                kept => kept,
-            };
+            return self.plan_keeping_clearance(problem, &tables, clock);
         }
         self.search(problem, &tables, clock)
     }
 
     /// The search of [`Self::plan`] after its checks (module docs).
-    fn search(&self, problem: &ChainProblem, tables: &Tables, clock: Instant) -> Result<ChainPlan, Error> {
+    pub(super) fn search(&self, problem: &ChainProblem, tables: &Tables, clock: Instant) -> Result<ChainPlan, Error> {
         let o = &self.options;
         let mut prepared = None;
         if let Some(path) = &o.warm_start {
@@ -167,40 +129,46 @@ impl ChainPlanner {
                     if extra { extras.push(c) } else { coarse.push(c) }
                 }
             }
-            coarse.sort_by(|a, b| b.feasible().cmp(&a.feasible()).then(a.result.f.total_cmp(&b.result.f)));
+            // Near the constraint: within the extra finalist's residual (a coil's coarse solve
+            // often stops at 1e-5 rad, short of 1e-6, at the plan it refines into).
+            let near = |c: &Candidate| c.result.c.abs() <= EXTRA_RESIDUAL && c.result.f.is_finite();
+            // Far from it, least cost first, below the best cost seen: refined besides the
+            // finalists (`ChainOptions::infeasible_finalists`).
+            let mut far: Vec<Candidate> =
+                coarse.iter().chain(&extras).filter(|c| !near(c) && c.result.f < best).cloned().collect();
+            far.sort_by(|a, b| a.result.f.total_cmp(&b.result.f));
+            far.truncate(o.infeasible_finalists);
+            coarse.sort_by(|a, b| near(b).cmp(&near(a)).then(a.result.f.total_cmp(&b.result.f)));
             // The best line beside a coil (or on the finest basis, see `solve_seeds`) is refined
             // too, as an extra finalist, where its solution is near the constraint and its cost
             // within 20 % of the best one's.
-            let first = coarse.first().filter(|c| c.feasible()).map_or(refined_best, |c| c.result.f.min(refined_best));
-            let near = |c: &Candidate| c.result.c.abs() <= EXTRA_RESIDUAL && c.result.f.is_finite();
+            let first = coarse.first().filter(|c| near(c)).map_or(refined_best, |c| c.result.f.min(refined_best));
             let extra = extras.into_iter().filter(near).min_by(|a, b| a.result.f.total_cmp(&b.result.f));
             let extra = extra.filter(|c| c.result.f <= 1.2 * first);
             // Finalists, best first: a coarse cost 20 % above the best refined one does not
-            // overtake on refinement, and an infeasible one is refined only while no plan is
-            // found. A refinement that fails does not use up a finalist's place (at most twice as
-            // many are tried).
+            // overtake on refinement, and one far from the constraint is a finalist only while no
+            // plan is found. A refinement that fails does not use up a finalist's place (at most
+            // twice as many are tried).
             let (mut converged, mut tried, mut refined): (usize, usize, Vec<f64>) = (0, 0, Vec::new());
-            for (c, extra) in extra.into_iter().map(|c| (c, true)).chain(coarse.into_iter().map(|c| (c, false))) {
+            let finalists = extra.into_iter().map(|c| (c, true)).chain(coarse.into_iter().map(|c| (c, false)));
+            for (c, extra) in finalists {
                 if !extra && (converged >= o.finalists || tried >= 2 * o.finalists) {
                     break;
                 }
-                if !extra && (c.result.f > 1.2 * refined_best || (!c.feasible() && refined_best.is_finite())) {
+                if !extra && (c.result.f > 1.2 * refined_best || (!near(&c) && refined_best.is_finite())) {
                     break;
                 }
-                let f = c.result.f;
-                if refined.iter().any(|d| (d - f).abs() <= 1e-6 * f.abs().max(1e-12)) {
-                    continue;
+                if let Some(c) = self.refine_new(problem, c, &mut refined, tables)? {
+                    tried += usize::from(!extra);
+                    iterations += c.iterations;
+                    converged += usize::from(!extra && c.result.converged());
+                    keep(c, &mut best, &mut done, &mut best_failure);
                 }
-                refined.push(f);
-                tried += usize::from(!extra);
-                let c = self.refine(problem, c, tables)?;
-                iterations += c.iterations;
-                if c.result.converged() {
-                    converged += usize::from(!extra);
-                    best = best.min(c.result.f);
-                    done.push(c);
-                } else if best_failure.as_ref().is_none_or(|b| c.result.c.abs() < b.result.c.abs()) {
-                    best_failure = Some(c);
+            }
+            for c in far {
+                if let Some(c) = self.refine_new(problem, c, &mut refined, tables)? {
+                    iterations += c.iterations;
+                    keep(c, &mut best, &mut done, &mut best_failure);
                 }
             }
         }
@@ -244,6 +212,23 @@ impl ChainPlanner {
                 termination: "no_candidate",
             },
         })
+    }
+
+    /// [`Self::refine`] of a coarse solution whose cost is not among `refined` (a duplicate
+    /// refines into the same plan): `None` for a duplicate, else its cost is recorded.
+    fn refine_new(
+        &self,
+        problem: &ChainProblem,
+        c: Candidate,
+        refined: &mut Vec<f64>,
+        tables: &Tables,
+    ) -> Result<Option<Candidate>, Error> {
+        let f = c.result.f;
+        if refined.iter().any(|d| (d - f).abs() <= 1e-6 * f.abs().max(1e-12)) {
+            return Ok(None);
+        }
+        refined.push(f);
+        self.refine(problem, c, tables).map(Some)
     }
 
     /// The warm start's plan: its projection on the coarse basis of the representative it ends
@@ -369,7 +354,7 @@ impl ChainPlanner {
     }
 
     /// Solves on `spans` and `nodes`, warm-started by the projection of `c`'s path.
-    fn resolve(
+    pub(super) fn resolve(
         &self,
         problem: &ChainProblem,
         c: &Candidate,
@@ -389,81 +374,6 @@ impl ChainPlanner {
         let result = super::limits::solve(self, &disc, x0, &self.options.sqp, guess)?;
         let iterations = c.iterations + result.iterations;
         Ok(Candidate { disc, result, spans, nodes, iterations })
-    }
-
-    /// The certified plan that keeps the clearance from `free`'s path: solved with the rows on
-    /// `free`'s own basis from its exact coefficients, to the goal representative it reaches,
-    /// then [`Self::certified_clear`]; `None` when the solve does not converge or no plan clears
-    /// (an error, e.g. a failed projection, likewise leaves the caller's plan as it is).
-    fn repair(
-        &self,
-        problem: &ChainProblem,
-        free: &ChainPlan,
-        tables: &Tables,
-        clock: Instant,
-    ) -> Result<Option<ChainPlan>, Error> {
-        let end = free.at(problem.horizon);
-        let near = |x: f64, goal: f64| goal + std::f64::consts::TAU * ((x - goal) / std::f64::consts::TAU).round();
-        let targets = Targets {
-            start: problem.start[1..].to_vec(),
-            initial_velocity: problem.initial_velocity.clone(),
-            end: end.theta.iter().zip(&problem.goal[1..]).map(|(x, g)| near(*x, *g)).collect(),
-            phi_start: problem.start[0],
-            phi_end: near(end.phi, problem.goal[0]),
-        };
-        let (spans, nodes) = (free.stats.spans, free.stats.quadrature_nodes);
-        let disc = self.discretise(problem, targets, spans, nodes, tables)?;
-        let x0 = disc.project(|t, out| {
-            for (o, c) in out.iter_mut().zip(&free.coefficients) {
-                *o = free.basis.evaluate(c, t)[0];
-            }
-        })?;
-        let Ok(result) = super::limits::solve(self, &disc, x0, &self.options.sqp, Some(free.stats.multiplier)) else {
-            return Ok(None);
-        };
-        if !result.converged() {
-            return Ok(None);
-        }
-        let iterations = result.iterations;
-        let c = Candidate { disc, result, spans, nodes, iterations };
-        Ok(self.certified_clear(problem, &c, 1, iterations, clock, tables).ok().and_then(Result::ok))
-    }
-
-    /// [`Self::certified`], and where the certified plan comes under the clearance (the rows
-    /// hold at their points only, see [`super::limits`]), the candidate solved again with the
-    /// rows keeping the deficit twice over, up to [`CLEARANCE_RETRIES`] times; `Ok(Err(plan))`
-    /// with the closest plan when none clears.
-    fn certified_clear(
-        &self,
-        problem: &ChainProblem,
-        c: &Candidate,
-        seeds: usize,
-        iterations: usize,
-        clock: Instant,
-        tables: &Tables,
-    ) -> Result<Result<ChainPlan, ChainPlan>, Error> {
-        let mut plan = self.certified(problem, c, seeds, iterations, clock)?;
-        if !super::limits::keeps_clearance(self) {
-            return Ok(if plan.verification.clearance.is_none_or(|r| r.holds()) { Ok(plan) } else { Err(plan) });
-        }
-        let required = self.arm.geometry.clearance;
-        let mut keep = required;
-        for _ in 0..CLEARANCE_RETRIES {
-            let Some(report) = plan.verification.clearance.filter(|r| !r.holds()) else { return Ok(Ok(plan)) };
-            keep += 2.0 * (required - report.min);
-            let mut arm = (*self.arm).clone();
-            arm.geometry.clearance = keep;
-            let stricter = ChainPlanner { arm: Arc::new(arm), ..self.clone() };
-            let again = stricter.resolve(problem, c, c.spans, c.nodes, tables)?;
-            if !again.result.converged() {
-                break;
-            }
-            match self.certified(problem, &again, seeds, iterations + again.iterations, clock) {
-                Ok(p) => plan = p,
-                Err(_) => break,
-            }
-        }
-        if plan.verification.clearance.is_none_or(|r| r.holds()) { Ok(Ok(plan)) } else { Ok(Err(plan)) }
     }
 
     fn plan_of(&self, c: &Candidate, stats: ChainStats) -> ChainPlan {
@@ -508,10 +418,12 @@ impl ChainStats {
     fn default_for(c: &Candidate) -> Self {
         Self {
             iterations: c.iterations,
+            final_iterations: c.result.iterations,
             seeds: 0,
             effort: c.disc.integrals(&c.result.x).1,
             cost: c.result.f,
             peak_velocity: f64::NAN,
+            constraint_residual: c.result.c.abs(),
             holonomy_residual: f64::NAN,
             kkt_residual: c.result.kkt,
             multiplier: c.result.lambda,
@@ -536,6 +448,17 @@ fn peak_velocity(plan: &ChainPlan) -> f64 {
         }
     }
     peak
+}
+
+/// A refined candidate kept: converged, among the plans (and `best` lowered); else the best
+/// failure so far where its constraint residual is the least.
+fn keep(c: Candidate, best: &mut f64, done: &mut Vec<Candidate>, best_failure: &mut Option<Candidate>) {
+    if c.result.converged() {
+        *best = best.min(c.result.f);
+        done.push(c);
+    } else if best_failure.as_ref().is_none_or(|b| c.result.c.abs() < b.result.c.abs()) {
+        *best_failure = Some(c);
+    }
 }
 
 fn termination_name(t: Termination) -> &'static str {
