@@ -11,6 +11,12 @@
 //!
 //! `cargo run --release --example make_two_link_fixture -- --two-joint > tests/fixtures/two_link_300_two_joint.csv`
 //!
+//! Both fixtures record planners that no longer exist apart: since issue 19 merged them,
+//! `OptimalPlanner` is the 2-link front-end of the one planner (`planners::chain`), so both modes
+//! now print that planner's efforts. To remake the fixtures as recorded, run this at the commits
+//! that made them: `two_link_300.csv` before issue 19's work began, `two_link_300_two_joint.csv`
+//! at commit 7201eab (whose 2-joint planner is that of 83670d2).
+//!
 //! The distribution: a xorshift64* generator seeded with `0x5EED_0019`; per problem, in this
 //! order, the mount `a`, `b` uniform in `[-1.5, 1.5]` \[m\], the start `(phi, theta1, theta2)`
 //! and the goal `(phi, theta1, theta2)` each uniform in `[-pi, pi)` \[rad\]; rest to rest,
@@ -134,7 +140,9 @@ fn two_joint_today() -> Result<(), Box<dyn std::error::Error>> {
         .collect();
     println!("# issue 19 item 2: the 300 problems of two_link_300.csv planned by the 2-joint planner as");
     println!("# it stands before the merge (default options), the planner the n-joint one replaces.");
-    println!("# made by: cargo run --release --example make_two_link_fixture -- --two-joint > tests/fixtures/two_link_300_two_joint.csv");
+    println!(
+        "# made by: cargo run --release --example make_two_link_fixture -- --two-joint > tests/fixtures/two_link_300_two_joint.csv"
+    );
     println!("# effort in rad^2/s (NaN: no plan); certified: the velocity-level certificate at 1e-9 rad.");
     println!("i,effort_2joint,certified_2joint");
     for (i, (effort, certified)) in rows.iter().enumerate() {

@@ -2,8 +2,9 @@
 //! reference method, and [`optimal`], the minimum-effort planner. A caller picks one by its
 //! [`Method`] ([`planner`]) and uses it only through [`Planner`].
 //!
-//! An arm of another number of links than the paper's two goes through [`arm::plan_arm`], which
-//! runs [`chain`], the minimum-effort planner for `n` joints.
+//! The minimum-effort planner is one for every arm, [`chain`] (issue 19): an arm of another
+//! number of links than the paper's two goes through [`arm::plan_arm`], the paper's robot through
+//! [`optimal::OptimalPlanner`], its 2-link front-end.
 
 pub mod arm;
 pub mod chain;

@@ -59,7 +59,7 @@ impl Default for ReplanOptions {
                 targets_solved: 1,
                 finalists: 1,
                 // A re-plan starts from the plan it corrects; its search is the fallback.
-                infeasible_finalists: 0,
+                far_finalists: 0,
                 loop_planes: 1,
                 tolerance: 1e-6,
                 ode: OdeOptions { rtol: 1e-9, atol: 1e-9, max_steps: 100_000 },

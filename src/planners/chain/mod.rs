@@ -135,7 +135,7 @@ pub struct ChainOptions {
     /// below every coarse-feasible one: on the 300 recorded two-link problems
     /// (tests/fixtures/two_link_300.csv) 28 plans were above the better recorded planner with 0,
     /// 7 with 1, 5 with 2.
-    pub infeasible_finalists: usize,
+    pub far_finalists: usize,
     /// Loop seeds per representative, in the joint planes of largest curvature; default 2.
     pub loop_planes: usize,
     /// Largest radius of a loop seed \[rad\]; default 2.
@@ -220,7 +220,7 @@ impl Default for ChainOptions {
             quadrature_nodes: 8,
             targets_solved: 2,
             finalists: 2,
-            infeasible_finalists: 2,
+            far_finalists: 2,
             loop_planes: 2,
             max_loop_radius: 2.0,
             sqp: SqpOptions::default(),

@@ -133,11 +133,11 @@ impl ChainPlanner {
             // often stops at 1e-5 rad, short of 1e-6, at the plan it refines into).
             let near = |c: &Candidate| c.result.c.abs() <= EXTRA_RESIDUAL && c.result.f.is_finite();
             // Far from it, least cost first, below the best cost seen: refined besides the
-            // finalists (`ChainOptions::infeasible_finalists`).
+            // finalists (`ChainOptions::far_finalists`).
             let mut far: Vec<Candidate> =
                 coarse.iter().chain(&extras).filter(|c| !near(c) && c.result.f < best).cloned().collect();
             far.sort_by(|a, b| a.result.f.total_cmp(&b.result.f));
-            far.truncate(o.infeasible_finalists);
+            far.truncate(o.far_finalists);
             coarse.sort_by(|a, b| near(b).cmp(&near(a)).then(a.result.f.total_cmp(&b.result.f)));
             // The best line beside a coil (or on the finest basis, see `solve_seeds`) is refined
             // too, as an extra finalist, where its solution is near the constraint and its cost

@@ -1,6 +1,7 @@
-//! Issue 19, item 2: the minimum-effort plan at n = 2 against both of yesterday's planners on
-//! 300 recorded problems (tests/fixtures/two_link_300.csv) and against the exhaustive
-//! [`reference`](super::reference) search on 50 random mounts.
+//! Issue 19, item 2: the minimum-effort plan at n = 2 against the exhaustive
+//! [`reference`](super::reference) search on 50 random mounts and on the issue's table; the 300
+//! recorded problems (tests/fixtures/two_link_300.csv, read here) against both of yesterday's
+//! planners are the one planner's test, `chain::tests_recorded`.
 
 use rayon::prelude::*;
 
@@ -31,62 +32,6 @@ pub(crate) fn fixture() -> Vec<Recorded> {
     }
     assert_eq!(out.len(), 300);
     out
-}
-
-/// Plans the recorded problems selected by `which`; returns those where the plan is
-/// uncertified or costs more than the 2-joint planner did, and those where it costs more than
-/// the better of both, each as (index, effort, recorded).
-type Misses = (Vec<(usize, f64, f64)>, Vec<(usize, f64, f64)>);
-
-fn against_recorded(which: impl Fn(&Recorded) -> bool + Sync) -> Misses {
-    let rows: Vec<(usize, f64, f64, f64)> = fixture()
-        .into_par_iter()
-        .filter(|r| which(r))
-        .map(|(i, problem, two, best, _)| {
-            let effort = match OptimalPlanner::default().plan(&problem) {
-                Ok(p) if p.plan.verification.certified => p.plan.effort,
-                _ => f64::INFINITY,
-            };
-            (i, effort, two, best)
-        })
-        .collect();
-    let worse_than_two = rows.iter().filter(|r| !(r.1 <= r.2 * (1.0 + 1e-6))).map(|r| (r.0, r.1, r.2)).collect();
-    let worse_than_both = rows.iter().filter(|r| !(r.1 <= r.3 * (1.0 + 1e-6))).map(|r| (r.0, r.1, r.3)).collect();
-    (worse_than_two, worse_than_both)
-}
-
-/// The recorded problems of the non-ignored test where the n-joint planner's effort is still
-/// below the plan's (issue 19 item 2 is not met there): 18, 30, 150, 204 the same effort as the
-/// 2-joint planner's before (many-turn problems, effort 100 to 550 rad^2/s, where the n-joint
-/// planner's in-place loops beat the coils by 7 to 16 %), 288 between both.
-const KNOWN_ABOVE_BOTH: [usize; 5] = [18, 30, 150, 204, 288];
-
-/// Issue 19: on the recorded problems the plan is certified and never costs more than the
-/// 2-joint planner before issue 19 (+1e-6 relative), and at most the better of both planners'
-/// but on [`KNOWN_ABOVE_BOTH`]. One problem in six whose recorded 2-joint plan took under 1 s
-/// (under a minute on one core in release); all 300 in [`never_worse_all_300`].
-#[test]
-fn never_worse_than_the_recorded_planners() {
-    let (worse_than_two, worse_than_both) = against_recorded(|r| r.0 % 6 == 0 && r.4 < 1000.0);
-    assert!(
-        worse_than_two.is_empty(),
-        "above the recorded 2-joint effort (index, effort, recorded): {worse_than_two:?}"
-    );
-    let unexpected: Vec<_> = worse_than_both.iter().filter(|m| !KNOWN_ABOVE_BOTH.contains(&m.0)).collect();
-    assert!(unexpected.is_empty(), "above both recorded planners (index, effort, best): {unexpected:?}");
-}
-
-/// [`never_worse_than_the_recorded_planners`] on all 300 problems (several minutes); prints
-/// where the n-joint planner's recorded effort is still below the plan's.
-#[test]
-#[ignore = "slow: all 300 recorded problems (several minutes in release)"]
-fn never_worse_all_300() {
-    let (worse_than_two, worse_than_both) = against_recorded(|_| true);
-    eprintln!("above the better recorded planner on {}: {worse_than_both:?}", worse_than_both.len());
-    assert!(
-        worse_than_two.is_empty(),
-        "above the recorded 2-joint effort (index, effort, recorded): {worse_than_two:?}"
-    );
 }
 
 /// Issue 19's table, the paper's problem at four mounts: the n-joint planner's efforts there

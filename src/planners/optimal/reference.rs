@@ -10,8 +10,9 @@
 use std::f64::consts::TAU;
 
 use super::discrete::Targets;
+use super::engine::{COARSE_SQP, Candidate, SPANS_PER_TURN, Tables};
 use super::seeds::{self, Line, SeedKind};
-use super::{COARSE_SQP, Candidate, OptimalOptions, OptimalPlanner, Tables, sqp};
+use super::{OptimalOptions, OptimalPlanner, sqp};
 use crate::model::wrap_angle;
 use crate::plan::{Method, Motion, PlanningProblem};
 
@@ -93,7 +94,7 @@ pub(crate) fn reference_effort(problem: &PlanningProblem) -> Option<(f64, [f64; 
             }
         }
         if let SeedKind::Coil { turns, .. } = coil {
-            let spans = o.coarse_spans.max(super::search::SPANS_PER_TURN * turns);
+            let spans = o.coarse_spans.max(SPANS_PER_TURN * turns);
             if let Ok(fine) = planner.discretise(problem, targets, spans, o.quadrature_nodes, &tables) {
                 let residual =
                     |kind: SeedKind| fine.project(|t| line.path(kind, t)).map_or(f64::NAN, |x| fine.evaluate(&x, 0).c);

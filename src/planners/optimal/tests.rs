@@ -216,28 +216,6 @@ fn paper_cases_reach_the_best_known_efforts() {
     }
 }
 
-/// On the paper's problem at `a = 1, b = -1` the two-joint planner is no costlier than the
-/// n-joint planner on the same robot as a 2-link arm (relative 1e-6), both certified. The two
-/// share the discretisation (see `chain_matches_the_two_joint_planner`), so this checks the
-/// seeds: there the least effort comes from the straight line's SQP solution at the goal
-/// representative where one loop cannot add the rotation and the two-joint planner's own seed is a
-/// coil of several turns, so the line must be solved beside the coil ([`OptimalPlanner::starts`]).
-#[test]
-fn two_joint_seeds_reach_the_chain_planners_minimum() {
-    use crate::model::arm::Arm;
-    use crate::planners::chain::{ChainOptions, ChainPlanner, ChainProblem};
-    let problem = paper(1.0, -1.0);
-    let (plan, m) = OptimalPlanner::default().plan_with_motion(&problem).unwrap();
-    assert!(plan.verification.certified && plan.verification.final_error <= 1e-9, "{:?}", plan.verification);
-    let (q0, qd) = (problem.start.to_array().to_vec(), problem.goal.to_array().to_vec());
-    let chain = ChainPlanner::new(Arm::from_params(&problem.robot), ChainOptions::default())
-        .plan(&ChainProblem::rest_to_rest(q0, qd, problem.horizon))
-        .unwrap();
-    assert!(chain.verification.certified && chain.verification.final_error <= 1e-9);
-    let (two, n) = (m.stats.effort, chain.effort());
-    assert!(two <= n * (1.0 + 1e-6), "two-joint {two} above the chain planner's {n}");
-}
-
 /// phi(T) of the motion (holonomy quadrature) equals the integration of system (7).
 #[test]
 fn holonomy_equals_the_ode_integration() {
@@ -433,45 +411,4 @@ proptest! {
             Err(e) => prop_assert!(matches!(e, Error::OptimalFailed { .. }), "{e}"),
         }
     }
-}
-
-/// The rest of `motion`, sampled from `t0` to the horizon, its own time starting at 0.
-fn rest_of(motion: &OptimalMotion, t0: f64, horizon: f64) -> seeds::Sampled {
-    let n = 129;
-    let mut path = seeds::Sampled { t: vec![], theta: vec![], rate: vec![] };
-    for i in 0..n {
-        let s = (horizon - t0) * i as f64 / (n - 1) as f64;
-        let p = motion.at(t0 + s).unwrap();
-        path.t.push(s);
-        path.theta.push([p.q.theta1, p.q.theta2]);
-        path.rate.push(p.u);
-    }
-    path
-}
-
-/// Re-planning (issue 12) warm-starts from the rest of the plan being followed: from a plan's
-/// own path the planner returns the same plan from that one seed, in fewer iterations than the
-/// search; a warm start that ends elsewhere is set aside for the full search.
-#[test]
-fn a_warm_start_from_the_plan_returns_it() {
-    let problem = paper(0.1, 0.1);
-    let literal = OptimalOptions { wrap: false, ..Default::default() };
-    let cold = OptimalPlanner::new(literal.clone()).motion(&problem).unwrap();
-    let path = rest_of(&cold, 0.0, problem.horizon);
-    let warm = OptimalOptions { warm_start: Some(path.clone()), ..literal.clone() };
-    let again = OptimalPlanner::new(warm).motion(&problem).unwrap();
-    assert!((again.stats.effort - cold.stats.effort).abs() <= 1e-6 * cold.stats.effort);
-    assert_eq!(again.stats.seeds, 1);
-    assert!(again.stats.iterations < cold.stats.iterations, "{} >= {}", again.stats.iterations, cold.stats.iterations);
-    let mut elsewhere = path;
-    for theta in elsewhere.theta.iter_mut() {
-        theta[0] += 0.5;
-    }
-    let set_aside = OptimalOptions { warm_start: Some(elsewhere), ..literal.clone() };
-    let searched = OptimalPlanner::new(set_aside).motion(&problem).unwrap();
-    assert!(searched.stats.seeds > 1);
-    assert!((searched.stats.effort - cold.stats.effort).abs() <= 1e-6 * cold.stats.effort);
-    let broken = seeds::Sampled { t: vec![0.0], theta: vec![[f64::NAN; 2]], rate: vec![[0.0; 2]] };
-    let bad = OptimalOptions { warm_start: Some(broken), ..literal };
-    assert!(OptimalPlanner::new(bad).motion(&problem).is_err_and(|e| e.is_bad_input()));
 }
