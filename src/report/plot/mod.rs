@@ -32,7 +32,7 @@ pub use animation::{
 pub use domain::{DOMAIN_PAIR_SIZE, DomainOverlay, domain_pair_picture, domain_picture};
 pub use gif_writer::{GifOptions, animation_gif, arm_animation_gif, check_gif_path, two_link_animation_gif};
 pub use methods::{METHODS_SIZE, methods_picture};
-pub use plan::{BOUNDS_LABEL, Bound, PLAN_FIGURE_SIZE, Panel, PlanFigure, Series, plan_picture};
+pub use plan::{BOUNDS_LABEL, Bound, Mark, PLAN_FIGURE_SIZE, Panel, PlanFigure, Series, plan_picture};
 pub use sweep::{SWEEP_SIZE, sweep_picture};
 
 /// The file format of a picture.
