@@ -18,11 +18,12 @@
 //! [`LEAST_HOLD`] hundredths of a second. Without shapes and obstacles nothing of this is drawn.
 
 use super::GifOptions;
+use super::gif_scene::scene_entries;
 use super::legend::{Entry, FIRST_ROW, FONT_SIZE, LABEL_OFFSET, Legend, ROW, SWATCH_WIDTH, Swatch};
-use super::scene::{OBSTACLE_COLOUR, Scene, nearest_instant};
+use super::scene::{Scene, nearest_instant};
 use crate::error::Error;
 use crate::model::Configuration;
-use crate::model::arm::collision::{Body, Geometry};
+use crate::model::arm::collision::Geometry;
 use crate::model::arm::{Arm, Limits};
 use crate::model::kinematics::pose;
 use crate::plan::Plan;
@@ -90,9 +91,9 @@ pub struct GifView {
     width: f64,
     height: f64,
     /// The layout's unit \[px\]: `min(width, height) / 480`; fonts, strokes and strips scale with it.
-    unit: f64,
+    pub(super) unit: f64,
     /// Pixels per metre.
-    scale: f64,
+    pub(super) scale: f64,
     /// The world point at the drawing's centre \[m\].
     centre: [f64; 2],
     /// The drawing's centre on the canvas \[px\].
@@ -108,7 +109,7 @@ pub struct GifView {
     at_limit: Vec<Vec<bool>>,
     /// The shapes and obstacles with the arm that places them, and the frame nearest the least
     /// clearance; `None` without shapes and obstacles.
-    scene: Option<(Scene, Arm, Option<usize>)>,
+    pub(super) scene: Option<(Scene, Arm, Option<usize>)>,
 }
 
 impl GifView {
@@ -374,85 +375,6 @@ impl GifView {
         s + "</svg>\n"
     }
 
-    /// A closed outline \[m\] as an SVG polygon, with extra attributes `style`.
-    fn outline_svg(&self, points: &[[f64; 2]], style: &str) -> String {
-        let list: Vec<String> = points
-            .iter()
-            .map(|&p| {
-                let (x, y) = self.pixel(p);
-                format!("{x:.2},{y:.2}")
-            })
-            .collect();
-        format!("<polygon points=\"{}\" stroke-linejoin=\"round\" {style}/>\n", list.join(" "))
-    }
-
-    /// The obstacles (a circle as an SVG circle, any other shape by its outline) and each body's
-    /// shapes at `q` (the base's in grey, each link's in its colour); empty without a scene.
-    fn shapes_svg(&self, q: &[f64]) -> String {
-        let Some((scene, arm, _)) = &self.scene else { return String::new() };
-        let u = self.unit;
-        let mut s = String::new();
-        let obstacle = format!("fill=\"{OBSTACLE_COLOUR}\" fill-opacity=\"0.45\" stroke=\"{OBSTACLE_COLOUR}\"");
-        for (k, (shape, outline)) in scene.obstacles.iter().zip(scene.obstacle_outlines()).enumerate() {
-            let id = format!("id=\"obstacle{}\"", k + 1);
-            s += &match shape.points.as_slice() {
-                [c] => {
-                    let (x, y) = self.pixel(*c);
-                    format!(
-                        "<circle {id} cx=\"{x:.2}\" cy=\"{y:.2}\" r=\"{:.2}\" {obstacle} stroke-width=\"{:.2}\"/>\n",
-                        shape.radius * self.scale,
-                        1.5 * u
-                    )
-                }
-                _ => self.outline_svg(&outline, &format!("{id} {obstacle} stroke-width=\"{:.2}\"", 1.5 * u)),
-            };
-        }
-        for (body, outlines) in scene.placed_bodies(arm, q).iter().enumerate() {
-            let colour = if body == 0 { "#444" } else { LINK_COLOURS[(body - 1) % LINK_COLOURS.len()] };
-            let fill = if body == 0 { "rgb(120,120,120)\" fill-opacity=\"0.35" } else { colour };
-            let opacity = if body == 0 { "" } else { " fill-opacity=\"0.25\"" };
-            for o in outlines {
-                s += &self.outline_svg(
-                    o,
-                    &format!("fill=\"{fill}\"{opacity} stroke=\"{colour}\" stroke-width=\"{:.2}\"", 1.5 * u),
-                );
-            }
-        }
-        s
-    }
-
-    /// The least clearance's marker at `q`: the pair's outlines and the segment between their
-    /// nearest points, in the marker's colour (red when the clearance does not hold).
-    fn marker_svg(&self, q: &[f64]) -> String {
-        let Some((scene, arm, _)) = &self.scene else { return String::new() };
-        let (Some(c), Some(colour)) = (scene.least, scene.marker_colour()) else { return String::new() };
-        let u = self.unit;
-        let mut s = format!("<g id=\"least-clearance\" stroke=\"{colour}\" fill=\"none\">\n");
-        let placed = scene.placed_bodies(arm, q);
-        let obstacles = scene.obstacle_outlines();
-        for body in [c.a, c.b] {
-            let outlines: &[Vec<[f64; 2]>] = match body {
-                Body::Base => placed.first().map_or(&[], Vec::as_slice),
-                Body::Link(k) => placed.get(k).map_or(&[], Vec::as_slice),
-                Body::Obstacle(k) => obstacles.get(k.wrapping_sub(1)).map(std::slice::from_ref).unwrap_or(&[]),
-            };
-            for o in outlines {
-                s += &self.outline_svg(o, &format!("stroke-width=\"{:.2}\"", 3.0 * u));
-            }
-        }
-        if let Some([a, b]) = scene.least_points(arm, q) {
-            let ((xa, ya), (xb, yb)) = (self.pixel(a), self.pixel(b));
-            s += &format!(
-                "<line x1=\"{xa:.2}\" y1=\"{ya:.2}\" x2=\"{xb:.2}\" y2=\"{yb:.2}\" stroke-width=\"{:.2}\"/>\n",
-                2.0 * u
-            );
-            for (x, y) in [(xa, ya), (xb, yb)] {
-                s += &format!("<circle cx=\"{x:.2}\" cy=\"{y:.2}\" r=\"{:.2}\" fill=\"{colour}\"/>\n", 3.5 * u);
-            }
-        }
-        s + "</g>\n"
-    }
-
     /// Title, time stamp, scale bar and legend.
     fn captions(&self, title: &str, t: f64, phi: f64) -> String {
         let u = self.unit;
@@ -545,19 +467,6 @@ fn legend_entries(links: usize, limited: bool) -> Vec<Entry> {
     entries.push(Entry::new(Swatch::Line, "#0072b2", "base's centre of mass path"));
     if limited {
         entries.push(Entry::new(Swatch::Bar, AT_LIMIT_COLOUR, "joint at its limit (≥ 99 %)"));
-    }
-    entries
-}
-
-/// The legend's entries of a scene: the obstacles (when there are any) and the least clearance
-/// (when it was checked), in the marker's colour.
-fn scene_entries(scene: &Scene) -> Vec<Entry> {
-    let mut entries = Vec::new();
-    if !scene.obstacles.is_empty() {
-        entries.push(Entry::new(Swatch::Bar, OBSTACLE_COLOUR, "obstacle"));
-    }
-    if let Some(colour) = scene.marker_colour() {
-        entries.push(Entry::new(Swatch::Line, colour, "least clearance (nearest points)"));
     }
     entries
 }

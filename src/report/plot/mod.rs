@@ -17,6 +17,7 @@ use plotters::prelude::*;
 
 mod animation;
 mod domain;
+mod gif_scene;
 mod gif_writer;
 mod legend;
 mod methods;
