@@ -268,3 +268,37 @@ fn a_robot_without_shapes_draws_as_before() {
     assert!(figure.panels.iter().all(|p| p.marks.is_empty()));
     assert!(GifView::arm(&planned, &GifOptions::default()).marked().is_none());
 }
+
+/// `plan --gif` of the 2-link robot (the NFA's path) with a robot file's shapes: the plan folds
+/// link 2 into the base's box at T (exit 3, as `tests/it/geometry.rs` measures), and the GIF,
+/// still written, marks it in red on its last frame; the same robot without shapes has no red.
+#[test]
+fn the_two_link_gif_marks_its_collision_in_red() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let link = |l: f64, d: f64, m: f64, shape: &str| {
+        format!("[[link]]\nlength = {l}\ncom = {d}\nmass = {m}\ninertia = 0.0\n{shape}")
+    };
+    let robot = |shapes: bool| {
+        let (base, width) = if shapes { ("shape = \"box:0,0,0.6,0.5\"\n", "width = 0.04\n") } else { ("", "") };
+        format!(
+            "[robot]\nM = 12.9\nI = 0.208\n{base}{}{}",
+            link(0.619, 0.313, 4.5, width),
+            link(0.6, 0.287, 1.5, width)
+        )
+    };
+    let mut reds = Vec::new();
+    for shapes in [true, false] {
+        let path = dir.path().join(format!("two_{shapes}.toml"));
+        std::fs::write(&path, robot(shapes)).expect("written");
+        let args = ["plan", "--robot", path.to_str().expect("utf-8"), "--method", "nfa", "--gif", "a.gif", "--quiet"];
+        let o =
+            Command::new(env!("CARGO_BIN_EXE_freefloat")).current_dir(dir.path()).args(args).output().expect("runs");
+        assert_eq!(o.status.code(), Some(if shapes { 3 } else { 0 }), "{}", String::from_utf8_lossy(&o.stderr));
+        let gif = decode(&std::fs::read(dir.path().join("a.gif")).expect("written"));
+        let last = &gif.frames.last().expect("frames").1;
+        // Pixels of the collision's red (#e8000b), within the palette's rounding.
+        let red = last.chunks_exact(4).filter(|p| p[0] >= 200 && p[1] <= 40 && p[2] <= 50).count();
+        reds.push(red);
+    }
+    assert!(reds[0] > 200 && reds[1] == 0, "red pixels with shapes {}, without {}", reds[0], reds[1]);
+}
