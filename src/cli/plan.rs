@@ -8,7 +8,7 @@ use freefloat::plan::{Method, Plan, PlanningProblem, TorqueOptions};
 use freefloat::planners::{Planned, PlannerOptions, plan_to_pose, planner};
 use freefloat::report::io::{PlanReport, trajectory_csv, write_atomic};
 pub use freefloat::report::numbers::{error_number, number, rounded, scientific, significant};
-use freefloat::report::plot::animation_gif;
+use freefloat::report::plot::two_link_animation_gif;
 use freefloat::track::closed_loop_certificate;
 
 use super::ros::OutKind;
@@ -145,7 +145,7 @@ pub fn run(args: &PlanArgs) -> anyhow::Result<ExitCode> {
     let (geometry, _) = super::geometry::two_link(&args.problem.robot, &args.problem.geometry)?;
     let mut planned = plan_with(method(args)?, &args.problem, &problem)??;
     // The clearance and the limits in one pass.
-    let limits = super::limits::two_link_checks(limited.as_ref(), geometry, &mut planned)?;
+    let limits = super::limits::two_link_checks(limited.as_ref(), geometry.clone(), &mut planned)?;
     let plan = &planned.plan;
     // With torques, the closed-loop certificate too: executable with feedback?
     let closed_loop = match args.problem.torques {
@@ -180,7 +180,7 @@ pub fn run(args: &PlanArgs) -> anyhow::Result<ExitCode> {
     }
     if let Some((path, options)) = gif {
         let title = format!("freefloat plan: {}, T = {} s", plan.method.name(), number(plan.problem.horizon));
-        write_atomic(path, &animation_gif(plan, &title, &options, path)?)?;
+        write_atomic(path, &two_link_animation_gif(plan, &geometry, r.clearance, &title, &options, path)?)?;
     }
     if let Some(report) = &limits
         && args.format == Format::Table

@@ -434,6 +434,7 @@ fn figure(runs: &[Tracked]) -> PlanFigure {
         text: Vec::new(),
         include_zero: false,
         bounds: vec![],
+        marks: vec![],
     };
     let name = |r: &Tracked, what: &str| {
         if recorded.len() == 1 { what.to_string() } else { format!("{what} ({})", r.controller.name()) }

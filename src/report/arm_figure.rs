@@ -3,9 +3,13 @@
 //! limit in each animation frame. Fig. 18 and Fig. 19 ([`super::arm3`]) and `plan --robot
 //! --plot` draw through these.
 
-use super::figures::{Animation, BASE_SIZE, animation_samples};
-use super::plot::{Bound, Panel, PlanFigure, Series, joints_at_limit, watches_limits};
+use super::figures::{Animation, AnimationLeast, AnimationScene, BASE_SIZE, animation_samples};
+use super::plot::scene::{CLEAR_COLOUR, COLLISION_COLOUR};
+use super::plot::scene::{Scene, nearest_instant};
+use super::plot::{Bound, Mark, Panel, PlanFigure, Series, joints_at_limit, watches_limits};
 use crate::model::arm::Arm;
+use crate::model::arm::collision::Body;
+use crate::plan::clearance::ClearanceReport;
 use crate::planners::arm::ArmPlanned;
 
 /// The limit lines of an arm's figure ([`arm_plan_figure`]), in each panel's units and in the
@@ -80,7 +84,7 @@ pub fn arm_plan_figure(p: &ArmPlanned, title: String, source: &str) -> PlanFigur
         ));
     }
     text.push(format!("effort ∫|θ'|² dt = {:.4} rad²/s, plan {:.1} ms", p.effort(), p.seconds * 1e3));
-    let panels = vec![
+    let mut panels = vec![
         Panel {
             title: "Base orientation and joint angles".into(),
             x_label: x_label.clone(),
@@ -110,6 +114,12 @@ pub fn arm_plan_figure(p: &ArmPlanned, title: String, source: &str) -> PlanFigur
         },
         Panel { title: "The arm".into(), text, ..Default::default() },
     ];
+    let clearance = p.verification().clearance;
+    if let Some(c) = &clearance {
+        for panel in panels.iter_mut().filter(|panel| !panel.series.is_empty()) {
+            panel.marks.push(least_clearance_mark(c));
+        }
+    }
     let v = p.verification();
     let verdict = |ok: bool| if ok { "certified" } else { "NOT certified" };
     let mut caption = vec![format!(
@@ -142,7 +152,31 @@ pub fn arm_plan_figure(p: &ArmPlanned, title: String, source: &str) -> PlanFigur
             if p.limits.inside { "every limit holds on the verified motion" } else { "a limit is EXCEEDED" }
         ));
     }
+    if let Some(c) = &clearance {
+        caption.push(format!(
+            "clearance (solid vertical line): least {:.1} mm between {} and {} at t = {:.2} s, required {:.1} mm: {}",
+            c.min * 1e3,
+            c.a,
+            c.b,
+            c.time,
+            c.required * 1e3,
+            if c.holds() { "CLEAR" } else { "COLLIDES" }
+        ));
+    }
     PlanFigure { title, panels, caption }
+}
+
+/// The vertical line of an arm figure's panels at the least clearance `c` of the verified
+/// motion: at its time \[s\], labelled with the clearance \[mm\] and the pair, purple
+/// ([`CLEAR_COLOUR`]) when it holds, red ([`COLLISION_COLOUR`]) when it does not.
+pub fn least_clearance_mark(c: &ClearanceReport) -> Mark {
+    let hex = if c.holds() { CLEAR_COLOUR } else { COLLISION_COLOUR };
+    let channel = |k: usize| hex.get(1 + 2 * k..3 + 2 * k).and_then(|h| u8::from_str_radix(h, 16).ok()).unwrap_or(0);
+    Mark {
+        x: c.time,
+        label: format!("least clearance {:.1} mm, {} / {}", c.min * 1e3, c.a, c.b),
+        colour: (channel(0), channel(1), channel(2)),
+    }
 }
 
 /// The page's animation of an arm's plan, `id` and `title` its own: the arm's points
@@ -171,14 +205,62 @@ pub fn arm_animation(p: &ArmPlanned, id: &str, title: &str) -> Animation {
     } else {
         Vec::new()
     };
+    let t: Vec<f64> = indices.iter().map(|&i| round(p.trajectory[i].t)).collect();
+    let qs: Vec<Vec<f64>> = indices
+        .iter()
+        .map(|&i| std::iter::once(p.trajectory[i].phi).chain(p.trajectory[i].theta.iter().copied()).collect())
+        .collect();
     Animation {
+        scene: animation_scene(&p.arm, p.verification().clearance, &t, &qs),
         id: id.into(),
         title: title.into(),
         mount: [p.arm.mount.a, p.arm.mount.b],
         base_size: BASE_SIZE,
-        t: indices.iter().map(|&i| round(p.trajectory[i].t)).collect(),
+        t,
         phi: indices.iter().map(|&i| round(p.trajectory[i].phi)).collect(),
         points,
         at_limit,
     }
+}
+
+/// The page's scene of `arm`'s geometry over the samples at times `t` \[s\] and configurations
+/// `qs` \[rad\], with the verified motion's least clearance `least` marked at the sample nearest
+/// its time; `None` without shapes and obstacles.
+fn animation_scene(arm: &Arm, least: Option<ClearanceReport>, t: &[f64], qs: &[Vec<f64>]) -> Option<AnimationScene> {
+    let scene = Scene::new(arm, least)?;
+    let round = |o: &Vec<[f64; 2]>| -> Vec<[f64; 2]> { o.iter().map(|p| p.map(|x| (x * 1e5).round() / 1e5)).collect() };
+    let obstacles: Vec<Vec<[f64; 2]>> = scene.obstacle_outlines().iter().map(round).collect();
+    let least = match (least, nearest_instant(t, least.map_or(0.0, |c| c.time))) {
+        (Some(c), Some(sample)) => {
+            let q = &qs[sample];
+            let placed = scene.placed_bodies(arm, q);
+            let outlines = [c.a, c.b]
+                .iter()
+                .flat_map(|&body| match body {
+                    Body::Base => placed.first().cloned().unwrap_or_default(),
+                    Body::Link(k) => placed.get(k).cloned().unwrap_or_default(),
+                    Body::Obstacle(k) => obstacles.get(k.wrapping_sub(1)).cloned().into_iter().collect(),
+                })
+                .map(|o| round(&o))
+                .collect();
+            Some(AnimationLeast {
+                t: c.time,
+                min: c.min,
+                required: c.required,
+                between: [c.a.to_string(), c.b.to_string()],
+                holds: c.holds(),
+                sample,
+                outlines,
+                points: scene.least_points(arm, q),
+                colour: scene.marker_colour().unwrap_or(CLEAR_COLOUR).to_string(),
+                caption: scene.caption().unwrap_or_default(),
+            })
+        }
+        _ => None,
+    };
+    Some(AnimationScene {
+        bodies: scene.bodies.iter().map(|b| b.iter().map(round).collect()).collect(),
+        obstacles,
+        least,
+    })
 }

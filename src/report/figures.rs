@@ -67,6 +67,7 @@ pub fn plan_figure(o: &CaseOutcome) -> PlanFigure {
         text: vec![],
         include_zero: true,
         bounds: vec![],
+        marks: vec![],
     };
     let torques = match &tr.tau {
         Some(tau) => Panel {
@@ -77,6 +78,7 @@ pub fn plan_figure(o: &CaseOutcome) -> PlanFigure {
             text: vec![],
             include_zero: true,
             bounds: vec![],
+            marks: vec![],
         },
         None => Panel { title: "(no torques)".into(), ..Default::default() },
     };
@@ -142,6 +144,50 @@ pub struct Animation {
     /// of the page's data) for a robot without such limits.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub at_limit: Vec<Vec<usize>>,
+    /// The robot's shapes, the obstacles and the least clearance (issue 21), drawn by `page.js`;
+    /// `None` (and left out of the page's data) for a robot without shapes or obstacles.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub scene: Option<AnimationScene>,
+}
+
+/// What the page's animation draws of an arm's geometry (`page.js`; the GIF draws the same,
+/// [`crate::report::plot::scene`]). Outlines are closed polygons `[[x, y], ..]` \[m\].
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct AnimationScene {
+    /// Per body, its shapes' outlines in its own frame: the base's (origin at its centre of mass,
+    /// x axis at `phi`) first, then link `k`'s (origin at joint `k`, x axis along the link).
+    pub bodies: Vec<Vec<Vec<[f64; 2]>>>,
+    /// The obstacles' outlines in the inertial frame, obstacle 1 first.
+    pub obstacles: Vec<Vec<[f64; 2]>>,
+    /// The least clearance of the verified motion, when it was checked.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub least: Option<AnimationLeast>,
+}
+
+/// The least clearance as the page's animation marks it.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct AnimationLeast {
+    /// Its time \[s\] (the certificate's, [`crate::plan::clearance::ClearanceReport::time`]).
+    pub t: f64,
+    /// The clearance \[m\] (negative: the depth of the overlap).
+    pub min: f64,
+    /// The clearance asked for \[m\].
+    pub required: f64,
+    /// The pair, e.g. `["base", "link 4"]`.
+    pub between: [String; 2],
+    /// Whether the clearance holds (the marker is red when it does not).
+    pub holds: bool,
+    /// The sample (index into `t`) nearest its time, where the marker is drawn.
+    pub sample: usize,
+    /// The pair's outlines at that sample, in the inertial frame.
+    pub outlines: Vec<Vec<[f64; 2]>>,
+    /// The pair's nearest points at that sample `[on a, on b]` \[m\], when found.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub points: Option<[[f64; 2]; 2]>,
+    /// The marker's colour (`#rrggbb`).
+    pub colour: String,
+    /// The words shown, e.g. `least clearance 12.3 mm, base / link 4, t = 6.11 s`.
+    pub caption: String,
 }
 
 /// The indices of at most about 501 evenly spaced samples of `n`, the last one included: the
@@ -177,5 +223,6 @@ pub fn animation(o: &CaseOutcome) -> Animation {
         phi: indices.iter().map(|&i| round(tr.q[i][0])).collect(),
         points,
         at_limit: Vec::new(),
+        scene: None,
     }
 }

@@ -36,7 +36,7 @@ pub use arm3::{
     plan_arm3_limited,
 };
 pub use cases::{Case, CaseMethod, CaseOutcome, PaperSeconds, cases};
-pub use figures::{Animation, BASE_SIZE, animation, plan_figure};
+pub use figures::{Animation, AnimationLeast, AnimationScene, BASE_SIZE, animation, plan_figure};
 pub use methods::{COMPARED_METHODS, METHOD_MOUNTS, MethodRow, methods_markdown};
 pub use summary::{
     DOMAIN_FIGURES, DOMAIN_GRID, DomainPanel, DomainRow, StageSeconds, SummaryRow, SweepSummary, domain_panel,

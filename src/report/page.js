@@ -33,6 +33,31 @@
   }
   // A frame is [base x, y, joint 1 x, y, .., joint n x, y, tip x, y]: n links.
   function linkCount(anim) { return anim.points[0].length / 2 - 2; }
+  // The shapes (issue 21, plot/scene.rs): anim.scene.bodies[0] is the base's outlines in its
+  // frame (at its centre of mass, angle phi), bodies[k] link k's (at joint k, along the link);
+  // obstacles are in the inertial frame.
+  var OBSTACLE_COLOUR = "#5f5f5f";
+  function bodyPoses(p, phi) {
+    var poses = [[p[0], p[1], phi]];
+    for (var k = 1; 2 * k + 3 < p.length; k++) {
+      poses.push([p[2 * k], p[2 * k + 1], Math.atan2(p[2 * k + 3] - p[2 * k + 1], p[2 * k + 2] - p[2 * k])]);
+    }
+    return poses;
+  }
+  function placed(outline, pose) {
+    var c = Math.cos(pose[2]), s = Math.sin(pose[2]);
+    return outline.map(function (q) { return [pose[0] + c * q[0] - s * q[1], pose[1] + s * q[0] + c * q[1]]; });
+  }
+  // Every body's outlines placed at frame i: [[body, outline], ..].
+  function placedBodies(anim, i) {
+    var out = [];
+    if (!anim.scene) return out;
+    var poses = bodyPoses(anim.points[i], anim.phi[i]);
+    anim.scene.bodies.forEach(function (outlines, body) {
+      outlines.forEach(function (o) { if (poses[body]) out.push([body, placed(o, poses[body])]); });
+    });
+    return out;
+  }
 
   function bounds(anim) {
     var half = Math.hypot(anim.base_size[0], anim.base_size[1]) / 2;
@@ -46,6 +71,16 @@
         b.y1 = Math.max(b.y1, p[k + 1] + r);
       }
     });
+    function take(q) {
+      b.x0 = Math.min(b.x0, q[0]); b.x1 = Math.max(b.x1, q[0]);
+      b.y0 = Math.min(b.y0, q[1]); b.y1 = Math.max(b.y1, q[1]);
+    }
+    if (anim.scene) {
+      anim.scene.obstacles.forEach(function (o) { o.forEach(take); });
+      anim.points.forEach(function (p, i) {
+        placedBodies(anim, i).forEach(function (bo) { bo[1].forEach(take); });
+      });
+    }
     return b;
   }
 
@@ -86,6 +121,17 @@
     entries.push(["line", "#d55e00", "end-effector path"]);
     entries.push(["line", "#0072b2", "base's centre of mass path"]);
     if (anim.at_limit) entries.push(["bar", AT_LIMIT_COLOUR, "joint at its limit (\u2265 99 %)"]);
+    var scene = anim.scene;
+    var least = scene && scene.least;
+    if (scene && scene.obstacles.length) entries.push(["bar", OBSTACLE_COLOUR, "obstacle"]);
+    if (least) entries.push(["line", least.colour, "least clearance (nearest points)"]);
+    if (least) {
+      // A button that shows the moment of least clearance.
+      var goLeast = document.createElement("button");
+      goLeast.type = "button";
+      goLeast.textContent = "Least clearance";
+      controls.appendChild(goLeast);
+    }
     // The legend in rows under the drawing: entries left to right, a new row when the next
     // would pass the right edge, each label measured with the canvas's font, so that no entry
     // overlaps another (two fixed columns did; the GIF frames' legend is laid out the same way,
@@ -166,6 +212,20 @@
       });
       ctx.stroke();
     }
+    function shape(points, fill, stroke, width) {
+      ctx.beginPath();
+      points.forEach(function (q, k) {
+        if (k === 0) ctx.moveTo(sx(q[0]), sy(q[1]));
+        else ctx.lineTo(sx(q[0]), sy(q[1]));
+      });
+      ctx.closePath();
+      if (fill) { ctx.fillStyle = fill; ctx.fill(); }
+      if (!(width > 0)) return;
+      ctx.strokeStyle = stroke;
+      ctx.lineWidth = width;
+      ctx.lineJoin = "round";
+      ctx.stroke();
+    }
     function dot(p, r, colour) {
       ctx.fillStyle = colour;
       ctx.beginPath();
@@ -191,20 +251,36 @@
       var drift = anim.points.map(function (q) { return [q[0], q[1]]; });
       line(drift, "#dbe6f0", 1.5);
       line(drift.slice(0, i + 1), "#0072b2", 2);
-      // The base: a rectangle at its orientation, centred at its centre of mass.
+      // The obstacles, then each body's shapes (the base's in grey, a link's in its colour).
+      if (scene) {
+        scene.obstacles.forEach(function (o) { shape(o, "rgba(95, 95, 95, 0.45)", OBSTACLE_COLOUR, 1.5); });
+        placedBodies(anim, i).forEach(function (bo) {
+          if (bo[0] === 0) shape(bo[1], "rgba(120, 120, 120, 0.35)", "#444", 1.5);
+          else {
+            ctx.globalAlpha = 0.25;
+            shape(bo[1], linkColour(bo[0] - 1), linkColour(bo[0] - 1), 0);
+            ctx.globalAlpha = 1;
+            shape(bo[1], null, linkColour(bo[0] - 1), 1.5);
+          }
+        });
+      }
+      // The base: a rectangle at its orientation, centred at its centre of mass (unless its
+      // shapes are drawn).
       var c = Math.cos(phi), s = Math.sin(phi);
       var w = anim.base_size[0] / 2, h = anim.base_size[1] / 2;
       var corners = [[-w, -h], [w, -h], [w, h], [-w, h], [-w, -h]].map(function (k) {
         return [p[0] + c * k[0] - s * k[1], p[1] + s * k[0] + c * k[1]];
       });
-      ctx.fillStyle = "rgba(120, 120, 120, 0.35)";
-      ctx.beginPath();
-      corners.forEach(function (q, k) {
-        if (k === 0) ctx.moveTo(sx(q[0]), sy(q[1]));
-        else ctx.lineTo(sx(q[0]), sy(q[1]));
-      });
-      ctx.fill();
-      line(corners, "#444", 2);
+      if (!(scene && scene.bodies[0] && scene.bodies[0].length)) {
+        ctx.fillStyle = "rgba(120, 120, 120, 0.35)";
+        ctx.beginPath();
+        corners.forEach(function (q, k) {
+          if (k === 0) ctx.moveTo(sx(q[0]), sy(q[1]));
+          else ctx.lineTo(sx(q[0]), sy(q[1]));
+        });
+        ctx.fill();
+        line(corners, "#444", 2);
+      }
       // The base's own x axis, to show its orientation.
       line([[p[0], p[1]], [p[0] + c * w, p[1] + s * w]], "#444", 1);
       // From the base's centre of mass to the mounting point (a, b).
@@ -220,6 +296,20 @@
         else dot([p[2 * j], p[2 * j + 1]], 5, "#000");
       }
       dot([p[p.length - 2], p[p.length - 1]], 5, "#d55e00");
+      // The least clearance: at its sample, the pair's outlines and their nearest points; its
+      // caption above the legend at every sample.
+      if (least) {
+        if (i === least.sample) {
+          least.outlines.forEach(function (o) { shape(o, null, least.colour, 3); });
+          if (least.points) {
+            line(least.points, least.colour, 2);
+            least.points.forEach(function (q) { dot(q, 3.5, least.colour); });
+          }
+        }
+        ctx.fillStyle = least.colour;
+        ctx.font = "13px sans-serif";
+        ctx.fillText(least.caption, 10, canvas.height - LEGEND - 4);
+      }
       ctx.fillStyle = "#000";
       ctx.font = "15px sans-serif";
       var text = "t = " + anim.t[i].toFixed(2) + " s   \u03c6 = " + (phi * 180 / Math.PI).toFixed(1) + " deg";
@@ -262,6 +352,13 @@
       button.textContent = "Play";
       draw(Number(slider.value));
     });
+    if (least) {
+      goLeast.addEventListener("click", function () {
+        playing = false;
+        button.textContent = "Play";
+        draw(least.sample);
+      });
+    }
     draw(0);
 
     this.seek = function (t) {

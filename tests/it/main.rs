@@ -12,6 +12,7 @@ mod hostile;
 mod hostile_files;
 mod layout;
 mod limits;
+mod pictures;
 mod precision;
 mod properties;
 mod reproduce;

@@ -173,8 +173,8 @@ impl Geometry {
         *self == Self::default()
     }
 
-    /// The shapes of `body` (none for a body without shapes).
-    fn shapes(&self, body: Body) -> &[Shape] {
+    /// The shapes of `body` (none for a body without shapes; an obstacle's one shape).
+    pub fn shapes(&self, body: Body) -> &[Shape] {
         match body {
             Body::Base => &self.base,
             Body::Link(k) => self.links.get(k.wrapping_sub(1)).map_or(&[], Vec::as_slice),

@@ -10,13 +10,24 @@
 //! [`super::legend`], so that its entries never overlap), a scale bar and a time stamp. The
 //! points come from [`crate::model::kinematics::pose`] for the 2-link robot and from
 //! [`Arm::joint_positions`] for any arm: both put the system's centre of mass at the origin.
+//!
+//! For an arm with shapes or obstacles (issue 21, [`super::scene`]) a frame also shows each
+//! body's shapes in its pose (the base's in place of the illustrative rectangle), the obstacles,
+//! and a caption with the least clearance of the verified motion; the frame nearest its time
+//! marks the pair and their nearest points (red when the clearance does not hold) and is held
+//! [`LEAST_HOLD`] hundredths of a second. Without shapes and obstacles nothing of this is drawn.
 
 use super::GifOptions;
+use super::gif_scene::scene_entries;
 use super::legend::{Entry, FIRST_ROW, FONT_SIZE, LABEL_OFFSET, Legend, ROW, SWATCH_WIDTH, Swatch};
+use super::scene::{Scene, nearest_instant};
+use crate::error::Error;
 use crate::model::Configuration;
+use crate::model::arm::collision::Geometry;
 use crate::model::arm::{Arm, Limits};
 use crate::model::kinematics::pose;
 use crate::plan::Plan;
+use crate::plan::clearance::ClearanceReport;
 use crate::planners::arm::ArmPlanned;
 use crate::report::figures::BASE_SIZE;
 use crate::report::html::escape;
@@ -57,6 +68,9 @@ pub fn watches_limits(limits: &Limits) -> bool {
     limits.joints.iter().any(|j| j.position.is_some() || j.velocity.is_some())
 }
 
+/// How long the frame nearest the least clearance is shown \[1/100 s\]: 1 s.
+pub const LEAST_HOLD: u16 = 100;
+
 /// How many samples of the paths are drawn, at most.
 const PATH_POINTS: usize = 500;
 /// The strip above the drawing (title, time stamp, scale bar) \[px at 480\].
@@ -77,9 +91,9 @@ pub struct GifView {
     width: f64,
     height: f64,
     /// The layout's unit \[px\]: `min(width, height) / 480`; fonts, strokes and strips scale with it.
-    unit: f64,
+    pub(super) unit: f64,
     /// Pixels per metre.
-    scale: f64,
+    pub(super) scale: f64,
     /// The world point at the drawing's centre \[m\].
     centre: [f64; 2],
     /// The drawing's centre on the canvas \[px\].
@@ -93,6 +107,9 @@ pub struct GifView {
     /// Per frame, per joint: at a limit ([`joints_at_limit`]); empty for a robot without
     /// position or velocity limits.
     at_limit: Vec<Vec<bool>>,
+    /// The shapes and obstacles with the arm that places them, and the frame nearest the least
+    /// clearance; `None` without shapes and obstacles.
+    pub(super) scene: Option<(Scene, Arm, Option<usize>)>,
 }
 
 impl GifView {
@@ -102,17 +119,41 @@ impl GifView {
         let tr = &plan.trajectory;
         let robot = &plan.problem.robot;
         let q: Vec<Vec<f64>> = tr.q.iter().map(|q| q.to_vec()).collect();
-        Self::of_motion(&tr.t, &q, options, false, &|q| {
+        Self::of_motion(&tr.t, &q, options, false, None, &|q| {
             let p = pose(robot, &Configuration::from_array([q[0], q[1], q[2]]));
             vec![p.base, p.joint1, p.joint2, p.tip]
         })
+    }
+
+    /// The view of the 2-link `plan`'s motion as [`GifView::new`] draws it, with the robot's
+    /// shapes and the obstacles of `geometry` and the verified motion's least clearance `least`
+    /// (module docs); without shapes and obstacles the same as [`GifView::new`]. Fails only when
+    /// `geometry` does not fit the 2-link robot.
+    pub fn two_link(
+        plan: &Plan,
+        geometry: &Geometry,
+        least: Option<ClearanceReport>,
+        options: &GifOptions,
+    ) -> Result<Self, Error> {
+        let arm = Arm::from_params(&plan.problem.robot).with_geometry(geometry.clone())?;
+        let Some(scene) = Scene::new(&arm, least) else {
+            return Ok(Self::new(plan, options));
+        };
+        let tr = &plan.trajectory;
+        let robot = &plan.problem.robot;
+        let q: Vec<Vec<f64>> = tr.q.iter().map(|q| q.to_vec()).collect();
+        Ok(Self::of_motion(&tr.t, &q, options, false, Some((scene, arm)), &|q| {
+            let p = pose(robot, &Configuration::from_array([q[0], q[1], q[2]]));
+            vec![p.base, p.joint1, p.joint2, p.tip]
+        }))
     }
 
     /// The view of an arm's motion at `options`' size: frames at evenly spaced instants from
     /// the first sample to the last (configurations interpolated linearly between samples), the
     /// scale fitted to the whole motion; points from [`Arm::joint_positions`]. A joint at its
     /// position range or velocity limit ([`joints_at_limit`], on the plan's exact angles and rates
-    /// at the frame's instant) is drawn in [`AT_LIMIT_COLOUR`] with the link it drives.
+    /// at the frame's instant) is drawn in [`AT_LIMIT_COLOUR`] with the link it drives. The arm's
+    /// shapes, its obstacles and the certificate's least clearance are drawn too (module docs).
     pub fn arm(planned: &ArmPlanned, options: &GifOptions) -> Self {
         let t: Vec<f64> = planned.trajectory.iter().map(|p| p.t).collect();
         let q: Vec<Vec<f64>> = planned
@@ -122,7 +163,8 @@ impl GifView {
             .collect();
         let arm: &Arm = &planned.arm;
         let watched = watches_limits(&arm.limits);
-        let mut view = Self::of_motion(&t, &q, options, watched, &|q| arm.joint_positions(q));
+        let scene = Scene::new(arm, planned.verification().clearance).map(|s| (s, arm.clone()));
+        let mut view = Self::of_motion(&t, &q, options, watched, scene, &|q| arm.joint_positions(q));
         if watched {
             let motion = planned.plan.motion();
             let n = arm.joints();
@@ -140,12 +182,14 @@ impl GifView {
     }
 
     /// The view of the samples `(ts, qs)` (times ascending), `points` giving a configuration's
-    /// points; `limited`: the legend lists a joint at its limit.
+    /// points; `limited`: the legend lists a joint at its limit; `scene`: the shapes and
+    /// obstacles to draw, with the arm that places them (the drawing fits them too).
     fn of_motion(
         ts: &[f64],
         qs: &[Vec<f64>],
         options: &GifOptions,
         limited: bool,
+        scene: Option<(Scene, Arm)>,
         points: &dyn Fn(&[f64]) -> Points,
     ) -> Self {
         let (t0, t1) = (ts.first().copied().unwrap_or(0.0), ts.last().copied().unwrap_or(0.0));
@@ -173,12 +217,26 @@ impl GifView {
                 b = [b[0].min(point[0] - r), b[1].max(point[0] + r), b[2].min(point[1] - r), b[3].max(point[1] + r)];
             }
         }
+        if let Some((s, arm)) = &scene {
+            let sampled: Vec<Vec<f64>> = indices.iter().map(|&i| qs[i].clone()).collect();
+            if let Some(e) = s.bounds(arm, &sampled) {
+                b = [b[0].min(e[0]), b[1].max(e[1]), b[2].min(e[2]), b[3].max(e[3])];
+            }
+        }
         let (width, height) = (f64::from(options.width), f64::from(options.height));
         let unit = width.min(height) / 480.0;
         let links = frames.first().map_or(0, |f| f.2.len().saturating_sub(2));
-        let legend = Legend::new(legend_entries(links, limited), width / unit);
+        let mut entries = legend_entries(links, limited);
+        if let Some((s, _)) = &scene {
+            entries.extend(scene_entries(s));
+        }
+        let legend = Legend::new(entries, width / unit);
         let (top, strip, margin) = (TOP * unit, legend.height() * unit, MARGIN * unit);
         let scale = ((width - 2.0 * margin) / (b[1] - b[0])).min((height - top - strip - 2.0 * margin) / (b[3] - b[2]));
+        let marked = scene.as_ref().and_then(|(s, _)| s.least).and_then(|c| {
+            let instants: Vec<f64> = frames.iter().map(|f| f.0).collect();
+            nearest_instant(&instants, c.time)
+        });
         Self {
             options: *options,
             width,
@@ -191,7 +249,23 @@ impl GifView {
             path,
             legend,
             at_limit: Vec::new(),
+            scene: scene.map(|(s, arm)| (s, arm, marked)),
         }
+    }
+
+    /// The frame that marks the least clearance (the one nearest its time), when the plan has one.
+    pub fn marked(&self) -> Option<usize> {
+        self.scene.as_ref().and_then(|s| s.2)
+    }
+
+    /// The shapes and obstacles drawn, when the robot has any.
+    pub fn scene(&self) -> Option<&Scene> {
+        self.scene.as_ref().map(|s| &s.0)
+    }
+
+    /// Pixels per metre of the drawing.
+    pub fn scale(&self) -> f64 {
+        self.scale
     }
 
     /// The size and frame rate.
@@ -264,7 +338,10 @@ impl GifView {
         s += &polyline(&so_far(&tip), "#d55e00", 2.0);
         s += &polyline(&whole(&base), "#dbe6f0", 1.5);
         s += &polyline(&so_far(&base), "#0072b2", 2.0);
-        // The base at its orientation around its centre of mass, and its own x axis.
+        // The obstacles and the bodies' shapes, under the robot's lines.
+        s += &self.shapes_svg(q);
+        // The base at its orientation around its centre of mass (unless its shapes are drawn),
+        // and its own x axis.
         let (sin, cos) = q[0].sin_cos();
         let (w, h) = (BASE_SIZE[0] / 2.0, BASE_SIZE[1] / 2.0);
         let centre = now[0];
@@ -272,8 +349,10 @@ impl GifView {
             .iter()
             .map(|c| [centre[0] + cos * c[0] - sin * c[1], centre[1] + sin * c[0] + cos * c[1]])
             .collect();
-        s += &polyline(&corners, "#444", 2.0)
-            .replace("fill=\"none\"", "fill=\"rgb(120,120,120)\" fill-opacity=\"0.35\"");
+        if self.scene().is_none_or(|sc| sc.bodies.first().is_none_or(Vec::is_empty)) {
+            s += &polyline(&corners, "#444", 2.0)
+                .replace("fill=\"none\"", "fill=\"rgb(120,120,120)\" fill-opacity=\"0.35\"");
+        }
         s += &polyline(&[centre, [centre[0] + cos * w, centre[1] + sin * w]], "#444", 1.0);
         // The bar to the mounting point, each link from its joint to the next (the last to the
         // tip), then the joints and the end effector.
@@ -289,6 +368,9 @@ impl GifView {
             s += &if hot(j) { dot(joint, 8.0, AT_LIMIT_COLOUR) } else { dot(joint, 5.0, "#000") };
         }
         s += &dot(tip(now), 5.0, "#d55e00");
+        if self.marked() == Some(k) {
+            s += &self.marker_svg(q);
+        }
         s += &self.captions(title, *t, q[0]);
         s + "</svg>\n"
     }
@@ -333,6 +415,11 @@ impl GifView {
         s += &text(10.0, 36.0, 13.0, "start", &format!("t = {t:.2} s, φ = {:.1} deg", phi.to_degrees()));
         // The legend, in rows under the drawing.
         let top = self.height / u - self.legend.height();
+        // The least clearance, above the legend, in the marker's colour.
+        if let Some((Some(caption), Some(colour))) = self.scene().map(|sc| (sc.caption(), sc.marker_colour())) {
+            s += &text(10.0, top - 6.0, FONT_SIZE, "start", &caption)
+                .replace("fill=\"#000\"", &format!("fill=\"{colour}\" id=\"least-caption\""));
+        }
         s += &format!(
             "<line x1=\"0\" y1=\"{:.2}\" x2=\"{:.2}\" y2=\"{:.2}\" stroke=\"#ddd\" stroke-width=\"{:.2}\"/>\n",
             (top + 2.0) * u,

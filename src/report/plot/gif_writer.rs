@@ -14,11 +14,14 @@ use std::path::Path;
 
 use rayon::prelude::*;
 
-use super::animation::{AT_LIMIT_COLOUR, LINK_COLOURS};
+use super::animation::{AT_LIMIT_COLOUR, LEAST_HOLD, LINK_COLOURS};
+use super::scene::{CLEAR_COLOUR, OBSTACLE_COLOUR};
 use super::{GifView, picture_error, rgba_pixels};
 use crate::error::Error;
 use crate::model::InputError;
+use crate::model::arm::collision::Geometry;
 use crate::plan::Plan;
+use crate::plan::clearance::ClearanceReport;
 use crate::planners::arm::ArmPlanned;
 
 /// Size and frame rate of an animated GIF.
@@ -150,6 +153,20 @@ pub fn animation_gif(plan: &Plan, title: &str, options: &GifOptions, path: &Path
     encode(&GifView::new(plan, options), title, path)
 }
 
+/// The animated GIF of the 2-link `plan` as [`animation_gif`] draws it, with the robot's shapes
+/// and the obstacles of `geometry` and the least clearance `least` of the verified motion
+/// ([`GifView::two_link`]); without shapes and obstacles the same bytes as [`animation_gif`].
+pub fn two_link_animation_gif(
+    plan: &Plan,
+    geometry: &Geometry,
+    least: Option<ClearanceReport>,
+    title: &str,
+    options: &GifOptions,
+    path: &Path,
+) -> Result<Vec<u8>, Error> {
+    encode(&GifView::two_link(plan, geometry, least, options)?, title, path)
+}
+
 /// The animated GIF of an arm's motion (any number of links), titled `title`: drawn and encoded
 /// as [`animation_gif`] draws the 2-link robot's; `path` only labels errors.
 pub fn arm_animation_gif(
@@ -174,6 +191,13 @@ fn encode(view: &GifView, title: &str, path: &Path) -> Result<Vec<u8>, Error> {
     }
     for colour in SWATCH.iter().chain(&LINK_COLOURS) {
         training.extend(rgba(colour).repeat(4096));
+    }
+    // The scene's own colours, only where there is a scene (a robot without shapes keeps its bytes).
+    if view.scene().is_some() {
+        // The obstacle's edge, its fill over white (45 % of it), and the marker's purple.
+        for colour in [OBSTACLE_COLOUR, "#b7b7b7", CLEAR_COLOUR] {
+            training.extend(rgba(colour).repeat(4096));
+        }
     }
     let quantiser = color_quant::NeuQuant::new(QUANTISER_SPEED, 255, &training);
     drop(training);
@@ -201,7 +225,13 @@ fn encode(view: &GifView, title: &str, path: &Path) -> Result<Vec<u8>, Error> {
                 };
                 let mut frame = gif::Frame::from_indexed_pixels(w, h, pixels, Some(UNCHANGED));
                 frame.dispose = gif::DisposalMethod::Keep;
-                frame.delay = if k + 1 == n { FINAL_HOLD } else { options.delay() };
+                frame.delay = if k + 1 == n {
+                    FINAL_HOLD
+                } else if view.marked() == Some(k) {
+                    LEAST_HOLD
+                } else {
+                    options.delay()
+                };
                 encoder.write_frame(&frame).map_err(fail)?;
                 previous = Some(indices);
             }

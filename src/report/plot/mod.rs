@@ -17,19 +17,23 @@ use plotters::prelude::*;
 
 mod animation;
 mod domain;
+mod gif_scene;
 mod gif_writer;
 mod legend;
 mod methods;
 mod plan;
+pub mod scene;
 mod sweep;
 #[cfg(test)]
 mod tests;
 
-pub use animation::{AT_LIMIT_COLOUR, AT_LIMIT_USE, GifView, LINK_COLOURS, joints_at_limit, watches_limits};
+pub use animation::{
+    AT_LIMIT_COLOUR, AT_LIMIT_USE, GifView, LEAST_HOLD, LINK_COLOURS, joints_at_limit, watches_limits,
+};
 pub use domain::{DOMAIN_PAIR_SIZE, DomainOverlay, domain_pair_picture, domain_picture};
-pub use gif_writer::{GifOptions, animation_gif, arm_animation_gif, check_gif_path};
+pub use gif_writer::{GifOptions, animation_gif, arm_animation_gif, check_gif_path, two_link_animation_gif};
 pub use methods::{METHODS_SIZE, methods_picture};
-pub use plan::{BOUNDS_LABEL, Bound, PLAN_FIGURE_SIZE, Panel, PlanFigure, Series, plan_picture};
+pub use plan::{BOUNDS_LABEL, Bound, Mark, PLAN_FIGURE_SIZE, Panel, PlanFigure, Series, plan_picture};
 pub use sweep::{SWEEP_SIZE, sweep_picture};
 
 /// The file format of a picture.

@@ -4,6 +4,7 @@ use std::path::Path;
 
 use plotters::coord::Shift;
 use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use super::{FONT, Painter, PictureFormat, render, round_label};
 use crate::error::Error;
@@ -34,6 +35,19 @@ pub struct Bound {
     pub series: Option<usize>,
 }
 
+/// A vertical line of a [`Panel`] at one instant (e.g. the least clearance of the verified
+/// motion): drawn solid across the chart in its colour, its label at the top beside it; the
+/// horizontal axis always reaches it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Mark {
+    /// The instant, in the horizontal axis' units (e.g. s; a non-finite value is not drawn).
+    pub x: f64,
+    /// The words beside the line, e.g. `least clearance 12.3 mm, base / link 4`.
+    pub label: String,
+    /// The colour `(red, green, blue)`.
+    pub colour: (u8, u8, u8),
+}
+
 /// The legend's entry for limit lines of several labels.
 pub const BOUNDS_LABEL: &str = "limits (dashed)";
 
@@ -58,6 +72,8 @@ pub struct Panel {
     pub include_zero: bool,
     /// Horizontal limit lines (dashed; empty: none). The vertical axis reaches each of them.
     pub bounds: Vec<Bound>,
+    /// Vertical lines at given instants (empty: none).
+    pub marks: Vec<Mark>,
 }
 
 /// A plan picture: a title, up to four panels in a 2 x 2 grid, and a caption of a few lines
@@ -131,6 +147,9 @@ fn draw_panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, panel: &Panel) 
     for b in panel.bounds.iter().filter(|b| b.value.is_finite()) {
         (y0, y1) = (y0.min(b.value), y1.max(b.value));
     }
+    for m in panel.marks.iter().filter(|m| m.x.is_finite()) {
+        (x0, x1) = (x0.min(m.x), x1.max(m.x));
+    }
     if !(x1 > x0) {
         x1 = x0 + 1.0;
     }
@@ -196,6 +215,18 @@ fn draw_panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, panel: &Panel) 
         chart
             .draw_series(dashes.into_iter().map(|(a, c)| PathElement::new(vec![(a, b.value), (c, b.value)], style)))
             .map_err(e)?;
+    }
+    for m in panel.marks.iter().filter(|m| m.x.is_finite()) {
+        let colour = RGBColor(m.colour.0, m.colour.1, m.colour.2);
+        chart
+            .draw_series(std::iter::once(PathElement::new(vec![(m.x, y0), (m.x, y1)], colour.stroke_width(2))))
+            .map_err(e)?;
+        // The label on the side with more room.
+        let right = m.x - x0 > 0.6 * (x1 - x0);
+        let (h, dx) = if right { (HPos::Right, -6) } else { (HPos::Left, 6) };
+        let style = (FONT, 14).into_font().color(&colour).pos(Pos::new(h, VPos::Top));
+        let label = EmptyElement::at((m.x, y1)) + Text::new(m.label.clone(), (dx, 4), style);
+        chart.draw_series(std::iter::once(label)).map_err(e)?;
     }
     Ok(())
 }

@@ -47,6 +47,7 @@ fn plan_pictures_label_axes_and_skip_non_finite_points() {
         text: vec![],
         include_zero: false,
         bounds: vec![],
+        marks: vec![],
     };
     let figure = PlanFigure {
         title: "test figure".into(),
@@ -90,6 +91,7 @@ fn png_curves_are_anti_aliased() {
             text: vec![],
             include_zero: false,
             bounds: vec![],
+            marks: vec![],
         }],
         caption: vec![],
     };
