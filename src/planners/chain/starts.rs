@@ -183,7 +183,8 @@ impl ChainPlanner {
     ) -> Result<Vec<(Candidate, bool)>, Error> {
         let o = &self.options;
         let line = &p.line;
-        let coil = p.seeds.iter().any(|s| matches!(s, Seed::Coil { .. }));
+        // A coil of two turns or more (one turn is a seed beside the loops at `n = 2`).
+        let coil = p.seeds.iter().any(|s| matches!(s, Seed::Coil { turns, .. } if *turns >= 2));
         let mut out = Vec::new();
         for &seed in &p.seeds {
             let spans = match seed {
