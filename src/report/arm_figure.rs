@@ -122,12 +122,22 @@ pub fn arm_plan_figure(p: &ArmPlanned, title: String, source: &str) -> PlanFigur
     }
     let v = p.verification();
     let verdict = |ok: bool| if ok { "certified" } else { "NOT certified" };
+    // Within the tolerance but colliding or over a limit is not certified either (issues 20, 21).
+    let broken = match (v.collision(), v.limits.as_ref().map_or(Ok(()), |l| l.check())) {
+        (Err(_), _) => Some("NOT certified (it collides, below)"),
+        (_, Err(_)) => Some("NOT certified (over a limit)"),
+        _ => None,
+    };
+    let velocity = match broken {
+        Some(why) if v.certified => why,
+        _ => verdict(v.certified),
+    };
     let mut caption = vec![format!(
         "velocity level: verified final error {:.2e} rad (tolerance {:.0e}): {};  max |momentum| {:.1e} kg m²/s;  \
          peak |θ'| = {:.4} rad/s",
         v.final_error,
         v.tolerance,
-        verdict(v.certified),
+        velocity,
         v.max_abs_momentum,
         p.stats().map_or(0.0, |s| s.peak_velocity)
     )];

@@ -85,12 +85,15 @@ pub fn plan_figure(o: &CaseOutcome) -> PlanFigure {
     let v = &o.plan.verification;
     let c = &o.torques.certificate;
     let verdict = |ok: bool| if ok { "certified" } else { "NOT certified" };
+    // Within the tolerance but colliding is not certified either (issue 21): said on the caption.
+    let collides = crate::plan::certificate::collision(v.clearance.as_ref()).is_err();
+    let velocity = if v.certified && collides { "NOT certified (it collides, below)" } else { verdict(v.certified) };
     let mut caption = vec![
         format!(
             "velocity level: verified final error {:.2e} rad (tolerance {:.0e}): {};  peak |u1|, |u2| = {} rad/s",
             v.final_error,
             v.tolerance,
-            verdict(v.certified),
+            velocity,
             fmt_pair(o.plan.max_abs_u, 4)
         ),
         format!(

@@ -170,6 +170,9 @@ fn a_colliding_plan_is_marked_red_everywhere() {
         assert_eq!((mark.x, mark.colour), (c.time, (0xe8, 0x00, 0x0b)), "{}", panel.title);
     }
     assert!(figure.caption.iter().any(|l| l.contains("COLLIDES")), "{:?}", figure.caption);
+    // Within its tolerance, the velocity level is still not called certified.
+    let velocity = figure.caption.iter().find(|l| l.starts_with("velocity level")).expect("a velocity line");
+    assert!(velocity.contains("NOT certified (it collides"), "{velocity}");
 }
 
 /// The page's animation of a plan with an obstacle holds the obstacle's outline on its circle
