@@ -37,10 +37,10 @@ from ._freefloat import (
     Plan,
     Robot,
     __version__,
-    compare,
     domain,
     track,
 )
+from ._freefloat import compare as _compare_robot
 from ._freefloat import plan as _plan_robot
 from ._freefloat import plan_arm as _plan_arm
 
@@ -108,6 +108,77 @@ def plan(robot: _Union[Robot, Arm], start: _Any, goal: _Any = None, T: _Any = No
                 raise BadInput("plan: an arm takes start, goal and T (n + 1 angles each, T in s)")
             return _plan_arm(robot, start, goal, T, **kwargs)
     return _plan_robot(robot, start, goal, T, **kwargs)
+
+
+#: Keywords that only one method takes; :func:`compare` gives each method its own and ignores
+#: the others' (as ``freefloat compare``).
+_OWN_KEYWORDS = {"optimal": ("smooth_ends", "cost"), "ecsa": ("harmonics", "window")}
+
+
+def compare(
+    robot: _Union[Robot, Arm],
+    start: _Any,
+    goal: _Any = None,
+    T: _Any = None,
+    *,
+    methods: _Any = None,
+    strict: bool = True,
+    **kwargs: _Any,
+) -> _Any:
+    """Plans the same problem with each of ``methods``, as a dict method -> plan (issue 19 item
+    4: every arm, as ``freefloat compare``).
+
+    A :class:`Robot`, or a 2-link :class:`Arm` that is the paper's model, takes every method
+    (default :data:`METHODS`: optimal, NFA and ECSA) and returns :class:`Plan` values. Any other
+    :class:`Arm` (or a robot given ``limits``, ``obstacles``, ``clearance`` or ``no_collide``) is
+    compared by the arm pipeline: by default ``optimal`` and ``ecsa`` (``optimal`` alone for a
+    2-link arm there), as :class:`ArmPlan` values with the keywords of :func:`plan` for an arm;
+    the NFA is refused with :class:`BadInput` (the paper's normal form, Eq. 10, is for two
+    joints). Each method takes its own keywords and ignores the others'. With ``strict=False``
+    a method without a certified plan maps to its exception instead of raising it; bad input
+    always raises."""
+    arm_only = any(kwargs.get(k) is not None for k in _ARM_ONLY)
+    if arm_only and isinstance(robot, Robot):
+        robot = Arm.from_robot(robot)
+    if isinstance(robot, Arm) and robot.joints == 2 and not arm_only:
+        try:
+            robot = robot.to_robot()
+        except BadInput:
+            pass
+    if not isinstance(robot, Arm):
+        return _compare_robot(robot, start, goal, T, methods=methods, strict=strict, **kwargs)
+    served = ("optimal",) if robot.joints == 2 else ("optimal", "ecsa")
+    names = list(served if methods is None else methods)
+    for name in names:
+        if name not in METHODS:
+            raise BadInput(
+                f"compare: unknown method {name!r}: expected one of {', '.join(METHODS)}",
+                kind="invalid_parameter",
+                details={"name": "methods", "expected": ", ".join(METHODS)},
+            )
+        if name not in served:
+            why = (
+                "the NFA's normal form (Eq. 10) is for two joints"
+                if name == "nfa"
+                else "a 2-link arm with limits or shapes is planned by the minimum-effort planner"
+            )
+            raise BadInput(
+                f"compare: method {name!r} does not serve this arm of {robot.joints} link(s): {why}; "
+                f"expected methods among {', '.join(served)}",
+                kind="invalid_parameter",
+                details={"name": "methods", "expected": ", ".join(served)},
+            )
+    out = {}
+    for name in names:
+        others = [k for m, keys in _OWN_KEYWORDS.items() if m != name for k in keys]
+        own = {k: v for k, v in kwargs.items() if k not in others}
+        try:
+            out[name] = plan(robot, start, goal, T, method=name, **own)
+        except (NotCertified, NoPlan) as e:
+            if strict:
+                raise
+            out[name] = e
+    return out
 
 
 def plan_arm(arm: _Union[Robot, Arm], start: _Any, goal: _Any, T: float, **kwargs: _Any) -> ArmPlan:

@@ -286,3 +286,23 @@ def test_plan_arm_is_a_deprecated_alias(three_link):
     np.testing.assert_array_equal(old.q, new.q)
     with pytest.raises(ff.BadInput, match="transform"):
         ff.plan(three_link, ARM_START, ARM_GOAL, 10.0, transform="eq14")
+
+
+def test_compare_serves_every_arm(three_link):
+    """Issue 19 item 4: ``compare`` on a 3-link arm runs the minimum-effort planner and the
+    ECSA (each with its own keywords, the others' ignored), each plan the one ``plan`` gives,
+    certified; the NFA is refused with the reason (its normal form is for two joints)."""
+    plans = ff.compare(three_link, ARM_START, ARM_GOAL, 10.0, harmonics=2, smooth_ends=True)
+    assert set(plans) == {"optimal", "ecsa"}
+    own = {"optimal": {"smooth_ends": True}, "ecsa": {"harmonics": 2}}
+    for method, p in plans.items():
+        assert isinstance(p, ff.ArmPlan) and p.final_error <= 1e-9
+        single = ff.plan(three_link, ARM_START, ARM_GOAL, 10.0, method=method, **own[method])
+        assert p.effort == pytest.approx(single.effort, rel=1e-9)
+        assert np.max(np.abs(p.q[-1] - single.q[-1])) <= 1e-12
+    # The minimum-effort plan costs no more than the ECSA's certified plan of the same problem.
+    assert plans["optimal"].effort <= plans["ecsa"].effort
+    with pytest.raises(ff.BadInput, match="two joints"):
+        ff.compare(three_link, ARM_START, ARM_GOAL, 10.0, methods=["optimal", "nfa"])
+    with pytest.raises(ff.BadInput, match="unknown method"):
+        ff.compare(three_link, ARM_START, ARM_GOAL, 10.0, methods=["fastest"])
