@@ -61,8 +61,10 @@ def plan(robot: _Union[Robot, Arm], start: _Any, goal: _Any = None, T: _Any = No
     A :class:`Robot`, or a 2-link :class:`Arm` that is the paper's model, takes every method and
     keyword and returns a :class:`Plan`; any other :class:`Arm` takes ``method="optimal"`` or
     ``"ecsa"`` and the keywords ``samples, torques, wrap, initial_velocity, tolerance,
-    harmonics, window, smooth_ends, cost, limits, obstacles, clearance, no_collide`` and returns an :class:`ArmPlan` with the same arrays
-    (``goal_ee`` for such an arm is the command line's ``--to-ee`` for now). Bad input raises
+    harmonics, window, smooth_ends, cost, limits, obstacles, clearance, no_collide`` and returns
+    an :class:`ArmPlan` with the same arrays; its ``goal_ee`` (the command line's ``--to-ee``)
+    plans every branch of the arm's inverse kinematics that reaches the pose and keeps the
+    certified plan of least effort (``elbow`` only for a 2-link arm). Bad input raises
     :class:`BadInput`, a plan that is not certified :class:`NotCertified`.
 
     ``T="auto"`` (the command line's ``--time auto``; issue 20 item 4), for an :class:`Arm` of any
@@ -98,16 +100,64 @@ def plan(robot: _Union[Robot, Arm], start: _Any, goal: _Any = None, T: _Any = No
             except BadInput:
                 pass
         if isinstance(robot, Arm):
+            goal_ee = kwargs.pop("goal_ee", None)
+            elbow = kwargs.pop("elbow", None)
             unknown = sorted(set(kwargs) - _ARM_KEYWORDS)
             if unknown:
                 raise BadInput(
                     f"plan: {', '.join(unknown)} not available for an arm of {robot.joints} link(s): "
-                    f"expected only {', '.join(sorted(_ARM_KEYWORDS))} (goal_ee: freefloat plan --to-ee)"
+                    f"expected only {', '.join(sorted(_ARM_KEYWORDS | {'goal_ee', 'elbow'}))}"
                 )
+            if goal_ee is not None or elbow is not None:
+                return _plan_arm_to_pose(robot, start, goal, T, goal_ee, elbow, **kwargs)
             if goal is None or T is None:
-                raise BadInput("plan: an arm takes start, goal and T (n + 1 angles each, T in s)")
+                raise BadInput("plan: an arm takes start, goal (or goal_ee) and T (n + 1 angles each, T in s)")
             return _plan_arm(robot, start, goal, T, **kwargs)
     return _plan_robot(robot, start, goal, T, **kwargs)
+
+
+def _plan_arm_to_pose(arm: Arm, start: _Any, goal: _Any, T: _Any, goal_ee: _Any, elbow: _Any, **kwargs: _Any) -> _Any:
+    """:func:`plan` of an arm to the tool pose ``goal_ee = (x, y, psi)`` [m, m, rad] (the command
+    line's ``--to-ee``, issue 19 item 4): every branch of the free-floating inverse kinematics
+    (:meth:`Arm.inverse_kinematics`) that reaches the pose is planned and the certified plan of
+    least effort kept; ``elbow`` ("up", "down") picks one of a 2-link arm's two branches."""
+    if goal_ee is None:
+        raise BadInput("plan: elbow applies to a goal_ee, not to a goal configuration", kind="conflict")
+    if goal is not None:
+        raise BadInput("plan: give either goal (joint space) or goal_ee (task space), not both", kind="conflict")
+    if T is None:
+        raise BadInput("plan: an arm takes start, goal_ee and T (T in s)")
+    if elbow is not None and (arm.joints != 2 or elbow not in ("up", "down")):
+        raise BadInput(
+            f"plan: elbow={elbow!r} chooses between the two inverse-kinematics solutions of a 2-link arm "
+            f"(\"up\" or \"down\"); this arm has {arm.joints} link(s): drop elbow (every branch is tried and "
+            "the certified plan of least effort kept)",
+            kind="invalid_parameter",
+            details={"name": "elbow", "expected": '"up" or "down", for a 2-link arm'},
+        )
+    branches = arm.inverse_kinematics(goal_ee, start)
+    tried = [b for b in branches if b["reached"] and (elbow is None or b["branch"] == elbow)]
+    best, first_error = None, None
+    for branch in tried:
+        try:
+            planned = _plan_arm(arm, start, branch["q"], T, **kwargs)
+        except (NotCertified, NoPlan) as e:
+            first_error = first_error or e
+            continue
+        if best is None or planned.effort < best.effort:
+            best = planned
+    if best is not None:
+        return best
+    if first_error is not None:
+        raise first_error
+    residual = min((b["residual"] for b in branches), default=float("nan"))
+    raise BadInput(
+        f"plan: goal_ee: none of the {len(branches)} inverse-kinematics branch(es) reached the pose "
+        f"(best residual {residual:.2e} m): the pose is at the edge of the reach or a singular configuration; "
+        "move it inwards",
+        kind="invalid_parameter",
+        details={"name": "goal_ee", "expected": "a pose inside the arm's reach"},
+    )
 
 
 #: Keywords that only one method takes; :func:`compare` gives each method its own and ignores

@@ -484,6 +484,10 @@ class Arm:
         """The angular momentum ``F(theta) phi' + G(theta) . theta'`` [kg m^2/s] about the
         system's centre of mass, at ``q`` = (phi, theta_1..theta_n) [rad] with velocities
         ``dq`` [rad/s] (n + 1 values each): zero along every plan."""
+    def inverse_kinematics(self, pose: Sequence[float], start: _Angles) -> list[dict[str, Any]]:
+        """The free-floating inverse kinematics of the tool pose ``(x, y, psi)`` [m, m, rad]
+        from ``start`` (n + 1 angles [rad]): every branch tried, as dicts ``{"branch", "q",
+        "residual" [m], "reached"}``; a pose out of reach raises :class:`BadInput`."""
     @property
     def joints(self) -> int:
         """The number of joints (links) ``n``."""

@@ -180,6 +180,37 @@ impl PyArm {
         Ok(f * dq[0] + g.iter().zip(&dq[1..]).map(|(g, w)| g * w).sum::<f64>())
     }
 
+    /// The free-floating inverse kinematics of the tool pose `pose = (x, y, psi)` [m, m, rad]
+    /// (inertial frame, the system's centre of mass at the origin) from `start` (n + 1 angles
+    /// [rad]; each angle of a solution the representative nearest the start's): every branch
+    /// tried, as dicts `{"branch", "q", "residual" [m], "reached"}` (the command line's
+    /// `--to-ee` branches). A pose out of reach is `BadInput` with the reach.
+    fn inverse_kinematics<'py>(&self, py: Python<'py>, pose: Reals, start: Reals) -> PyResult<Bound<'py, PyList>> {
+        let n = self.inner.joints();
+        let pose = exactly(py, "pose", pose, 3, "three numbers (x [m], y [m], psi [rad])")?;
+        let start = exactly(py, "start", start, n + 1, "n + 1 numbers (phi, theta_1..theta_n) [rad]")?;
+        for (name, values) in [("pose", &pose), ("start", &start)] {
+            if let Some((i, x)) = values.iter().enumerate().find(|(_, x)| !x.is_finite()) {
+                return Err(bad(format!("{name}[{i}]"), *x, "finite numbers").into_pyerr(py));
+            }
+        }
+        let branches = self
+            .inner
+            .inverse_kinematics((pose[0], pose[1], pose[2]), &start)
+            .map_err(InputError::from)
+            .py_result(py)?;
+        let out = PyList::empty(py);
+        for b in branches {
+            let d = PyDict::new(py);
+            d.set_item("branch", b.branch)?;
+            d.set_item("q", b.q)?;
+            d.set_item("residual", b.residual)?;
+            d.set_item("reached", b.reached)?;
+            out.append(d)?;
+        }
+        Ok(out)
+    }
+
     /// The number of joints `n`.
     #[getter]
     fn joints(&self) -> usize {

@@ -306,3 +306,26 @@ def test_compare_serves_every_arm(three_link):
         ff.compare(three_link, ARM_START, ARM_GOAL, 10.0, methods=["optimal", "nfa"])
     with pytest.raises(ff.BadInput, match="unknown method"):
         ff.compare(three_link, ARM_START, ARM_GOAL, 10.0, methods=["fastest"])
+
+
+def test_goal_ee_serves_every_arm(three_link):
+    """Issue 19 item 4: ``goal_ee`` on a 3-link arm (the command line's ``--to-ee``) plans every
+    branch of the inverse kinematics that reaches the pose and keeps the certified plan of least
+    effort; its tool ends on the pose; what cannot be asked of an arm of 3 links is BadInput."""
+    pose = ff.plan(three_link, ARM_START, ARM_GOAL, 10.0).end_effector[-1]
+    p = ff.plan(three_link, ARM_START, T=10.0, goal_ee=pose)
+    assert isinstance(p, ff.ArmPlan) and p.final_error <= 1e-9
+    assert np.max(np.abs(p.end_effector[-1][:2] - pose[:2])) <= 1e-8
+    assert abs(math.remainder(p.end_effector[-1][2] - pose[2], math.tau)) <= 1e-8
+    branches = [b for b in three_link.inverse_kinematics(pose, ARM_START) if b["reached"]]
+    assert branches and all(b["residual"] <= 1e-6 for b in branches)
+    efforts = [ff.plan(three_link, ARM_START, b["q"], 10.0).effort for b in branches]
+    assert p.effort == pytest.approx(min(efforts), rel=1e-9)
+    with pytest.raises(ff.BadInput, match="elbow"):
+        ff.plan(three_link, ARM_START, T=10.0, goal_ee=pose, elbow="up")
+    with pytest.raises(ff.BadInput, match="not both"):
+        ff.plan(three_link, ARM_START, ARM_GOAL, 10.0, goal_ee=pose)
+    with pytest.raises(ff.BadInput, match="out of reach"):
+        ff.plan(three_link, ARM_START, T=10.0, goal_ee=(50.0, 0.0, 0.0))
+    with pytest.raises(ff.BadInput):
+        three_link.inverse_kinematics((0.5, float("nan"), 0.0), ARM_START)
