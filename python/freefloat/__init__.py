@@ -209,8 +209,9 @@ def compare(
         if name not in served:
             why = (
                 "the NFA's normal form (Eq. 10) is for two joints"
-                if name == "nfa"
-                else "a 2-link arm with limits or shapes is planned by the minimum-effort planner"
+                if name == "nfa" and robot.joints != 2
+                else "a 2-link arm with limits or shapes is compared by the minimum-effort planner alone "
+                "(the NFA and the ECSA plan the paper's Robot, which has neither)"
             )
             raise BadInput(
                 f"compare: method {name!r} does not serve this arm of {robot.joints} link(s): {why}; "

@@ -329,3 +329,14 @@ def test_goal_ee_serves_every_arm(three_link):
         ff.plan(three_link, ARM_START, T=10.0, goal_ee=(50.0, 0.0, 0.0))
     with pytest.raises(ff.BadInput):
         three_link.inverse_kinematics((0.5, float("nan"), 0.0), ARM_START)
+
+
+def test_compare_of_a_two_link_arm_with_limits_says_why_it_is_optimal_alone():
+    """A 2-link arm given limits is compared by the arm pipeline: the minimum-effort plan alone,
+    and the NFA refused for that reason (not for its number of joints)."""
+    arm = ff.Arm.from_robot(ff.Robot.src())
+    limits = {"theta1": {"velocity": 5.0}}
+    plans = ff.compare(arm, START, GOAL, HORIZON, limits=limits)
+    assert set(plans) == {"optimal"} and plans["optimal"].final_error <= 1e-9
+    with pytest.raises(ff.BadInput, match="minimum-effort planner alone"):
+        ff.compare(arm, START, GOAL, HORIZON, limits=limits, methods=["nfa"])
