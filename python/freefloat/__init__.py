@@ -150,6 +150,14 @@ def _plan_arm_to_pose(arm: Arm, start: _Any, goal: _Any, T: _Any, goal_ee: _Any,
         return best
     if first_error is not None:
         raise first_error
+    if elbow is not None and any(b["reached"] for b in branches):
+        names = ", ".join(repr(b["branch"]) for b in branches if b["reached"])
+        raise BadInput(
+            f"plan: elbow={elbow!r}: no inverse-kinematics branch of that name reaches the pose (those that do: "
+            f"{names}); drop elbow to plan them all",
+            kind="invalid_parameter",
+            details={"name": "elbow", "expected": names},
+        )
     residual = min((b["residual"] for b in branches), default=float("nan"))
     raise BadInput(
         f"plan: goal_ee: none of the {len(branches)} inverse-kinematics branch(es) reached the pose "

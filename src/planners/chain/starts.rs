@@ -19,8 +19,8 @@ use crate::planners::optimal::sqp::Discretised;
 /// two-joint planner's.
 pub const SPANS_PER_TURN: usize = 6;
 
-/// Arms of up to this many joints also try the goal representatives with two joints a turn
-/// further each (the two-joint planner's nine joint goals at `n = 2`).
+/// Arms of three up to this many joints also try the goal representatives with two joints a
+/// turn further each (two-joint arms try [`TWO_JOINT_TURNS`] instead).
 pub const PAIRED_JOINTS: usize = 3;
 
 /// Two-joint arms try every joint goal up to this many turns further on each joint (25 at 2): on
@@ -47,8 +47,9 @@ pub(super) struct Prepared {
 impl ChainPlanner {
     /// The goal representatives with their lines and seeds, least effort bound first: `phid`,
     /// `phid +- 2 pi` nearest the start, with `wrap` the joint goals nearest it, one joint a turn
-    /// further, and (up to [`PAIRED_JOINTS`] joints) two joints a turn further each; only those
-    /// inside the ranges and within the joints' reach in the horizon.
+    /// further, and (up to [`PAIRED_JOINTS`] joints) two joints a turn further each, or for two
+    /// joints every goal up to [`TWO_JOINT_TURNS`] turns further on each; only those inside the
+    /// ranges and within the joints' reach in the horizon.
     pub(super) fn prepare(&self, problem: &ChainProblem) -> Result<Vec<Prepared>, Error> {
         let (q0, theta0) = (&problem.start, problem.start[1..].to_vec());
         let (joint_goals, phi_targets) = self.goals(problem);
@@ -135,20 +136,21 @@ impl ChainPlanner {
                         joint_goals.push(vec![near[0] + TAU * f64::from(i), near[1] + TAU * f64::from(k)]);
                     }
                 }
-            }
-            for j in (0..n).filter(|_| n != 2) {
-                for turn in [-TAU, TAU] {
-                    let mut g = near.clone();
-                    g[j] += turn;
-                    joint_goals.push(g);
-                }
-            }
-            for j in (0..n).filter(|_| n != 2 && n <= PAIRED_JOINTS) {
-                for k in j + 1..n {
-                    for (tj, tk) in [(-TAU, -TAU), (-TAU, TAU), (TAU, -TAU), (TAU, TAU)] {
+            } else {
+                for j in 0..n {
+                    for turn in [-TAU, TAU] {
                         let mut g = near.clone();
-                        (g[j], g[k]) = (g[j] + tj, g[k] + tk);
+                        g[j] += turn;
                         joint_goals.push(g);
+                    }
+                }
+                for j in (0..n).filter(|_| n <= PAIRED_JOINTS) {
+                    for k in j + 1..n {
+                        for (tj, tk) in [(-TAU, -TAU), (-TAU, TAU), (TAU, -TAU), (TAU, TAU)] {
+                            let mut g = near.clone();
+                            (g[j], g[k]) = (g[j] + tj, g[k] + tk);
+                            joint_goals.push(g);
+                        }
                     }
                 }
             }
