@@ -418,6 +418,9 @@ impl Error {
             E::Input(I::TooMuchMemory { what, bytes, limit, .. }) => {
                 json!({"name": what, "bytes": *bytes as f64, "limit": *limit as f64})
             }
+            E::Input(I::PoseBranch { branch, reaching, tried, residual }) => {
+                json!({"name": "branch", "value": branch, "reaching": reaching, "tried": tried, "residual": residual})
+            }
             E::Input(I::ShardFile { path, line, reason }) => {
                 json!({"path": path.display().to_string(), "line": line, "reason": reason})
             }

@@ -135,37 +135,9 @@ def _plan_arm_to_pose(arm: Arm, start: _Any, goal: _Any, T: _Any, goal_ee: _Any,
             kind="invalid_parameter",
             details={"name": "elbow", "expected": '"up" or "down", for a 2-link arm'},
         )
-    branches = arm.inverse_kinematics(goal_ee, start)
-    tried = [b for b in branches if b["reached"] and (elbow is None or b["branch"] == elbow)]
-    best, first_error = None, None
-    for branch in tried:
-        try:
-            planned = _plan_arm(arm, start, branch["q"], T, **kwargs)
-        except (NotCertified, NoPlan) as e:
-            first_error = first_error or e
-            continue
-        if best is None or planned.effort < best.effort:
-            best = planned
-    if best is not None:
-        return best
-    if first_error is not None:
-        raise first_error
-    if elbow is not None and any(b["reached"] for b in branches):
-        names = ", ".join(repr(b["branch"]) for b in branches if b["reached"])
-        raise BadInput(
-            f"plan: elbow={elbow!r}: no inverse-kinematics branch of that name reaches the pose (those that do: "
-            f"{names}); drop elbow to plan them all",
-            kind="invalid_parameter",
-            details={"name": "elbow", "expected": names},
-        )
-    residual = min((b["residual"] for b in branches), default=float("nan"))
-    raise BadInput(
-        f"plan: goal_ee: none of the {len(branches)} inverse-kinematics branch(es) reached the pose "
-        f"(best residual {residual:.2e} m): the pose is at the edge of the reach or a singular configuration; "
-        "move it inwards",
-        kind="invalid_parameter",
-        details={"name": "goal_ee", "expected": "a pose inside the arm's reach"},
-    )
+    # The library plans every reaching branch and keeps the least effort (its report's
+    # ``to_ee`` lists them), as ``--to-ee`` does.
+    return _plan_arm(arm, start, None, T, goal_ee=goal_ee, branch=elbow, **kwargs)
 
 
 #: Keywords that only one method takes; :func:`compare` gives each method its own and ignores

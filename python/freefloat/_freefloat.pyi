@@ -582,9 +582,11 @@ class ArmPlan:
 def plan_arm(
     arm: Union[Arm, Robot],
     start: _Angles,
-    goal: _Angles,
+    goal: Optional[_Angles],
     T: Union[float, Literal["auto"]],
     *,
+    goal_ee: Optional[Sequence[float]] = None,
+    branch: Optional[str] = None,
     samples: int = 1001,
     torques: bool = False,
     wrap: bool = True,
@@ -601,15 +603,20 @@ def plan_arm(
     no_collide: Optional[Sequence[Tuple[str, str]]] = None,
 ) -> ArmPlan:
     """Deprecated as ``freefloat.plan_arm`` (a ``DeprecationWarning``): ``freefloat.plan(arm,
-    ...)`` takes any arm and calls this. ``smooth_ends`` and ``cost="energy"`` are refused
-    (:class:`BadInput`) until the one minimum-effort planner carries them (issue 19).
+    ...)`` takes any arm and calls this.
 
     Plans the minimum-effort motion of ``arm`` from ``start`` to ``goal`` = (phi,
     theta_1..theta_n) [rad, relative joint angles; n + 1 values] in ``T`` [s] at zero angular
     momentum, to rest at the goal, and certifies it (the planner of ``freefloat plan`` for an
-    arm of any ``n``). A 2-link :class:`Robot` is accepted and planned as an arm;
-    :func:`plan` remains the full-featured 2-link path (NFA, ECSA, ``goal_ee``, ``cost``,
-    ``smooth_ends``, task-space arrays).
+    arm of any ``n``). A 2-link :class:`Robot` is accepted and planned as an arm.
+
+    ``goal_ee`` = (x, y, psi) [m, m, rad] instead of ``goal`` (``goal=None``; the command line's
+    ``--to-ee``): the tool pose in the inertial frame, the system's centre of mass at the origin;
+    every branch of :meth:`Arm.inverse_kinematics` that reaches it (only the one named
+    ``branch``, e.g. ``"up"``, when given) is planned and the certified plan of least effort
+    kept; ``plan.certificate["to_ee"]`` lists each branch with its effort or error. A branch
+    name that no reaching branch carries, or a pose that no branch reaches, is
+    :class:`BadInput` (kind ``pose_branch``).
 
     ``T="auto"`` (issue 20 item 4; the command line's ``--time auto``): the shortest horizon,
     to 1 %, in which a certified plan fits every limit, for ``method="optimal"`` and an arm with

@@ -6,6 +6,7 @@
 //! domain maps run with the GIL released.
 
 mod arm;
+mod arm_plan;
 mod cli;
 mod compat;
 mod convert;
@@ -26,16 +27,16 @@ fn _freefloat(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<planning::PyPlan>()?;
     m.add_class::<domain::PyDomain>()?;
     m.add_class::<arm::PyArm>()?;
-    m.add_class::<arm::PyArmPlan>()?;
+    m.add_class::<arm_plan::PyArmPlan>()?;
     m.add_function(wrap_pyfunction!(planning::plan, m)?)?;
     m.add_function(wrap_pyfunction!(planning::compare, m)?)?;
     m.add_function(wrap_pyfunction!(planning::_time_plan, m)?)?;
     m.add_function(wrap_pyfunction!(domain::domain, m)?)?;
     m.add_function(wrap_pyfunction!(tracking::track, m)?)?;
-    m.add_function(wrap_pyfunction!(arm::plan_arm, m)?)?;
+    m.add_function(wrap_pyfunction!(arm_plan::plan_arm, m)?)?;
     m.add_function(wrap_pyfunction!(cli::_cli_main, m)?)?;
     m.add_function(wrap_pyfunction!(planning::_plan_from_state, m)?)?;
-    m.add_function(wrap_pyfunction!(arm::_arm_plan_from_state, m)?)?;
+    m.add_function(wrap_pyfunction!(arm_plan::_arm_plan_from_state, m)?)?;
     m.add("METHODS", planning::METHODS.to_vec())?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())

@@ -321,6 +321,11 @@ def test_goal_ee_serves_every_arm(three_link):
     assert branches and all(b["residual"] <= 1e-6 for b in branches)
     efforts = [ff.plan(three_link, ARM_START, b["q"], 10.0).effort for b in branches]
     assert p.effort == pytest.approx(min(efforts), rel=1e-9)
+    # The report lists every branch tried, the kept one with the plan's effort.
+    listed = p.certificate["to_ee"]["branches"]
+    kept = [b for b in listed if b["kept"]]
+    assert len(listed) >= len(branches) and len(kept) == 1, listed
+    assert kept[0]["effort"] == pytest.approx(p.effort, rel=1e-12)
     with pytest.raises(ff.BadInput, match="elbow"):
         ff.plan(three_link, ARM_START, T=10.0, goal_ee=pose, elbow="up")
     with pytest.raises(ff.BadInput, match="not both"):

@@ -12,7 +12,8 @@ use freefloat::plan::Method;
 use freefloat::planners::arm::{ArmPlanned, ArmRequest, plan_arm};
 use freefloat::planners::chain::ChainProblem;
 use freefloat::planners::optimal::Cost;
-use freefloat::report::arm::{ArmReport, PoseBranch, PoseGoal, arm_csv};
+use freefloat::planners::to_pose::plan_arm_to_pose;
+use freefloat::report::arm::{ArmReport, PoseGoal, arm_csv};
 use freefloat::report::arm_plan_figure;
 use freefloat::report::io::write_atomic;
 use freefloat::report::numbers::{error_number, number, rounded, scientific};
@@ -155,8 +156,7 @@ pub(super) fn plan_problem(
         None => plan_arm(arm, method, &request(&problem)),
         Some(text) => {
             let [x, y, psi] = super::parse_list::<3>("--to-ee", text)?;
-            let pose = (x, y, psi.to_radians());
-            let want = match (p.elbow, arm.joints()) {
+            let branch = match (p.elbow, arm.joints()) {
                 (None, _) => None,
                 (Some(e), 2) => Some(if e == ElbowArg::Up { "up" } else { "down" }),
                 (Some(_), n) => bail!(
@@ -164,69 +164,24 @@ pub(super) fn plan_problem(
                      links: drop --elbow (every branch is tried and the certified plan of least effort kept)"
                 ),
             };
-            let solutions = arm.inverse_kinematics(pose, &problem.start).map_err(InputError::from)?;
-            let mut best: Option<(usize, ArmPlanned)> = None;
-            let mut first_error = None;
-            let mut branches = Vec::with_capacity(solutions.len());
-            for solution in solutions {
-                let mut branch = PoseBranch { solution, effort: None, error: None, kept: false };
-                if want.is_some_and(|w| w != branch.solution.branch) {
-                    branch.error = Some("not the --elbow asked for".into());
-                } else if !branch.solution.reached {
-                    branch.error = Some(format!(
-                        "the inverse kinematics stopped {} m from the pose",
-                        scientific(branch.solution.residual, 2)
-                    ));
-                } else {
-                    let goal = ChainProblem { goal: branch.solution.q.clone(), ..problem.clone() };
-                    match plan_arm(arm, method, &request(&goal)) {
-                        Ok(planned) if planned.certified().is_ok() => {
-                            branch.effort = Some(planned.effort());
-                            if best.as_ref().is_none_or(|(_, b)| planned.effort() < b.effort()) {
-                                best = Some((branches.len(), planned));
-                            }
-                        }
-                        Ok(planned) => {
-                            let e = planned.certified().err();
-                            branch.error = e.as_ref().map(|e| e.to_string());
-                            first_error = first_error.or(e);
-                        }
-                        Err(e) if e.is_bad_input() => return Ok(Err(e)),
-                        Err(e) => {
-                            branch.error = Some(e.to_string());
-                            first_error = first_error.or(Some(e));
-                        }
+            match plan_arm_to_pose(arm, method, &request(&problem), (x, y, psi.to_radians()), branch) {
+                Ok((goal, planned)) => {
+                    if let Some(kept) = goal.kept() {
+                        problem.goal = kept.solution.q.clone();
                     }
-                }
-                branches.push(branch);
-            }
-            let tried = branches.len();
-            let reached = branches.iter().filter(|b| b.solution.reached).count();
-            let result = match (best, first_error) {
-                (Some((k, planned)), _) => {
-                    branches[k].kept = true;
-                    problem.goal = branches[k].solution.q.clone();
-                    notes.push(format!(
-                        "--to-ee: {tried} inverse-kinematics branch(es) tried, {reached} reached the pose; kept `{}`, \
-                         the certified plan of least effort",
-                        branches[k].solution.branch
-                    ));
+                    notes.push(goal.note());
+                    to_ee = Some(goal);
                     Ok(planned)
                 }
-                (None, Some(e)) => Err(e),
-                (None, None) => {
-                    let residual = branches.iter().map(|b| b.solution.residual).fold(f64::INFINITY, f64::min);
+                Err(freefloat::Error::Input(e @ InputError::PoseBranch { .. })) => {
                     bail!(
-                        "--to-ee {}: none of the {tried} inverse-kinematics branch(es) reached the pose (best residual \
-                         {} m); the pose is inside the reach but at its edge or a singular configuration: move it \
-                         inwards",
+                        "--to-ee {}: {}",
                         super::config::quote(text),
-                        scientific(residual, 2)
+                        e.to_string().replace("branch choice", "--elbow")
                     )
                 }
-            };
-            to_ee = Some(PoseGoal { pose: [pose.0, pose.1, pose.2], branches });
-            result
+                Err(e) => Err(e),
+            }
         }
     };
     let planned = match (cap, first) {

@@ -142,6 +142,35 @@ pub enum InputError {
         /// The deepest nesting read.
         limit: usize,
     },
+    /// A tool-pose goal inside the reach that no inverse-kinematics branch plans to: either
+    /// `branch` was asked for and no branch of that name reaches the pose, or no branch reached
+    /// it at all (the pose at the edge of the reach or at a singular configuration).
+    #[error("{}", pose_branch_message(branch.as_deref(), reaching, *tried, *residual))]
+    PoseBranch {
+        /// The branch asked for (`up`, `down`, ...), when that is what is wrong.
+        branch: Option<String>,
+        /// The branches that reach the pose.
+        reaching: Vec<String>,
+        /// How many branches the inverse kinematics tried.
+        tried: usize,
+        /// The least distance of a branch's tool point from the pose \[m\].
+        residual: f64,
+    },
+}
+
+fn pose_branch_message(branch: Option<&str>, reaching: &[String], tried: usize, residual: f64) -> String {
+    match branch {
+        Some(branch) => format!(
+            "no inverse-kinematics branch `{}` reaches the pose (those that do: {}); drop the branch choice to plan \
+             them all",
+            excerpt(branch),
+            reaching.join(", ")
+        ),
+        None => format!(
+            "none of the {tried} inverse-kinematics branch(es) reached the pose (best residual {residual:.2e} m): \
+             the pose is inside the reach but at its edge or at a singular configuration; move it inwards"
+        ),
+    }
 }
 
 /// The most characters of user input that a message repeats.

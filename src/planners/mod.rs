@@ -11,10 +11,11 @@ pub mod chain;
 pub mod ecsa;
 pub mod nfa;
 pub mod optimal;
+pub mod to_pose;
+
+pub use to_pose::plan_to_pose;
 
 use crate::error::Error;
-use crate::model::kinematics::{Elbow, inverse_kinematics};
-use crate::model::{Configuration, InputError};
 use crate::plan::{Method, Motion, Plan, PlanningProblem, TorqueOptions, TorqueReport, add_torques};
 
 /// A motion planner (docs/spec.md, Sec. 2).
@@ -110,46 +111,5 @@ pub fn planner(method: Method, options: &PlannerOptions) -> Box<dyn Planner + Se
         Method::Nfa => Box::new(nfa::NormalFormPlanner::new(options.nfa.clone())),
         Method::Ecsa => Box::new(ecsa::EcsaPlanner::new(options.ecsa)),
         Method::Optimal => Box::new(optimal::OptimalPlanner::new(options.optimal.clone())),
-    }
-}
-
-/// Plans from `problem.start` to the end-effector pose `(x, y, psi)` (inertial frame, the
-/// system's centre of mass at the origin; m, m, rad) instead of `problem.goal`: the goal
-/// configurations are the free-floating inverse kinematics' solutions
-/// ([`inverse_kinematics`], `phi` of the start where the pose leaves it free), each angle the
-/// representative nearest the start's; with `elbow` only that solution, else each is planned and
-/// the certified plan of least effort kept. Unreachable poses are [`InputError::Unreachable`].
-pub fn plan_to_pose(
-    planner: &dyn Planner,
-    problem: &PlanningProblem,
-    pose: (f64, f64, f64),
-    elbow: Option<Elbow>,
-) -> Result<(Elbow, Planned), Error> {
-    let solutions = inverse_kinematics(&problem.robot, pose, problem.start.phi).map_err(InputError::from)?;
-    let near = |x: f64, reference: f64| x + std::f64::consts::TAU * ((reference - x) / std::f64::consts::TAU).round();
-    let mut best: Option<(Elbow, Planned)> = None;
-    let mut first_error = None;
-    for (e, q) in solutions.into_iter().filter(|(e, _)| elbow.is_none_or(|want| want == *e)) {
-        let s = problem.start;
-        let goal = Configuration::new(near(q.phi, s.phi), near(q.theta1, s.theta1), near(q.theta2, s.theta2));
-        match planner.plan(&PlanningProblem { goal, ..*problem }) {
-            Ok(planned) if planned.plan.verification.certified => {
-                if best.as_ref().is_none_or(|(_, b)| planned.plan.effort < b.plan.effort) {
-                    best = Some((e, planned));
-                }
-            }
-            Ok(planned) => first_error = first_error.or(planned.plan.certified().err()),
-            Err(err) => first_error = first_error.or(Some(err)),
-        }
-    }
-    match (best, first_error) {
-        (Some(best), _) => Ok(best),
-        (None, Some(err)) => Err(err),
-        (None, None) => Err(InputError::InvalidParameter {
-            name: "elbow".into(),
-            value: f64::NAN,
-            expected: "an elbow that reaches the pose (at a = b = 0 the two coincide: leave it unset)",
-        }
-        .into()),
     }
 }

@@ -12,7 +12,6 @@ use num_dual::Dual64;
 use crate::error::Error;
 use crate::model::InputError;
 use crate::model::arm::Arm;
-use crate::model::arm::kinematics::IkBranch;
 use crate::plan::Method;
 use crate::plan::Trajectory;
 use crate::plan::certificate::ChainVerification;
@@ -56,28 +55,7 @@ pub struct ArmTrajectory {
     pub end_effector_velocity: Vec<[f64; 3]>,
 }
 
-/// One branch of the inverse kinematics of `--to-ee`, planned or not.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct PoseBranch {
-    /// The branch and its residual ([`IkBranch`]).
-    #[serde(flatten)]
-    pub solution: IkBranch,
-    /// The certified plan's effort \[rad^2/s\], when the branch reached the pose and was planned.
-    pub effort: Option<f64>,
-    /// Why the branch has no certified plan (it missed the pose, or the planner's error).
-    pub error: Option<String>,
-    /// This branch's plan is the one reported (the certified plan of least effort).
-    pub kept: bool,
-}
-
-/// The goal of `--to-ee`: the pose and every inverse-kinematics branch tried.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct PoseGoal {
-    /// `(x, y, psi)` \[m, m, rad\], the system's centre of mass at the origin.
-    pub pose: [f64; 3],
-    /// Every branch tried, in the order tried.
-    pub branches: Vec<PoseBranch>,
-}
+pub use crate::planners::to_pose::{PoseBranch, PoseGoal};
 
 /// The JSON report of an arm's plan.
 #[derive(Debug, Clone, Serialize)]

@@ -1,0 +1,388 @@
+//! `freefloat.ArmPlan` and the binding `plan_arm`: an arm's plan, to a goal configuration or a
+//! tool pose (`goal_ee`), with its certificate, as NumPy arrays.
+
+use freefloat::planners::arm::{ArmRequest, plan_arm as library_plan_arm};
+use freefloat::planners::chain::ChainProblem;
+use freefloat::planners::optimal::Cost;
+use freefloat::planners::to_pose::plan_arm_to_pose;
+use freefloat::report::arm::{ArmReport, trajectory};
+use freefloat::{Arm, EcsaOptions, Method, Window};
+use numpy::ndarray::Array2;
+use numpy::{IntoPyArray, PyArray1, PyArray2};
+use pyo3::exceptions::PyTypeError;
+use pyo3::prelude::*;
+use pyo3::sync::PyOnceLock;
+use pyo3::types::{PyDict, PyList};
+use serde_json::Value;
+
+use crate::arm::{PyArm, exactly};
+use crate::compat::InputError;
+use crate::convert::{Reals, column, report_dict};
+use crate::errors::{BindingError, IntoPyResult, library_error};
+use crate::planning::{count, parse_method, parse_window};
+use crate::robot::PyRobot;
+
+/// A certified plan of an arm: the sampled trajectory as NumPy arrays (SI units, radians) and
+/// its certificate, the report of `freefloat plan --format json` for the arm.
+#[pyclass(name = "ArmPlan", module = "freefloat", frozen)]
+pub struct PyArmPlan {
+    /// Sample times [s], shape (S,).
+    #[pyo3(get)]
+    t: Py<PyArray1<f64>>,
+    /// Configurations (phi, theta_1..theta_n) [rad], shape (S, n + 1).
+    #[pyo3(get)]
+    q: Py<PyArray2<f64>>,
+    /// Velocities [rad/s], shape (S, n + 1); columns 1.. are the controls u.
+    #[pyo3(get)]
+    dq: Py<PyArray2<f64>>,
+    /// Joint accelerations [rad/s^2], shape (S, n).
+    #[pyo3(get)]
+    ddtheta: Py<PyArray2<f64>>,
+    /// Accelerations (phi'', theta_1''..theta_n'') [rad/s^2], shape (S, n + 1).
+    #[pyo3(get)]
+    ddq: Py<PyArray2<f64>>,
+    /// The base's centre of mass (xb, yb) [m], shape (S, 2), the system's centre of mass at 0.
+    #[pyo3(get)]
+    base: Py<PyArray2<f64>>,
+    /// The tool's pose (xe, ye, psie) [m, m, rad], shape (S, 3).
+    #[pyo3(get)]
+    end_effector: Py<PyArray2<f64>>,
+    /// Its velocity [m/s, m/s, rad/s], shape (S, 3).
+    #[pyo3(get)]
+    end_effector_velocity: Py<PyArray2<f64>>,
+    /// Joint torques [N m], shape (S, n), with torques=True, else None.
+    #[pyo3(get)]
+    tau: Option<Py<PyArray2<f64>>>,
+    /// "optimal".
+    #[pyo3(get)]
+    method: String,
+    /// The number of joints n.
+    #[pyo3(get)]
+    joints: usize,
+    /// The horizon T [s]: the one given, or with `T="auto"` the shortest one found.
+    #[pyo3(get)]
+    horizon: f64,
+    /// integral of |theta'|^2 dt [rad^2/s] (exact).
+    #[pyo3(get)]
+    effort: f64,
+    /// Verified final error [rad].
+    #[pyo3(get)]
+    final_error: f64,
+    /// Its tolerance [rad].
+    #[pyo3(get)]
+    tolerance: f64,
+    /// Every certificate computed holds.
+    #[pyo3(get)]
+    certified: bool,
+    report: Value,
+    certificate: PyOnceLock<Py<PyDict>>,
+}
+
+#[pymethods]
+impl PyArmPlan {
+    /// The certificate: the CLI's JSON report as a dict (same keys), built on first access.
+    #[getter]
+    fn certificate(&self, py: Python<'_>) -> PyResult<Py<PyDict>> {
+        report_dict(py, &self.certificate, &self.report)
+    }
+
+    /// Pickling: every array and number, and the report as its JSON text; rebuilt by
+    /// `freefloat._freefloat._arm_plan_from_state`, equal field by field.
+    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<(Bound<'py, PyAny>, (Bound<'py, PyDict>,))> {
+        let state = PyDict::new(py);
+        state.set_item("t", self.t.clone_ref(py))?;
+        state.set_item("q", self.q.clone_ref(py))?;
+        state.set_item("dq", self.dq.clone_ref(py))?;
+        state.set_item("ddtheta", self.ddtheta.clone_ref(py))?;
+        state.set_item("ddq", self.ddq.clone_ref(py))?;
+        state.set_item("base", self.base.clone_ref(py))?;
+        state.set_item("end_effector", self.end_effector.clone_ref(py))?;
+        state.set_item("end_effector_velocity", self.end_effector_velocity.clone_ref(py))?;
+        state.set_item("tau", self.tau.as_ref().map(|a| a.clone_ref(py)))?;
+        state.set_item("method", &self.method)?;
+        state.set_item("joints", self.joints)?;
+        state.set_item("horizon", self.horizon)?;
+        state.set_item("effort", self.effort)?;
+        state.set_item("final_error", self.final_error)?;
+        state.set_item("tolerance", self.tolerance)?;
+        state.set_item("certified", self.certified)?;
+        state.set_item("report", self.report.to_string())?;
+        Ok((py.import("freefloat._freefloat")?.getattr("_arm_plan_from_state")?, (state,)))
+    }
+
+    fn __repr__(&self, py: Python<'_>) -> String {
+        let n = self.t.bind(py).len().unwrap_or(0);
+        format!(
+            "ArmPlan(method='{}', joints={}, samples={n}, final_error={:.3e}, certified={}, effort={:.6})",
+            self.method,
+            self.joints,
+            self.final_error,
+            if self.certified { "True" } else { "False" },
+            self.effort
+        )
+    }
+}
+
+/// Rows of `width` numbers as a `(rows, width)` float64 array.
+fn matrix<'py>(py: Python<'py>, rows: &[Vec<f64>], width: usize) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    let flat: Vec<f64> = rows.iter().flatten().copied().collect();
+    let array = Array2::from_shape_vec((rows.len(), width), flat).map_err(|e| {
+        pyo3::exceptions::PyRuntimeError::new_err(format!("invariant: every row has {width} numbers: {e}"))
+    })?;
+    Ok(array.into_pyarray(py))
+}
+
+/// Fixed-size rows as rows of a matrix.
+fn rows<const N: usize>(v: &[[f64; N]]) -> Vec<Vec<f64>> {
+    v.iter().map(|r| r.to_vec()).collect()
+}
+
+/// The arm of `plan_arm(arm, ...)`: an `Arm`, or a 2-link `Robot` converted.
+fn any_arm(arm: &Bound<'_, PyAny>) -> PyResult<Arm> {
+    if let Ok(arm) = arm.cast::<PyArm>() {
+        return Ok(arm.get().inner.clone());
+    }
+    if let Ok(robot) = arm.cast::<PyRobot>() {
+        return Ok(Arm::from_params(&robot.get().inner));
+    }
+    let type_name = arm.get_type().name().map(|n| n.to_string()).unwrap_or_else(|_| "?".into());
+    Err(PyTypeError::new_err(format!("plan_arm: arm must be a freefloat.Arm or a freefloat.Robot, not {type_name}")))
+}
+
+/// The library's refusal of a method or of the shortest horizon names the command line's flag
+/// (`--method`, `--time auto`); here it is the keyword (`method`, `T="auto"`).
+fn python_names(e: freefloat::Error) -> freefloat::Error {
+    match e {
+        freefloat::Error::Input(InputError::InvalidParameter { name, value, expected })
+            if name == "--method" || name == "--time auto" =>
+        {
+            let name = if name == "--method" { "method" } else { "T=\"auto\"" };
+            freefloat::Error::Input(InputError::InvalidParameter { name: name.into(), value, expected })
+        }
+        e => e,
+    }
+}
+
+/// The first probe of `T="auto"`'s search [s], the command line's for `--time auto`
+/// (src/cli/plan_arm.rs, `problem`).
+const AUTO_FIRST_PROBE: f64 = 10.0;
+
+/// The horizon keyword `T` of `plan` for an arm: a number of seconds, or `"auto"` for the
+/// shortest horizon ([`ArmRequest::shortest_horizon`], issue 20 item 4), whose search starts at
+/// [`AUTO_FIRST_PROBE`]. Returns the horizon and whether it is to be searched; any other string
+/// is `BadInput`, any other type `TypeError`.
+fn horizon_keyword(py: Python<'_>, value: &Bound<'_, PyAny>) -> PyResult<(f64, bool)> {
+    if let Ok(text) = value.extract::<String>() {
+        if text == "auto" {
+            return Ok((AUTO_FIRST_PROBE, true));
+        }
+        let message = format!("unknown horizon T={text:?}");
+        let expected = "a horizon in seconds, or \"auto\" (the shortest horizon inside the arm's limits)";
+        return Err(BindingError::Key { kind: "invalid_parameter", name: "T".into(), message, expected }.into_pyerr(py));
+    }
+    let horizon = value.extract::<f64>().map_err(|_| {
+        let type_name = value.get_type().name().map(|n| n.to_string()).unwrap_or_else(|_| "?".into());
+        PyTypeError::new_err(format!("T: expected a number of seconds or \"auto\", got {type_name}"))
+    })?;
+    Ok((horizon, false))
+}
+
+/// Plans a motion of `arm` from `start` to `goal` in `T` and certifies it; see the stub.
+#[pyfunction]
+#[pyo3(signature = (
+    arm, start, goal, T, *, goal_ee = None, branch = None, samples = 1001, torques = false, wrap = true, initial_velocity = None,
+    tolerance = 1e-9, method = "optimal", harmonics = 1, window = "none", smooth_ends = false, cost = "effort",
+    limits = None, obstacles = None, clearance = None, no_collide = None
+))]
+#[allow(non_snake_case, clippy::too_many_arguments)]
+pub fn plan_arm<'py>(
+    py: Python<'py>,
+    arm: &Bound<'py, PyAny>,
+    start: Reals,
+    goal: Option<Reals>,
+    T: &Bound<'py, PyAny>,
+    goal_ee: Option<Reals>,
+    branch: Option<String>,
+    samples: i64,
+    torques: bool,
+    wrap: bool,
+    initial_velocity: Option<Reals>,
+    tolerance: f64,
+    method: &str,
+    harmonics: i64,
+    window: &str,
+    smooth_ends: bool,
+    cost: &str,
+    limits: Option<Bound<'py, PyDict>>,
+    obstacles: Option<Bound<'py, PyList>>,
+    clearance: Option<f64>,
+    no_collide: Option<Vec<(String, String)>>,
+) -> PyResult<Bound<'py, PyArmPlan>> {
+    let arm = any_arm(arm)?;
+    let (horizon, shortest_horizon) = horizon_keyword(py, T)?;
+    // Issue 20: `limits=` over the arm's own (module `limits`).
+    let arm = match &limits {
+        Some(l) => {
+            let own = crate::limits::apply(&arm.limits, arm.joints(), l).py_result(py)?;
+            arm.with_limits(own).py_result(py)?
+        }
+        None => arm,
+    };
+    // Issue 21: obstacles, the clearance and the excluded pairs over the arm's own shapes.
+    let arm = if obstacles.is_some() || clearance.is_some() || no_collide.is_some() {
+        let own = crate::geometry::apply(&arm.geometry, arm.joints(), obstacles.as_ref(), clearance, no_collide)
+            .py_result(py)?;
+        arm.with_geometry(own).py_result(py)?
+    } else {
+        arm
+    };
+    let n = arm.joints();
+    let method: Method = parse_method(method).py_result(py)?;
+    let window = parse_window(window).py_result(py)?;
+    let harmonics = count("harmonics", harmonics).py_result(py)?;
+    if (harmonics != 1 || window != Window::None) && method != Method::Ecsa {
+        let misplaced = BindingError::Misplaced { keywords: "harmonics/window", owner: "ecsa", method: method.name() };
+        return Err(misplaced.into_pyerr(py));
+    }
+    let ecsa = EcsaOptions::default()
+        .with_window(window)
+        .with_harmonics(harmonics)
+        .map_err(BindingError::from)
+        .py_result(py)?;
+    if n == 2 && method != Method::Optimal {
+        // The library's reason ("another number of links") is not this arm's: point to `plan`.
+        let message = format!("plan_arm has no method={:?} for a 2-link arm", method.name());
+        let expected =
+            "method=\"optimal\"; the NFA and ECSA plan a 2-link arm with freefloat.plan(arm.to_robot(), ...)";
+        return Err(
+            BindingError::Key { kind: "invalid_parameter", name: "method".into(), message, expected }.into_pyerr(py)
+        );
+    }
+    let samples = count("samples", samples).py_result(py)?;
+    let angles = "n + 1 numbers (phi, theta_1..theta_n) [rad]";
+    let start = exactly(py, "start", start, n + 1, angles)?;
+    let pose = match (goal_ee, &goal) {
+        (Some(pose), None) => {
+            let [x, y, psi]: [f64; 3] = exactly(py, "goal_ee", pose, 3, "(x, y, psi) [m, m, rad]")?
+                .try_into()
+                .map_err(|_| PyTypeError::new_err("goal_ee: three numbers"))?;
+            Some((x, y, psi))
+        }
+        (None, Some(_)) => None,
+        _ => {
+            let message = "plan_arm: give either goal (joint space) or goal_ee (task space)";
+            return Err(BindingError::Conflict { message }.into_pyerr(py));
+        }
+    };
+    if branch.is_some() && pose.is_none() {
+        let message = "plan_arm: branch applies to a goal_ee, not to a goal configuration";
+        return Err(BindingError::Conflict { message }.into_pyerr(py));
+    }
+    let goal = match goal {
+        Some(goal) => exactly(py, "goal", goal, n + 1, angles)?,
+        // A placeholder checked by `validate`; the pose's branches replace it.
+        None => start.clone(),
+    };
+    let initial_velocity = match initial_velocity {
+        None => vec![0.0; n],
+        Some(v) => exactly(py, "initial_velocity", v, n, "n numbers (dtheta_1..dtheta_n) [rad/s]")?,
+    };
+    let problem = ChainProblem { start, goal, horizon, initial_velocity, wrap };
+    problem.validate(&arm).py_result(py)?;
+    let cost = match cost {
+        "effort" => Cost::Effort,
+        "energy" => Cost::Energy,
+        other => {
+            let message = format!("unknown cost {other:?}");
+            let expected = "\"effort\" or \"energy\"";
+            return Err(
+                BindingError::Key { kind: "invalid_parameter", name: "cost".into(), message, expected }.into_pyerr(py)
+            );
+        }
+    };
+    let request = ArmRequest {
+        samples,
+        tolerance,
+        torques,
+        ecsa,
+        cost,
+        smooth_ends,
+        shortest_horizon,
+        ..ArmRequest::new(problem)
+    };
+    let (planned, to_ee) = py
+        .detach(|| match pose {
+            None => library_plan_arm(&arm, method, &request).map(|planned| (planned, None)),
+            Some(pose) => plan_arm_to_pose(&arm, method, &request, pose, branch.as_deref())
+                .map(|(goal, planned)| (planned, Some(goal))),
+        })
+        .map_err(python_names)
+        .py_result(py)?;
+    let goal = to_ee.as_ref().and_then(|g| g.kept()).map_or(&request.problem.goal, |b| &b.solution.q);
+    let mut report = ArmReport::new(&planned, &request.problem.start, goal, false);
+    if let Some(g) = &to_ee {
+        report.notes.push(g.note());
+    }
+    report.to_ee = to_ee;
+    let report_value = serde_json::to_value(&report).map_err(|e| {
+        pyo3::exceptions::PyRuntimeError::new_err(format!("invariant: the arm's report serialises: {e}"))
+    })?;
+    let tr = trajectory(&planned);
+    let v = planned.verification();
+    let py_plan = PyArmPlan {
+        t: column(py, &tr.t).unbind(),
+        q: matrix(py, &tr.q, n + 1)?.unbind(),
+        dq: matrix(py, &tr.dq, n + 1)?.unbind(),
+        ddtheta: matrix(py, &tr.ddtheta, n)?.unbind(),
+        ddq: matrix(py, &tr.ddq, n + 1)?.unbind(),
+        base: matrix(py, &rows(&tr.base), 2)?.unbind(),
+        end_effector: matrix(py, &rows(&tr.end_effector), 3)?.unbind(),
+        end_effector_velocity: matrix(py, &rows(&tr.end_effector_velocity), 3)?.unbind(),
+        tau: tr.tau.as_deref().map(|tau| matrix(py, tau, n).map(Bound::unbind)).transpose()?,
+        method: planned.method.name().to_string(),
+        joints: n,
+        horizon: planned.plan.horizon(),
+        effort: planned.effort(),
+        final_error: v.final_error,
+        tolerance: v.tolerance,
+        certified: report.certified,
+        report: report_value,
+        certificate: PyOnceLock::new(),
+    };
+    let failure = planned.certified().err();
+    let bound = Bound::new(py, py_plan)?;
+    match failure {
+        Some(e) => Err(library_error(py, &e, Some(bound.into_any()))),
+        None => Ok(bound),
+    }
+}
+
+/// The `freefloat.ArmPlan` of a pickled state (see `ArmPlan.__reduce__`).
+#[pyfunction]
+pub fn _arm_plan_from_state(state: &Bound<'_, PyDict>) -> PyResult<PyArmPlan> {
+    let get = |key: &str| -> PyResult<Bound<'_, PyAny>> {
+        state.get_item(key)?.ok_or_else(|| PyTypeError::new_err(format!("ArmPlan state: missing `{key}`")))
+    };
+    let report: String = get("report")?.extract()?;
+    let report = serde_json::from_str(&report).map_err(|e| PyTypeError::new_err(format!("ArmPlan state: {e}")))?;
+    Ok(PyArmPlan {
+        t: get("t")?.extract()?,
+        q: get("q")?.extract()?,
+        dq: get("dq")?.extract()?,
+        ddtheta: get("ddtheta")?.extract()?,
+        ddq: get("ddq")?.extract()?,
+        base: get("base")?.extract()?,
+        end_effector: get("end_effector")?.extract()?,
+        end_effector_velocity: get("end_effector_velocity")?.extract()?,
+        tau: get("tau")?.extract()?,
+        method: get("method")?.extract()?,
+        joints: get("joints")?.extract()?,
+        horizon: get("horizon")?.extract()?,
+        effort: get("effort")?.extract()?,
+        final_error: get("final_error")?.extract()?,
+        tolerance: get("tolerance")?.extract()?,
+        certified: get("certified")?.extract()?,
+        report,
+        certificate: PyOnceLock::new(),
+    })
+}
