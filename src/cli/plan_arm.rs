@@ -359,6 +359,14 @@ fn table(planned: &ArmPlanned, r: &ArmReport) -> String {
     s += &format!("  max |angular momentum|   {} kg m^2/s\n", scientific(v.max_abs_momentum, 2));
     s += &format!("  effort                   {} rad^2/s (integral of |u|^2 dt)\n", number(r.effort));
     s += &format!("  max |u_k| [rad/s]        {}\n", list(&r.max_abs_u));
+    if let Some(o) = r.optimal.as_ref().filter(|o| !o.converged) {
+        s += &format!(
+            "  SQP                      stopped ({}) at KKT residual {}: a feasible plan, not proven the \
+             least effort\n",
+            o.termination.name(),
+            scientific(o.kkt_residual, 1)
+        );
+    }
     if let Some(last) = planned.trajectory.last() {
         let q: Vec<f64> = std::iter::once(last.phi).chain(last.theta.iter().copied()).collect();
         let e = planned.arm.task_point(&q, &vec![0.0; q.len()]).end_effector;

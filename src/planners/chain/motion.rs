@@ -47,6 +47,11 @@ pub struct ChainStats {
     pub multiplier: f64,
     /// How the last solve stopped.
     pub termination: Termination,
+    /// The last solve converged (or stalled within 100 times its KKT tolerance, its rounding
+    /// floor). False for a plan the SQP did not bring to a stationary point: returned only when
+    /// no solve converged and this one is certified inside every limit and clearance, so a
+    /// feasible motion but not proven the least cost.
+    pub converged: bool,
     /// Uniform knot spans of the final basis (before the end grading).
     pub spans: usize,
     /// Gauss–Legendre nodes per span of the final solve.

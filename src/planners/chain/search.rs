@@ -191,6 +191,18 @@ impl ChainPlanner {
         if let Some(plan) = closest {
             return Ok(plan);
         }
+        // No refinement converged, e.g. the SQP stalled on binding position ranges (issue 20's
+        // oracle cases 7 and 15: feasible to 1e-13 at a KKT residual of 4e-4): the attempt nearest
+        // the holonomy is still a motion of the robot, returned when its certificate holds and it
+        // stays inside every limit and clearance. Its statistics say it stalled (the report and
+        // the table say it is not proven a constrained minimum).
+        if let Some(b) =
+            best_failure.as_ref().filter(|b| done.is_empty() && b.result.termination == Termination::Stalled)
+            && let Ok(Ok(plan)) = self.certified_clear(problem, b, seeds, iterations, clock, tables)
+            && plan.verification.limits.as_ref().is_none_or(|l| l.inside)
+        {
+            return Ok(plan);
+        }
         if let Some(e) = not_certified {
             return Err(e);
         }
@@ -371,7 +383,7 @@ impl ChainPlanner {
             }
         })?;
         let guess = if self.arm.joints() == 1 { None } else { Some(c.result.lambda) };
-        let result = super::limits::solve(self, &disc, x0, &self.options.sqp, guess)?;
+        let result = super::limits::solve_restarting(self, &disc, x0, &self.options.sqp, guess)?;
         let iterations = c.iterations + result.iterations;
         Ok(Candidate { disc, result, spans, nodes, iterations })
     }
@@ -428,6 +440,7 @@ impl ChainStats {
             kkt_residual: c.result.kkt,
             multiplier: c.result.lambda,
             termination: c.result.termination,
+            converged: c.result.converged(),
             spans: c.spans,
             quadrature_nodes: c.nodes,
             plan_seconds: f64::NAN,
@@ -462,11 +475,5 @@ fn keep(c: Candidate, best: &mut f64, done: &mut Vec<Candidate>, best_failure: &
 }
 
 fn termination_name(t: Termination) -> &'static str {
-    match t {
-        Termination::Converged => "converged",
-        Termination::MaxIterations => "max_iterations",
-        Termination::RadiusCollapsed => "radius_collapsed",
-        Termination::DegenerateConstraint => "degenerate_constraint",
-        Termination::Stalled => "stalled",
-    }
+    t.name()
 }

@@ -115,6 +115,19 @@ pub enum Termination {
     Stalled,
 }
 
+impl Termination {
+    /// The name in the reports (`converged`, `stalled`, ...).
+    pub fn name(self) -> &'static str {
+        match self {
+            Termination::Converged => "converged",
+            Termination::MaxIterations => "max_iterations",
+            Termination::RadiusCollapsed => "radius_collapsed",
+            Termination::DegenerateConstraint => "degenerate_constraint",
+            Termination::Stalled => "stalled",
+        }
+    }
+}
+
 /// The result of one solve.
 #[derive(Debug, Clone)]
 pub struct SqpResult {
