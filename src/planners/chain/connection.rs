@@ -272,17 +272,19 @@ impl Connection {
         }
         let g = N / F;
         *value = g;
+        // One division (the quotient rule's `1 / F` as a factor).
+        let inv = 1.0 / F;
         for j in 0..n {
-            a[j] /= F;
-            gradient[j] = (gradient[j] - g * f_grad[j]) / F;
+            a[j] *= inv;
+            gradient[j] = (gradient[j] - g * f_grad[j]) * inv;
         }
         for m in 0..n {
             for p in 0..n {
                 let i = m * n + p;
-                hessian[i] = (hessian[i] - gradient[m] * f_grad[p] - gradient[p] * f_grad[m] - g * f_hess[i]) / F;
+                hessian[i] = (hessian[i] - gradient[m] * f_grad[p] - gradient[p] * f_grad[m] - g * f_hess[i]) * inv;
             }
             for j in 0..n {
-                mixed[m * n + j] = (g_jac[j * n + m] - a[j] * f_grad[m]) / F;
+                mixed[m * n + j] = (g_jac[j * n + m] - a[j] * f_grad[m]) * inv;
             }
         }
     }

@@ -335,8 +335,7 @@ impl Discretised for Discretisation {
             for (l, slot) in idx.iter_mut().enumerate().take(p + 1) {
                 *slot = free(node.first + l, r, len).map_or(usize::MAX, |i| i * n);
             }
-            for l in 0..=p {
-                let il = idx[l];
+            for (l, &il) in idx.iter().enumerate().take(p + 1) {
                 if il == usize::MAX {
                     continue;
                 }
@@ -378,17 +377,30 @@ impl Discretised for Discretisation {
                     }
                     let mixed = &local.mixed[j * n..(j + 1) * n];
                     let col = (il + j) * dim;
-                    for (ll, &index) in idx.iter().enumerate().take(p + 1) {
+                    // The rows on and below the diagonal (`ll >= l`, and `jj >= j` where
+                    // `ll = l`); the others are mirrored after the sum.
+                    for (ll, &index) in idx.iter().enumerate().take(p + 1).skip(l) {
                         if index == usize::MAX {
                             continue;
                         }
                         let (vv, rr) = (node.value[ll], node.rate[ll]);
-                        let out = &mut data[col + index..col + index + n];
+                        let from = if ll == l { j } else { 0 };
+                        let out = &mut data[col + index + from..col + index + n];
                         // The mixed term of (l, j) as theta and (ll, jj) as theta'.
-                        for ((o, rw), m) in out.iter_mut().zip(&row).zip(mixed) {
+                        for ((o, rw), m) in out.iter_mut().zip(&row[from..]).zip(&mixed[from..]) {
                             *o -= rw * vv + m * v * rr;
                         }
                     }
+                }
+            }
+        }
+        if second {
+            // The upper band from the lower one (the Hessian is symmetric).
+            let hb = n * (p + 1) - 1;
+            let data = hess_c.as_mut_slice();
+            for col in 0..dim {
+                for below in col + 1..(col + hb + 1).min(dim) {
+                    data[below * dim + col] = data[col * dim + below];
                 }
             }
         }
