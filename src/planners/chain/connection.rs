@@ -169,100 +169,122 @@ impl Connection {
     pub fn local(&self, theta: &[f64], rate: &[f64], out: &mut Local) {
         let n = self.n;
         let n1 = n + 1;
-        out.psi[0] = self.beta;
-        out.rate_sum[0] = 0.0;
+        // The buffers as separate slices (no reloads of their addresses between the loops).
+        let Local {
+            value,
+            a,
+            gradient,
+            hessian,
+            mixed,
+            f_grad,
+            f_hess,
+            g_jac,
+            psi,
+            rate_sum,
+            cs,
+            pairs,
+            suffix,
+            prefix,
+        } = out;
+        let (a, gradient, f_grad) = (&mut a[..n], &mut gradient[..n], &mut f_grad[..n]);
+        let (hessian, mixed, f_hess, g_jac) =
+            (&mut hessian[..n * n], &mut mixed[..n * n], &mut f_hess[..n * n], &mut g_jac[..n * n]);
+        let (psi, rate_sum, cs) = (&mut psi[..n1], &mut rate_sum[..n1], &mut cs[..n1]);
+        let (pairs, suffix, prefix) = (&mut pairs[..n1 * n1], &mut suffix[..n1 * n1], &mut prefix[..n1 * n1]);
+        psi[0] = self.beta;
+        rate_sum[0] = 0.0;
         for j in 0..n {
-            out.psi[j + 1] = if j == 0 { theta[0] } else { out.psi[j] + theta[j] };
-            out.rate_sum[j + 1] = out.rate_sum[j] + rate[j];
+            psi[j + 1] = if j == 0 { theta[0] } else { psi[j] + theta[j] };
+            rate_sum[j + 1] = rate_sum[j] + rate[j];
         }
-        out.cs[0] = self.beta_sin_cos;
+        cs[0] = self.beta_sin_cos;
         for s in 1..n1 {
-            out.cs[s] = out.psi[s].sin_cos();
+            cs[s] = psi[s].sin_cos();
         }
         // X_st for s < t: [2K C, h C, 2K S, h S] with h = K (W_s + W_t).
         let mut F = self.f0;
         let mut N: f64 = self.g0.iter().zip(rate).map(|(g, r)| g * r).sum();
-        for x in out.pairs.iter_mut() {
-            *x = [0.0; 4];
-        }
         for s in 0..n {
-            let (ss, cs) = out.cs[s];
+            let (ss, cs_s) = cs[s];
+            let k = &self.k[s * n1..(s + 1) * n1];
             for t in s + 1..=n {
-                let (st, ct) = out.cs[t];
-                let (C, S) = (cs * ct + ss * st, ss * ct - cs * st);
-                let kk = 2.0 * self.k[s * n1 + t];
-                let h = 0.5 * kk * (out.rate_sum[s] + out.rate_sum[t]);
+                let (st, ct) = cs[t];
+                let (C, S) = (cs_s * ct + ss * st, ss * ct - cs_s * st);
+                let kk = 2.0 * k[t];
+                let h = 0.5 * kk * (rate_sum[s] + rate_sum[t]);
                 F += kk * C;
                 N += h * C;
-                out.pairs[s * n1 + t] = [kk * C, h * C, kk * S, h * S];
+                pairs[s * n1 + t] = [kk * C, h * C, kk * S, h * S];
             }
         }
-        // E[s][b] = sum_{t > b} X_st (suffix over t), then Q[a][b] = sum_{s <= a} E[s][b].
+        // E[s][b] = sum_{t > b} X_st (suffix over t), then Q[a][b] = sum_{s <= a} E[s][b]; only
+        // `s <= b` and `a <= b` are read (`X_st` vanishes for `t <= s`).
         for s in 0..n1 {
             let mut acc = [0.0; 4];
-            for b in (0..n1).rev() {
-                out.suffix[s * n1 + b] = acc;
-                let x = out.pairs[s * n1 + b];
-                for (a, v) in acc.iter_mut().zip(x) {
-                    *a += v;
+            for b in (s..n1).rev() {
+                suffix[s * n1 + b] = acc;
+                if b > s {
+                    let x = pairs[s * n1 + b];
+                    for (a, v) in acc.iter_mut().zip(x) {
+                        *a += v;
+                    }
                 }
             }
         }
         for b in 0..n1 {
             let mut acc = [0.0; 4];
-            for a in 0..n1 {
-                let e = out.suffix[a * n1 + b];
+            for a in 0..=b {
+                let e = suffix[a * n1 + b];
                 for (c, v) in acc.iter_mut().zip(e) {
                     *c += v;
                 }
-                out.prefix[a * n1 + b] = acc;
+                prefix[a * n1 + b] = acc;
             }
         }
+        let prefix = &*prefix;
         let q = |a: usize, b: usize, k: usize| {
             let (lo, hi) = if a <= b { (a, b) } else { (b, a) };
-            out.prefix[lo * n1 + hi][k]
+            prefix[lo * n1 + hi][k]
         };
         // G_j = g0_j + sum_{j < s < t} 2K C + 1/2 sum_{s <= j < t} 2K C.
         let mut tail = 0.0;
         for j in (0..n).rev() {
-            out.a[j] = self.g0[j] + tail + 0.5 * q(j, j, 0);
-            tail += out.suffix[j * n1 + j][0];
+            a[j] = self.g0[j] + tail + 0.5 * q(j, j, 0);
+            tail += suffix[j * n1 + j][0];
         }
         for m in 0..n {
-            out.f_grad[m] = q(m, m, 2);
-            out.gradient[m] = q(m, m, 3);
+            f_grad[m] = q(m, m, 2);
+            gradient[m] = q(m, m, 3);
             for p in 0..n {
-                out.f_hess[m * n + p] = -q(m, p, 0);
-                out.hessian[m * n + p] = -q(m, p, 1);
+                f_hess[m * n + p] = -q(m, p, 0);
+                hessian[m * n + p] = -q(m, p, 1);
             }
         }
         // dG_j/dtheta_m = sum_{j < s <= m} E_2K S[s][m] + 1/2 Q_2K S[min(j, m)][max(j, m)].
         for m in 0..n {
             let mut first = 0.0;
             for j in (0..n).rev() {
-                out.g_jac[j * n + m] = first + 0.5 * q(j, m, 2);
+                g_jac[j * n + m] = first + 0.5 * q(j, m, 2);
                 if j >= 1 && j <= m {
-                    first += out.suffix[j * n1 + m][2];
+                    first += suffix[j * n1 + m][2];
                 }
             }
         }
         let g = N / F;
-        out.value = g;
+        *value = g;
+        // One division (the quotient rule's `1 / F` as a factor).
+        let inv = 1.0 / F;
         for j in 0..n {
-            out.a[j] /= F;
-            out.gradient[j] = (out.gradient[j] - g * out.f_grad[j]) / F;
+            a[j] *= inv;
+            gradient[j] = (gradient[j] - g * f_grad[j]) * inv;
         }
         for m in 0..n {
             for p in 0..n {
                 let i = m * n + p;
-                out.hessian[i] = (out.hessian[i]
-                    - out.gradient[m] * out.f_grad[p]
-                    - out.gradient[p] * out.f_grad[m]
-                    - g * out.f_hess[i])
-                    / F;
+                hessian[i] = (hessian[i] - gradient[m] * f_grad[p] - gradient[p] * f_grad[m] - g * f_hess[i]) * inv;
             }
             for j in 0..n {
-                out.mixed[m * n + j] = (out.g_jac[j * n + m] - out.a[j] * out.f_grad[m]) / F;
+                mixed[m * n + j] = (g_jac[j * n + m] - a[j] * f_grad[m]) * inv;
             }
         }
     }

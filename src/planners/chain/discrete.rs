@@ -335,19 +335,25 @@ impl Discretised for Discretisation {
             for (l, slot) in idx.iter_mut().enumerate().take(p + 1) {
                 *slot = free(node.first + l, r, len).map_or(usize::MAX, |i| i * n);
             }
-            for l in 0..=p {
-                if idx[l] == usize::MAX {
+            for (l, &il) in idx.iter().enumerate().take(p + 1) {
+                if il == usize::MAX {
                     continue;
                 }
                 let (v, dr) = (node.value[l] * w, node.rate[l] * w);
-                for j in 0..n {
-                    // c = phi0 - integral - phi_end: derivatives with the sign -1.
-                    grad_c[idx[l] + j] -= local.gradient[j] * v + local.a[j] * dr;
-                    grad_f[idx[l] + j] += if self.energy.is_some() {
-                        e_local.d_theta[j] * v + e_local.d_rate[j] * dr
-                    } else {
-                        2.0 * rate[j] * dr
-                    };
+                // c = phi0 - integral - phi_end: derivatives with the sign -1.
+                let gc = &mut grad_c.as_mut_slice()[il..il + n];
+                for ((g, lg), la) in gc.iter_mut().zip(&local.gradient).zip(&local.a) {
+                    *g -= lg * v + la * dr;
+                }
+                let gf = &mut grad_f.as_mut_slice()[il..il + n];
+                if self.energy.is_some() {
+                    for ((g, et), er) in gf.iter_mut().zip(&e_local.d_theta).zip(&e_local.d_rate) {
+                        *g += et * v + er * dr;
+                    }
+                } else {
+                    for (g, rj) in gf.iter_mut().zip(&rate) {
+                        *g += 2.0 * rj * dr;
+                    }
                 }
             }
             if !second {
@@ -358,27 +364,43 @@ impl Discretised for Discretisation {
             }
             let data = hess_c.as_mut_slice();
             for l in 0..=p {
-                if idx[l] == usize::MAX {
+                let il = idx[l];
+                if il == usize::MAX {
                     continue;
                 }
                 let (v, dr) = (node.value[l] * w, node.rate[l] * w);
                 for j in 0..n {
                     // d^2 g / d c_{l j} d(theta_jj, theta'_jj) contracted with c_{l j}'s factors.
-                    for (jj, out) in row.iter_mut().enumerate() {
-                        *out = local.hessian[j * n + jj] * v + local.mixed[jj * n + j] * dr;
+                    let hessian = &local.hessian[j * n..(j + 1) * n];
+                    for ((out, h), m) in row.iter_mut().zip(hessian).zip(local.mixed[j..].iter().step_by(n)) {
+                        *out = h * v + m * dr;
                     }
-                    let col = (idx[l] + j) * dim;
-                    for (ll, &index) in idx.iter().enumerate().take(p + 1) {
+                    let mixed = &local.mixed[j * n..(j + 1) * n];
+                    let col = (il + j) * dim;
+                    // The rows on and below the diagonal (`ll >= l`, and `jj >= j` where
+                    // `ll = l`); the others are mirrored after the sum.
+                    for (ll, &index) in idx.iter().enumerate().take(p + 1).skip(l) {
                         if index == usize::MAX {
                             continue;
                         }
                         let (vv, rr) = (node.value[ll], node.rate[ll]);
-                        let base = col + index;
-                        for jj in 0..n {
-                            // The mixed term of (l, j) as theta and (ll, jj) as theta'.
-                            data[base + jj] -= row[jj] * vv + local.mixed[j * n + jj] * v * rr;
+                        let from = if ll == l { j } else { 0 };
+                        let out = &mut data[col + index + from..col + index + n];
+                        // The mixed term of (l, j) as theta and (ll, jj) as theta'.
+                        for ((o, rw), m) in out.iter_mut().zip(&row[from..]).zip(&mixed[from..]) {
+                            *o -= rw * vv + m * v * rr;
                         }
                     }
+                }
+            }
+        }
+        if second {
+            // The upper band from the lower one (the Hessian is symmetric).
+            let hb = n * (p + 1) - 1;
+            let data = hess_c.as_mut_slice();
+            for col in 0..dim {
+                for below in col + 1..(col + hb + 1).min(dim) {
+                    data[below * dim + col] = data[col * dim + below];
                 }
             }
         }

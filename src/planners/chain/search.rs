@@ -1,8 +1,7 @@
 //! The chain planner's search: goal representatives ranked by their seeds' estimated effort,
 //! every seed solved on the coarse basis, the best feasible solution refined, the plan certified.
 
-use std::cell::RefCell;
-use std::sync::Arc;
+use std::sync::{Arc, Mutex, PoisonError};
 use std::time::Instant;
 
 use super::discrete::{Discretisation, Table, Targets};
@@ -27,9 +26,10 @@ pub(super) const COARSE_SQP: SqpOptions =
 /// recorded problems (index 232, 4.23 against 7.35 rad^2/s) was cut.
 const LATER_ESTIMATE_RATIO: f64 = 12.0;
 
-/// The tables built in one planning call, by (uniform spans, quadrature nodes).
+/// The tables built in one planning call, by (uniform spans, quadrature nodes), shared by the
+/// seeds solved in parallel.
 #[derive(Default)]
-pub(super) struct Tables(RefCell<Vec<TableEntry>>);
+pub(super) struct Tables(Mutex<Vec<TableEntry>>);
 
 /// A cached table with its (uniform spans, quadrature nodes).
 type TableEntry = ((usize, usize), Arc<Table>);
@@ -296,7 +296,9 @@ impl ChainPlanner {
         nodes: usize,
         tables: &Tables,
     ) -> Result<Discretisation, Error> {
-        let cached = tables.0.borrow().iter().find(|(key, _)| *key == (spans, nodes)).map(|(_, t)| t.clone());
+        // Built under the lock: a table is built once however many seeds ask for it.
+        let mut cache = tables.0.lock().unwrap_or_else(PoisonError::into_inner);
+        let cached = cache.iter().find(|(key, _)| *key == (spans, nodes)).map(|(_, t)| t.clone());
         let table = match cached {
             Some(t) => t,
             None => {
@@ -314,10 +316,11 @@ impl ChainPlanner {
                     None => SplineBasis::graded(self.degree(), problem.horizon, spans, self.options.grading)?,
                 };
                 let t = Arc::new(Table::new(basis, self.arm.joints(), self.fixed(), nodes)?);
-                tables.0.borrow_mut().push(((spans, nodes), t.clone()));
+                cache.push(((spans, nodes), t.clone()));
                 t
             }
         };
+        drop(cache);
         let disc = Discretisation::on(self.connection.clone(), table, targets);
         Ok(match self.options.cost {
             Cost::Effort => disc,

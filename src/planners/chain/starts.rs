@@ -4,6 +4,8 @@
 
 use std::f64::consts::TAU;
 
+use rayon::prelude::*;
+
 use super::coil::Sites;
 use super::discrete::Targets;
 use super::search::{COARSE_SQP, Candidate, Tables};
@@ -183,62 +185,81 @@ impl ChainPlanner {
         p: &Prepared,
         tables: &Tables,
     ) -> Result<Vec<(Candidate, bool)>, Error> {
-        let o = &self.options;
-        let line = &p.line;
         // A coil of two turns or more (one turn is a seed beside the loops at `n = 2`).
         let coil = p.seeds.iter().any(|s| matches!(s, Seed::Coil { turns, .. } if *turns >= 2));
+        // The seeds are independent: solved in parallel, gathered in their order (the first
+        // error in that order is returned), so that the result does not depend on the threads.
+        let solved: Vec<Result<Vec<(Candidate, bool)>, Error>> =
+            p.seeds.par_iter().map(|&seed| self.solve_seed(problem, p, seed, coil, tables)).collect();
         let mut out = Vec::new();
-        for &seed in &p.seeds {
-            let spans = match seed {
-                Seed::Coil { turns, .. } => o.coarse_spans.max(SPANS_PER_TURN * turns),
-                _ => o.coarse_spans,
-            };
-            let disc = self.discretise(problem, p.targets.clone(), spans, o.quadrature_nodes, tables)?;
-            let project = |seed: Seed| disc.project(|t, out| line.path(seed, t, out));
-            let residual = |s: Seed| project(s).map_or(f64::NAN, |x| disc.evaluate(&x, 0).c);
-            let mut starts = Vec::new();
-            let reach = |s: Seed| seed == Seed::Line || self.within_speeds(line, s);
-            match seed {
-                Seed::Line => starts.push((project(seed)?, None)),
-                Seed::Loop { .. } => {
-                    let fitted = line.fit_radius(seed, o.max_loop_radius, residual);
-                    for s in [seed, fitted].into_iter().filter(|s| reach(*s)) {
-                        starts.push((project(s)?, None));
-                    }
-                }
-                Seed::Coil { .. } => {
-                    let fitted = line.fit_radius(seed, o.max_loop_radius, residual);
-                    if reach(fitted) {
-                        let x0 = project(fitted)?;
-                        let guess = (p.needed.abs() > 0.0).then(|| -2.0 * disc.evaluate(&x0, 0).f / p.needed);
-                        starts.push((x0, guess));
-                    }
-                }
-            }
-            for (x0, guess) in starts {
-                let Ok(result) = super::limits::solve(self, &disc, x0, &COARSE_SQP, guess) else { continue };
-                let (nodes, iterations) = (o.quadrature_nodes, result.iterations);
-                let c = Candidate { disc: disc.clone(), result, spans, nodes, iterations };
-                let feasible = c.feasible();
-                out.push((c, coil && seed == Seed::Line));
-                // A rate limit's control-point rows are conservative by `O(h^2)` on spans of
-                // width `h`: where the coarse line cannot meet the constraint inside them, the
-                // line again on the finest basis.
-                if seed == Seed::Line && !feasible && self.arm.limits.rate_limited() && o.max_spans > spans {
-                    let fine = self.discretise(problem, p.targets.clone(), o.max_spans, o.quadrature_nodes, tables)?;
-                    let x0 = fine.project(|t, out| line.path(seed, t, out))?;
-                    if let Ok(result) = super::limits::solve(self, &fine, x0, &COARSE_SQP, None) {
-                        let iterations = result.iterations;
-                        let c = Candidate { disc: fine, result, spans: o.max_spans, nodes, iterations };
-                        out.push((c, true));
-                    }
-                }
-            }
+        for s in solved {
+            out.extend(s?);
         }
         // Where no coil or loop was solved (all beyond the joints' reach), the lines are the
         // representative's only solutions: ranked with the others, not apart.
         if out.iter().all(|(_, extra)| *extra) {
             out.iter_mut().for_each(|(_, extra)| *extra = false);
+        }
+        Ok(out)
+    }
+
+    /// The coarse solutions of one seed of [`Self::solve_seeds`] (`coil`: the representative
+    /// has a coil of two turns or more).
+    fn solve_seed(
+        &self,
+        problem: &ChainProblem,
+        p: &Prepared,
+        seed: Seed,
+        coil: bool,
+        tables: &Tables,
+    ) -> Result<Vec<(Candidate, bool)>, Error> {
+        let o = &self.options;
+        let line = &p.line;
+        let mut out = Vec::new();
+        let spans = match seed {
+            Seed::Coil { turns, .. } => o.coarse_spans.max(SPANS_PER_TURN * turns),
+            _ => o.coarse_spans,
+        };
+        let disc = self.discretise(problem, p.targets.clone(), spans, o.quadrature_nodes, tables)?;
+        let project = |seed: Seed| disc.project(|t, out| line.path(seed, t, out));
+        let residual = |s: Seed| project(s).map_or(f64::NAN, |x| disc.evaluate(&x, 0).c);
+        let mut starts = Vec::new();
+        let reach = |s: Seed| seed == Seed::Line || self.within_speeds(line, s);
+        match seed {
+            Seed::Line => starts.push((project(seed)?, None)),
+            Seed::Loop { .. } => {
+                let fitted = line.fit_radius(seed, o.max_loop_radius, residual);
+                for s in [seed, fitted].into_iter().filter(|s| reach(*s)) {
+                    starts.push((project(s)?, None));
+                }
+            }
+            Seed::Coil { .. } => {
+                let fitted = line.fit_radius(seed, o.max_loop_radius, residual);
+                if reach(fitted) {
+                    let x0 = project(fitted)?;
+                    let guess = (p.needed.abs() > 0.0).then(|| -2.0 * disc.evaluate(&x0, 0).f / p.needed);
+                    starts.push((x0, guess));
+                }
+            }
+        }
+        for (x0, guess) in starts {
+            let Ok(result) = super::limits::solve(self, &disc, x0, &COARSE_SQP, guess) else { continue };
+            let (nodes, iterations) = (o.quadrature_nodes, result.iterations);
+            let c = Candidate { disc: disc.clone(), result, spans, nodes, iterations };
+            let feasible = c.feasible();
+            out.push((c, coil && seed == Seed::Line));
+            // A rate limit's control-point rows are conservative by `O(h^2)` on spans of
+            // width `h`: where the coarse line cannot meet the constraint inside them, the
+            // line again on the finest basis.
+            if seed == Seed::Line && !feasible && self.arm.limits.rate_limited() && o.max_spans > spans {
+                let fine = self.discretise(problem, p.targets.clone(), o.max_spans, o.quadrature_nodes, tables)?;
+                let x0 = fine.project(|t, out| line.path(seed, t, out))?;
+                if let Ok(result) = super::limits::solve(self, &fine, x0, &COARSE_SQP, None) {
+                    let iterations = result.iterations;
+                    let c = Candidate { disc: fine, result, spans: o.max_spans, nodes, iterations };
+                    out.push((c, true));
+                }
+            }
         }
         Ok(out)
     }

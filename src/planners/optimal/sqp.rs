@@ -175,15 +175,16 @@ impl Metric<'_> {
     }
 }
 
-/// Multiplier by least squares in the metric, and the relative KKT residual.
-fn multiplier(m: &Metric, e: &Evaluation) -> (f64, f64) {
+/// Multiplier by least squares in the metric, and the relative KKT residual, with
+/// `a_s = S^-1 grad c` (kept for the step at the same point).
+fn multiplier(m: &Metric, e: &Evaluation) -> (f64, f64, DVector<f64>) {
     let a_s = m.chol.solve(&e.grad_c);
     let den = e.grad_c.dot(&a_s);
     let lambda = if den > 0.0 { -a_s.dot(&e.grad_f) / den } else { 0.0 };
     let r = &e.grad_f + &e.grad_c * lambda;
     let kkt = r.dot(&m.chol.solve(&r)).max(0.0).sqrt();
     let scale = e.grad_f.dot(&m.chol.solve(&e.grad_f)).max(0.0).sqrt().max(1.0);
-    (lambda, kkt / scale)
+    (lambda, kkt / scale, a_s)
 }
 
 /// Solves the discretised problem from `x0` (Byrd–Omojokun trust-region SQP; the S-l1-QP step
@@ -214,7 +215,7 @@ pub fn solve<P: Discretised>(
     }
     let mut x = x0;
     let mut e = problem.evaluate(&x, 2);
-    let (mut lambda, mut kkt) = multiplier(&m, &e);
+    let (mut lambda, mut kkt, mut a_s) = multiplier(&m, &e);
     let mut radius = (m.norm(&x) * 0.5).max(1.0);
     let guess = guess.filter(|g| g.is_finite());
     let mut mu = guess.map_or(1.0, |g| (2.0 * g.abs()).max(1.0));
@@ -244,7 +245,6 @@ pub fn solve<P: Discretised>(
         iterations += 1;
         since_best += 1;
         let w = e.lagrangian_hessian(m.s, lambda_w);
-        let a_s = m.chol.solve(&e.grad_c);
         let den = e.grad_c.dot(&a_s);
         if !(den > 0.0) && e.c.abs() > options.constraint_tolerance {
             break Termination::DegenerateConstraint;
@@ -312,7 +312,7 @@ pub fn solve<P: Discretised>(
         if accepted {
             x += &step;
             e = problem.evaluate(&x, 2);
-            (lambda, kkt) = multiplier(&m, &e);
+            (lambda, kkt, a_s) = multiplier(&m, &e);
             if guess.is_none() || kkt < 0.1 {
                 lambda_w = lambda;
             }
