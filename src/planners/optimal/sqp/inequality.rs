@@ -239,7 +239,7 @@ const SCREEN: f64 = 0.05;
 /// of a QP whose cost is divided by a large penalty; at 1e-10 the steps near a solution, of order
 /// 1e-7, were determined to only a few digits, and a screened QP (fewer rows, the same minimiser)
 /// and the full one gave steps that differed by a tenth, enough to stall the SQP at the
-/// constraints' rounding floor on issue 20's 3-link bench; at 1e-12 they agree).
+/// constraints' rounding floor on issue 20's 3-link bench, which plans again at 1e-12).
 const QP_TOLERANCE: f64 = 1e-12;
 
 /// A CSC matrix from its columns' `(row, value)` entries (rows increasing within a column).
