@@ -430,7 +430,7 @@ fn a_binding_position_range_matches_an_independent_oracle() {
 /// 19 of 20 within 1 % of the reference (or below it), and no problem where the oracle finds a
 /// feasible point and the planner none. `FREEFLOAT_ORACLE_CASES=3,7` runs only those cases.
 #[test]
-#[ignore = "slow (about 4 min), and fails: measured at stop 31, 14 of 20 within 1 % of the oracle (its random starts or polished from the plan); misses: 2 ratios (1.015, 1.22: other minima), 4 planner failures where the oracle is feasible (cases 6, 7, 11, 15: SQP stalled, KKT 4e-4 to 0.09, cases 6 and 11 not feasible)"]
+#[ignore = "slow (about 4 min), and fails: measured with the screened QP (branch qp20), 16 of 20 within 1 % of the oracle (its random starts or polished from the plan; stop 31: 14); misses: 1 ratio (case 13, 1.013: another minimum), 3 planner failures where the oracle is feasible (cases 7, 11, 15: SQP stalled, KKT 1e-4 to 0.08)"]
 fn twenty_constrained_problems_against_the_oracle() {
     let free = three_link();
     let mut state: u64 = 0x2545_f491_4f6c_dd1d;

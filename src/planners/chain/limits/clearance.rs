@@ -136,7 +136,7 @@ impl Limited<'_> {
                     slopes = vec![vec![0.0; n + 1]; pairs.len()];
                 }
                 for (s, x) in slopes.iter_mut().zip(&pairs) {
-                    let eps = x.distance.eps.clone().unwrap_generic(Const::<CHUNK>, U1);
+                    let eps = x.distance.eps.unwrap_generic(Const::<CHUNK>, U1);
                     for (r, slot) in s.iter_mut().skip(start).take(CHUNK).enumerate() {
                         *slot = eps[r];
                     }
