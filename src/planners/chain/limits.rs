@@ -12,7 +12,7 @@
 //!   points `p (c_{k+1} - c_k) / (t_{k+p+1} - t_{k+1})` (and their differences) are linear in the
 //!   coefficients.
 //! - **Torque** `|tau_j| <= tau_max` with the exact inverse dynamics at zero momentum
-//!   ([`inverse_dynamics`], Eq. 6) at every breakpoint and at two interior points of every span
+//!   ([`ArmDynamics::inverse`], Eq. 6) at every breakpoint and at two interior points of every span
 //!   (a dense set, not a bound between the points); the derivatives in `theta''` exactly (the
 //!   torque is affine in it), in `theta` and `theta'` by central differences.
 //! - **Base range** `lo <= phi(t) <= hi` at every breakpoint, `phi(t) = phi(0) - integral_0^t g`
@@ -30,7 +30,7 @@ use nalgebra::DVector;
 use super::connection::{Connection, Local};
 use super::discrete::Discretisation;
 use super::{ChainPlanner, ChainProblem};
-use crate::dynamics::arm::inverse_dynamics;
+use crate::dynamics::arm::ArmDynamics;
 use crate::error::Error;
 use crate::model::InputError;
 use crate::model::arm::{Arm, Limits};
@@ -179,6 +179,8 @@ impl<'a> Limited<'a> {
         }
         times.push(basis.horizon());
         let (mut th, mut w, mut a) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+        // The arm's constants once for every point (as `inverse_dynamics` builds them per call).
+        let dynamics = ArmDynamics::new(self.arm);
         for &t in &times {
             let span = basis.span_of_interval(basis.interval(t));
             let d = basis.ders(span, t);
@@ -189,7 +191,7 @@ impl<'a> Limited<'a> {
                 w[j] = (0..=p).map(|l| d[1][l] * cj[l]).sum();
                 a[j] = (0..=p).map(|l| d[2][l] * cj[l]).sum();
             }
-            let tau = inverse_dynamics(self.arm, &th, &w, &a).tau;
+            let tau = dynamics.inverse(&th, &w, &a).tau;
             // Sensitivities d tau / d (theta_k, theta'_k, theta''_k), `n` columns each.
             let mut sens = vec![[vec![0.0; n], vec![0.0; n], vec![0.0; n]]; n];
             if order >= 1 {
@@ -203,15 +205,15 @@ impl<'a> Limited<'a> {
                             plus.1[k] += h;
                             minus.1[k] -= h;
                         }
-                        let up = inverse_dynamics(self.arm, &plus.0, &plus.1, &a).tau;
-                        let down = inverse_dynamics(self.arm, &minus.0, &minus.1, &a).tau;
+                        let up = dynamics.inverse(&plus.0, &plus.1, &a).tau;
+                        let down = dynamics.inverse(&minus.0, &minus.1, &a).tau;
                         for (jj, s) in sens.iter_mut().enumerate() {
                             s[which][k] = (up[jj] - down[jj]) / (2.0 * h);
                         }
                     }
                     let mut unit = a.clone();
                     unit[k] += 1.0;
-                    let up = inverse_dynamics(self.arm, &th, &w, &unit).tau;
+                    let up = dynamics.inverse(&th, &w, &unit).tau;
                     for (jj, s) in sens.iter_mut().enumerate() {
                         s[2][k] = up[jj] - tau[jj];
                     }

@@ -18,7 +18,8 @@
 //! the planner solves a plan under the clearance again, keeping more (`certified_clear`). The
 //! rows at `t = 0` and `t = T` are left out: the start and goal are fixed.
 
-use num_dual::Dual64;
+use nalgebra::{Const, U1};
+use num_dual::{Derivative, DualSVec64};
 
 use super::Limited;
 use crate::model::arm::collision::{Body, Geometry, PairClearance};
@@ -30,6 +31,12 @@ pub(super) const PIECES: usize = 4;
 /// Points per knot span with an obstacle: a link sweeps past a small obstacle between rows
 /// that are further apart (its tip moves about 6 cm in a quarter span of a 10 s plan at 1 m/s).
 pub(super) const OBSTACLE_PIECES: usize = 16;
+
+/// Coordinates differentiated together in one vector-dual pass of the distances.
+const CHUNK: usize = 4;
+
+/// The vector dual number of one pass.
+type Multi = DualSVec64<CHUNK>;
 
 /// Extra clearance each row keeps \[m\] (a distance's dip between points, module docs).
 const MARGIN: f64 = 1e-3;
@@ -106,15 +113,20 @@ impl Limited<'_> {
                 }
                 continue;
             }
-            // d d_ab / d q_i, one dual pass per coordinate (phi's only with obstacles).
+            // d d_ab / d q_i, one vector-dual pass per CHUNK coordinates (phi's only with
+            // obstacles): the same exact derivatives as one pass per coordinate, with the poses'
+            // sines and cosines computed once per pass.
             let mut slopes: Vec<Vec<f64>> = Vec::new();
             let mut values = Vec::new();
             let mut against_obstacle = Vec::new();
-            for i in from..=n {
-                let dq: Vec<Dual64> = q
+            for start in (from..=n).step_by(CHUNK) {
+                let dq: Vec<Multi> = q
                     .iter()
                     .enumerate()
-                    .map(|(k, &v)| if k == i { Dual64::new(v, 1.0) } else { Dual64::from(v) })
+                    .map(|(k, &v)| match k.checked_sub(start).filter(|r| *r < CHUNK) {
+                        Some(r) => Multi::new(v, Derivative::derivative_generic(Const::<CHUNK>, U1, r)),
+                        None => Multi::from(v),
+                    })
                     .collect();
                 let pairs: Vec<_> =
                     geometry.clearances(self.arm, &dq).into_iter().filter(|x| rowed(rows.obstacles, x)).collect();
@@ -124,7 +136,10 @@ impl Limited<'_> {
                     slopes = vec![vec![0.0; n + 1]; pairs.len()];
                 }
                 for (s, x) in slopes.iter_mut().zip(&pairs) {
-                    s[i] = x.distance.eps;
+                    let eps = x.distance.eps.unwrap_generic(Const::<CHUNK>, U1);
+                    for (r, slot) in s.iter_mut().skip(start).take(CHUNK).enumerate() {
+                        *slot = eps[r];
+                    }
                 }
             }
             for ((d, s), far) in values.iter().zip(&slopes).zip(&against_obstacle) {

@@ -16,7 +16,9 @@
 //! positive definite only on the null space of the equality's and the active rows' gradients, so
 //! the same term is added for each active row (in the band; see `convexify`). Only when no `rho`
 //! does is `W` shifted by multiples of the metric `S` (a gradient-like step). Rows that cannot become active
-//! inside the trust region (`g_i + |grad g_i|_1 radius < 0`) are left out of the QP.
+//! inside the trust region (`g_i + |grad g_i|_1 radius < 0`) are left out of the QP, and so are
+//! rows far from their limit until a step comes near them (screening, an active-set loop around
+//! the QP that keeps its minimiser exact; see `Model::solve`).
 //!
 //! The penalty `mu` follows Byrd, Nocedal and Waltz's steering rules: it is raised only until
 //! the step achieves a tenth of the linearised infeasibility reduction that the trust region
@@ -31,6 +33,8 @@
 //! J. Nocedal, R. A. Waltz, *Steering exact penalty methods for nonlinear programming*, Optim.
 //! Methods Softw. 23 (2008) 197–213, doi:10.1080/10556780701394169; P. J. Goulart, Y. Chen, *Clarabel: An
 //! interior-point solver for conic programs with quadratic objectives*, arXiv:2405.12762 (2024).
+
+use std::cell::RefCell;
 
 use clarabel::algebra::CscMatrix;
 use clarabel::solver::{
@@ -71,17 +75,54 @@ struct Model<'a> {
     hb: usize,
     e: &'a Evaluation,
     rows: &'a [Vec<(usize, f64)>],
+    /// The working set: rows sent to the QP however far from their limit (those found near or
+    /// broken by an earlier step of this solve; see [`Model::solve`]).
+    working: &'a RefCell<Vec<bool>>,
 }
 
 impl Model<'_> {
     /// Solves the S-l1-QP subproblem with the constraints' values `c` and `values` (those at the
     /// iterate, or at a trial point shifted back by its step for the second-order correction);
     /// `None` when Clarabel fails.
+    ///
+    /// Screening (an active-set outer loop): the QP gets only the rows within [`SCREEN`] of
+    /// their limit and the working set's; a row left out whose linearisation the step breaks
+    /// joins the working set and the QP is solved again, until the step keeps every row. The
+    /// result is the full QP's minimiser: a row left out holds at the step, so with its elastic
+    /// variable zero and its multiplier zero the reduced QP's optimality conditions are the full
+    /// QP's, and the QP is convex (module docs). Rows that cannot become active inside the trust
+    /// region (`g_i + |grad g_i|_1 radius < 0`) are never sent.
     fn solve(&self, c: f64, values: &[f64], mu: f64, radius: f64) -> Option<Step> {
+        let reach = |i: usize| self.rows[i].iter().map(|(_, a)| a.abs()).sum::<f64>() * radius;
+        let reachable: Vec<bool> = (0..values.len()).map(|i| values[i] + reach(i) >= 0.0).collect();
+        let mut working = self.working.borrow_mut();
+        working.resize(values.len(), false);
+        loop {
+            let sent: Vec<usize> =
+                (0..values.len()).filter(|&i| reachable[i] && (working[i] || values[i] >= -SCREEN)).collect();
+            let step = self.solve_rows(c, values, mu, radius, &sent)?;
+            let mut broken = false;
+            for i in 0..values.len() {
+                if !reachable[i] || working[i] || values[i] >= -SCREEN {
+                    continue;
+                }
+                let linear = values[i] + self.rows[i].iter().map(|&(k, a)| a * step.d[k]).sum::<f64>();
+                if linear > -0.5 * SCREEN {
+                    working[i] = true;
+                    broken |= linear > 0.0;
+                }
+            }
+            if !broken {
+                return Some(step);
+            }
+        }
+    }
+
+    /// The S-l1-QP subproblem with the inequality rows `active` only (the others' multipliers
+    /// zero); `None` when Clarabel fails.
+    fn solve_rows(&self, c: f64, values: &[f64], mu: f64, radius: f64, active: &[usize]) -> Option<Step> {
         let (e, hb) = (self.e, self.hb);
         let dim = e.grad_f.len();
-        let reach = |i: usize| self.rows[i].iter().map(|(_, a)| a.abs()).sum::<f64>() * radius;
-        let active: Vec<usize> = (0..values.len()).filter(|&i| values[i] + reach(i) >= 0.0).collect();
         let m = active.len();
         // Variables: d (dim), s+ and s- of the equality, w = grad c^T d, t_k of each active row.
         let nv = dim + 3 + m;
@@ -190,9 +231,16 @@ impl Model<'_> {
     }
 }
 
+/// Rows within this (scaled) distance of their limit are sent to every QP (see
+/// [`Model::solve`]); farther ones only once a step comes within half of it.
+const SCREEN: f64 = 0.05;
+
 /// Clarabel's gap and feasibility tolerances (its default 1e-8 is too loose for the multipliers
-/// of a QP whose cost is divided by a large penalty).
-const QP_TOLERANCE: f64 = 1e-10;
+/// of a QP whose cost is divided by a large penalty; at 1e-10 the steps near a solution, of order
+/// 1e-7, were determined to only a few digits, and a screened QP (fewer rows, the same minimiser)
+/// and the full one gave steps that differed by a tenth, enough to stall the SQP at the
+/// constraints' rounding floor on issue 20's 3-link bench, which plans again at 1e-12).
+const QP_TOLERANCE: f64 = 1e-12;
 
 /// A CSC matrix from its columns' `(row, value)` entries (rows increasing within a column).
 fn csc(m: usize, n: usize, cols: &[Vec<(usize, f64)>]) -> CscMatrix<f64> {
@@ -320,6 +368,7 @@ pub(super) fn solve<P: Discretised>(
     let guess = guess.filter(|v| v.is_finite());
     let mut lambda = guess.unwrap_or(0.0);
     let mut z = vec![0.0; g.values.len()];
+    let working = RefCell::new(vec![false; g.values.len()]);
     let mut mu = guess.map_or(1.0, |v| (2.0 * v.abs()).max(1.0));
     let mut radius = (m.norm(&x) * 0.5).max(1.0);
     let mut iterations = 0;
@@ -368,7 +417,7 @@ pub(super) fn solve<P: Discretised>(
         let active: Vec<&[(usize, f64)]> =
             (0..z.len()).filter(|&i| z[i] > 1e-6 * largest_z.max(1.0)).map(|i| g.rows[i].as_slice()).collect();
         let (w, rho) = convexify(e.lagrangian_hessian(m.s, lambda), &e.grad_c, &active, m.s, hb);
-        let model = Model { w, rho, hb, e: &e, rows: &g.rows };
+        let model = Model { w, rho, hb, e: &e, rows: &g.rows, working: &working };
         let left = |d: &DVector<f64>| model.infeasibility(e.c, &g.values, d);
         let Some(mut step) = model.solve(e.c, &g.values, mu, radius) else {
             radius *= 0.25;
