@@ -480,7 +480,7 @@ fn binding_position_ranges_give_a_certified_plan_inside_them() {
 /// 19 of 20 within 1 % of the reference (or below it), and no problem where the oracle finds a
 /// feasible point and the planner none. `FREEFLOAT_ORACLE_CASES=3,7` runs only those cases.
 #[test]
-#[ignore = "slow (about 2 min), and fails: measured at stop 40, 15 of 20 within 1 % of the oracle (its random starts or polished from the plan); misses: 3 ratios (5: 1.22, 13: 1.016, 15: 1.40, each a certified plan at another minimum), 2 planner failures where the oracle is feasible (6: velocity and torque, the trust region collapsed 0.007 rad from the holonomy; 11: position, an infeasible stall)"]
+#[ignore = "slow (about 3 min), and fails: measured at stop 40 (screened QP, restarted stalls), 17 of 20 within 1 % of the oracle (its random starts or polished from the plan; stop 39: 14); misses: 2 ratios (13: 1.015, 15: 1.40, each a certified plan at another minimum), 1 planner failure where the oracle is feasible (11: position, an infeasible stall); on case 16 the oracle finds no feasible point and the planner a certified plan"]
 fn twenty_constrained_problems_against_the_oracle() {
     let (mut within, mut misses, mut ratios) = (0, Vec::new(), Vec::new());
     let only: Option<Vec<usize>> = std::env::var("FREEFLOAT_ORACLE_CASES")
