@@ -192,7 +192,7 @@ impl ChainPlanner {
             return Ok(plan);
         }
         // No refinement converged, e.g. the SQP stalled on binding position ranges (issue 20's
-        // oracle cases 7 and 15: feasible to 1e-13 at a KKT residual of 4e-4): the attempt nearest
+        // oracle case 15: feasible to 1e-13 at a KKT residual of 4e-4): the attempt nearest
         // the holonomy is still a motion of the robot, returned when its certificate holds and it
         // stays inside every limit and clearance. Its statistics say it stalled (the report and
         // the table say it is not proven a constrained minimum).
