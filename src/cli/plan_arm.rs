@@ -173,12 +173,14 @@ pub(super) fn plan_problem(
                     to_ee = Some(goal);
                     Ok(planned)
                 }
+                Err(freefloat::Error::Input(InputError::PoseBranch { branch: Some(b), reaching, .. })) => bail!(
+                    "--to-ee {}: --elbow {b}: no inverse-kinematics branch of that name reaches the pose (those that \
+                     do: {}); drop --elbow to plan them all",
+                    super::config::quote(text),
+                    reaching.join(", ")
+                ),
                 Err(freefloat::Error::Input(e @ InputError::PoseBranch { .. })) => {
-                    bail!(
-                        "--to-ee {}: {}",
-                        super::config::quote(text),
-                        e.to_string().replace("branch choice", "--elbow")
-                    )
+                    bail!("--to-ee {}: {e}", super::config::quote(text))
                 }
                 Err(e) => Err(e),
             }

@@ -196,8 +196,8 @@ impl ChainPlanner {
         // the holonomy is still a motion of the robot, returned when its certificate holds and it
         // stays inside every limit and clearance. Its statistics say it stalled (the report and
         // the table say it is not proven a constrained minimum).
-        if let Some(b) =
-            best_failure.as_ref().filter(|b| done.is_empty() && b.result.termination == Termination::Stalled)
+        if done.is_empty()
+            && let Some(b) = best_failure.as_ref().filter(|b| b.result.termination == Termination::Stalled)
             && let Ok(Ok(plan)) = self.certified_clear(problem, b, seeds, iterations, clock, tables)
             && plan.verification.limits.as_ref().is_none_or(|l| l.inside)
         {
