@@ -185,7 +185,8 @@ class Plan:
         ``max_abs_u``, ``min_abs_sigma``, ``min_abs_p``, ``max_abs_torque``,
         ``torque_final_error``, ``torque_certificate``, ``seconds``, ``iterations``,
         ``effort``, ``optimal`` (the optimal planner's cost, residuals and SQP iterations,
-        None for the other methods), ...)."""
+        absent for the other methods), ``joints``, ``robot``, ``verification``, ``notes``, ...:
+        the one report of every plan, as :attr:`ArmPlan.certificate`)."""
 
 @final
 class Domain:
@@ -572,12 +573,15 @@ class ArmPlan:
         :class:`freefloat.NotCertified`, which carries the plan)."""
     @property
     def certificate(self) -> dict[str, Any]:
-        """The report of ``freefloat plan --format json`` for the arm, same keys: ``method``,
-        ``joints``, ``robot``, ``time``, ``samples``, ``start``, ``goal``, ``final_error``,
-        ``tolerance``, ``certified``, ``reached``, ``verification``, ``effort``, ``max_abs_u``,
-        ``optimal`` (the planner's iterations, residuals, spans), and with ``torques=True``
-        ``max_abs_torque``, ``torque_final_error``, ``torque_certificate``; ``seconds``
-        (``plan``, ``torques``)."""
+        """The report of ``freefloat plan --format json`` for the arm: the one report of every
+        plan, the same keys as :attr:`Plan.certificate` (``method``, ``transform``, ``mount``,
+        ``time``, ``samples``, ``joints``, ``robot``, ``start``, ``goal``, ``final_error``,
+        ``tolerance``, ``certified``, ``reached``, ``verification``, ``max_abs_u`` (n values),
+        ``min_abs_sigma``/``min_abs_p`` (None unless 2 links), ``joint_travel``, ``effort``,
+        ``optimal`` (the planner's iterations, residuals, spans) or ``ecsa``,
+        ``max_abs_torque``/``torque_final_error``/``torque_certificate`` (None without
+        ``torques=True``), ``seconds`` (``plan``, ``torques``, ``verify`` None: inside
+        ``plan``), ``notes``, ...)."""
 
 def plan_arm(
     arm: Union[Arm, Robot],

@@ -5,7 +5,8 @@ use freefloat::planners::arm::{ArmRequest, plan_arm as library_plan_arm};
 use freefloat::planners::chain::ChainProblem;
 use freefloat::planners::optimal::Cost;
 use freefloat::planners::to_pose::plan_arm_to_pose;
-use freefloat::report::arm::{ArmReport, trajectory};
+use freefloat::report::arm::trajectory;
+use freefloat::report::io::PlanReport;
 use freefloat::{Arm, EcsaOptions, Method, Window};
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray1, PyArray2};
@@ -319,7 +320,7 @@ pub fn plan_arm<'py>(
         .map_err(python_names)
         .py_result(py)?;
     let goal = to_ee.as_ref().and_then(|g| g.kept()).map_or(&request.problem.goal, |b| &b.solution.q);
-    let mut report = ArmReport::new(&planned, &request.problem.start, goal, false);
+    let mut report = PlanReport::from_arm(&planned, &request.problem.start, goal, false);
     if let Some(g) = &to_ee {
         report.notes.push(g.note());
     }

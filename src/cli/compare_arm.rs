@@ -7,7 +7,7 @@ use anyhow::Context;
 use freefloat::model::arm::Arm;
 use freefloat::plan::Method;
 use freefloat::planners::arm::{ArmRequest, plan_arm};
-use freefloat::report::arm::ArmReport;
+use freefloat::report::io::PlanReport;
 use freefloat::report::numbers::{error_number, number, rounded, significant};
 
 use super::args::{CompareArgs, CompareFormat, ProblemArgs};
@@ -39,11 +39,11 @@ pub fn compare(args: &CompareArgs, arm: &Arm) -> anyhow::Result<ExitCode> {
             result => results.push((method, result)),
         }
     }
-    let reports: Vec<(Method, Result<ArmReport, String>)> = results
+    let reports: Vec<(Method, Result<PlanReport, String>)> = results
         .iter()
         .map(|(m, r)| {
             let report = r.as_ref().map_err(|e| e.to_string()).map(|plan| {
-                let mut r = ArmReport::new(&plan.planned, &plan.problem.start, &plan.problem.goal, false);
+                let mut r = PlanReport::from_arm(&plan.planned, &plan.problem.start, &plan.problem.goal, false);
                 r.notes = plan.notes.clone();
                 r.notes.extend(geometry_notes.iter().cloned());
                 r.to_ee = plan.to_ee.clone();
@@ -82,17 +82,13 @@ pub fn compare(args: &CompareArgs, arm: &Arm) -> anyhow::Result<ExitCode> {
 }
 
 /// The side-by-side table of an arm's `compare`.
-fn compare_table(arm: &Arm, p: &ProblemArgs, reports: &[(Method, Result<ArmReport, String>)]) -> String {
-    type Row = (&'static str, fn(&ArmReport) -> String);
+fn compare_table(arm: &Arm, p: &ProblemArgs, reports: &[(Method, Result<PlanReport, String>)]) -> String {
+    type Row = (&'static str, fn(&PlanReport) -> String);
     let rows: [Row; 10] = [
         ("effort [rad^2/s]", |r| number(r.effort)),
         ("verified final error [rad]", |r| error_number(r.final_error)),
         ("certified", |r| if r.certified { "yes".into() } else { "NO".into() }),
-        ("iterations", |r| match (&r.optimal, &r.ecsa) {
-            (Some(o), _) => o.iterations.to_string(),
-            (None, Some(e)) => e.iteration.iterations.to_string(),
-            _ => "-".into(),
-        }),
+        ("iterations", |r| r.iterations.map_or("-".into(), |i| i.to_string())),
         ("max |u_k| [rad/s]", |r| r.max_abs_u.iter().map(|x| rounded(*x, 4)).collect::<Vec<_>>().join(", ")),
         ("max |tau_k| [N m]", |r| match &r.max_abs_torque {
             Some(t) => t.iter().map(|x| rounded(*x, 4)).collect::<Vec<_>>().join(", "),
@@ -101,7 +97,7 @@ fn compare_table(arm: &Arm, p: &ProblemArgs, reports: &[(Method, Result<ArmRepor
         ("torque final error [rad]", |r| r.torque_final_error.map(error_number).unwrap_or("- (--torques)".into())),
         ("horizon [s]", |r| number(r.time)),
         ("time: plan [ms]", |r| significant(r.seconds.plan * 1e3, 4)),
-        ("time: torques [ms]", |r| significant(r.seconds.torques * 1e3, 4)),
+        ("time: torques [ms]", |r| r.seconds.torques.map_or("- (--torques)".into(), |t| significant(t * 1e3, 4))),
     ];
     let mut s = format!(
         "freefloat compare: {}-link arm, mount (a, b) = ({}, {}) m, {} -> {} deg, T = {} s\n",
@@ -124,7 +120,7 @@ fn compare_table(arm: &Arm, p: &ProblemArgs, reports: &[(Method, Result<ArmRepor
             (Method::Ecsa, Ok(r)) => r
                 .ecsa
                 .as_ref()
-                .map_or("ECSA".to_string(), |e| format!("ECSA (H = {}, window {})", e.harmonics, e.window.name())),
+                .map_or("ECSA".to_string(), |e| format!("ECSA (H = {}, window {})", e.harmonics(), e.window().name())),
             (Method::Optimal, _) => "optimal".to_string(),
             (m, _) => m.name().to_uppercase(),
         };

@@ -2,6 +2,7 @@
 
 pub mod args;
 mod check;
+mod compare;
 mod compare_arm;
 pub mod config;
 mod domain;
@@ -61,7 +62,7 @@ pub fn run(cli: Cli) -> anyhow::Result<ExitCode> {
     };
     let result = match cli.command {
         Command::Plan(args) => plan::run(&args),
-        Command::Compare(args) => plan::compare(&args),
+        Command::Compare(args) => compare::compare(&args),
         Command::Reproduce(args) => reproduce::run(&args),
         Command::Domain(args) => domain::run(&args),
         Command::MountSweep(args) => sweep::run(&args),

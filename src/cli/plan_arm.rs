@@ -13,8 +13,9 @@ use freefloat::planners::arm::{ArmPlanned, ArmRequest, plan_arm};
 use freefloat::planners::chain::ChainProblem;
 use freefloat::planners::optimal::Cost;
 use freefloat::planners::to_pose::plan_arm_to_pose;
-use freefloat::report::arm::{ArmReport, PoseGoal, arm_csv};
+use freefloat::report::arm::{PoseGoal, arm_csv};
 use freefloat::report::arm_plan_figure;
+use freefloat::report::io::PlanReport;
 use freefloat::report::io::write_atomic;
 use freefloat::report::numbers::{error_number, number, rounded, scientific};
 use freefloat::report::plot::{PictureFormat, arm_animation_gif, plan_picture};
@@ -57,7 +58,7 @@ pub fn run(
     let Planning { planned, problem, mut notes, to_ee } = plan_problem(p, arm, method)?.map_err(|e| name_flag(e, p))?;
     notes.extend(geometry_notes);
     let report = |with_trajectory| {
-        let mut r = ArmReport::new(&planned, &problem.start, &problem.goal, with_trajectory);
+        let mut r = PlanReport::from_arm(&planned, &problem.start, &problem.goal, with_trajectory);
         r.notes = notes.clone();
         r.to_ee = to_ee.clone();
         r
@@ -241,7 +242,7 @@ fn peak_velocity(planned: &ArmPlanned) -> f64 {
 
 /// The plan's note on the tool frame: for a URDF the frame that ends the last link
 /// ([`Arm::load_tool_frame`]), for a robot file the tip of the last link.
-fn tool_note(robot: &RobotArgs, arm: &Arm) -> anyhow::Result<String> {
+pub(super) fn tool_note(robot: &RobotArgs, arm: &Arm) -> anyhow::Result<String> {
     let n = arm.joints();
     let length = number(arm.links[n - 1].length);
     let urdf = super::robot_file(robot)?
@@ -321,7 +322,7 @@ pub(super) fn list(flag: &str, text: &str) -> anyhow::Result<Vec<f64>> {
 }
 
 /// The human-readable summary.
-fn table(planned: &ArmPlanned, r: &ArmReport) -> String {
+fn table(planned: &ArmPlanned, r: &PlanReport) -> String {
     let deg = |q: &[f64]| {
         let parts: Vec<String> = q.iter().map(|x| number(x.to_degrees())).collect();
         format!("({})", parts.join(", "))
@@ -330,7 +331,7 @@ fn table(planned: &ArmPlanned, r: &ArmReport) -> String {
     let verdict = |ok: bool| if ok { "CERTIFIED" } else { "NOT CERTIFIED" };
     let v = planned.verification();
     let mut s = String::new();
-    let method = match (&r.optimal, &r.ecsa) {
+    let method = match (planned.stats(), planned.ecsa()) {
         (Some(o), _) => format!("optimal (minimum effort), {}-link arm, {} SQP iterations", r.joints, o.iterations),
         (None, Some(e)) => format!(
             "ecsa ({} harmonic(s), window {}, {}), {}-link arm, {} iterations in {} continuation steps",
@@ -361,7 +362,7 @@ fn table(planned: &ArmPlanned, r: &ArmReport) -> String {
     s += &format!("  max |angular momentum|   {} kg m^2/s\n", scientific(v.max_abs_momentum, 2));
     s += &format!("  effort                   {} rad^2/s (integral of |u|^2 dt)\n", number(r.effort));
     s += &format!("  max |u_k| [rad/s]        {}\n", list(&r.max_abs_u));
-    if let Some(o) = r.optimal.as_ref().filter(|o| !o.converged) {
+    if let Some(o) = planned.stats().filter(|o| !o.converged) {
         s += &format!(
             "  SQP                      stopped ({}) at KKT residual {}: a feasible plan, not proven the \
              least effort\n",
@@ -394,7 +395,7 @@ fn table(planned: &ArmPlanned, r: &ArmReport) -> String {
             );
         }
     }
-    if let Some(o) = &r.optimal {
+    if let Some(o) = planned.stats() {
         s += &format!(
             "  optimality               KKT residual {}, holonomy residual {} rad, {} spline spans\n",
             scientific(o.kkt_residual, 1),
@@ -402,7 +403,7 @@ fn table(planned: &ArmPlanned, r: &ArmReport) -> String {
             o.spans
         );
     }
-    if let Some(e) = &r.ecsa {
+    if let Some(e) = planned.ecsa() {
         s += &format!(
             "  iteration                residual {} rad (tolerance {}), {}, {} x {} quadrature nodes\n",
             scientific(e.iteration.residual, 1),

@@ -426,6 +426,9 @@ pub struct Verification {
     pub final_error: f64,
     /// `q(T)` reached by the integration \[rad\].
     pub reached: Configuration,
+    /// Largest `|F phi'_plan + G . u|` over the integrator's accepted steps \[kg m^2/s\]
+    /// ([`ChainVerification::max_abs_momentum`]).
+    pub max_abs_momentum: f64,
     /// Largest `max_i |q_i(t) - q_plan_i(t)|` over the integrator's steps \[rad\].
     pub max_path_deviation: f64,
     /// Tolerance the final error is held to \[rad\].
@@ -455,6 +458,7 @@ pub fn verify(
     Ok(Verification {
         final_error: v.final_error,
         reached: Configuration::new(v.reached[0], v.reached[1], v.reached[2]),
+        max_abs_momentum: v.max_abs_momentum,
         max_path_deviation: v.max_path_deviation.unwrap_or(f64::NAN),
         tolerance,
         certified: v.certified,

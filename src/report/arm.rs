@@ -2,7 +2,6 @@
 //! of `plan --format json`, and the one CSV writer of every plan ([`rows_csv`]), with `n` joint
 //! columns, the base and the end effector.
 
-use crate::plan::limit_use::LimitReport;
 use std::path::PathBuf;
 
 use serde::Serialize;
@@ -11,23 +10,8 @@ use num_dual::Dual64;
 
 use crate::error::Error;
 use crate::model::InputError;
-use crate::model::arm::Arm;
-use crate::plan::Method;
 use crate::plan::Trajectory;
-use crate::plan::certificate::ChainVerification;
-use crate::plan::torques::ChainTorqueCertificate;
 use crate::planners::arm::ArmPlanned;
-use crate::planners::chain::ChainStats;
-use crate::planners::ecsa::ChainEcsaStats;
-
-/// Wall times \[s\].
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-pub struct ArmSeconds {
-    /// The plan and its velocity certificate.
-    pub plan: f64,
-    /// The torques and their certificate (0 without `--torques`).
-    pub torques: f64,
-}
 
 /// The sampled motion: `n + 1` columns `(phi, theta_1..theta_n)` per row, SI units, radians; the
 /// task-space keys as the 2-link robot's trajectory ([`crate::plan::Trajectory`]).
@@ -56,116 +40,6 @@ pub struct ArmTrajectory {
 }
 
 pub use crate::planners::to_pose::{PoseBranch, PoseGoal};
-
-/// The JSON report of an arm's plan.
-#[derive(Debug, Clone, Serialize)]
-pub struct ArmReport {
-    /// `optimal` or `ecsa`.
-    pub method: Method,
-    /// Number of joints `n`.
-    pub joints: usize,
-    /// The arm (base, mount, links).
-    pub robot: Arm,
-    /// Horizon `T` \[s\].
-    pub time: f64,
-    /// Samples of the trajectory.
-    pub samples: usize,
-    /// `q(0)` \[rad\].
-    pub start: Vec<f64>,
-    /// `q(T)` asked for \[rad\].
-    pub goal: Vec<f64>,
-    /// Velocity-level final error \[rad\].
-    pub final_error: f64,
-    /// Its tolerance \[rad\].
-    pub tolerance: f64,
-    /// Every certificate computed holds.
-    pub certified: bool,
-    /// `q(T)` reached by the velocity-level integration \[rad\].
-    pub reached: Vec<f64>,
-    /// The velocity-level certificate in full.
-    pub verification: ChainVerification,
-    /// The least clearance of the verified motion, its pair and time (issue 21; none without
-    /// shapes).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub clearance: Option<crate::plan::clearance::ClearanceReport>,
-    /// Effort `integral |theta'|^2 dt` \[rad^2/s\].
-    pub effort: f64,
-    /// Largest `|theta_k'|` over the samples, per joint \[rad/s\].
-    pub max_abs_u: Vec<f64>,
-    /// The minimum-effort planner's account (iterations, KKT residual, spans, ...).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub optimal: Option<ChainStats>,
-    /// The ECSA's account (coefficients, iterations, residual, quadrature; with `--method ecsa`).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub ecsa: Option<ChainEcsaStats>,
-    /// Largest `|tau_k|` per joint [N m] (with `--torques`).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub max_abs_torque: Option<Vec<f64>>,
-    /// Final error of the torque level \[rad\] (with `--torques`).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub torque_final_error: Option<f64>,
-    /// The torque-level certificate (with `--torques`).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub torque_certificate: Option<ChainTorqueCertificate>,
-    /// Wall times.
-    pub seconds: ArmSeconds,
-    /// What the reader must know: the tool frame, a stretched horizon (`--max-velocity`), the
-    /// inverse kinematics of `--to-ee`.
-    pub notes: Vec<String>,
-    /// The goal pose of `--to-ee` and its branches.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub to_ee: Option<PoseGoal>,
-    /// The use of each declared limit along the verified motion (issue 20; absent without
-    /// limits): per joint and quantity the limit, its largest use, the value and the time.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub limits: Option<LimitReport>,
-    /// The trajectory (only in `--out FILE.json`).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub trajectory: Option<ArmTrajectory>,
-}
-
-impl ArmReport {
-    /// The report of `planned` for the problem's `start` and `goal`, with the trajectory when
-    /// `with_trajectory`.
-    pub fn new(planned: &ArmPlanned, start: &[f64], goal: &[f64], with_trajectory: bool) -> Self {
-        let v = planned.verification();
-        let n = planned.arm.joints();
-        let mut max_abs_u = vec![0.0_f64; n];
-        for p in &planned.trajectory {
-            for (m, r) in max_abs_u.iter_mut().zip(&p.rate) {
-                *m = m.max(r.abs());
-            }
-        }
-        let torques = planned.torques.as_ref();
-        Self {
-            method: planned.method,
-            joints: n,
-            robot: planned.arm.clone(),
-            time: planned.plan.horizon(),
-            samples: planned.trajectory.len(),
-            start: start.to_vec(),
-            goal: goal.to_vec(),
-            final_error: v.final_error,
-            tolerance: v.tolerance,
-            certified: planned.certified().is_ok(),
-            reached: v.reached.clone(),
-            verification: v.clone(),
-            clearance: v.clearance,
-            effort: planned.effort(),
-            max_abs_u,
-            optimal: planned.stats().copied(),
-            ecsa: planned.ecsa().cloned(),
-            limits: (!planned.limits.uses.is_empty()).then(|| planned.limits.clone()),
-            max_abs_torque: torques.map(|t| t.max_abs_torque.clone()),
-            torque_final_error: torques.map(|t| t.certificate.final_error),
-            torque_certificate: torques.map(|t| t.certificate.clone()),
-            seconds: ArmSeconds { plan: planned.seconds, torques: torques.map_or(0.0, |t| t.seconds) },
-            notes: Vec::new(),
-            to_ee: None,
-            trajectory: with_trajectory.then(|| trajectory(planned)),
-        }
-    }
-}
 
 /// The sampled trajectory of `planned`, with the task space by [`Arm::task_point`] and the base's
 /// acceleration by a dual number through Eq. 7.

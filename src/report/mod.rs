@@ -24,6 +24,7 @@ pub mod html;
 pub mod io;
 pub mod methods;
 pub mod out_dir;
+pub mod plan_report;
 pub use crate::numerics::format as numbers;
 pub mod plot;
 pub mod reproduce;

@@ -529,3 +529,44 @@ fn three_link_arm_plot_draws_its_limits() {
     assert!(stderr(&o).contains("--plot"), "{}", stderr(&o));
     assert_eq!(std::fs::read_dir(bad.path()).unwrap().count(), 0, "a refused run wrote a file");
 }
+
+/// One report for every arm and method (issue 19, item 5): the JSON of the 2-link robot's three
+/// methods, of the same robot with a limit (planned as an arm), of a 3-link and of a 4-link arm
+/// have the same top-level keys (docs/spec.md §3's required keys among them), `joints` counts the
+/// joints and the per-joint arrays have `n` (or `n + 1`) entries.
+#[test]
+fn every_arm_and_method_reports_the_same_keys() {
+    let keys = |r: &serde_json::Value| {
+        let mut k: Vec<String> = r.as_object().expect("an object").keys().cloned().collect();
+        k.retain(|k| !["optimal", "ecsa", "limits", "clearance", "closed_loop", "to_ee"].contains(&k.as_str()));
+        k.sort();
+        k
+    };
+    let three = example("three_link.toml");
+    let four = example("four_link.toml");
+    let runs: [(usize, Vec<&str>); 6] = [
+        (2, vec!["plan", "--format", "json"]),
+        (2, vec!["plan", "--method", "nfa", "--format", "json"]),
+        (2, vec!["plan", "--method", "ecsa", "--format", "json"]),
+        (2, vec!["plan", "--limit", "theta2.position=-170:170", "--format", "json"]),
+        (3, vec!["plan", "--robot", &three, "--from", FROM, "--to", TO, "--format", "json"]),
+        (4, vec!["plan", "--robot", &four, "--from", "0,10,20,30,40", "--to", "20,40,-10,30,10", "--format", "json"]),
+    ];
+    let reports: Vec<(usize, serde_json::Value)> = runs.iter().map(|(n, args)| (*n, json(&freefloat(args)))).collect();
+    let first = keys(&reports[0].1);
+    for required in ["method", "transform", "mount", "time", "samples", "z0", "zd", "final_error", "max_abs_u"] {
+        assert!(first.iter().any(|k| k == required), "{required} missing: {first:?}");
+    }
+    for (n, r) in &reports {
+        assert_eq!(keys(r), first, "{}", r["method"]);
+        assert_eq!(r["joints"].as_u64(), Some(*n as u64));
+        assert_eq!(r["max_abs_u"].as_array().map(Vec::len), Some(*n));
+        assert_eq!(r["joint_travel"].as_array().map(Vec::len), Some(n + 1));
+        assert_eq!(r["start"].as_array().map(Vec::len), Some(n + 1));
+        assert_eq!(r["controls_at_ends"][1].as_array().map(Vec::len), Some(*n));
+        assert_eq!(r["robot"]["links"].as_array().map(Vec::len), Some(*n));
+        // The domain margins of Eqs. 9 and 13 are the 2-link robot's.
+        assert_eq!(r["min_abs_sigma"].is_number(), *n == 2, "{}", r["min_abs_sigma"]);
+        assert!(r["notes"][0].as_str().is_some_and(|s| s.starts_with("end effector:")), "{}", r["notes"]);
+    }
+}
