@@ -133,8 +133,18 @@ class Plan:
         """Accelerations [rad/s^2], shape (N, 3), exact (automatic differentiation); computed
         for ``torques=True`` (NFA) and always by ECSA and the optimal planner, else None."""
     @property
+    def ddtheta(self) -> Optional[npt.NDArray[np.float64]]:
+        """Joint accelerations [rad/s^2], shape (N, 2): ``ddq[:, 1:]`` (as
+        :attr:`ArmPlan.ddtheta`), None where ``ddq`` is."""
+    @property
     def z(self) -> Optional[npt.NDArray[np.float64]]:
         """Chained-form state z, shape (N, 3) (NFA only), else None."""
+    @property
+    def joints(self) -> int:
+        """The number of joints: 2 (as :attr:`ArmPlan.joints`)."""
+    @property
+    def horizon(self) -> float:
+        """The horizon ``T`` [s] (as :attr:`ArmPlan.horizon`)."""
     @property
     def tau(self) -> Optional[npt.NDArray[np.float64]]:
         """Joint torques (tau1, tau2) [N m], shape (N, 2), with ``torques=True``, else None."""
@@ -556,6 +566,12 @@ class ArmPlan:
     @property
     def horizon(self) -> float:
         """The horizon ``T`` [s]: the one given, or with ``T="auto"`` the shortest one found."""
+    @property
+    def z(self) -> None:
+        """None: an arm's plan has no chained form (as :attr:`Plan.z` outside the NFA)."""
+    @property
+    def transform(self) -> None:
+        """None: the NFA's transformation (as :attr:`Plan.transform` outside the NFA)."""
     @property
     def effort(self) -> float:
         """The effort ``integral_0^T |theta'(t)|^2 dt`` [rad^2/s], exact (Gauss-Legendre on the

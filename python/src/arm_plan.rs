@@ -87,6 +87,18 @@ impl PyArmPlan {
         report_dict(py, &self.certificate, &self.report)
     }
 
+    /// The NFA's chained-form state (as `Plan.z`): None, an arm's plan has no chained form.
+    #[getter]
+    fn z(&self) -> Option<Py<PyArray2<f64>>> {
+        None
+    }
+
+    /// The NFA's transformation (as `Plan.transform`): None.
+    #[getter]
+    fn transform(&self) -> Option<String> {
+        None
+    }
+
     /// Pickling: every array and number, and the report as its JSON text; rebuilt by
     /// `freefloat._freefloat._arm_plan_from_state`, equal field by field.
     fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<(Bound<'py, PyAny>, (Bound<'py, PyDict>,))> {

@@ -8,7 +8,7 @@ use freefloat::{
     Configuration, EcsaOptions, Method, NfaOptions, Plan, PlanningProblem, TorqueOptions, TorqueReport, Transform,
     Window,
 };
-use numpy::{PyArray1, PyArray2};
+use numpy::{IntoPyArray, PyArray1, PyArray2, PyArrayMethods};
 use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 use pyo3::sync::PyOnceLock;
@@ -339,6 +339,26 @@ impl PyPlan {
     #[getter]
     fn certificate(&self, py: Python<'_>) -> PyResult<Py<PyDict>> {
         report_dict(py, &self.certificate, &self.report)
+    }
+
+    /// The number of joints: 2 (as `ArmPlan.joints`).
+    #[getter]
+    fn joints(&self) -> usize {
+        2
+    }
+
+    /// The horizon T [s] (as `ArmPlan.horizon`): the report's `time`.
+    #[getter]
+    fn horizon(&self) -> f64 {
+        self.report["time"].as_f64().unwrap_or(f64::NAN)
+    }
+
+    /// Joint accelerations [rad/s^2], shape (N, 2): `ddq[:, 1:]` (as `ArmPlan.ddtheta`), None
+    /// where `ddq` is.
+    #[getter]
+    fn ddtheta<'py>(&self, py: Python<'py>) -> Option<Bound<'py, PyArray2<f64>>> {
+        let ddq = self.ddq.as_ref()?.bind(py).readonly();
+        Some(ddq.as_array().slice(numpy::ndarray::s![.., 1..]).to_owned().into_pyarray(py))
     }
 
     /// Pickling: every array and number, and the report as its JSON text; rebuilt by

@@ -345,3 +345,17 @@ def test_compare_of_a_two_link_arm_with_limits_says_why_it_is_optimal_alone():
     assert set(plans) == {"optimal"} and plans["optimal"].final_error <= 1e-9
     with pytest.raises(ff.BadInput, match="minimum-effort planner alone"):
         ff.compare(arm, START, GOAL, HORIZON, limits=limits, methods=["nfa"])
+
+
+def test_a_robot_and_an_arm_plan_carry_the_same_arrays_and_keys(three_link, three_link_plan):
+    # Issue 19 item 5: one plan for every robot, the same arrays and the one report's keys.
+    two = ff.plan(ff.Robot.src(), START, GOAL, HORIZON)
+    three = three_link_plan
+    public = lambda p: {name for name in dir(p) if not name.startswith("_")}  # noqa: E731
+    assert public(three) - public(two) == set() and public(two) - public(three) == {"elbow"}
+    assert (two.joints, three.joints) == (2, 3)
+    assert two.horizon == HORIZON and three.horizon == 10.0
+    np.testing.assert_array_equal(two.ddtheta, two.ddq[:, 1:])
+    assert two.ddtheta.shape == (len(two.t), 2) and three.ddtheta.shape == (len(three.t), 3)
+    assert three.z is None and three.transform is None
+    assert set(two.certificate) == set(three.certificate)
