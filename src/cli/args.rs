@@ -458,8 +458,8 @@ pub struct TrackArgs {
     /// Re-planning rate in Hz.
     #[arg(long, value_name = "HZ", default_value_t = 5.0, allow_hyphen_values = true)]
     pub replan_rate: f64,
-    /// No re-plan starts in the last S seconds (the last one is the final correction).
-    #[arg(long, value_name = "S", default_value_t = 0.3, allow_hyphen_values = true)]
+    /// No re-plan starts in the last S seconds; the last one, the final correction, starts S seconds before the end.
+    #[arg(long, value_name = "S", default_value_t = 0.25, allow_hyphen_values = true)]
     pub final_window: f64,
     /// Joint-loop gains in 1/s^2 and 1/s [default: critically damped at min(200, rate/5) rad/s].
     #[arg(long, allow_hyphen_values = true)]

@@ -353,6 +353,7 @@ pub fn track_with(
     let dt = horizon / ticks as f64;
     let gains = options.gains();
     let every = (options.rate / options.replan.rate).round().max(1.0) as usize;
+    let last_correction = ((horizon - options.replan.final_window) / dt).round().max(0.0) as usize;
     let controller = options.controller;
     let mut replanner = Replanner::new(plan.q(horizon)?, options.replan.clone());
     let mut identifier = Identifier::new(model, options.identify);
@@ -381,8 +382,12 @@ pub fn track_with(
         }
         // On the first plan, the nominal loop's own state is the one to be at.
         let initial = matches!(reference, Reference::Initial(_));
-        let due =
-            controller.replans() && i > 0 && i % every == 0 && horizon - t >= options.replan.final_window - 0.5 * dt;
+        // The re-plan rate's ticks until the final window, and the window's first tick: the
+        // last correction starts `final_window` before the end, not up to a re-plan period
+        // earlier (the base drifts on the model's error from the last correction on).
+        let due = controller.replans()
+            && i > 0
+            && ((i % every == 0 && horizon - t >= options.replan.final_window - 0.5 * dt) || i == last_correction);
         let off = match correction.and_then(|c| c.nominal(i)).filter(|_| initial) {
             Some(s) if due => distance(&measured.q, &s.q),
             None if due => distance(&measured.q, &reference.q(t)?),
