@@ -123,7 +123,10 @@ impl ChainPlanner {
                 for (c, extra) in self.solve_seeds(problem, &p, tables)? {
                     seeds += 1;
                     iterations += c.iterations;
-                    if !extra && c.feasible() {
+                    // A feasible extra on the finest basis (a rate-limited line, `solve_seeds`)
+                    // is a plan's cost too: it bounds the later representatives (issue 20's
+                    // 2-link bench: one of bound 40 solved beside a line of 0.46).
+                    if (!extra || c.spans == o.max_spans) && c.feasible() {
                         best = best.min(c.result.f);
                     }
                     if extra { extras.push(c) } else { coarse.push(c) }
