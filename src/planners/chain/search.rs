@@ -105,7 +105,7 @@ impl ChainPlanner {
         let mut queue = prepared.into_iter().peekable();
         while queue.peek().is_some() {
             let (mut coarse, mut extras) = (Vec::new(), Vec::new());
-            let refined_best = done.iter().map(|c| c.result.f).fold(f64::INFINITY, f64::min);
+            let mut refined_best = done.iter().map(|c| c.result.f).fold(f64::INFINITY, f64::min);
             let mut taken = 0;
             while taken < o.targets_solved {
                 let Some(p) = queue.next() else { break };
@@ -123,7 +123,10 @@ impl ChainPlanner {
                 for (c, extra) in self.solve_seeds(problem, &p, tables)? {
                     seeds += 1;
                     iterations += c.iterations;
-                    if !extra && c.feasible() {
+                    // A feasible extra on the finest basis (a rate-limited line, `solve_seeds`)
+                    // is a plan's cost too: it bounds the later representatives (issue 20's
+                    // 2-link bench: one of bound 40 solved beside a line of 0.46).
+                    if (!extra || c.spans == o.max_spans) && c.feasible() {
                         best = best.min(c.result.f);
                     }
                     if extra { extras.push(c) } else { coarse.push(c) }
@@ -145,9 +148,9 @@ impl ChainPlanner {
             let first = coarse.first().filter(|c| near(c)).map_or(refined_best, |c| c.result.f.min(refined_best));
             let extra = extras.into_iter().filter(near).min_by(|a, b| a.result.f.total_cmp(&b.result.f));
             let extra = extra.filter(|c| c.result.f <= 1.2 * first);
-            // Finalists, best first: a coarse cost 20 % above the best refined one does not
-            // overtake on refinement, and one far from the constraint is a finalist only while no
-            // plan is found. A refinement that fails does not use up a finalist's place (at most
+            // Finalists, best first: a coarse cost 20 % above the best refined one (of earlier
+            // batches or of this one) does not overtake on refinement, and one far from the
+            // constraint is a finalist only while no plan is found. A refinement that fails does not use up a finalist's place (at most
             // twice as many are tried).
             let (mut converged, mut tried, mut refined): (usize, usize, Vec<f64>) = (0, 0, Vec::new());
             let finalists = extra.into_iter().map(|c| (c, true)).chain(coarse.into_iter().map(|c| (c, false)));
@@ -162,6 +165,12 @@ impl ChainPlanner {
                     tried += usize::from(!extra);
                     iterations += c.iterations;
                     converged += usize::from(!extra && c.result.converged());
+                    // The rule above against this batch's refinements too: on issue 20's SPART
+                    // bench the second finalist (coarse cost 3.9, stalled off the constraint)
+                    // took 277 of 406 ms after the first had refined to 1.31.
+                    if c.result.converged() {
+                        refined_best = refined_best.min(c.result.f);
+                    }
                     keep(c, &mut best, &mut done, &mut best_failure);
                 }
             }
@@ -258,27 +267,28 @@ impl ChainPlanner {
         let Some(end) = path.theta.last() else { return Ok(None) };
         let near = |t: &&Targets| t.end.iter().zip(end).all(|(a, b)| (a - b).abs() <= 1e-6);
         let Some(targets) = representatives.iter().find(near) else { return Ok(None) };
-        self.solve_from(problem, targets.clone(), path, tables, clock)
+        self.solve_from(problem, targets.clone(), path, self.options.coarse_spans, tables, clock)
     }
 
-    /// The plan from `path` to `targets` alone (no search): its projection on the coarse basis,
-    /// solved, refined and certified; `None` when any step fails.
+    /// The plan from `path` to `targets` alone (no search): its projection on `spans` uniform
+    /// spans, solved, refined and certified; `None` when any step fails.
     pub(super) fn solve_from(
         &self,
         problem: &ChainProblem,
         targets: Targets,
         path: &super::WarmStart,
+        spans: usize,
         tables: &Tables,
         clock: Instant,
     ) -> Result<Option<ChainPlan>, Error> {
         let o = &self.options;
-        let disc = self.discretise(problem, targets, o.coarse_spans, o.quadrature_nodes, tables)?;
+        let disc = self.discretise(problem, targets, spans, o.quadrature_nodes, tables)?;
         let Ok(x0) = disc.project(|t, out| path.at(t, out)) else { return Ok(None) };
         let Ok(result) = super::limits::solve(self, &disc, x0, &COARSE_SQP, None) else { return Ok(None) };
         if !(result.c.abs() <= 1e-6 && result.f.is_finite()) {
             return Ok(None);
         }
-        let (spans, nodes, iterations) = (o.coarse_spans, o.quadrature_nodes, result.iterations);
+        let (nodes, iterations) = (o.quadrature_nodes, result.iterations);
         let c = self.refine(problem, Candidate { disc, result, spans, nodes, iterations }, tables)?;
         if !c.result.converged() {
             return Ok(None);

@@ -247,19 +247,39 @@ impl ChainPlanner {
             let (nodes, iterations) = (o.quadrature_nodes, result.iterations);
             let c = Candidate { disc: disc.clone(), result, spans, nodes, iterations };
             let feasible = c.feasible();
-            out.push((c, coil && seed == Seed::Line));
             // A rate limit's control-point rows are conservative by `O(h^2)` on spans of
             // width `h`: where the coarse line cannot meet the constraint inside them, the
-            // line again on the finest basis.
+            // line again on the finest basis. Where that one is feasible it stands for the
+            // coarse line, which is dropped: refining the coarse line (a far finalist) solves
+            // the same seed again on finer bases (on issue 20's 3-link bench 75 to 104 of 400
+            // ms, to a worse plan or none).
             if seed == Seed::Line && !feasible && self.arm.limits.rate_limited() && o.max_spans > spans {
                 let fine = self.discretise(problem, p.targets.clone(), o.max_spans, o.quadrature_nodes, tables)?;
-                let x0 = fine.project(|t, out| line.path(seed, t, out))?;
-                if let Ok(result) = super::limits::solve(self, &fine, x0, &COARSE_SQP, None) {
+                // From the coarse line's solution (nearer the limits' minimum than the line; on
+                // the 3-link bench the plan's iterations 46 -> 18), and from the line where that
+                // start is not feasible (issue 20's oracle case 6 stalled from it).
+                let (old, basis) = (c.disc.coefficients(&c.result.x), c.disc.basis());
+                let warm = fine.project(|t, out| {
+                    for (o, cj) in out.iter_mut().zip(&old) {
+                        *o = basis.evaluate(cj, t)[0];
+                    }
+                })?;
+                let solve = |x0| super::limits::solve(self, &fine, x0, &COARSE_SQP, None).ok();
+                let mut result = solve(warm);
+                if !result.as_ref().is_some_and(|r| r.c.abs() <= 1e-6 && r.f.is_finite()) {
+                    result = solve(fine.project(|t, out| line.path(seed, t, out))?);
+                }
+                if let Some(result) = result {
                     let iterations = result.iterations;
-                    let c = Candidate { disc: fine, result, spans: o.max_spans, nodes, iterations };
-                    out.push((c, true));
+                    let f = Candidate { disc: fine, result, spans: o.max_spans, nodes, iterations };
+                    if !f.feasible() {
+                        out.push((c, coil));
+                    }
+                    out.push((f, true));
+                    continue;
                 }
             }
+            out.push((c, coil && seed == Seed::Line));
         }
         Ok(out)
     }
