@@ -33,7 +33,7 @@ pub struct ArmTrajectory {
     /// The base's centre of mass `(xb, yb)` \[m\], inertial frame, the system's centre of mass at
     /// the origin (its angle is `q[0]`).
     pub base: Vec<[f64; 2]>,
-    /// The tool's pose `(xe, ye, psie)` \[m, m, rad\] ([`Arm::task_point`]).
+    /// The tool's pose `(xe, ye, psie)` \[m, m, rad\] ([`crate::model::arm::Arm::task_point`]).
     pub end_effector: Vec<[f64; 3]>,
     /// Its velocity `(xe', ye', psie')` \[m/s, m/s, rad/s\].
     pub end_effector_velocity: Vec<[f64; 3]>,
@@ -41,8 +41,9 @@ pub struct ArmTrajectory {
 
 pub use crate::planners::to_pose::{PoseBranch, PoseGoal};
 
-/// The sampled trajectory of `planned`, with the task space by [`Arm::task_point`] and the base's
-/// acceleration by a dual number through Eq. 7.
+/// The sampled trajectory of `planned`, with the task space by
+/// [`crate::model::arm::Arm::task_point`] and the base's acceleration by a dual number through
+/// Eq. 7.
 pub fn trajectory(planned: &ArmPlanned) -> ArmTrajectory {
     let arm = &planned.arm;
     let rows = &planned.trajectory;

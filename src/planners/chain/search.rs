@@ -150,8 +150,8 @@ impl ChainPlanner {
             let extra = extra.filter(|c| c.result.f <= 1.2 * first);
             // Finalists, best first: a coarse cost 20 % above the best refined one (of earlier
             // batches or of this one) does not overtake on refinement, and one far from the
-            // constraint is a finalist only while no plan is found. A refinement that fails does not use up a finalist's place (at most
-            // twice as many are tried).
+            // constraint is a finalist only while no plan is found. A refinement that fails
+            // does not use up a finalist's place (at most twice as many are tried).
             let (mut converged, mut tried, mut refined): (usize, usize, Vec<f64>) = (0, 0, Vec::new());
             let finalists = extra.into_iter().map(|c| (c, true)).chain(coarse.into_iter().map(|c| (c, false)));
             for (c, extra) in finalists {
