@@ -347,14 +347,6 @@ impl PlanReport {
         self.closed_loop = Some(certificate);
         self
     }
-
-    /// The minimum-effort planner's SQP iterations, whichever pipeline.
-    pub fn optimal_iterations(&self) -> Option<usize> {
-        self.optimal.map(|o| match o {
-            OptimalAccount::TwoLink(s) => s.iterations,
-            OptimalAccount::Arm(s) => s.iterations,
-        })
-    }
 }
 
 /// `[u(0), u(T)]` of the joint velocities of a sampled motion (empty when it is).
