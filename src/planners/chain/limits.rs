@@ -386,7 +386,7 @@ pub(crate) fn solve(
     options: &SqpOptions,
     guess: Option<f64>,
 ) -> Result<SqpResult, Error> {
-    if planner.arm.limits.is_empty() && !keeps_clearance(planner) {
+    if !constrained(planner) {
         return sqp::solve(disc, x0, options, guess);
     }
     match Limited::new(planner, disc) {
@@ -418,7 +418,7 @@ pub(crate) fn solve_restarting(
     guess: Option<f64>,
 ) -> Result<SqpResult, Error> {
     let mut result = solve(planner, disc, x0, options, guess)?;
-    if planner.arm.limits.is_empty() && !keeps_clearance(planner) {
+    if !constrained(planner) {
         return Ok(result);
     }
     for _ in 0..STALL_RESTARTS {
@@ -433,6 +433,11 @@ pub(crate) fn solve_restarting(
         result = SqpResult { iterations: result.iterations + again.iterations, ..again };
     }
     Ok(result)
+}
+
+/// Whether `planner`'s solves carry inequality rows: declared limits or a clearance to keep.
+fn constrained(planner: &ChainPlanner) -> bool {
+    !planner.arm.limits.is_empty() || keeps_clearance(planner)
 }
 
 /// True when `planner` solves with clearance rows: its arm has a pair of bodies (or a body and
