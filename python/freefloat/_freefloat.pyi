@@ -116,46 +116,55 @@ class Robot:
 
 @final
 class Plan:
-    """A certified plan: the sampled trajectory (N samples, both ends included) as float64
-    NumPy arrays in SI units and radians, and its certificate."""
+    """A certified plan of a :class:`Robot` or of an :class:`Arm` of any number of links ``n``
+    (2 for a :class:`Robot`): the sampled trajectory (N samples, both ends included) as float64
+    NumPy arrays in SI units and radians, and its certificate. One class for every robot (issue
+    19 item 5); ``ArmPlan`` is another name of it. What does not apply to a plan is None:
+    ``z`` and ``transform`` outside the NFA, ``elbow`` outside a :class:`Robot`'s plan to
+    ``goal_ee``, ``tau`` without ``torques=True``."""
 
     @property
     def t(self) -> npt.NDArray[np.float64]:
         """Sample times [s], shape (N,), from 0 to T."""
     @property
     def q(self) -> npt.NDArray[np.float64]:
-        """Configurations (phi, theta1, theta2) [rad], shape (N, 3); ``q[-1]`` is the goal."""
+        """Configurations (phi, theta_1..theta_n) [rad, relative joint angles], shape
+        (N, n + 1); ``q[-1]`` is the goal (with ``wrap=True`` modulo 2 pi)."""
     @property
     def dq(self) -> npt.NDArray[np.float64]:
-        """Velocities [rad/s], shape (N, 3); ``dq[:, 1:]`` are the controls u."""
+        """Velocities [rad/s], shape (N, n + 1): ``dq[:, 0]`` is the base's (zero angular
+        momentum), ``dq[:, 1:]`` the controls u (the joint velocities)."""
     @property
     def ddq(self) -> Optional[npt.NDArray[np.float64]]:
-        """Accelerations [rad/s^2], shape (N, 3), exact (automatic differentiation); computed
-        for ``torques=True`` (NFA) and always by ECSA and the optimal planner, else None."""
+        """Accelerations (phi'', theta_1''..theta_n'') [rad/s^2], shape (N, n + 1), exact;
+        computed by the optimal planner, the ECSA and every arm's plan, and by the NFA with
+        ``torques=True``; else None."""
     @property
     def ddtheta(self) -> Optional[npt.NDArray[np.float64]]:
-        """Joint accelerations [rad/s^2], shape (N, 2): ``ddq[:, 1:]`` (as
-        :attr:`ArmPlan.ddtheta`), None where ``ddq`` is."""
+        """Joint accelerations [rad/s^2], shape (N, n): ``ddq[:, 1:]``, None where ``ddq``
+        is."""
     @property
     def z(self) -> Optional[npt.NDArray[np.float64]]:
         """Chained-form state z, shape (N, 3) (NFA only), else None."""
     @property
     def joints(self) -> int:
-        """The number of joints: 2 (as :attr:`ArmPlan.joints`)."""
+        """The number of joints ``n`` (2 for a :class:`Robot`)."""
     @property
     def horizon(self) -> float:
-        """The horizon ``T`` [s] (as :attr:`ArmPlan.horizon`)."""
+        """The horizon ``T`` [s]: the one given, or with ``T="auto"`` the shortest one found."""
     @property
     def tau(self) -> Optional[npt.NDArray[np.float64]]:
-        """Joint torques (tau1, tau2) [N m], shape (N, 2), with ``torques=True``, else None."""
+        """Joint torques (tau_1..tau_n) [N m], shape (N, n), with ``torques=True``, else None."""
     @property
     def base(self) -> npt.NDArray[np.float64]:
         """Base centre of mass ``(xb, yb)`` [m], shape (N, 2), in the inertial frame with the
-        system's centre of mass at the origin (it stays there: zero linear momentum)."""
+        system's centre of mass at the origin (it stays there: zero linear momentum); the
+        base's angle is ``q[:, 0]``."""
     @property
     def end_effector(self) -> npt.NDArray[np.float64]:
         """End-effector pose ``(xe, ye, psie)`` [m, m, rad], shape (N, 3), same frame: the tip of
-        link 2 and its absolute angle ``psie = phi + theta1 + theta2`` (not wrapped)."""
+        link n (a URDF's tool frame) and its absolute angle ``psie = phi + theta_1 + .. +
+        theta_n`` (not wrapped)."""
     @property
     def end_effector_velocity(self) -> npt.NDArray[np.float64]:
         """End-effector velocity ``(xe', ye', psie')`` [m/s, m/s, rad/s], shape (N, 3), exact at
@@ -166,11 +175,12 @@ class Plan:
     @property
     def transform(self) -> Optional[str]:
         """The NFA's transformation (``"eq11"``, ``"eq12"``, ``"eq14"``, ``"global"``), None for
-        the other methods."""
+        the other methods (and every arm's plan)."""
     @property
     def elbow(self) -> Optional[str]:
         """The elbow (``"up"``, ``"down"``) of the inverse-kinematics solution planned to, for a
-        plan to ``goal_ee``; None for a plan to a goal configuration."""
+        :class:`Robot`'s plan to ``goal_ee``; None for a plan to a goal configuration and for an
+        arm's plan (whose branch ``certificate["to_ee"]`` names)."""
     @property
     def effort(self) -> float:
         """The control effort ``integral_0^T |u(t)|^2 dt`` [rad^2/s], ``u = dq[:, 1:]``, as the
@@ -179,7 +189,7 @@ class Plan:
         the samples, an O(h^4) approximation."""
     @property
     def final_error(self) -> float:
-        """Verified final error ``max_i |wrap(q_i(T) - qd_i)|`` [rad]: system (7) integrated
+        """Verified final error ``max_i |wrap(q_i(T) - qd_i)|`` [rad]: the system integrated
         from the start with the planned controls (Dormand-Prince 5(4), rtol = atol = 1e-12)."""
     @property
     def tolerance(self) -> float:
@@ -190,13 +200,15 @@ class Plan:
         :class:`freefloat.NotCertified`, which carries the plan)."""
     @property
     def certificate(self) -> dict[str, Any]:
-        """The report of ``freefloat plan --format json``, same keys (``method``,
-        ``transform``, ``mount``, ``time``, ``samples``, ``z0``, ``zd``, ``final_error``,
-        ``max_abs_u``, ``min_abs_sigma``, ``min_abs_p``, ``max_abs_torque``,
-        ``torque_final_error``, ``torque_certificate``, ``seconds``, ``iterations``,
-        ``effort``, ``optimal`` (the optimal planner's cost, residuals and SQP iterations,
-        absent for the other methods), ``joints``, ``robot``, ``verification``, ``notes``, ...:
-        the one report of every plan, as :attr:`ArmPlan.certificate`)."""
+        """The report of ``freefloat plan --format json``, the one report of every plan and
+        robot, same keys (``method``, ``transform``, ``mount``, ``time``, ``samples``,
+        ``joints``, ``robot``, ``start``, ``goal``, ``z0``, ``zd``, ``final_error``,
+        ``tolerance``, ``certified``, ``reached``, ``verification``, ``max_abs_u`` (n values),
+        ``min_abs_sigma``/``min_abs_p`` (None unless 2 links), ``joint_travel``, ``effort``,
+        ``optimal`` (the optimal planner's cost, residuals and SQP iterations) or ``ecsa``,
+        ``max_abs_torque``/``torque_final_error``/``torque_certificate`` (None without
+        ``torques=True``), ``seconds``, ``iterations``, ``notes``, ``to_ee`` (an arm's plan to
+        ``goal_ee``), ...)."""
 
 @final
 class Domain:
@@ -519,85 +531,9 @@ class Arm:
         """The links, base outwards, as dicts ``{"length", "com", "mass", "inertia"}`` (a new
         list on each access)."""
 
-@final
-class ArmPlan:
-    """A certified plan of an :class:`Arm`: the sampled trajectory (S samples, both ends
-    included) as float64 NumPy arrays in SI units and radians, and its certificate."""
-
-    @property
-    def t(self) -> npt.NDArray[np.float64]:
-        """Sample times [s], shape (S,), from 0 to T."""
-    @property
-    def q(self) -> npt.NDArray[np.float64]:
-        """Configurations (phi, theta_1..theta_n) [rad, relative joint angles], shape
-        (S, n + 1). With ``wrap=True`` the goal's angles are reached modulo 2 pi: ``q[-1]``
-        may differ from the goal by multiples of 2 pi."""
-    @property
-    def dq(self) -> npt.NDArray[np.float64]:
-        """Velocities [rad/s], shape (S, n + 1): ``dq[:, 0]`` is the base's (zero angular
-        momentum), ``dq[:, 1:]`` the planned joint velocities."""
-    @property
-    def ddtheta(self) -> npt.NDArray[np.float64]:
-        """Joint accelerations [rad/s^2], shape (S, n), exact."""
-    @property
-    def ddq(self) -> npt.NDArray[np.float64]:
-        """Accelerations (phi'', theta_1''..theta_n'') [rad/s^2], shape (S, n + 1): the base's
-        Eq. 7 differentiated along the motion, then ``ddtheta``."""
-    @property
-    def base(self) -> npt.NDArray[np.float64]:
-        """The base's centre of mass (xb, yb) [m], shape (S, 2), inertial frame with the
-        system's centre of mass at the origin (its angle is ``q[:, 0]``)."""
-    @property
-    def end_effector(self) -> npt.NDArray[np.float64]:
-        """The tool's pose (xe, ye, psie) [m, m, rad], shape (S, 3): the tip of link n (a URDF's
-        tool frame), ``psie = phi + theta_1 + .. + theta_n``."""
-    @property
-    def end_effector_velocity(self) -> npt.NDArray[np.float64]:
-        """Its velocity [m/s, m/s, rad/s], shape (S, 3), exact."""
-    @property
-    def tau(self) -> Optional[npt.NDArray[np.float64]]:
-        """Joint torques [N m], shape (S, n), with ``torques=True``, else None."""
-    @property
-    def method(self) -> str:
-        """``"optimal"``."""
-    @property
-    def joints(self) -> int:
-        """The number of joints ``n``."""
-    @property
-    def horizon(self) -> float:
-        """The horizon ``T`` [s]: the one given, or with ``T="auto"`` the shortest one found."""
-    @property
-    def z(self) -> None:
-        """None: an arm's plan has no chained form (as :attr:`Plan.z` outside the NFA)."""
-    @property
-    def transform(self) -> None:
-        """None: the NFA's transformation (as :attr:`Plan.transform` outside the NFA)."""
-    @property
-    def effort(self) -> float:
-        """The effort ``integral_0^T |theta'(t)|^2 dt`` [rad^2/s], exact (Gauss-Legendre on the
-        plan's spline spans)."""
-    @property
-    def final_error(self) -> float:
-        """Verified final error ``max_i |wrap(q_i(T) - goal_i)|`` [rad]: the system integrated
-        from the start with the planned joint velocities (rtol = atol = 1e-12)."""
-    @property
-    def tolerance(self) -> float:
-        """The tolerance of ``final_error`` [rad]."""
-    @property
-    def certified(self) -> bool:
-        """Every certificate holds (always True for a returned plan: a failure raises
-        :class:`freefloat.NotCertified`, which carries the plan)."""
-    @property
-    def certificate(self) -> dict[str, Any]:
-        """The report of ``freefloat plan --format json`` for the arm: the one report of every
-        plan, the same keys as :attr:`Plan.certificate` (``method``, ``transform``, ``mount``,
-        ``time``, ``samples``, ``joints``, ``robot``, ``start``, ``goal``, ``final_error``,
-        ``tolerance``, ``certified``, ``reached``, ``verification``, ``max_abs_u`` (n values),
-        ``min_abs_sigma``/``min_abs_p`` (None unless 2 links), ``joint_travel``, ``effort``,
-        ``optimal`` (the planner's iterations, residuals, spans) or ``ecsa``,
-        ``max_abs_torque``/``torque_final_error``/``torque_certificate`` (None without
-        ``torques=True``), ``seconds`` (``plan``, ``torques``, ``verify`` None: inside
-        ``plan``), ``notes``, ...)."""
+ArmPlan = Plan
+"""Another name of :class:`Plan` (an :class:`Arm`'s plan was once its own class): every
+robot's plan is a :class:`Plan`."""
 
 def plan_arm(
     arm: Union[Arm, Robot],
@@ -621,7 +557,7 @@ def plan_arm(
     obstacles: Optional[Sequence[Union[str, Tuple[Any, ...]]]] = None,
     clearance: Optional[float] = None,
     no_collide: Optional[Sequence[Tuple[str, str]]] = None,
-) -> ArmPlan:
+) -> Plan:
     """Deprecated as ``freefloat.plan_arm`` (a ``DeprecationWarning``): ``freefloat.plan(arm,
     ...)`` takes any arm and calls this.
 

@@ -1,5 +1,6 @@
-//! `freefloat.ArmPlan` and the binding `plan_arm`: an arm's plan, to a goal configuration or a
-//! tool pose (`goal_ee`), with its certificate, as NumPy arrays.
+//! The binding `plan_arm` (behind `freefloat.plan` for an `Arm`): an arm's plan, to a goal
+//! configuration or a tool pose (`goal_ee`), with its certificate, as a `freefloat.Plan` (module
+//! `plan_class`, the one plan class of every robot).
 
 use freefloat::planners::arm::{ArmRequest, plan_arm as library_plan_arm};
 use freefloat::planners::chain::ChainProblem;
@@ -9,132 +10,19 @@ use freefloat::report::arm::trajectory;
 use freefloat::report::io::PlanReport;
 use freefloat::{Arm, EcsaOptions, Method, Window};
 use numpy::ndarray::Array2;
-use numpy::{IntoPyArray, PyArray1, PyArray2};
+use numpy::{IntoPyArray, PyArray2};
 use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 use pyo3::sync::PyOnceLock;
 use pyo3::types::{PyDict, PyList};
-use serde_json::Value;
 
 use crate::arm::{PyArm, exactly};
 use crate::compat::InputError;
-use crate::convert::{Reals, column, report_dict};
-use crate::errors::{BindingError, IntoPyResult, library_error};
+use crate::convert::{Reals, column};
+use crate::errors::{BindingError, IntoPyResult};
+use crate::plan_class::{PyPlan, certified_or_raise};
 use crate::planning::{count, parse_method, parse_window};
 use crate::robot::PyRobot;
-
-/// A certified plan of an arm: the sampled trajectory as NumPy arrays (SI units, radians) and
-/// its certificate, the report of `freefloat plan --format json` for the arm.
-#[pyclass(name = "ArmPlan", module = "freefloat", frozen)]
-pub struct PyArmPlan {
-    /// Sample times [s], shape (S,).
-    #[pyo3(get)]
-    t: Py<PyArray1<f64>>,
-    /// Configurations (phi, theta_1..theta_n) [rad], shape (S, n + 1).
-    #[pyo3(get)]
-    q: Py<PyArray2<f64>>,
-    /// Velocities [rad/s], shape (S, n + 1); columns 1.. are the controls u.
-    #[pyo3(get)]
-    dq: Py<PyArray2<f64>>,
-    /// Joint accelerations [rad/s^2], shape (S, n).
-    #[pyo3(get)]
-    ddtheta: Py<PyArray2<f64>>,
-    /// Accelerations (phi'', theta_1''..theta_n'') [rad/s^2], shape (S, n + 1).
-    #[pyo3(get)]
-    ddq: Py<PyArray2<f64>>,
-    /// The base's centre of mass (xb, yb) [m], shape (S, 2), the system's centre of mass at 0.
-    #[pyo3(get)]
-    base: Py<PyArray2<f64>>,
-    /// The tool's pose (xe, ye, psie) [m, m, rad], shape (S, 3).
-    #[pyo3(get)]
-    end_effector: Py<PyArray2<f64>>,
-    /// Its velocity [m/s, m/s, rad/s], shape (S, 3).
-    #[pyo3(get)]
-    end_effector_velocity: Py<PyArray2<f64>>,
-    /// Joint torques [N m], shape (S, n), with torques=True, else None.
-    #[pyo3(get)]
-    tau: Option<Py<PyArray2<f64>>>,
-    /// "optimal".
-    #[pyo3(get)]
-    method: String,
-    /// The number of joints n.
-    #[pyo3(get)]
-    joints: usize,
-    /// The horizon T [s]: the one given, or with `T="auto"` the shortest one found.
-    #[pyo3(get)]
-    horizon: f64,
-    /// integral of |theta'|^2 dt [rad^2/s] (exact).
-    #[pyo3(get)]
-    effort: f64,
-    /// Verified final error [rad].
-    #[pyo3(get)]
-    final_error: f64,
-    /// Its tolerance [rad].
-    #[pyo3(get)]
-    tolerance: f64,
-    /// Every certificate computed holds.
-    #[pyo3(get)]
-    certified: bool,
-    report: Value,
-    certificate: PyOnceLock<Py<PyDict>>,
-}
-
-#[pymethods]
-impl PyArmPlan {
-    /// The certificate: the CLI's JSON report as a dict (same keys), built on first access.
-    #[getter]
-    fn certificate(&self, py: Python<'_>) -> PyResult<Py<PyDict>> {
-        report_dict(py, &self.certificate, &self.report)
-    }
-
-    /// The NFA's chained-form state (as `Plan.z`): None, an arm's plan has no chained form.
-    #[getter]
-    fn z(&self) -> Option<Py<PyArray2<f64>>> {
-        None
-    }
-
-    /// The NFA's transformation (as `Plan.transform`): None.
-    #[getter]
-    fn transform(&self) -> Option<String> {
-        None
-    }
-
-    /// Pickling: every array and number, and the report as its JSON text; rebuilt by
-    /// `freefloat._freefloat._arm_plan_from_state`, equal field by field.
-    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<(Bound<'py, PyAny>, (Bound<'py, PyDict>,))> {
-        let state = PyDict::new(py);
-        state.set_item("t", self.t.clone_ref(py))?;
-        state.set_item("q", self.q.clone_ref(py))?;
-        state.set_item("dq", self.dq.clone_ref(py))?;
-        state.set_item("ddtheta", self.ddtheta.clone_ref(py))?;
-        state.set_item("ddq", self.ddq.clone_ref(py))?;
-        state.set_item("base", self.base.clone_ref(py))?;
-        state.set_item("end_effector", self.end_effector.clone_ref(py))?;
-        state.set_item("end_effector_velocity", self.end_effector_velocity.clone_ref(py))?;
-        state.set_item("tau", self.tau.as_ref().map(|a| a.clone_ref(py)))?;
-        state.set_item("method", &self.method)?;
-        state.set_item("joints", self.joints)?;
-        state.set_item("horizon", self.horizon)?;
-        state.set_item("effort", self.effort)?;
-        state.set_item("final_error", self.final_error)?;
-        state.set_item("tolerance", self.tolerance)?;
-        state.set_item("certified", self.certified)?;
-        state.set_item("report", self.report.to_string())?;
-        Ok((py.import("freefloat._freefloat")?.getattr("_arm_plan_from_state")?, (state,)))
-    }
-
-    fn __repr__(&self, py: Python<'_>) -> String {
-        let n = self.t.bind(py).len().unwrap_or(0);
-        format!(
-            "ArmPlan(method='{}', joints={}, samples={n}, final_error={:.3e}, certified={}, effort={:.6})",
-            self.method,
-            self.joints,
-            self.final_error,
-            if self.certified { "True" } else { "False" },
-            self.effort
-        )
-    }
-}
 
 /// Rows of `width` numbers as a `(rows, width)` float64 array.
 fn matrix<'py>(py: Python<'py>, rows: &[Vec<f64>], width: usize) -> PyResult<Bound<'py, PyArray2<f64>>> {
@@ -230,7 +118,7 @@ pub fn plan_arm<'py>(
     obstacles: Option<Bound<'py, PyList>>,
     clearance: Option<f64>,
     no_collide: Option<Vec<(String, String)>>,
-) -> PyResult<Bound<'py, PyArmPlan>> {
+) -> PyResult<Bound<'py, PyPlan>> {
     let arm = any_arm(arm)?;
     let (horizon, shortest_horizon) = horizon_keyword(py, T)?;
     // Issue 20: `limits=` over the arm's own (module `limits`).
@@ -342,17 +230,19 @@ pub fn plan_arm<'py>(
     })?;
     let tr = trajectory(&planned);
     let v = planned.verification();
-    let py_plan = PyArmPlan {
+    let py_plan = PyPlan {
         t: column(py, &tr.t).unbind(),
         q: matrix(py, &tr.q, n + 1)?.unbind(),
         dq: matrix(py, &tr.dq, n + 1)?.unbind(),
-        ddtheta: matrix(py, &tr.ddtheta, n)?.unbind(),
-        ddq: matrix(py, &tr.ddq, n + 1)?.unbind(),
+        ddq: Some(matrix(py, &tr.ddq, n + 1)?.unbind()),
+        z: None,
         base: matrix(py, &rows(&tr.base), 2)?.unbind(),
         end_effector: matrix(py, &rows(&tr.end_effector), 3)?.unbind(),
         end_effector_velocity: matrix(py, &rows(&tr.end_effector_velocity), 3)?.unbind(),
         tau: tr.tau.as_deref().map(|tau| matrix(py, tau, n).map(Bound::unbind)).transpose()?,
         method: planned.method.name().to_string(),
+        transform: None,
+        elbow: None,
         joints: n,
         horizon: planned.plan.horizon(),
         effort: planned.effort(),
@@ -362,40 +252,5 @@ pub fn plan_arm<'py>(
         report: report_value,
         certificate: PyOnceLock::new(),
     };
-    let failure = planned.certified().err();
-    let bound = Bound::new(py, py_plan)?;
-    match failure {
-        Some(e) => Err(library_error(py, &e, Some(bound.into_any()))),
-        None => Ok(bound),
-    }
-}
-
-/// The `freefloat.ArmPlan` of a pickled state (see `ArmPlan.__reduce__`).
-#[pyfunction]
-pub fn _arm_plan_from_state(state: &Bound<'_, PyDict>) -> PyResult<PyArmPlan> {
-    let get = |key: &str| -> PyResult<Bound<'_, PyAny>> {
-        state.get_item(key)?.ok_or_else(|| PyTypeError::new_err(format!("ArmPlan state: missing `{key}`")))
-    };
-    let report: String = get("report")?.extract()?;
-    let report = serde_json::from_str(&report).map_err(|e| PyTypeError::new_err(format!("ArmPlan state: {e}")))?;
-    Ok(PyArmPlan {
-        t: get("t")?.extract()?,
-        q: get("q")?.extract()?,
-        dq: get("dq")?.extract()?,
-        ddtheta: get("ddtheta")?.extract()?,
-        ddq: get("ddq")?.extract()?,
-        base: get("base")?.extract()?,
-        end_effector: get("end_effector")?.extract()?,
-        end_effector_velocity: get("end_effector_velocity")?.extract()?,
-        tau: get("tau")?.extract()?,
-        method: get("method")?.extract()?,
-        joints: get("joints")?.extract()?,
-        horizon: get("horizon")?.extract()?,
-        effort: get("effort")?.extract()?,
-        final_error: get("final_error")?.extract()?,
-        tolerance: get("tolerance")?.extract()?,
-        certified: get("certified")?.extract()?,
-        report,
-        certificate: PyOnceLock::new(),
-    })
+    certified_or_raise(py, py_plan, planned.certified().err())
 }

@@ -1,5 +1,6 @@
 //! Python bindings of freefloat (PyO3): `freefloat.Robot`, `plan`, `compare`, `domain`, `track`,
-//! and `freefloat.Arm`, `plan_arm` for any planar serial arm.
+//! and `freefloat.Arm`, `plan_arm` for any planar serial arm; both plan to the one
+//! `freefloat.Plan` (`ArmPlan` is another name of it).
 //!
 //! The Python package is `python/freefloat/` (its exceptions in `_errors.py`, the stubs in
 //! `_freefloat.pyi`); this crate is its native module `freefloat._freefloat`. Planning and
@@ -14,6 +15,7 @@ mod domain;
 mod errors;
 mod geometry;
 mod limits;
+mod plan_class;
 mod planning;
 mod robot;
 mod tracking;
@@ -24,10 +26,11 @@ use pyo3::prelude::*;
 #[pymodule]
 fn _freefloat(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<robot::PyRobot>()?;
-    m.add_class::<planning::PyPlan>()?;
+    m.add_class::<plan_class::PyPlan>()?;
+    // Issue 19 item 5: one plan class for every robot; `ArmPlan` stays as its other name.
+    m.add("ArmPlan", m.getattr("Plan")?)?;
     m.add_class::<domain::PyDomain>()?;
     m.add_class::<arm::PyArm>()?;
-    m.add_class::<arm_plan::PyArmPlan>()?;
     m.add_function(wrap_pyfunction!(planning::plan, m)?)?;
     m.add_function(wrap_pyfunction!(planning::compare, m)?)?;
     m.add_function(wrap_pyfunction!(planning::_time_plan, m)?)?;
@@ -35,8 +38,9 @@ fn _freefloat(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(tracking::track, m)?)?;
     m.add_function(wrap_pyfunction!(arm_plan::plan_arm, m)?)?;
     m.add_function(wrap_pyfunction!(cli::_cli_main, m)?)?;
-    m.add_function(wrap_pyfunction!(planning::_plan_from_state, m)?)?;
-    m.add_function(wrap_pyfunction!(arm_plan::_arm_plan_from_state, m)?)?;
+    m.add_function(wrap_pyfunction!(plan_class::_plan_from_state, m)?)?;
+    // Pickles of an `ArmPlan` made before the one class load with the same function.
+    m.add("_arm_plan_from_state", m.getattr("_plan_from_state")?)?;
     m.add("METHODS", planning::METHODS.to_vec())?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())

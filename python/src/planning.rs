@@ -1,6 +1,6 @@
-//! `freefloat.plan`, `freefloat.compare` and `freefloat.Plan`: the library's planners driven as
-//! the CLI drives them (`src/cli/plan.rs`), results as NumPy arrays, the CLI's JSON report as
-//! the certificate.
+//! `freefloat.plan` and `freefloat.compare` of a `Robot`: the library's 2-link planners driven
+//! as the CLI drives them (`src/cli/plan.rs`), results as `freefloat.Plan` (module
+//! `plan_class`), the CLI's JSON report as the certificate.
 
 use std::time::Instant;
 
@@ -8,16 +8,15 @@ use freefloat::{
     Configuration, EcsaOptions, Method, NfaOptions, Plan, PlanningProblem, TorqueOptions, TorqueReport, Transform,
     Window,
 };
-use numpy::{IntoPyArray, PyArray1, PyArray2, PyArrayMethods};
 use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 use pyo3::sync::PyOnceLock;
 use pyo3::types::PyDict;
-use serde_json::Value;
 
 use crate::compat::{Cost, Elbow, InputError, OptimalOptions, PlanReport, PlannerOptions, plan_to_pose, planner};
-use crate::convert::{Reals, column, report_dict, rows};
+use crate::convert::{Reals, column, rows};
 use crate::errors::{BindingError, IntoPyResult, library_error};
+use crate::plan_class::{PyPlan, certified_or_raise};
 use crate::robot::{PyRobot, triple};
 
 /// The methods of `plan(method=...)`, the default first; `compare` plans with all of them by
@@ -276,130 +275,6 @@ pub fn plan_core(
     Ok(Planned { plan, report, torques, elbow })
 }
 
-/// A certified plan: the sampled trajectory as NumPy arrays (SI units, radians) and its
-/// certificate, the report of `freefloat plan --format json`.
-#[pyclass(name = "Plan", module = "freefloat", frozen)]
-pub struct PyPlan {
-    /// Sample times [s], shape (N,).
-    #[pyo3(get)]
-    t: Py<PyArray1<f64>>,
-    /// Configurations (phi, theta1, theta2) [rad], shape (N, 3).
-    #[pyo3(get)]
-    q: Py<PyArray2<f64>>,
-    /// Velocities [rad/s], shape (N, 3); columns 1-2 are the controls u.
-    #[pyo3(get)]
-    dq: Py<PyArray2<f64>>,
-    /// Accelerations [rad/s^2], shape (N, 3), or None when not computed.
-    #[pyo3(get)]
-    ddq: Option<Py<PyArray2<f64>>>,
-    /// Chained-form state z, shape (N, 3) (NFA), else None.
-    #[pyo3(get)]
-    z: Option<Py<PyArray2<f64>>>,
-    /// Joint torques (tau1, tau2) [N m], shape (N, 2), with torques=True, else None.
-    #[pyo3(get)]
-    tau: Option<Py<PyArray2<f64>>>,
-    /// Base centre of mass (xb, yb) [m], shape (N, 2), inertial frame, the system's centre of
-    /// mass at the origin.
-    #[pyo3(get)]
-    base: Py<PyArray2<f64>>,
-    /// End-effector pose (xe, ye, psie) [m, m, rad], shape (N, 3); psie = phi + theta1 + theta2.
-    #[pyo3(get)]
-    end_effector: Py<PyArray2<f64>>,
-    /// Its velocity [m/s, m/s, rad/s], shape (N, 3).
-    #[pyo3(get)]
-    end_effector_velocity: Py<PyArray2<f64>>,
-    /// The method: "optimal", "nfa" or "ecsa".
-    #[pyo3(get)]
-    method: String,
-    /// The NFA's transformation ("eq11", "eq12", "eq14", "global"), None for the other methods.
-    #[pyo3(get)]
-    transform: Option<String>,
-    /// The elbow ("up", "down") of a plan to an end-effector pose (`goal_ee`), else None.
-    #[pyo3(get)]
-    elbow: Option<String>,
-    /// integral of |u|^2 dt [rad^2/s]: the library's (exact for the optimal planner).
-    #[pyo3(get)]
-    effort: f64,
-    /// Verified final error max_i |wrap(q_i(T) - qd_i)| [rad].
-    #[pyo3(get)]
-    final_error: f64,
-    /// Its tolerance [rad].
-    #[pyo3(get)]
-    tolerance: f64,
-    /// Every certificate holds (velocity level, and torque level with torques).
-    #[pyo3(get)]
-    certified: bool,
-    report: Value,
-    certificate: PyOnceLock<Py<PyDict>>,
-}
-
-#[pymethods]
-impl PyPlan {
-    /// The certificate: the CLI's JSON report as a dict (same keys), built on first access.
-    #[getter]
-    fn certificate(&self, py: Python<'_>) -> PyResult<Py<PyDict>> {
-        report_dict(py, &self.certificate, &self.report)
-    }
-
-    /// The number of joints: 2 (as `ArmPlan.joints`).
-    #[getter]
-    fn joints(&self) -> usize {
-        2
-    }
-
-    /// The horizon T [s] (as `ArmPlan.horizon`): the report's `time`.
-    #[getter]
-    fn horizon(&self) -> f64 {
-        self.report["time"].as_f64().unwrap_or(f64::NAN)
-    }
-
-    /// Joint accelerations [rad/s^2], shape (N, 2): `ddq[:, 1:]` (as `ArmPlan.ddtheta`), None
-    /// where `ddq` is.
-    #[getter]
-    fn ddtheta<'py>(&self, py: Python<'py>) -> Option<Bound<'py, PyArray2<f64>>> {
-        let ddq = self.ddq.as_ref()?.bind(py).readonly();
-        Some(ddq.as_array().slice(numpy::ndarray::s![.., 1..]).to_owned().into_pyarray(py))
-    }
-
-    /// Pickling: every array and number, and the report as its JSON text; rebuilt by
-    /// `freefloat._freefloat._plan_from_state`, equal field by field.
-    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<(Bound<'py, PyAny>, (Bound<'py, PyDict>,))> {
-        let state = PyDict::new(py);
-        let optional = |a: &Option<Py<PyArray2<f64>>>| a.as_ref().map(|a| a.clone_ref(py));
-        state.set_item("t", self.t.clone_ref(py))?;
-        state.set_item("q", self.q.clone_ref(py))?;
-        state.set_item("dq", self.dq.clone_ref(py))?;
-        state.set_item("ddq", optional(&self.ddq))?;
-        state.set_item("z", optional(&self.z))?;
-        state.set_item("tau", optional(&self.tau))?;
-        state.set_item("base", self.base.clone_ref(py))?;
-        state.set_item("end_effector", self.end_effector.clone_ref(py))?;
-        state.set_item("end_effector_velocity", self.end_effector_velocity.clone_ref(py))?;
-        state.set_item("method", &self.method)?;
-        state.set_item("transform", &self.transform)?;
-        state.set_item("elbow", &self.elbow)?;
-        state.set_item("effort", self.effort)?;
-        state.set_item("final_error", self.final_error)?;
-        state.set_item("tolerance", self.tolerance)?;
-        state.set_item("certified", self.certified)?;
-        state.set_item("report", self.report.to_string())?;
-        Ok((py.import("freefloat._freefloat")?.getattr("_plan_from_state")?, (state,)))
-    }
-
-    fn __repr__(&self, py: Python<'_>) -> String {
-        let n = self.t.bind(py).len().unwrap_or(0);
-        let transform = self.transform.as_deref().map(|t| format!(", transform='{t}'")).unwrap_or_default();
-        let elbow = self.elbow.as_deref().map(|e| format!(", elbow='{e}'")).unwrap_or_default();
-        format!(
-            "Plan(method='{}'{transform}{elbow}, samples={n}, final_error={:.3e}, certified={}, effort={:.6})",
-            self.method,
-            self.final_error,
-            if self.certified { "True" } else { "False" },
-            self.effort
-        )
-    }
-}
-
 /// The Python plan of `planned`; `NotCertified` (carrying the plan) when a certificate fails.
 pub fn into_python(py: Python<'_>, planned: Planned) -> PyResult<Bound<'_, PyPlan>> {
     let Planned { plan, report, torques, elbow } = planned;
@@ -421,6 +296,8 @@ pub fn into_python(py: Python<'_>, planned: Planned) -> PyResult<Bound<'_, PyPla
         method: plan.method.name().to_string(),
         transform: report.transform.map(|t| t.name().to_string()),
         elbow: elbow.map(|e| elbow_name(e).to_string()),
+        joints: 2,
+        horizon: report_value["time"].as_f64().unwrap_or(f64::NAN),
         effort: plan.effort,
         final_error: v.final_error,
         tolerance: v.tolerance,
@@ -429,11 +306,7 @@ pub fn into_python(py: Python<'_>, planned: Planned) -> PyResult<Bound<'_, PyPla
         certificate: PyOnceLock::new(),
     };
     let failure = plan.certified().err().or_else(|| torques.as_ref().and_then(|t| t.check().err()));
-    let bound = Bound::new(py, py_plan)?;
-    match failure {
-        Some(e) => Err(library_error(py, &e, Some(bound.into_any()))),
-        None => Ok(bound),
-    }
+    certified_or_raise(py, py_plan, failure)
 }
 
 fn elbow_name(elbow: Elbow) -> &'static str {
@@ -668,34 +541,4 @@ pub fn _time_plan(
             .collect::<Result<Vec<f64>, BindingError>>()
     })
     .py_result(py)
-}
-
-/// The `freefloat.Plan` of a pickled state (see `Plan.__reduce__`).
-#[pyfunction]
-pub fn _plan_from_state(state: &Bound<'_, PyDict>) -> PyResult<PyPlan> {
-    let get = |key: &str| -> PyResult<Bound<'_, PyAny>> {
-        state.get_item(key)?.ok_or_else(|| PyTypeError::new_err(format!("Plan state: missing `{key}`")))
-    };
-    let report: String = get("report")?.extract()?;
-    let report = serde_json::from_str(&report).map_err(|e| PyTypeError::new_err(format!("Plan state: {e}")))?;
-    Ok(PyPlan {
-        t: get("t")?.extract()?,
-        q: get("q")?.extract()?,
-        dq: get("dq")?.extract()?,
-        ddq: get("ddq")?.extract()?,
-        z: get("z")?.extract()?,
-        tau: get("tau")?.extract()?,
-        base: get("base")?.extract()?,
-        end_effector: get("end_effector")?.extract()?,
-        end_effector_velocity: get("end_effector_velocity")?.extract()?,
-        method: get("method")?.extract()?,
-        transform: get("transform")?.extract()?,
-        elbow: get("elbow")?.extract()?,
-        effort: get("effort")?.extract()?,
-        final_error: get("final_error")?.extract()?,
-        tolerance: get("tolerance")?.extract()?,
-        certified: get("certified")?.extract()?,
-        report,
-        certificate: PyOnceLock::new(),
-    })
 }

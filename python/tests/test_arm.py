@@ -1,6 +1,7 @@
 """Any planar serial arm from Python (issue 14, item 4): the robot files of the command line
-(TOML with ``[[link]]``, URDF) load as ``freefloat.Arm``; ``plan_arm`` plans and certifies them;
-its plans conserve angular momentum; a 2-link Robot planned as an arm agrees with ``plan``."""
+(TOML with ``[[link]]``, URDF) load as ``freefloat.Arm``; ``plan`` plans and certifies them;
+its plans conserve angular momentum; a 2-link Robot planned as an arm (the deprecated
+``plan_arm``) agrees with ``plan``."""
 
 import math
 import threading
@@ -90,7 +91,7 @@ def test_without_torques_there_are_none(three_link):
     p = ff.plan(three_link, ARM_START, ARM_GOAL, 10.0, samples=51)
     assert p.tau is None and p.q.shape == (51, 4) and p.ddtheta.shape == (51, 3)
     assert p.certificate["torque_certificate"] is None  # the one report: null without torques
-    assert repr(p).startswith("ArmPlan(method='optimal', joints=3, samples=51, final_error=")
+    assert repr(p).startswith("Plan(method='optimal', samples=51, joints=3, final_error=")
 
 
 def test_planning_in_threads(three_link):
@@ -126,7 +127,9 @@ def test_a_robot_planned_as_an_arm_agrees_with_plan(src):
     assert arm.to_robot() == robot
     two_joint = ff.plan(robot, START, GOAL, HORIZON)
     for given in (arm, robot):
-        n_joint = ff.plan_arm(given, START, GOAL, HORIZON)
+        # plan_arm (deprecated) plans a 2-link arm by the arm pipeline, not the 2-link one.
+        with pytest.warns(DeprecationWarning):
+            n_joint = ff.plan_arm(given, START, GOAL, HORIZON)
         assert n_joint.final_error <= 1e-9
         assert n_joint.effort == pytest.approx(two_joint.effort, rel=1e-6)
         assert np.max(np.abs(n_joint.q[-1] - two_joint.q[-1])) <= 1e-6
@@ -218,19 +221,19 @@ def test_method_refusals_give_the_reason(three_link, src):
     with pytest.raises(ff.BadInput, match="from rest"):
         ff.plan(three_link, start, goal, 10.0, method="ecsa", initial_velocity=[0.1, 0.0, 0.0])
     # A 2-link arm is pointed to plan, which has both.
-    with pytest.raises(ff.BadInput, match=r"freefloat\.plan"):
+    with pytest.raises(ff.BadInput, match=r"freefloat\.plan"), pytest.warns(DeprecationWarning):
         ff.plan_arm(src, START, GOAL, HORIZON, method="nfa")
     with pytest.raises(TypeError):
-        ff.plan_arm("three_link.toml", ARM_START, ARM_GOAL, 10.0)
+        ff.plan("three_link.toml", ARM_START, ARM_GOAL, 10.0)
 
 
 def test_one_link_goal_off_its_holonomy_is_bad_input():
     arm = ff.Arm(M=15.0, I=0.4, links=[LINK])
     with pytest.raises(ff.BadInput) as e:
-        ff.plan_arm(arm, [0.0, 0.0], [0.5, 0.3], 10.0)
+        ff.plan(arm, [0.0, 0.0], [0.5, 0.3], 10.0)
     assert e.value.kind == "holonomy_fixed"
     reachable = e.value.details["reachable"]
-    p = ff.plan_arm(arm, [0.0, 0.0], [reachable, 0.3], 10.0)
+    p = ff.plan(arm, [0.0, 0.0], [reachable, 0.3], 10.0)
     assert p.final_error <= 1e-9 and p.q.shape == (1001, 2)
 
 
@@ -254,7 +257,7 @@ def test_plan_serves_every_arm_with_the_task_space_arrays(three_link):
     # links: the centre of mass at the origin), the base's rate and acceleration consistent.
     p = ff.plan(three_link, ARM_START, ARM_GOAL, 10.0, samples=201)
     s, n = 201, 3
-    assert isinstance(p, ff.ArmPlan)
+    assert isinstance(p, ff.Plan)
     assert p.ddq.shape == (s, n + 1) and p.base.shape == (s, 2)
     assert p.end_effector.shape == (s, 3) and p.end_effector_velocity.shape == (s, 3)
     np.testing.assert_array_equal(p.ddq[:, 1:], p.ddtheta)
@@ -279,15 +282,6 @@ def test_plan_serves_every_arm_with_the_task_space_arrays(three_link):
     assert isinstance(ff.plan(src_arm, START, GOAL, HORIZON, method="nfa"), ff.Plan)
 
 
-def test_plan_arm_is_a_deprecated_alias(three_link):
-    with pytest.warns(DeprecationWarning, match="plan_arm is deprecated"):
-        old = ff.plan_arm(three_link, ARM_START, ARM_GOAL, 10.0, samples=51)
-    new = ff.plan(three_link, ARM_START, ARM_GOAL, 10.0, samples=51)
-    np.testing.assert_array_equal(old.q, new.q)
-    with pytest.raises(ff.BadInput, match="transform"):
-        ff.plan(three_link, ARM_START, ARM_GOAL, 10.0, transform="eq14")
-
-
 def test_compare_serves_every_arm(three_link):
     """Issue 19 item 4: ``compare`` on a 3-link arm runs the minimum-effort planner and the
     ECSA (each with its own keywords, the others' ignored), each plan the one ``plan`` gives,
@@ -296,7 +290,7 @@ def test_compare_serves_every_arm(three_link):
     assert set(plans) == {"optimal", "ecsa"}
     own = {"optimal": {"smooth_ends": True}, "ecsa": {"harmonics": 2}}
     for method, p in plans.items():
-        assert isinstance(p, ff.ArmPlan) and p.final_error <= 1e-9
+        assert isinstance(p, ff.Plan) and p.final_error <= 1e-9
         single = ff.plan(three_link, ARM_START, ARM_GOAL, 10.0, method=method, **own[method])
         assert p.effort == pytest.approx(single.effort, rel=1e-9)
         assert np.max(np.abs(p.q[-1] - single.q[-1])) <= 1e-12
@@ -314,7 +308,7 @@ def test_goal_ee_serves_every_arm(three_link):
     effort; its tool ends on the pose; what cannot be asked of an arm of 3 links is BadInput."""
     pose = ff.plan(three_link, ARM_START, ARM_GOAL, 10.0).end_effector[-1]
     p = ff.plan(three_link, ARM_START, T=10.0, goal_ee=pose)
-    assert isinstance(p, ff.ArmPlan) and p.final_error <= 1e-9
+    assert isinstance(p, ff.Plan) and p.final_error <= 1e-9
     assert np.max(np.abs(p.end_effector[-1][:2] - pose[:2])) <= 1e-8
     assert abs(math.remainder(p.end_effector[-1][2] - pose[2], math.tau)) <= 1e-8
     branches = [b for b in three_link.inverse_kinematics(pose, ARM_START) if b["reached"]]
@@ -352,7 +346,9 @@ def test_a_robot_and_an_arm_plan_carry_the_same_arrays_and_keys(three_link, thre
     two = ff.plan(ff.Robot.src(), START, GOAL, HORIZON)
     three = three_link_plan
     public = lambda p: {name for name in dir(p) if not name.startswith("_")}  # noqa: E731
-    assert public(three) - public(two) == set() and public(two) - public(three) == {"elbow"}
+    # One class (ArmPlan another name of it): the same attributes, elbow None for an arm.
+    assert type(two) is type(three) is ff.Plan is ff.ArmPlan
+    assert public(three) == public(two) and three.elbow is None
     assert (two.joints, three.joints) == (2, 3)
     assert two.horizon == HORIZON and three.horizon == 10.0
     np.testing.assert_array_equal(two.ddtheta, two.ddq[:, 1:])
