@@ -13,14 +13,15 @@ Angles in radians, SI units, results as NumPy arrays::
 
 Any planar serial arm (n links with inertias, from a TOML ``[[link]]`` file or a URDF) is an
 :class:`Arm`, planned by the same :func:`plan` (the minimum-effort planner or the ECSA; ``q =
-(phi, theta_1..theta_n)``, relative joint angles); the result, an :class:`ArmPlan`, has the same
-arrays as a :class:`Plan` (``t, q, dq, ddq, tau, base, end_effector, end_effector_velocity``)::
+(phi, theta_1..theta_n)``, relative joint angles); the result is the same :class:`Plan`, with
+the same arrays (``t, q, dq, ddq, tau, base, end_effector, end_effector_velocity``)::
 
     arm = ff.Arm.from_file("examples/robots/three_link.toml")
     a = ff.plan(arm, [0, 0.3, -0.4, 0.2], [0.5, 0.8, 0.2, -0.3], 10.0, torques=True)
     a.q.shape, a.tau.shape, a.end_effector[-1], a.certificate["torque_certificate"]["certified"]
 
-``plan_arm`` is kept as a deprecated alias of :func:`plan` for arms.
+``plan_arm`` is kept as a deprecated alias of :func:`plan` for arms, ``ArmPlan`` as another name
+of :class:`Plan`.
 """
 
 import warnings as _warnings
@@ -44,7 +45,8 @@ from ._freefloat import compare as _compare_robot
 from ._freefloat import plan as _plan_robot
 from ._freefloat import plan_arm as _plan_arm
 
-#: Keywords of :func:`plan` that an arm of another number of links than 2 takes.
+#: Keywords of :func:`plan` that an arm planned by the arm pipeline takes (every arm but a
+#: 2-link arm of the paper's model without limits or shapes, which goes the 2-link way).
 _ARM_KEYWORDS = frozenset(
     ("samples", "torques", "wrap", "initial_velocity", "tolerance", "method", "harmonics", "window",
      "smooth_ends", "cost", "limits", "obstacles", "clearance", "no_collide")
@@ -53,18 +55,62 @@ _ARM_KEYWORDS = frozenset(
 #: Keywords that only an arm carries (the 2-link pipeline's robot has neither limits nor shapes).
 _ARM_ONLY = ("limits", "obstacles", "clearance", "no_collide")
 
+#: Keywords of :func:`plan` for a :class:`Robot` that the arm pipeline does not take, and why.
+_ROBOT_ONLY = {
+    "transform": (
+        "it picks the NFA's normal form (Eq. 11, 12, 14 or the global one), a transformation of "
+        "the paper's 2-link robot; the arm pipeline has no NFA (Eq. 10's chained form is for two "
+        "joints)"
+    ),
+}
 
-def plan(robot: _Union[Robot, Arm], start: _Any, goal: _Any = None, T: _Any = None, **kwargs: _Any) -> _Any:
+
+def _arm_pipeline(arm: Arm) -> bool:
+    """Whether :func:`plan` plans ``arm`` by the arm pipeline: any arm but a 2-link arm of the
+    paper's model (:meth:`Arm.to_robot`) without limits or shapes of its own."""
+    if arm.joints != 2 or arm.constrained:
+        return True
+    try:
+        arm.to_robot()
+    except BadInput:
+        return True
+    return False
+
+
+def _check_arm_keywords(function: str, arm: Arm, kwargs: dict) -> None:
+    """Every keyword of ``kwargs`` is one the arm pipeline takes for ``arm``: one of
+    :data:`_ROBOT_ONLY` is :class:`BadInput` (a ``ValueError``) naming it and why, any other
+    unknown keyword ``TypeError`` (as for any function)."""
+    for name in sorted(kwargs):
+        if name in _ROBOT_ONLY:
+            pipeline = (
+                "a 2-link arm with limits or shapes (or not of the paper's model) is planned by the arm pipeline"
+                if arm.joints == 2
+                else f"an arm of {arm.joints} links is planned by the arm pipeline"
+            )
+            expected = f"no {name} for this arm (the keywords {', '.join(sorted(_ARM_KEYWORDS))})"
+            raise BadInput(
+                f"{function}: {name} does not apply to this Arm: {pipeline}, and {_ROBOT_ONLY[name]}; drop {name}",
+                kind="invalid_parameter",
+                details={"name": name, "expected": expected},
+            )
+        if name not in _ARM_KEYWORDS:
+            raise TypeError(f"{function}() got an unexpected keyword argument {name!r}")
+
+
+def plan(robot: _Union[Robot, Arm], start: _Any, goal: _Any = None, T: _Any = None, **kwargs: _Any) -> Plan:
     """Plans a motion of ``robot`` (a :class:`Robot`, or an :class:`Arm` of any number of
-    links) from ``start`` to ``goal`` in ``T`` seconds and certifies it.
+    links) from ``start`` to ``goal`` in ``T`` seconds and certifies it; the result is a
+    :class:`Plan` for every robot (``ArmPlan`` is another name of the class).
 
-    A :class:`Robot`, or a 2-link :class:`Arm` that is the paper's model, takes every method and
-    keyword and returns a :class:`Plan`; any other :class:`Arm` takes ``method="optimal"`` or
-    ``"ecsa"`` and the keywords ``samples, torques, wrap, initial_velocity, tolerance,
-    harmonics, window, smooth_ends, cost, limits, obstacles, clearance, no_collide`` and returns
-    an :class:`ArmPlan` with the same arrays; its ``goal_ee`` (the command line's ``--to-ee``)
-    plans every branch of the arm's inverse kinematics that reaches the pose and keeps the
-    certified plan of least effort (``elbow`` only for a 2-link arm). Bad input raises
+    A :class:`Robot`, or a 2-link :class:`Arm` of the paper's model without limits or shapes of
+    its own, takes every method and keyword (the 2-link pipeline); any other :class:`Arm` (the
+    arm pipeline) takes ``method="optimal"`` or ``"ecsa"`` and the keywords ``samples, torques,
+    wrap, initial_velocity, tolerance, harmonics, window, smooth_ends, cost, limits, obstacles,
+    clearance, no_collide``: ``transform`` (the NFA's) is :class:`BadInput` (a ``ValueError``)
+    naming it and why, an unknown keyword ``TypeError``. Its ``goal_ee`` (the command line's
+    ``--to-ee``) plans every branch of the arm's inverse kinematics that reaches the pose and
+    keeps the certified plan of least effort (``elbow`` only for a 2-link arm). Bad input raises
     :class:`BadInput`, a plan that is not certified :class:`NotCertified`.
 
     ``T="auto"`` (the command line's ``--time auto``; issue 20 item 4), for an :class:`Arm` of any
@@ -93,27 +139,24 @@ def plan(robot: _Union[Robot, Arm], start: _Any, goal: _Any = None, T: _Any = No
             details={"name": 'T="auto"', "value": 2, "expected": expected},
         )
     if isinstance(robot, Arm):
-        # An arm's own limits (its robot file) stay with it for T="auto".
-        if robot.joints == 2 and not arm_only and not auto:
-            try:
-                robot = robot.to_robot()
-            except BadInput:
-                pass
-        if isinstance(robot, Arm):
-            goal_ee = kwargs.pop("goal_ee", None)
-            elbow = kwargs.pop("elbow", None)
-            unknown = sorted(set(kwargs) - _ARM_KEYWORDS)
-            if unknown:
-                raise BadInput(
-                    f"plan: {', '.join(unknown)} not available for an arm of {robot.joints} link(s): "
-                    f"expected only {', '.join(sorted(_ARM_KEYWORDS | {'goal_ee', 'elbow'}))}"
-                )
-            if goal_ee is not None or elbow is not None:
-                return _plan_arm_to_pose(robot, start, goal, T, goal_ee, elbow, **kwargs)
-            if goal is None or T is None:
-                raise BadInput("plan: an arm takes start, goal (or goal_ee) and T (n + 1 angles each, T in s)")
-            return _plan_arm(robot, start, goal, T, **kwargs)
+        if arm_only or auto or _arm_pipeline(robot):
+            return _plan_by_arm_pipeline("plan", robot, start, goal, T, kwargs)
+        robot = robot.to_robot()
     return _plan_robot(robot, start, goal, T, **kwargs)
+
+
+def _plan_by_arm_pipeline(function: str, arm: Arm, start: _Any, goal: _Any, T: _Any, kwargs: dict) -> Plan:
+    """:func:`plan` of ``arm`` by the arm pipeline (the native ``plan_arm``), its keywords
+    checked first (:func:`_check_arm_keywords`)."""
+    kwargs = dict(kwargs)
+    goal_ee = kwargs.pop("goal_ee", None)
+    elbow = kwargs.pop("elbow", None)
+    _check_arm_keywords(function, arm, kwargs)
+    if goal_ee is not None or elbow is not None:
+        return _plan_arm_to_pose(arm, start, goal, T, goal_ee, elbow, **kwargs)
+    if goal is None or T is None:
+        raise BadInput(f"{function}: an arm takes start, goal (or goal_ee) and T (n + 1 angles each, T in s)")
+    return _plan_arm(arm, start, goal, T, **kwargs)
 
 
 def _plan_arm_to_pose(arm: Arm, start: _Any, goal: _Any, T: _Any, goal_ee: _Any, elbow: _Any, **kwargs: _Any) -> _Any:
@@ -162,7 +205,7 @@ def compare(
     (default :data:`METHODS`: optimal, NFA and ECSA) and returns :class:`Plan` values. Any other
     :class:`Arm` (or a robot given ``limits``, ``obstacles``, ``clearance`` or ``no_collide``) is
     compared by the arm pipeline: by default ``optimal`` and ``ecsa`` (``optimal`` alone for a
-    2-link arm there), as :class:`ArmPlan` values with the keywords of :func:`plan` for an arm;
+    2-link arm there), as :class:`Plan` values with the keywords of :func:`plan` for an arm;
     the NFA is refused with :class:`BadInput` (the paper's normal form, Eq. 10, is for two
     joints). Each method takes its own keywords and ignores the others'. With ``strict=False``
     a method without a certified plan maps to its exception instead of raising it; bad input
@@ -170,11 +213,8 @@ def compare(
     arm_only = any(kwargs.get(k) is not None for k in _ARM_ONLY)
     if arm_only and isinstance(robot, Robot):
         robot = Arm.from_robot(robot)
-    if isinstance(robot, Arm) and robot.joints == 2 and not arm_only:
-        try:
-            robot = robot.to_robot()
-        except BadInput:
-            pass
+    if isinstance(robot, Arm) and not arm_only and not _arm_pipeline(robot):
+        robot = robot.to_robot()
     if not isinstance(robot, Arm):
         return _compare_robot(robot, start, goal, T, methods=methods, strict=strict, **kwargs)
     served = ("optimal",) if robot.joints == 2 else ("optimal", "ecsa")
@@ -212,8 +252,9 @@ def compare(
     return out
 
 
-def plan_arm(arm: _Union[Robot, Arm], start: _Any, goal: _Any, T: float, **kwargs: _Any) -> ArmPlan:
-    """Deprecated alias: :func:`plan` takes any arm."""
+def plan_arm(arm: _Union[Robot, Arm], start: _Any, goal: _Any, T: float, **kwargs: _Any) -> Plan:
+    """Deprecated alias: :func:`plan` takes any arm. Plans ``arm`` (a 2-link :class:`Robot`
+    converted) by the arm pipeline, the native function that :func:`plan` calls for an arm."""
     _warnings.warn("freefloat.plan_arm is deprecated: use freefloat.plan(arm, ...)", DeprecationWarning, stacklevel=2)
     return _plan_arm(arm, start, goal, T, **kwargs)
 

@@ -24,9 +24,11 @@ class FreefloatError(Exception):
         self.details = self.numbers
 
 
-class BadInput(FreefloatError):
+class BadInput(FreefloatError, ValueError):
     """The input is at fault (the CLI's exit code 2): a parameter out of range, an unknown
-    option, an unreadable robot file, a transformation that does not apply to this robot.
+    option, an unreadable robot file, a transformation that does not apply to this robot, a
+    keyword that does not apply to this robot (``transform`` for an :class:`freefloat.Arm`). A
+    ``ValueError``, so ``except ValueError`` catches it too.
 
     ``name``, ``value`` and ``expected`` are set for a rejected parameter, else None."""
 

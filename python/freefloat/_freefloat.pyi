@@ -527,6 +527,10 @@ class Arm:
     def b(self) -> float:
         """Mounting point of joint 1 along the base's Y axis [m]."""
     @property
+    def constrained(self) -> bool:
+        """The arm carries limits or shapes of its own (its robot file's): ``freefloat.plan``
+        then plans it by the arm pipeline, which checks them, even with 2 links."""
+    @property
     def links(self) -> list[dict[str, float]]:
         """The links, base outwards, as dicts ``{"length", "com", "mass", "inertia"}`` (a new
         list on each access)."""

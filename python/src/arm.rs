@@ -211,6 +211,13 @@ impl PyArm {
     fn joints(&self) -> usize {
         self.inner.joints()
     }
+    /// The arm carries limits or shapes of its own (its robot file's `[limits]`, `[[link.shape]]`
+    /// ...): `freefloat.plan` then plans it by the arm pipeline, which checks them, even with
+    /// 2 links.
+    #[getter]
+    fn constrained(&self) -> bool {
+        !self.inner.limits.is_empty() || !self.inner.geometry.is_empty()
+    }
     /// Base mass [kg].
     #[getter(M)]
     fn base_mass(&self) -> f64 {
