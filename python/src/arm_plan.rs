@@ -151,10 +151,15 @@ pub fn plan_arm<'py>(
         .map_err(BindingError::from)
         .py_result(py)?;
     if n == 2 && method != Method::Optimal {
-        // The library's reason ("another number of links") is not this arm's: point to `plan`.
-        let message = format!("plan_arm has no method={:?} for a 2-link arm", method.name());
-        let expected =
-            "method=\"optimal\"; the NFA and ECSA plan a 2-link arm with freefloat.plan(arm.to_robot(), ...)";
+        // The library's reason ("another number of links") is not this arm's: point to the
+        // 2-link pipeline, which has no limits or shapes.
+        let message = format!(
+            "the arm pipeline has no method={:?} for a 2-link arm (freefloat.plan takes it there when the arm has \
+             limits or shapes, or is not of the paper's model)",
+            method.name()
+        );
+        let expected = "method=\"optimal\"; the NFA and ECSA plan the 2-link robot without limits or shapes: \
+             freefloat.plan(arm.to_robot(), ...)";
         return Err(
             BindingError::Key { kind: "invalid_parameter", name: "method".into(), message, expected }.into_pyerr(py)
         );
