@@ -3,7 +3,7 @@
 
 use freefloat::planners::arm::{ArmRequest, plan_arm};
 use freefloat::planners::chain::ChainProblem;
-use freefloat::track::{Controller, Disturbances, Perturbation, TrackOptions, track as run_track};
+use freefloat::track::{Controller, Disturbances, Perturbation, ReplanOptions, TrackOptions, track as run_track};
 use freefloat::{Arm, Method};
 use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
@@ -50,7 +50,7 @@ fn controller(name: &str) -> Result<Controller, BindingError> {
 #[pyo3(signature = (
     robot, start, goal, T, *, controller = "adaptive", true_robot = None, perturb = 0.0,
     perturb_mount = 0.0, torque_noise = 0.0, q_noise = 0.0, dq_noise = 0.0, rate = 1000.0,
-    replan_rate = 5.0, seed = 0
+    replan_rate = 5.0, margin = 0.02, seed = 0
 ))]
 #[allow(non_snake_case, clippy::too_many_arguments)]
 pub fn track<'py>(
@@ -68,6 +68,7 @@ pub fn track<'py>(
     dq_noise: f64,
     rate: f64,
     replan_rate: f64,
+    margin: f64,
     seed: u64,
 ) -> PyResult<Bound<'py, PyDict>> {
     let model = arm_of("robot", &robot)?;
@@ -76,6 +77,7 @@ pub fn track<'py>(
     let controller = self::controller(controller).py_result(py)?;
     let mut options = TrackOptions { controller, rate, ..Default::default() };
     options.replan.rate = replan_rate;
+    options.replan.margin = margin;
     options.disturbances = Disturbances { torque_noise, q_noise, dq_noise, ..Default::default() };
     // Every option and budget before planning (the library's checks, as the command line's).
     options.validate().py_result(py)?;
@@ -88,7 +90,9 @@ pub fn track<'py>(
                 Some(t) => t,
                 None => perturbation.apply(&model, seed)?,
             };
-            let planned = plan_arm(&model, Method::Optimal, &ArmRequest::new(problem.clone()))?;
+            // The plan keeps the margin beyond the clearance; the run is judged at the clearance.
+            let planning = ReplanOptions::planning_model(&model, options.replan.margin);
+            let planned = plan_arm(&planning, Method::Optimal, &ArmRequest::new(problem.clone()))?;
             planned.certified()?;
             Ok(run_track(&model, &problem, &planned.plan, &truth, &options, seed)?)
         })

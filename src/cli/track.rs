@@ -71,7 +71,12 @@ fn options(args: &TrackArgs, n: usize) -> anyhow::Result<TrackOptions> {
             let default = Gains::for_rate(args.rate);
             Gains { kp: args.kp.unwrap_or(default.kp), kd: args.kd.unwrap_or(default.kd) }
         }),
-        replan: ReplanOptions { rate: args.replan_rate, final_window: args.final_window, ..Default::default() },
+        replan: ReplanOptions {
+            rate: args.replan_rate,
+            final_window: args.final_window,
+            margin: args.margin,
+            ..Default::default()
+        },
         identify: IdentifyOptions { forgetting_time: args.forgetting, ..Default::default() },
         disturbances: Disturbances {
             torque_noise: args.torque_noise,
@@ -153,7 +158,9 @@ pub fn run(args: &TrackArgs) -> anyhow::Result<ExitCode> {
         TrackOptions { controller, record: options.record && args.trials.is_none(), ..options.clone() }
             .check_budget(problem.horizon)?;
     }
-    let planned = plan_arm(&robot, Method::Optimal, &ArmRequest::new(problem.clone()))?;
+    // The plan keeps the margin beyond the clearance; the runs are judged at the clearance.
+    let planning = ReplanOptions::planning_model(&robot, options.replan.margin);
+    let planned = plan_arm(&planning, Method::Optimal, &ArmRequest::new(problem.clone()))?;
     planned.certified()?;
     let plan = &planned.plan;
     if let Some(trials) = args.trials {

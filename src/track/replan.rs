@@ -38,6 +38,13 @@ pub struct ReplanOptions {
     /// is nothing to correct, and each re-plan costs the hold's discretisation error of a
     /// fresh, shorter plan; default 1e-7.
     pub threshold: f64,
+    /// The clearance the plans keep beyond the model's \[m\] (issue 21 item 6): the first plan
+    /// and every re-plan keep `clearance + margin` ([`ReplanOptions::planning_model`]), the run
+    /// fails only under `clearance` (the true robot is not the model: a plan that grazes a body
+    /// at its clearance leaves the perturbed robot no room); default 0.02 m (docs/spec.md §3,
+    /// `track`). A re-plan from a state already inside the margin keeps half of what is left
+    /// ([`Replanner::replan`]). Nothing changes on a robot without shapes.
+    pub margin: f64,
     /// The planner's options: a coarse basis, one target, one finalist, the goal taken
     /// literally (the representative of the first plan, `ChainProblem::wrap = false`). Each
     /// re-plan starts from the measured joint velocity (`ChainProblem::initial_velocity`) and
@@ -52,6 +59,7 @@ impl Default for ReplanOptions {
             final_window: 0.25,
             accept: 1e-6,
             threshold: 1e-7,
+            margin: 0.02,
             planner: ChainOptions {
                 coarse_spans: 6,
                 max_spans: 6,
@@ -85,10 +93,23 @@ impl ReplanOptions {
         if !(self.threshold.is_finite() && self.threshold >= 0.0) {
             return bad("replan threshold", self.threshold, "a deviation >= 0 [rad]");
         }
+        if !(self.margin.is_finite() && (0.0..=1.0).contains(&self.margin)) {
+            return bad("margin", self.margin, "a clearance margin in [0, 1] m");
+        }
         if !(self.accept > 0.0) {
             return bad("replan accept tolerance", self.accept, "a positive number [rad]");
         }
         self.planner.validate()
+    }
+
+    /// The model the plans are made on: `model` keeping its clearance plus `margin` \[m\]
+    /// ([`ReplanOptions::margin`]); `model` itself without shapes or obstacles.
+    pub fn planning_model(model: &Arm, margin: f64) -> Arm {
+        let mut arm = model.clone();
+        if !arm.geometry.is_empty() {
+            arm.geometry.clearance += margin;
+        }
+        arm
     }
 }
 
@@ -165,8 +186,16 @@ impl Replanner {
             initial_velocity: measured.dq[1..].to_vec(),
             wrap: false,
         };
-        if self.planner.as_ref().is_none_or(|p| p.arm() != model) {
-            self.planner = Some(ChainPlanner::new(model.clone(), self.options.planner.clone()));
+        // The margin beyond the clearance, half of what is left where the measured state is
+        // already inside it (the rows near `t = 0` could not hold the full margin).
+        let geometry = &model.geometry;
+        let margin = match geometry.min_clearance(model, &measured.q) {
+            Some(d) => self.options.margin.min(0.5 * (d.distance - geometry.clearance)).max(0.0),
+            None => 0.0,
+        };
+        let model = ReplanOptions::planning_model(model, margin);
+        if self.planner.as_ref().is_none_or(|p| p.arm() != &model) {
+            self.planner = Some(ChainPlanner::new(model, self.options.planner.clone()));
         }
         let planner = self.planner.as_mut()?;
         let knots = Self::knots_for(current, t, horizon);

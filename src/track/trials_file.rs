@@ -259,6 +259,8 @@ pub fn run_description(
     let limit = if d.torque_limit.is_finite() { format!("{:?}", d.torque_limit) } else { "none".into() };
     let bias = if d.torque_bias.is_empty() { "none".into() } else { list(&d.torque_bias) };
     let (replan, identify) = (&options.replan, &options.identify);
+    // The plans' margin beyond the clearance changes the plans only where there are shapes.
+    let margin = if model.geometry.is_empty() { String::new() } else { format!(" margin={:?}", replan.margin) };
     format!(
         "trials={} seed={} controllers={} success_tolerance={:?} truth={truth} links={} robot={} start={} goal={} \
          horizon={:?} start_velocity={} wrap={} planner={planner} rate={:?} substeps={} kp={:?} kd={:?} \
@@ -291,7 +293,7 @@ pub fn run_description(
         d.q_noise,
         d.dq_noise,
         format!("{:?}", replan.planner).replace(' ', ""),
-    )
+    ) + &margin
 }
 
 /// What a merge needs of a run's description: the number of trials, the seed, the controllers

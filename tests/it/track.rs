@@ -54,6 +54,8 @@ fn invalid_options_exit_2_with_the_flag_named() {
         (vec!["--rate", "0"], "rate"),
         (vec!["--rate", "inf"], "rate"),
         (vec!["--replan-rate", "5000"], "replan-rate"),
+        (vec!["--margin", "-0.01"], "margin"),
+        (vec!["--margin", "nan"], "margin"),
         (vec!["--kp", "-1"], "kp"),
         (vec!["--kd", "nan"], "kd"),
         (vec!["--torque-noise", "-0.1"], "torque-noise"),

@@ -30,6 +30,12 @@ impl ChainPlanner {
         clock: Instant,
     ) -> Result<ChainPlan, Error> {
         let clears = |p: &ChainPlan| p.verification.clearance.is_none_or(|r| r.holds());
+        // A re-plan: the rest of a plan that clears, solved with every row from itself first
+        // (without the rows it slides into the unconstrained basin, e.g. 0.27 m inside the base
+        // on the SPART-like arm's track, and no repair pulls it back out in time).
+        if let Some(plan) = self.warm_start(problem, &mut None, tables, clock)?.filter(clears) {
+            return Ok(plan);
+        }
         let own = ChainPlanner { obstacle_rows: false, ..self.clone() };
         let with_own_rows = super::limits::keeps_clearance(&own);
         let free = ChainPlanner { clearance_rows: false, ..self.clone() }.plan(problem);

@@ -6,6 +6,7 @@ use std::time::Instant;
 
 use super::discrete::{Discretisation, Table, Targets};
 use super::motion::{ChainPlan, ChainStats};
+use super::starts::Prepared;
 use super::{ChainPlanner, ChainProblem};
 use crate::error::Error;
 use crate::model::InputError;
@@ -78,17 +79,8 @@ impl ChainPlanner {
     pub(super) fn search(&self, problem: &ChainProblem, tables: &Tables, clock: Instant) -> Result<ChainPlan, Error> {
         let o = &self.options;
         let mut prepared = None;
-        if let Some(path) = &o.warm_start {
-            // A literal goal has one representative, found without the seeds (whose loops and
-            // coils cost a re-plan more than its solve does).
-            let targets = if problem.wrap {
-                prepared.insert(self.prepare(problem)?).iter().map(|p| p.targets.clone()).collect()
-            } else {
-                self.literal_targets(problem)
-            };
-            if let Some(plan) = self.warm(problem, path, &targets, tables, clock)? {
-                return Ok(plan);
-            }
+        if let Some(plan) = self.warm_start(problem, &mut prepared, tables, clock)? {
+            return Ok(plan);
         }
         let prepared = match prepared {
             Some(p) => p,
@@ -252,6 +244,26 @@ impl ChainPlanner {
         self.refine(problem, c, tables).map(Some)
     }
 
+    /// The plan of [`super::ChainOptions::warm_start`] when there is one ([`Self::warm`]);
+    /// `prepared` keeps the representatives of a goal taken modulo 2 pi for the search.
+    pub(super) fn warm_start(
+        &self,
+        problem: &ChainProblem,
+        prepared: &mut Option<Vec<Prepared>>,
+        tables: &Tables,
+        clock: Instant,
+    ) -> Result<Option<ChainPlan>, Error> {
+        let Some(path) = &self.options.warm_start else { return Ok(None) };
+        // A literal goal has one representative, found without the seeds (whose loops and
+        // coils cost a re-plan more than its solve does).
+        let targets = if problem.wrap {
+            prepared.insert(self.prepare(problem)?).iter().map(|p| p.targets.clone()).collect()
+        } else {
+            self.literal_targets(problem)
+        };
+        self.warm(problem, path, &targets, tables, clock)
+    }
+
     /// The warm start's plan: its projection on the coarse basis of the representative it ends
     /// at, solved, refined and certified; `None` when no representative matches or any step
     /// fails (the full search follows).
@@ -294,7 +306,12 @@ impl ChainPlanner {
             return Ok(None);
         }
         let iterations = c.iterations;
-        Ok(self.certified(problem, &c, 1, iterations, clock).ok())
+        // Under the clearance between the rows' points, solved again keeping more (issue 21);
+        // a plan that still does not clear is returned for the caller to judge.
+        Ok(match self.certified_clear(problem, &c, 1, iterations, clock, tables) {
+            Ok(Ok(plan) | Err(plan)) => Some(plan),
+            Err(_) => None,
+        })
     }
 
     /// The discretisation of `targets` on `spans` uniform spans and `nodes` nodes per span.
