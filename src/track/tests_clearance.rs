@@ -143,7 +143,7 @@ fn the_plans_keep_the_margin_and_the_run_is_judged_at_the_clearance() {
     let options = TrackOptions::default();
     let margin = options.replan.margin;
     let planning = ReplanOptions::planning_model(&model, margin);
-    assert_eq!(planning.geometry.clearance, margin);
+    assert!((planning.geometry.clearance - margin).abs() < 1e-15, "{}", planning.geometry.clearance);
     let planned = plan_arm(&planning, Method::Optimal, &ArmRequest::new(problem.clone())).unwrap();
     planned.certified().unwrap();
     let kept = planned.verification().clearance.unwrap();
