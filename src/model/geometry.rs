@@ -167,6 +167,10 @@ fn bad(name: &str, value: f64, expected: &'static str) -> InputError {
 /// points are already placed in one frame \[m\]: the gap when they are apart, minus the
 /// penetration depth when they overlap (module docs). `a` and `b` must not be empty.
 pub fn signed_distance<D: Scalar>(a: &[[D; 2]], ra: f64, b: &[[D; 2]], rb: f64) -> D {
+    // Two discs (a point each): the hull of their difference is that one point.
+    if let ([p], [q]) = (a, b) {
+        return origin_signed_distance(&[[p[0] - q[0], p[1] - q[1]]]) - D::from(ra + rb);
+    }
     let mut diff = Vec::with_capacity(a.len() * b.len());
     for p in a {
         for q in b {

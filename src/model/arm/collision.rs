@@ -216,26 +216,52 @@ impl Geometry {
         let poses = body_poses(arm, q);
         let zero = D::from(0.0);
         let inertial = Pose { x: zero, y: zero, angle: zero };
-        let pose = |body: Body| match body {
-            Body::Base => poses[0],
-            Body::Link(k) => poses[k],
-            Body::Obstacle(_) => inertial,
+        let n = arm.joints();
+        // Every body's shapes placed once (base, links 1..n, obstacles), and their real parts.
+        let bodies = std::iter::once(Body::Base)
+            .chain((1..=n).map(Body::Link))
+            .chain((1..=self.obstacles.len()).map(Body::Obstacle));
+        let placed: Vec<Vec<Vec<[D; 2]>>> = bodies
+            .map(|body| {
+                let pose = match body {
+                    Body::Base => poses[0],
+                    Body::Link(k) => poses[k],
+                    Body::Obstacle(_) => inertial,
+                };
+                self.shapes(body).iter().map(|s| s.placed(&pose)).collect()
+            })
+            .collect();
+        let real: Vec<Vec<Vec<[f64; 2]>>> = placed
+            .iter()
+            .map(|b| b.iter().map(|s| s.iter().map(|p| [p[0].re(), p[1].re()]).collect()).collect())
+            .collect();
+        let index = |body: Body| match body {
+            Body::Base => 0,
+            Body::Link(k) => k,
+            Body::Obstacle(k) => n + k,
         };
-        self.pairs(arm.joints())
+        self.pairs(n)
             .into_iter()
             .map(|(a, b)| {
-                let (pa, pb) = (pose(a), pose(b));
-                let mut best: Option<D> = None;
-                for sa in self.shapes(a) {
-                    let xa = sa.placed(&pa);
-                    for sb in self.shapes(b) {
-                        let d = signed_distance(&xa, sa.radius, &sb.placed(&pb), sb.radius);
-                        if best.is_none_or(|x| d.re() < x.re()) {
-                            best = Some(d);
+                let (ia, ib) = (index(a), index(b));
+                let (sa, sb) = (self.shapes(a), self.shapes(b));
+                // The pair of shapes of least distance by the real parts (a union's distance is
+                // its least), then that pair alone in `D`: the same value and derivatives as
+                // every pair in `D`, the first least kept.
+                let mut best: Option<(usize, usize, f64)> = None;
+                for (i, (shape_a, xa)) in sa.iter().zip(&real[ia]).enumerate() {
+                    for (j, (shape_b, xb)) in sb.iter().zip(&real[ib]).enumerate() {
+                        let d = signed_distance(xa, shape_a.radius, xb, shape_b.radius);
+                        if best.is_none_or(|(_, _, x)| d < x) {
+                            best = Some((i, j, d));
                         }
                     }
                 }
-                PairClearance { a, b, distance: best.unwrap_or(D::from(f64::INFINITY)) }
+                let distance = match best {
+                    Some((i, j, _)) => signed_distance(&placed[ia][i], sa[i].radius, &placed[ib][j], sb[j].radius),
+                    None => D::from(f64::INFINITY),
+                };
+                PairClearance { a, b, distance }
             })
             .collect()
     }
