@@ -158,12 +158,15 @@ pub struct Replanner {
     options: ReplanOptions,
     /// The planner of the last model (its constants are computed once per model).
     planner: Option<ChainPlanner>,
+    /// The clearance reserve of the last accepted re-plan \[m\]
+    /// ([`crate::planners::chain::ChainStats::clearance_reserve`]).
+    reserve: f64,
 }
 
 impl Replanner {
     /// Re-plans toward `goal` (`n + 1` angles), taken literally (the end of the first plan).
     pub fn new(goal: Vec<f64>, options: ReplanOptions) -> Self {
-        Self { goal, options, planner: None }
+        Self { goal, options, planner: None, reserve: 0.0 }
     }
 
     /// A plan on `model` from the measured state at time `t` to the goal at `horizon` \[s\],
@@ -212,12 +215,19 @@ impl Replanner {
         (planner.options.coarse_spans, planner.options.max_spans) = (spans, spans);
         planner.options.knots = knots;
         planner.options.warm_start = Self::rest_of(current, t, &times);
+        // The rows keep what the last re-plan's certificate needed beyond them (at most the
+        // margin), so that this one does not dip under the clearance between them and solve again.
+        planner.options.clearance_reserve = self.reserve.min(margin);
         let plan = planner.plan(&problem).ok()?;
         // A plan whose verified motion comes closer than the model's clearance is refused (issue
         // 21): the last plan stays, as for any refused re-plan.
         plan.verification.collision().ok()?;
         let e = plan.verification.final_error;
-        (e.is_finite() && e <= self.options.accept).then_some(plan)
+        let accepted = e.is_finite() && e <= self.options.accept;
+        if accepted {
+            self.reserve = plan.stats.clearance_reserve;
+        }
+        accepted.then_some(plan)
     }
 
     /// The spans of a re-plan's basis from `t` to `horizon`: enough for the rest of `current` to

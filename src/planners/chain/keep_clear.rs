@@ -136,7 +136,10 @@ impl ChainPlanner {
                 break;
             }
             match self.certified(problem, &again, seeds, iterations + again.iterations, clock) {
-                Ok(p) => plan = p,
+                Ok(p) => {
+                    plan = p;
+                    plan.stats.clearance_reserve += keep - required;
+                }
                 Err(_) => break,
             }
         }

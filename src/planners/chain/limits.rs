@@ -141,7 +141,10 @@ impl<'a> Limited<'a> {
             }
         }
         let base = arm.limits.base.map(|[lo, hi]| [lo + MARGIN * (hi - lo), hi - MARGIN * (hi - lo)]);
-        let clearance = planner.clearance_rows.then(|| clearance::Clearance::new(arm, planner.obstacle_rows)).flatten();
+        let clearance = planner
+            .clearance_rows
+            .then(|| clearance::Clearance::new(arm, planner.obstacle_rows, planner.options.clearance_reserve))
+            .flatten();
         Some(Self { disc, arm, connection, linear, torque, base, clearance, free })
     }
 
@@ -443,7 +446,7 @@ fn constrained(planner: &ChainPlanner) -> bool {
 /// True when `planner` solves with clearance rows: its arm has a pair of bodies (or a body and
 /// an obstacle, with obstacle rows on) that is checked, and the rows are on.
 pub(crate) fn keeps_clearance(planner: &ChainPlanner) -> bool {
-    planner.clearance_rows && clearance::Clearance::new(&planner.arm, planner.obstacle_rows).is_some()
+    planner.clearance_rows && clearance::Clearance::new(&planner.arm, planner.obstacle_rows, 0.0).is_some()
 }
 
 /// Keeps the goal representatives inside the ranges: each limited joint's goal is moved by whole

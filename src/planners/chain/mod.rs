@@ -151,6 +151,11 @@ pub struct ChainOptions {
     /// knots of the reference it corrects, whose rest is then a spline of the basis and its
     /// warm start exact. Default none.
     pub knots: Option<Vec<f64>>,
+    /// Clearance the clearance rows keep beyond the clearance asked for and their own margin
+    /// \[m\] (issue 21): a re-plan takes what its reference's certificate needed
+    /// ([`ChainStats::clearance_reserve`]), so that it does not dip under the clearance between
+    /// the rows' points and solve again. At most 1 m; default 0.
+    pub clearance_reserve: f64,
 }
 
 /// Sampled `(t, theta, theta')` of `n` joints, interpolated by cubic Hermite polynomials.
@@ -226,6 +231,7 @@ impl Default for ChainOptions {
             sqp: SqpOptions::default(),
             warm_start: None,
             knots: None,
+            clearance_reserve: 0.0,
         }
     }
 }
@@ -254,6 +260,9 @@ impl ChainOptions {
         }
         if !(self.max_loop_radius > 0.0 && self.max_loop_radius < 10.0) {
             return bad("max_loop_radius", self.max_loop_radius, "a radius in (0, 10) rad");
+        }
+        if !(0.0..=1.0).contains(&self.clearance_reserve) {
+            return bad("clearance_reserve", self.clearance_reserve, "a clearance in [0, 1] m");
         }
         if !(self.refinement_tolerance > 0.0) {
             return bad("refinement_tolerance", self.refinement_tolerance, "a positive relative change");

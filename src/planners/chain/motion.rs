@@ -58,6 +58,11 @@ pub struct ChainStats {
     pub quadrature_nodes: usize,
     /// Wall time of the planning (without the certificate) \[s\].
     pub plan_seconds: f64,
+    /// Clearance the clearance rows kept beyond the clearance asked for and their own margin
+    /// \[m\]: [`super::ChainOptions::clearance_reserve`] and what the certificate's retries
+    /// added (the distance dips between the rows' points); 0 without shapes.
+    #[serde(skip)]
+    pub clearance_reserve: f64,
 }
 
 /// One point of a chain motion.

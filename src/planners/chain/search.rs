@@ -442,6 +442,7 @@ impl ChainPlanner {
         plan.stats.peak_velocity = peak_velocity(&plan);
         plan.stats.plan_seconds = clock.elapsed().as_secs_f64();
         let o = &self.options;
+        plan.stats.clearance_reserve = o.clearance_reserve;
         plan.verification = verify_chain(&self.arm, &plan, &problem.start, &problem.goal, &o.ode, o.tolerance)?;
         if plan.verification.certified {
             Ok(plan)
@@ -474,6 +475,7 @@ impl ChainStats {
             spans: c.spans,
             quadrature_nodes: c.nodes,
             plan_seconds: f64::NAN,
+            clearance_reserve: 0.0,
         }
     }
 }

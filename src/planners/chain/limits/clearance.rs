@@ -48,7 +48,8 @@ const NEAR: f64 = 0.1;
 /// The clearance rows of an arm with shapes.
 #[derive(Debug, Clone)]
 pub(super) struct Clearance {
-    /// The least distance each row keeps \[m\]: the clearance asked for and [`MARGIN`].
+    /// The least distance each row keeps \[m\]: the clearance asked for, [`MARGIN`] and the
+    /// reserve.
     keep: f64,
     /// `1 / L` \[1/m\].
     scale: f64,
@@ -57,9 +58,10 @@ pub(super) struct Clearance {
 }
 
 impl Clearance {
-    /// The rows for the arm's geometry, the obstacles' pairs only with `obstacles`; `None` when
-    /// no pair has a row.
-    pub(super) fn new(arm: &crate::model::arm::Arm, obstacles: bool) -> Option<Self> {
+    /// The rows for the arm's geometry, the obstacles' pairs only with `obstacles`, each keeping
+    /// `reserve` \[m\] more ([`crate::planners::chain::ChainOptions::clearance_reserve`]);
+    /// `None` when no pair has a row.
+    pub(super) fn new(arm: &crate::model::arm::Arm, obstacles: bool, reserve: f64) -> Option<Self> {
         let geometry: &Geometry = &arm.geometry;
         let pairs = geometry.pairs(arm.joints());
         let against = |&(_, b): &(Body, Body)| matches!(b, Body::Obstacle(_));
@@ -68,7 +70,7 @@ impl Clearance {
             return None;
         }
         let mean = arm.links.iter().map(|l| l.length).sum::<f64>() / arm.joints() as f64;
-        Some(Self { keep: geometry.clearance + MARGIN, scale: 1.0 / mean.max(1e-3), obstacles })
+        Some(Self { keep: geometry.clearance + MARGIN + reserve, scale: 1.0 / mean.max(1e-3), obstacles })
     }
 }
 
