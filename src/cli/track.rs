@@ -12,9 +12,11 @@ use freefloat::model::arm::Arm;
 use freefloat::plan::clearance::ClearanceReport;
 use freefloat::planners::arm::{ArmRequest, plan_arm};
 use freefloat::planners::chain::ChainProblem;
+use freefloat::report::arm_figure::least_clearance_mark;
+use freefloat::report::arm_limit_bounds;
 use freefloat::report::io::write_atomic;
 use freefloat::report::numbers::{error_number, number, scientific};
-use freefloat::report::plot::{Panel, PictureFormat, PlanFigure, Series, plan_picture};
+use freefloat::report::plot::{Bound, Panel, PictureFormat, PlanFigure, Series, plan_picture};
 use freefloat::track::ArmMotion;
 use freefloat::track::trials_file::{self, RunSummary};
 use freefloat::track::{
@@ -191,7 +193,7 @@ pub fn run(args: &TrackArgs) -> anyhow::Result<ExitCode> {
         write_atomic(path, &history_csv(&runs[0])?)?;
     }
     if let (Some(path), Some(format)) = (&args.plot, picture) {
-        write_atomic(path, &plan_picture(&figure(&runs), format, path)?)?;
+        write_atomic(path, &plan_picture(&figure(&runs, &robot, options.disturbances.torque_limit), format, path)?)?;
     }
     match args.format {
         DomainFormat::Json => super::emit(&format!("{}\n", serde_json::to_string_pretty(&runs)?))?,
@@ -423,7 +425,7 @@ fn history_csv(run: &Tracked) -> anyhow::Result<Vec<u8>> {
 
 /// The picture of `--plot`: the reference once and every controller's run beside it (angles,
 /// torques, tracking errors), each series named by its controller.
-fn figure(runs: &[Tracked]) -> PlanFigure {
+fn figure(runs: &[Tracked], model: &Arm, torque_limit: f64) -> PlanFigure {
     let recorded: Vec<(&Tracked, &History)> = runs.iter().filter_map(|r| r.history.as_ref().map(|h| (r, h))).collect();
     let Some(&(first, reference)) = recorded.first() else { return PlanFigure::default() };
     let n = first.peak_torque.len();
@@ -461,20 +463,51 @@ fn figure(runs: &[Tracked]) -> PlanFigure {
         }
     }
     let names: Vec<&str> = recorded.iter().map(|(r, _)| r.controller.name()).collect();
+    let mut panels = vec![
+        panel("base angle", "phi [deg]", base),
+        panel("joint angles", "[deg]", joints),
+        panel("torques", "[N m]", torques),
+        panel("tracking error (actual - reference)", "[deg]", errors),
+    ];
+    // The model's declared limits (issue 20 item 7), dashed in the colour of the first run's
+    // curve: the base's range on the base panel, each joint's range on the joint panel (its
+    // reference is series j), each joint's torque limit and `--torque-limit` on the torques.
+    let [ranges, _, torque_limits] = arm_limit_bounds(model);
+    for b in ranges {
+        match b.series {
+            Some(0) => panels[0].bounds.push(b),
+            s => panels[1].bounds.push(Bound { series: s.map(|j| j - 1), ..b }),
+        }
+    }
+    panels[2].bounds = torque_limits;
+    if torque_limit.is_finite() {
+        for value in [torque_limit, -torque_limit] {
+            panels[2].bounds.push(Bound { value, label: "--torque-limit".into(), series: None });
+        }
+    }
+    // Each run's least clearance on the true robot (issue 21 item 7).
+    for &(r, _) in &recorded {
+        if let Some(c) = &r.clearance {
+            let mut mark = least_clearance_mark(c);
+            if recorded.len() > 1 {
+                // Short beside the line (the caption gives the pairs).
+                mark.label = format!("{} {:.1} mm", r.controller.name(), 1e3 * c.min);
+            }
+            panels.iter_mut().for_each(|p| p.marks.push(mark.clone()));
+        }
+    }
     PlanFigure {
         title: format!("closed loop: {}", names.join(", ")),
-        panels: vec![
-            panel("base angle", "phi [deg]", base),
-            panel("joint angles", "[deg]", joints),
-            panel("torques", "[N m]", torques),
-            panel("tracking error (actual - reference)", "[deg]", errors),
-        ],
+        panels,
         caption: recorded
             .iter()
             .map(|(r, _)| {
                 let peaks: Vec<String> = r.peak_torque.iter().map(|t| torque(*t)).collect();
+                let clearance = r.clearance.as_ref().map_or(String::new(), |c| {
+                    format!("; least clearance {:.1} mm ({} / {}, {:.2} s)", 1e3 * c.min, c.a, c.b, c.time)
+                });
                 format!(
-                    "{}: {}; {} re-plans ({} failed); peak torque {} N m",
+                    "{}: {}; {} re-plans ({} failed); peak torque {} N m{clearance}",
                     r.controller.name(),
                     failure(r).unwrap_or_else(|| format!("final error {} rad", error_number(r.final_error))),
                     r.replans,

@@ -216,16 +216,18 @@ fn draw_panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, panel: &Panel) 
             .draw_series(dashes.into_iter().map(|(a, c)| PathElement::new(vec![(a, b.value), (c, b.value)], style)))
             .map_err(e)?;
     }
-    for m in panel.marks.iter().filter(|m| m.x.is_finite()) {
+    for (k, m) in panel.marks.iter().filter(|m| m.x.is_finite()).enumerate() {
         let colour = RGBColor(m.colour.0, m.colour.1, m.colour.2);
         chart
             .draw_series(std::iter::once(PathElement::new(vec![(m.x, y0), (m.x, y1)], colour.stroke_width(2))))
             .map_err(e)?;
-        // The label on the side with more room.
+        // The label on the side with more room, one line lower per earlier mark (marks of
+        // nearby instants do not write over each other).
         let right = m.x - x0 > 0.6 * (x1 - x0);
         let (h, dx) = if right { (HPos::Right, -6) } else { (HPos::Left, 6) };
         let style = (FONT, 14).into_font().color(&colour).pos(Pos::new(h, VPos::Top));
-        let label = EmptyElement::at((m.x, y1)) + Text::new(m.label.clone(), (dx, 4), style);
+        let dy = 4 + 18 * k as i32;
+        let label = EmptyElement::at((m.x, y1)) + Text::new(m.label.clone(), (dx, dy), style);
         chart.draw_series(std::iter::once(label)).map_err(e)?;
     }
     Ok(())
