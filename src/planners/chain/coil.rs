@@ -57,6 +57,17 @@ impl Sites {
         Self { ranges, found: Vec::new() }
     }
 
+    /// Whether a coil `seed`, clipped into the position ranges of its plane's joints (as the
+    /// solve clips every seed), still winds round its centre: the centre inside the ranges (a
+    /// circle cut by a range's bound is flattened there but still closed round it; one centred
+    /// beyond the bound is flattened onto it and winds round nothing). True for another seed.
+    pub fn winds(&self, seed: Seed) -> bool {
+        let Seed::Coil { i, j, centre, .. } = seed else { return true };
+        [(i, centre[0]), (j, centre[1])]
+            .iter()
+            .all(|&(k, c)| self.ranges.get(k).copied().flatten().is_none_or(|[lo, hi]| (lo..=hi).contains(&c)))
+    }
+
     /// The [`sites`] of the plane `(i, j)` through `base`, inside the ranges when `ranged` (else
     /// as if the joints were unlimited), computed once.
     pub fn get(
@@ -323,6 +334,16 @@ mod tests {
                 assert!((lo - 1e-12..=hi + 1e-12).contains(&p[0]), "{p:?} at sample {k}");
             }
         }
+    }
+
+    /// A coil clipped into a range still winds round a centre inside it, not round one beyond
+    /// it; without ranges every coil winds.
+    #[test]
+    fn a_coil_centred_beyond_a_range_does_not_wind() {
+        let coil = |c: f64| Seed::Coil { i: 0, j: 1, centre: [c, 0.0], radius: 0.5, turns: 2 };
+        let limited = Sites::within(vec![Some([0.0, 1.0]), None]);
+        assert!(limited.winds(coil(0.9)) && !limited.winds(coil(1.1)) && !limited.winds(coil(-0.1)));
+        assert!(Sites::within(Vec::new()).winds(coil(7.0)));
     }
 
     /// The site's disc integral is the curvature integrated over the disc: against a fine polar

@@ -133,9 +133,9 @@ impl Line {
     /// arm also tries the one-turn coil and the loop toward the normal with its radius from the
     /// curvature at the line's midpoint (the two-joint planner's centred loop): on 50 random
     /// mounts of the paper's problem they hold the least effort on 4 where the others miss it
-    /// (by up to 2.2 times; `optimal::comparison`). In a plane with a joint's position range
-    /// (`sites` knows the ranges), also the coil at the site inside the range
-    /// ([`super::coil::sites`]) where it differs from the unlimited plane's.
+    /// (by up to 2.2 times; `optimal::comparison`). Where that coil is centred beyond a joint's
+    /// position range (`sites` knows the ranges), also the coil at the site inside the range
+    /// ([`super::coil::sites`]).
     pub fn loops(
         &self,
         connection: &Connection,
@@ -182,16 +182,17 @@ impl Line {
                 let sign = usize::from(needed < 0.0);
                 let site = sites.get(connection, &mid, i, j, max_radius, false)[sign];
                 let coil = self.coil(i, j, &site, needed, max_radius);
-                // In a plane with a position range, the coil above (at the unlimited plane's
-                // site) is clipped into the range by the solve and rides its bound, as the
-                // oracle's minima of issue 20's cases 11 and 19 do for half the horizon; the
-                // coil at the site inside the range winds there, as case 15's minimum does, where
-                // the range holds curvature of the rotation's sign (the site's disc integral is
-                // positive) enough for it in at most `MAX_TURNS` turns (else the coil would leave
-                // the range: its radius grows past the disc's).
+                // Where the coil above (at the unlimited plane's site) is centred beyond a
+                // position range, the solve clips it onto the range's bound, which it rides (as
+                // the oracle's minima of issue 20's cases 11 and 19 do for half the horizon) but
+                // never winds round anything; then also the coil at the site inside the range,
+                // which winds there as case 15's minimum does, where the range holds curvature of
+                // the rotation's sign (the site's disc integral is positive) enough for it in at
+                // most `MAX_TURNS` turns (else the coil would leave the range: its radius grows
+                // past the disc's).
                 let ranged = sites.get(connection, &mid, i, j, max_radius, true)[sign];
                 let fits = ranged.area > 0.0 && needed.abs() <= ranged.area * MAX_TURNS as f64;
-                let inside = (ranged != site && fits).then(|| self.coil(i, j, &ranged, needed, max_radius));
+                let inside = (!sites.winds(coil) && fits).then(|| self.coil(i, j, &ranged, needed, max_radius));
                 if matches!(coil, Seed::Coil { turns, .. } if turns >= 2) {
                     out.push(coil);
                     out.extend(inside);
