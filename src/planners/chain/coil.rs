@@ -25,31 +25,69 @@ pub const MAX_TURNS: usize = 64;
 /// largest.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CoilSite {
-    /// Centre `(theta_i, theta_j)` \[rad\] (any copy modulo 2 pi).
+    /// Centre `(theta_i, theta_j)` \[rad\] (any copy modulo 2 pi, except a coordinate inside a
+    /// position range, see `literal`).
     pub centre: [f64; 2],
+    /// Which coordinates lie inside a joint's position range: taken literally, never moved by
+    /// whole turns (a limited joint does not wrap).
+    pub literal: [bool; 2],
     /// Radius \[rad\].
     pub radius: f64,
     /// The signed curvature integral over the disc, of the site's sign \[rad\] (positive).
     pub area: f64,
 }
 
-/// The coil sites found in one planning call, by plane and the angles of the other joints.
+/// The coil sites found in one planning call, by plane, whether inside the joints' position
+/// ranges, and the angles of the other joints.
 #[derive(Debug, Default)]
-pub struct Sites(Vec<(SiteKey, [CoilSite; 2])>);
+pub struct Sites {
+    /// Each joint's position range \[rad\] (none: unlimited; an empty list: no joint limited).
+    ranges: Vec<Option<[f64; 2]>>,
+    found: Vec<(SiteKey, [CoilSite; 2])>,
+}
 
-/// A plane `(i, j)` and the bits of the other joints' angles.
-type SiteKey = (usize, usize, Vec<u64>);
+/// A plane `(i, j)`, whether its sites are inside ranges, and the bits of the other joints'
+/// angles.
+type SiteKey = (usize, usize, bool, Vec<u64>);
 
 impl Sites {
-    /// The [`sites`] of the plane `(i, j)` through `base`, computed once.
-    pub fn get(&mut self, connection: &Connection, base: &[f64], i: usize, j: usize, max_radius: f64) -> [CoilSite; 2] {
+    /// No sites yet, to be found inside the joints' position `ranges` \[rad\] (one per joint,
+    /// none where a joint is unlimited).
+    pub fn within(ranges: Vec<Option<[f64; 2]>>) -> Self {
+        Self { ranges, found: Vec::new() }
+    }
+
+    /// Whether a coil `seed`, clipped into the position ranges of its plane's joints (as the
+    /// solve clips every seed), still winds round its centre: the centre inside the ranges (a
+    /// circle cut by a range's bound is flattened there but still closed round it; one centred
+    /// beyond the bound is flattened onto it and winds round nothing). True for another seed.
+    pub fn winds(&self, seed: Seed) -> bool {
+        let Seed::Coil { i, j, centre, .. } = seed else { return true };
+        [(i, centre[0]), (j, centre[1])]
+            .iter()
+            .all(|&(k, c)| self.ranges.get(k).copied().flatten().is_none_or(|[lo, hi]| (lo..=hi).contains(&c)))
+    }
+
+    /// The [`sites`] of the plane `(i, j)` through `base`, inside the ranges when `ranged` (else
+    /// as if the joints were unlimited), computed once.
+    pub fn get(
+        &mut self,
+        connection: &Connection,
+        base: &[f64],
+        i: usize,
+        j: usize,
+        max_radius: f64,
+        ranged: bool,
+    ) -> [CoilSite; 2] {
+        let range = |k: usize| self.ranges.get(k).copied().flatten().filter(|_| ranged);
+        let ranges = [range(i), range(j)];
         let others = base.iter().enumerate().filter(|(k, _)| *k != i && *k != j).map(|(_, v)| v.to_bits()).collect();
-        let key = (i, j, others);
-        if let Some((_, s)) = self.0.iter().find(|(k, _)| *k == key) {
+        let key = (i, j, ranges.iter().any(Option::is_some), others);
+        if let Some((_, s)) = self.found.iter().find(|(k, _)| *k == key) {
             return *s;
         }
-        let s = sites(connection, base, i, j, max_radius);
-        self.0.push((key, s));
+        let s = sites(connection, base, i, j, max_radius, ranges);
+        self.found.push((key, s));
         s
     }
 }
@@ -63,8 +101,22 @@ pub fn curvature(connection: &Connection, theta: &[f64], i: usize, j: usize, loc
 }
 
 /// The coil sites of the plane `(i, j)` through `base` (the other joints held there) for a
-/// positive and a negative rotation, in that order.
-pub fn sites(connection: &Connection, base: &[f64], i: usize, j: usize, max_radius: f64) -> [CoilSite; 2] {
+/// positive and a negative rotation, in that order. A coordinate with a position range
+/// (`ranges`, of `theta_i` and `theta_j`) is searched inside it, literally, and the disc kept
+/// inside it (a limited joint cannot wind past its range: on issue 20's oracle case 15 the
+/// unlimited plane's site lies 0.16 rad beyond the range, its coil clipped by the solve never
+/// winds, and the oracle's minimum winds inside the range): the centre is the grid point of
+/// largest `sign kappa room^2` (the curvature times the largest disc about it inside the
+/// ranges, of radius `room <= max_radius`), which without ranges is the point of largest
+/// curvature.
+pub fn sites(
+    connection: &Connection,
+    base: &[f64],
+    i: usize,
+    j: usize,
+    max_radius: f64,
+    ranges: [Option<[f64; 2]>; 2],
+) -> [CoilSite; 2] {
     let mut local = Local::new(base.len());
     let mut theta = base.to_vec();
     let mut kappa = |ti: f64, tj: f64| {
@@ -72,23 +124,37 @@ pub fn sites(connection: &Connection, base: &[f64], i: usize, j: usize, max_radi
         theta[j] = tj;
         curvature(connection, &theta, i, j, &mut local)
     };
+    // The grid's coordinate `a` of axis `c`: a turn, or the cell centres of the range.
+    let axis = |c: usize, a: usize| match ranges[c] {
+        Some([lo, hi]) => lo + (hi - lo).min(TAU) * (a as f64 + 0.5) / GRID as f64,
+        None => TAU * a as f64 / GRID as f64,
+    };
+    // The largest disc about `centre` inside the ranges.
+    let room = |centre: [f64; 2]| {
+        (0..2).fold(max_radius, |r, c| match ranges[c] {
+            Some([lo, hi]) => r.min(centre[c] - lo).min(hi - centre[c]),
+            None => r,
+        })
+    };
     let mut grid = Vec::with_capacity(GRID * GRID);
     for a in 0..GRID {
         for b in 0..GRID {
-            grid.push(kappa(TAU * a as f64 / GRID as f64, TAU * b as f64 / GRID as f64));
+            let point = [axis(0, a), axis(1, b)];
+            grid.push((point, kappa(point[0], point[1])));
         }
     }
+    let literal = ranges.map(|r| r.is_some());
     [1.0, -1.0].map(|sign: f64| {
         let (mut top, mut centre) = (f64::NEG_INFINITY, [0.0; 2]);
-        for (k, v) in grid.iter().enumerate() {
-            if sign * v > top {
-                (top, centre) =
-                    (sign * v, [TAU * (k / GRID) as f64 / GRID as f64, TAU * (k % GRID) as f64 / GRID as f64]);
+        for &(point, v) in &grid {
+            let score = sign * v * room(point).powi(2);
+            if score > top {
+                (top, centre) = (score, point);
             }
         }
         // Cumulative signed area over discs of growing radius (rings, midpoint rule).
         let (rings, angles) = (20, 24);
-        let dr = max_radius / rings as f64;
+        let dr = room(centre) / rings as f64;
         let (mut area, mut chosen) = (0.0, (f64::NEG_INFINITY, dr, 0.0));
         for ring in 0..rings {
             let r = (ring as f64 + 0.5) * dr;
@@ -105,7 +171,7 @@ pub fn sites(connection: &Connection, base: &[f64], i: usize, j: usize, max_radi
                 chosen = (area / outer, outer, area);
             }
         }
-        CoilSite { centre, radius: chosen.1, area: chosen.2 }
+        CoilSite { centre, literal, radius: chosen.1, area: chosen.2 }
     })
 }
 
@@ -120,8 +186,8 @@ impl Line {
     pub fn coil(&self, i: usize, j: usize, site: &CoilSite, needed: f64, max_radius: f64) -> Seed {
         let mid = self.midpoint();
         let centre = [(i, 0), (j, 1)].map(|(k, c)| {
-            let c = site.centre[c];
-            c + TAU * ((mid[k] - c) / TAU).round()
+            let v = site.centre[c];
+            if site.literal[c] { v } else { v + TAU * ((mid[k] - v) / TAU).round() }
         });
         let (radius, area) = (site.radius, site.area);
         let turns = if area > 0.0 { ((needed.abs() / area).ceil() as usize).clamp(1, MAX_TURNS) } else { 1 };
@@ -213,7 +279,7 @@ mod tests {
         let connection = Connection::new(&arm);
         let line =
             Line { start: vec![0.3, -0.4], end: vec![1.2, 0.9], initial_velocity: vec![0.0, 0.0], horizon: 10.0 };
-        let site = sites(&connection, &line.midpoint(), 0, 1, 2.0)[0];
+        let site = sites(&connection, &line.midpoint(), 0, 1, 2.0, [None; 2])[0];
         let seed = Seed::Coil { i: 0, j: 1, centre: site.centre, radius: 0.7, turns: 3 };
         let Seed::Coil { centre, .. } = line.coil(0, 1, &site, 3.0 * site.area, 2.0) else { panic!("a coil") };
         let mut p = [0.0; 2];
@@ -241,6 +307,45 @@ mod tests {
         );
     }
 
+    /// Inside a position range of `theta_1` the sites' discs lie within it, and a coil keeps the
+    /// site's centre there (not a copy a turn away) and stays inside the range all along.
+    #[test]
+    fn a_site_inside_a_range_keeps_its_coil_inside() {
+        let arm = Arm::from_params(&RobotParams::src());
+        let connection = Connection::new(&arm);
+        let (lo, hi) = (0.2, 1.4);
+        let line =
+            Line { start: vec![0.3, -0.4], end: vec![1.2, 0.9], initial_velocity: vec![0.0, 0.0], horizon: 10.0 };
+        for (sign, site) in
+            [1.0, -1.0].into_iter().zip(sites(&connection, &line.midpoint(), 0, 1, 2.0, [Some([lo, hi]), None]))
+        {
+            assert_eq!(site.literal, [true, false]);
+            assert!(
+                site.centre[0] - site.radius >= lo - 1e-12 && site.centre[0] + site.radius <= hi + 1e-12,
+                "{site:?}"
+            );
+            assert!(site.area > 0.0, "{site:?}");
+            let seed = line.coil(0, 1, &site, sign * 3.0 * site.area, 2.0);
+            let Seed::Coil { centre, turns, .. } = seed else { panic!("a coil") };
+            assert!((centre[0] - site.centre[0]).abs() <= 1e-12 && turns >= 3, "{seed:?}");
+            let mut p = [0.0; 2];
+            for k in 0..=2000 {
+                line.coil_path(seed, 10.0 * k as f64 / 2000.0, &mut p);
+                assert!((lo - 1e-12..=hi + 1e-12).contains(&p[0]), "{p:?} at sample {k}");
+            }
+        }
+    }
+
+    /// A coil clipped into a range still winds round a centre inside it, not round one beyond
+    /// it; without ranges every coil winds.
+    #[test]
+    fn a_coil_centred_beyond_a_range_does_not_wind() {
+        let coil = |c: f64| Seed::Coil { i: 0, j: 1, centre: [c, 0.0], radius: 0.5, turns: 2 };
+        let limited = Sites::within(vec![Some([0.0, 1.0]), None]);
+        assert!(limited.winds(coil(0.9)) && !limited.winds(coil(1.1)) && !limited.winds(coil(-0.1)));
+        assert!(Sites::within(Vec::new()).winds(coil(7.0)));
+    }
+
     /// The site's disc integral is the curvature integrated over the disc: against a fine polar
     /// sum, and of the site's sign at its centre.
     #[test]
@@ -248,7 +353,7 @@ mod tests {
         let arm = Arm::from_params(&RobotParams::src().with_mount(crate::model::Mount { a: 1.0, b: -1.0 }).unwrap());
         let connection = Connection::new(&arm);
         let mut local = Local::new(2);
-        for (sign, site) in [1.0, -1.0].into_iter().zip(sites(&connection, &[0.0, 0.0], 0, 1, 2.0)) {
+        for (sign, site) in [1.0, -1.0].into_iter().zip(sites(&connection, &[0.0, 0.0], 0, 1, 2.0, [None; 2])) {
             assert!(sign * curvature(&connection, &site.centre, 0, 1, &mut local) > 0.0);
             let (rings, angles) = (200, 240);
             let dr = site.radius / rings as f64;

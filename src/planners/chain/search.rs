@@ -357,18 +357,33 @@ impl ChainPlanner {
 
     /// Doubles the spans until the effort settles (or `max_spans`; a candidate on the coarse
     /// basis or not converged on `max_spans` is solved again there with the refined solves'
-    /// options), then raises the quadrature nodes until the finer quadrature of the plan's base
+    /// options; where a doubling fails, the last converged basis is kept, the coarse one solved
+    /// again so), then raises the quadrature nodes until the finer quadrature of the plan's base
     /// angle agrees to 1% of the tolerance.
     pub(super) fn refine(&self, problem: &ChainProblem, mut c: Candidate, tables: &Tables) -> Result<Candidate, Error> {
         let o = &self.options;
         let mut previous: Option<f64> = None;
         let (mut spans, first) = (c.spans, c.spans);
+        let mut resolved = false;
         while spans < o.max_spans {
             spans = (2 * spans).min(o.max_spans);
             let finer = self.resolve(problem, &c, spans, c.nodes, tables)?;
             if !finer.result.converged() {
                 // Keep the last converged basis (the certificate judges it).
-                return Ok(if c.spans > first && c.result.converged() { c } else { finer });
+                if c.spans > first && c.result.converged() {
+                    return Ok(c);
+                }
+                // The first doubling failed: the coarse solution, solved again on its own basis
+                // at the refinement's accuracy, where that converges (on binding position ranges
+                // the finer solve can stall off the holonomy: issue 20's oracle case 11, a coil
+                // converged on 12 spans at 21.5 rad^2/s stalled on 24 at a residual of 1.3e-6).
+                let again = self.resolve(problem, &c, c.spans, c.nodes, tables)?;
+                if !again.result.converged() {
+                    return Ok(finer);
+                }
+                c = again;
+                resolved = true;
+                break;
             }
             c = finer;
             if previous.is_some_and(|p| (c.result.f - p).abs() <= o.refinement_tolerance * c.result.f.abs()) {
@@ -376,7 +391,7 @@ impl ChainPlanner {
             }
             previous = Some(c.result.f);
         }
-        if c.spans == self.options.coarse_spans || !c.result.converged() {
+        if !resolved && (c.spans == self.options.coarse_spans || !c.result.converged()) {
             c = self.resolve(problem, &c, c.spans, c.nodes, tables)?;
         }
         while c.nodes < 32 && self.holonomy_residual(&c) > 0.01 * o.tolerance {

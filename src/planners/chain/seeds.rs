@@ -133,7 +133,9 @@ impl Line {
     /// arm also tries the one-turn coil and the loop toward the normal with its radius from the
     /// curvature at the line's midpoint (the two-joint planner's centred loop): on 50 random
     /// mounts of the paper's problem they hold the least effort on 4 where the others miss it
-    /// (by up to 2.2 times; `optimal::comparison`).
+    /// (by up to 2.2 times; `optimal::comparison`). Where that coil is centred beyond a joint's
+    /// position range (`sites` knows the ranges), also the coil at the site inside the range
+    /// ([`super::coil::sites`]).
     pub fn loops(
         &self,
         connection: &Connection,
@@ -177,10 +179,23 @@ impl Line {
                 axis = Seed::Loop { i, j, direction: 0.0, orientation, radius, turns };
             }
             if n == 2 || turns >= 2 {
-                let site = sites.get(connection, &mid, i, j, max_radius)[usize::from(needed < 0.0)];
+                let sign = usize::from(needed < 0.0);
+                let site = sites.get(connection, &mid, i, j, max_radius, false)[sign];
                 let coil = self.coil(i, j, &site, needed, max_radius);
+                // Where the coil above (at the unlimited plane's site) is centred beyond a
+                // position range, the solve clips it onto the range's bound, which it rides (as
+                // the oracle's minima of issue 20's cases 11 and 19 do for half the horizon) but
+                // never winds round anything; then also the coil at the site inside the range,
+                // which winds there as case 15's minimum does, where the range holds curvature of
+                // the rotation's sign (the site's disc integral is positive) enough for it in at
+                // most `MAX_TURNS` turns (else the coil would leave the range: its radius grows
+                // past the disc's).
+                let ranged = sites.get(connection, &mid, i, j, max_radius, true)[sign];
+                let fits = ranged.area > 0.0 && needed.abs() <= ranged.area * MAX_TURNS as f64;
+                let inside = (!sites.winds(coil) && fits).then(|| self.coil(i, j, &ranged, needed, max_radius));
                 if matches!(coil, Seed::Coil { turns, .. } if turns >= 2) {
                     out.push(coil);
+                    out.extend(inside);
                     continue;
                 }
                 if n == 2 {
@@ -188,6 +203,7 @@ impl Line {
                     // comparison it holds the least effort where the loops on the line miss it.
                     out.push(coil);
                 }
+                out.extend(inside);
             }
             let d = [self.end[i] - self.start[i], self.end[j] - self.start[j]];
             let normal = if d[0].hypot(d[1]) < 1e-9 { [0.0, 1.0] } else { [-d[1], d[0]] };
@@ -258,7 +274,7 @@ impl Line {
             if !(c1 - c0).is_finite() || (c1 - c0).abs() < 1e-300 || best.1.abs() < 1e-6 {
                 break;
             }
-            let r2 = (r1 - c1 * (r1 - r0) / (c1 - c0)).clamp(0.05, max_radius);
+            let r2 = (r1 - c1 * (r1 - r0) / (c1 - c0)).clamp(0.05_f64.min(max_radius), max_radius);
             let c2 = residual(seed.with_radius(r2));
             if c2.abs() < best.1.abs() {
                 best = (r2, c2);

@@ -56,7 +56,7 @@ impl ChainPlanner {
         let (q0, theta0) = (&problem.start, problem.start[1..].to_vec());
         let (joint_goals, phi_targets) = self.goals(problem);
         let kappa_max = seeds::curvature_bound(&self.connection);
-        let mut sites = Sites::default();
+        let mut sites = Sites::within((0..self.arm.joints()).map(|j| self.arm.limits.joint(j).position).collect());
         // The bound is in the cost's units: the energy's is the effort's times a floor of R.
         let scale = match self.options.cost {
             Cost::Effort => 1.0,
@@ -234,7 +234,7 @@ impl ChainPlanner {
                 }
             }
             Seed::Coil { .. } => {
-                let fitted = line.fit_radius(seed, o.max_loop_radius, residual);
+                let fitted = line.fit_radius(seed, self.coil_room(seed, o.max_loop_radius), residual);
                 if reach(fitted) {
                     let x0 = project(fitted)?;
                     let guess = (p.needed.abs() > 0.0).then(|| -2.0 * disc.evaluate(&x0, 0).f / p.needed);
@@ -282,6 +282,18 @@ impl ChainPlanner {
             out.push((c, coil && seed == Seed::Line));
         }
         Ok(out)
+    }
+
+    /// The largest radius, at most `max` \[rad\], of a coil about `seed`'s centre inside the
+    /// position ranges of its plane's joints, where the coil is inside them (a site's disc is,
+    /// see [`super::coil::sites`]; the radius re-fitted to the constraint stays inside too);
+    /// `max` for a coil that leaves a range (one that rides its bound once clipped).
+    fn coil_room(&self, seed: Seed, max: f64) -> f64 {
+        let Seed::Coil { i, j, centre, radius, .. } = seed else { return max };
+        let room = [(i, centre[0]), (j, centre[1])]
+            .iter()
+            .fold(max, |r, &(k, c)| self.arm.limits.joint(k).position.map_or(r, |[lo, hi]| r.min(c - lo).min(hi - c)));
+        if radius <= room { room } else { max }
     }
 
     /// Whether every velocity-limited joint can follow `seed`'s path in the horizon: its total
