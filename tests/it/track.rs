@@ -315,9 +315,15 @@ fn track_reports_the_clearance_of_each_run() {
     assert!(time > 1.0 && time < 9.0, "a least clearance in mid-motion: {}", plan["clearance"]);
     // The tracking error of `ct` at 1 kHz along the path is about 1e-6 rad.
     assert!(certified > 0.05 && (tracked - certified).abs() < 2e-6, "trial {tracked} m, certificate {certified} m");
-    let o = freefloat(&[&["track"][..], &shapes[..], &["--controller", "ct"][..]].concat());
+    let picture = dir.path().join("run.svg");
+    let plot = ["--controller", "ct", "--plot", picture.to_str().unwrap()];
+    let o = freefloat(&[&["track"][..], &shapes[..], &plot[..]].concat());
     let table = String::from_utf8_lossy(&o.stdout).into_owned();
     assert!(o.status.success() && table.contains("min clearance [m]") && table.contains("link2/obstacle1"), "{table}");
+    // The picture marks the run's least clearance, on its panels and in its caption.
+    let svg = std::fs::read_to_string(&picture).unwrap();
+    let mm = format!("least clearance {:.1} mm", 1e3 * tracked);
+    assert!(svg.matches(&mm).count() >= 2 && svg.contains("link 2 / obstacle 1"), "{mm} in the picture");
     let o = freefloat(&[&["track"][..], &shapes[..], &["--clearance", "5"][..]].concat());
     assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
     let o = freefloat(&["track", "--robot", p, "--obstacle", "circle:-0.3,-0.65"]);
