@@ -116,6 +116,8 @@ fn describe(arm: &Arm, source: &str, format: &str, names: &[String]) -> serde_js
         "links": links,
         "tool": {"link": n, "x": tip(arm), "at_zero": [along(arm, n), arm.mount.b]},
         "two_link": arm.as_src().is_some(),
+        "limits": arm.limits,
+        "geometry": arm.geometry,
     })
 }
 
@@ -162,14 +164,90 @@ fn table(arm: &Arm, source: &str, names: &[String]) -> String {
         number(along(arm, n)),
         number(arm.mount.b)
     );
+    limit_lines(&mut s, arm, names);
+    shape_lines(&mut s, arm);
     let _ = writeln!(
         s,
         "  planning             {}",
         if arm.as_src().is_some() {
             "2 links: every method and command"
         } else {
-            "plan (optimal, ecsa) with --from/--to of n + 1 angles"
+            "every command with --from/--to of n + 1 angles (the NFA and domain need 2 links)"
         }
     );
     s
+}
+
+/// The table's lines of the declared limits (docs/spec.md §1): one per limited joint and one for
+/// the base's range; `limits  none` without any.
+fn limit_lines(s: &mut String, arm: &Arm, names: &[String]) {
+    use std::fmt::Write;
+    let deg = |v: f64| number(v.to_degrees());
+    if arm.limits.is_empty() {
+        let _ = writeln!(s, "  limits               none (continuous joints, no velocity or torque limit)");
+        return;
+    }
+    if let Some([lo, hi]) = arm.limits.base {
+        let _ = writeln!(s, "  limits base          phi in [{}, {}] deg", deg(lo), deg(hi));
+    }
+    for k in 0..arm.joints() {
+        let l = arm.limits.joint(k);
+        let mut parts = Vec::new();
+        if let Some([lo, hi]) = l.position {
+            parts.push(format!("position [{}, {}] deg", deg(lo), deg(hi)));
+        }
+        if let Some(v) = l.velocity {
+            parts.push(format!("velocity {} rad/s", number(v)));
+        }
+        if let Some(v) = l.torque {
+            parts.push(format!("torque {} N m", number(v)));
+        }
+        if let Some(v) = l.acceleration {
+            parts.push(format!("acceleration {} rad/s^2", number(v)));
+        }
+        if !parts.is_empty() {
+            let name = freefloat::model::excerpt(names.get(k).map(String::as_str).unwrap_or("-"));
+            let _ = writeln!(s, "  limits {:<14}{}", format!("{} {name}", k + 1), parts.join(", "));
+        }
+    }
+}
+
+/// The table's lines of the bodies' shapes (docs/spec.md §1, issue 21), each in its body's
+/// frame: `shapes  none` without any.
+fn shape_lines(s: &mut String, arm: &Arm) {
+    use std::fmt::Write;
+    let g = &arm.geometry;
+    if g.base.is_empty() && g.links.iter().all(Vec::is_empty) {
+        let _ = writeln!(s, "  shapes               none (no collision checks)");
+        return;
+    }
+    let describe = |shapes: &[freefloat::model::geometry::Shape]| -> String {
+        let one = |sh: &freefloat::model::geometry::Shape| {
+            let p = |q: [f64; 2]| format!("({}, {})", number(q[0]), number(q[1]));
+            match sh.points.as_slice() {
+                [c] => format!("circle r {} at {}", number(sh.radius), p(*c)),
+                [a, b] => format!("capsule r {} {}-{}", number(sh.radius), p(*a), p(*b)),
+                corners => {
+                    let range = |i: usize| {
+                        let (lo, hi) = corners
+                            .iter()
+                            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), c| (lo.min(c[i]), hi.max(c[i])));
+                        format!("[{}, {}]", number(lo), number(hi))
+                    };
+                    let r = if sh.radius > 0.0 { format!(" r {}", number(sh.radius)) } else { String::new() };
+                    format!("polygon of {} corners{r}, x in {}, y in {}", corners.len(), range(0), range(1))
+                }
+            }
+        };
+        if shapes.is_empty() { "none".into() } else { shapes.iter().map(one).collect::<Vec<_>>().join("; ") }
+    };
+    let _ = writeln!(s, "  shapes base          {} [m]", describe(&g.base));
+    for k in 0..arm.joints() {
+        let _ = writeln!(
+            s,
+            "  shapes link {k:<9}{} [m]",
+            describe(g.links.get(k).map_or(&[][..], Vec::as_slice)),
+            k = k + 1
+        );
+    }
 }

@@ -49,10 +49,48 @@ fn robot_prints_the_spart_like_arm_as_read() {
     close(&v["tool"]["x"], 0.5);
     close(&v["tool"]["at_zero"][0], 0.25 + 4.0 * 0.5);
     assert_eq!(v["two_link"], false);
+    // Each joint's <limit lower="-3.1416" upper="3.1416" effort="20" velocity="1"/>.
+    for k in 0..4 {
+        let l = &v["limits"]["joints"][k];
+        close(&l["position"][0], -3.1416);
+        close(&l["position"][1], 3.1416);
+        close(&l["velocity"], 1.0);
+        close(&l["torque"], 20.0);
+    }
+    // The visual boxes as shapes: the base's 0.5 m cube about the root link's origin, moved to the
+    // merged centre of mass (y_com higher); each link's 0.5 x 0.05 box from its joint.
+    let corners = |shape: &serde_json::Value| -> Vec<[f64; 2]> {
+        shape["points"]
+            .as_array()
+            .expect("points")
+            .iter()
+            .map(|p| [p[0].as_f64().unwrap(), p[1].as_f64().unwrap()])
+            .collect()
+    };
+    let extent = |c: &[[f64; 2]], i: usize| {
+        c.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| (lo.min(p[i]), hi.max(p[i])))
+    };
+    let base = corners(&v["geometry"]["base"][0]);
+    assert_eq!(base.len(), 4);
+    let ((x0, x1), (y0, y1)) = (extent(&base, 0), extent(&base, 1));
+    for (x, expected) in [(x0, -0.25), (x1, 0.25), (y0, -0.25 - y_com), (y1, 0.25 - y_com)] {
+        assert!((x - expected).abs() < 1e-12, "{x} != {expected}");
+    }
+    for k in 0..4 {
+        let link = corners(&v["geometry"]["links"][k][0]);
+        let ((x0, x1), (y0, y1)) = (extent(&link, 0), extent(&link, 1));
+        for (x, expected) in [(x0, 0.0), (x1, 0.5), (y0, -0.025), (y1, 0.025)] {
+            assert!((x - expected).abs() < 1e-12, "link {}: {x} != {expected}", k + 1);
+        }
+    }
     let table = String::from_utf8_lossy(&run(&["robot", "--urdf", SPART]).stdout).into_owned();
-    for name in ["J1", "J4", "tool point", "mount (a, b)"] {
+    for name in
+        ["J1", "J4", "tool point", "mount (a, b)", "limits 4 J4", "velocity 1 rad/s, torque 20 N m", "shapes link 4"]
+    {
         assert!(table.contains(name), "{name}: {table}");
     }
+    let table = String::from_utf8_lossy(&run(&["robot"]).stdout).into_owned();
+    assert!(table.contains("limits               none") && table.contains("shapes               none"), "{table}");
 }
 
 /// The same arm as TOML and as URDF (examples/robots/three_link.*) reads the same, and the
