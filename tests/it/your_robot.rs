@@ -49,11 +49,13 @@ fn robot_prints_the_spart_like_arm_as_read() {
     close(&v["tool"]["x"], 0.5);
     close(&v["tool"]["at_zero"][0], 0.25 + 4.0 * 0.5);
     assert_eq!(v["two_link"], false);
-    // Each joint's <limit lower="-3.1416" upper="3.1416" effort="20" velocity="1"/>.
+    // Each joint's <limit lower="-3.1416" upper="3.1416" effort="20" velocity="1"/> (the file's
+    // text, not pi).
+    let upper: f64 = "3.1416".parse().unwrap();
     for k in 0..4 {
         let l = &v["limits"]["joints"][k];
-        close(&l["position"][0], -3.1416);
-        close(&l["position"][1], 3.1416);
+        close(&l["position"][0], -upper);
+        close(&l["position"][1], upper);
         close(&l["velocity"], 1.0);
         close(&l["torque"], 20.0);
     }
