@@ -435,7 +435,7 @@ def track(
     dq_noise: float = 0.0,
     rate: float = 1000.0,
     replan_rate: float = 5.0,
-    margin: float = 0.02,
+    margin: Optional[float] = None,
     seed: int = 0,
 ) -> dict[str, Any]:
     """Plans ``start -> goal`` [rad] (``n + 1`` angles each) in ``T`` [s] with the minimum-effort
@@ -447,8 +447,9 @@ def track(
     measured state), ``"adaptive"`` (replan on a model whose momentum map is identified on
     line). ``torque_noise`` (relative), ``q_noise`` [rad], ``dq_noise`` [rad/s]: disturbances;
     ``rate``: control rate [Hz] with zero-order hold. For an arm with shapes or obstacles the plan
-    and every re-plan keep ``margin`` [m] beyond the arm's clearance, and the run fails (``failure``
-    ``collision``) only under the clearance itself. Returns a dict: ``final_error`` [rad],
+    and every re-plan keep ``margin`` [m] (default 0.02) beyond the arm's clearance, and the run
+    fails (``failure`` ``collision``) only under the clearance itself; a ``margin`` for a robot
+    without shapes or obstacles is :class:`BadInput`. Returns a dict: ``final_error`` [rad],
     ``final_errors`` per coordinate, ``peak_torque`` [N m], ``replans``, ``replan_failures``,
     ``saturated_fraction``, ``seconds``, ``identification`` (adaptive), and
     ``hold_correction`` (the feedforward's correction for the zero-order hold, or None). The GIL is

@@ -50,7 +50,7 @@ fn controller(name: &str) -> Result<Controller, BindingError> {
 #[pyo3(signature = (
     robot, start, goal, T, *, controller = "adaptive", true_robot = None, perturb = 0.0,
     perturb_mount = 0.0, torque_noise = 0.0, q_noise = 0.0, dq_noise = 0.0, rate = 1000.0,
-    replan_rate = 5.0, margin = 0.02, seed = 0
+    replan_rate = 5.0, margin = None, seed = 0
 ))]
 #[allow(non_snake_case, clippy::too_many_arguments)]
 pub fn track<'py>(
@@ -68,7 +68,7 @@ pub fn track<'py>(
     dq_noise: f64,
     rate: f64,
     replan_rate: f64,
-    margin: f64,
+    margin: Option<f64>,
     seed: u64,
 ) -> PyResult<Bound<'py, PyDict>> {
     let model = arm_of("robot", &robot)?;
@@ -77,7 +77,8 @@ pub fn track<'py>(
     let controller = self::controller(controller).py_result(py)?;
     let mut options = TrackOptions { controller, rate, ..Default::default() };
     options.replan.rate = replan_rate;
-    options.replan.margin = margin;
+    options.replan.margin = margin.unwrap_or(options.replan.margin);
+    ReplanOptions::check_margin(&model, margin).py_result(py)?;
     options.disturbances = Disturbances { torque_noise, q_noise, dq_noise, ..Default::default() };
     // Every option and budget before planning (the library's checks, as the command line's).
     options.validate().py_result(py)?;

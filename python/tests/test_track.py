@@ -55,3 +55,11 @@ def test_track_serves_every_arm():
     by_robot = ff.track(robot, Q0, QD, 10.0, controller="ct")
     by_arm = ff.track(ff.Arm.from_robot(robot), Q0, QD, 10.0, controller="ct")
     assert by_arm["final_error"] == pytest.approx(by_robot["final_error"], rel=1e-9, abs=1e-15)
+
+
+def test_a_margin_without_shapes_is_refused():
+    """A margin extends the clearance of a robot's shapes: given for a robot without any, it
+    would be accepted and ignored, so it is BadInput naming it (before any planning)."""
+    robot = ff.Robot.src().with_mount(0.1, 0.1)
+    with pytest.raises(ff.BadInput, match="margin"):
+        ff.track(robot, Q0, QD, 10.0, controller="ct", margin=0.05)

@@ -461,9 +461,9 @@ pub struct TrackArgs {
     /// No re-plan starts in the last S seconds; the last one, the final correction, starts S seconds before the end.
     #[arg(long, value_name = "S", default_value_t = 0.25, allow_hyphen_values = true)]
     pub final_window: f64,
-    /// Clearance in m that the plan and every re-plan keep beyond --clearance, for a robot with shapes or obstacles; a run fails only under --clearance.
-    #[arg(long, value_name = "M", default_value_t = 0.02, allow_hyphen_values = true)]
-    pub margin: f64,
+    /// Clearance in m that the plan and every re-plan keep beyond --clearance; a run fails only under --clearance [default: 0.02; refused for a robot without shapes or obstacles].
+    #[arg(long, value_name = "M", allow_hyphen_values = true)]
+    pub margin: Option<f64>,
     /// Joint-loop gains in 1/s^2 and 1/s [default: critically damped at min(200, rate/5) rad/s].
     #[arg(long, allow_hyphen_values = true)]
     pub kp: Option<f64>,

@@ -76,7 +76,7 @@ fn options(args: &TrackArgs, n: usize) -> anyhow::Result<TrackOptions> {
         replan: ReplanOptions {
             rate: args.replan_rate,
             final_window: args.final_window,
-            margin: args.margin,
+            margin: args.margin.unwrap_or(ReplanOptions::default().margin),
             ..Default::default()
         },
         identify: IdentifyOptions { forgetting_time: args.forgetting, ..Default::default() },
@@ -140,6 +140,7 @@ pub fn run(args: &TrackArgs) -> anyhow::Result<ExitCode> {
     let problem = ChainProblem::rest_to_rest(start, goal, super::config::time(args.ends.time)?);
     problem.validate(&robot)?;
     let options = options(args, n)?;
+    ReplanOptions::check_margin(&robot, args.margin)?;
     let perturbation = Perturbation { relative: args.perturb, mount: args.perturb_mount };
     perturbation.validate()?;
     let truth = args.true_robot.as_deref().map(Arm::load).transpose()?;

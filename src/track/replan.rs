@@ -102,6 +102,21 @@ impl ReplanOptions {
         self.planner.validate()
     }
 
+    /// Refuses a margin the user gave (`given`) for a model without shapes or obstacles, naming
+    /// `margin`: there is no clearance for it to extend, and it would be accepted and ignored.
+    pub fn check_margin(model: &Arm, given: Option<f64>) -> Result<(), Error> {
+        match given {
+            Some(value) if model.geometry.is_empty() => Err(InputError::InvalidParameter {
+                name: "margin".into(),
+                value,
+                expected: "no margin: the robot has no shapes or obstacles, so no clearance to keep it beyond \
+                           (give the robot file shapes, or --obstacle)",
+            }
+            .into()),
+            _ => Ok(()),
+        }
+    }
+
     /// The model the plans are made on: `model` keeping its clearance plus `margin` \[m\]
     /// ([`ReplanOptions::margin`]); `model` itself without shapes or obstacles.
     pub fn planning_model(model: &Arm, margin: f64) -> Arm {
@@ -196,9 +211,15 @@ impl Replanner {
             Some(d) => self.options.margin.min(0.5 * (d.distance - geometry.clearance)).max(0.0),
             None => 0.0,
         };
-        let model = ReplanOptions::planning_model(model, margin);
-        if self.planner.as_ref().is_none_or(|p| p.arm() != &model) {
-            self.planner = Some(ChainPlanner::new(model, self.options.planner.clone()));
+        let widened;
+        let model = if geometry.is_empty() {
+            model
+        } else {
+            widened = ReplanOptions::planning_model(model, margin);
+            &widened
+        };
+        if self.planner.as_ref().is_none_or(|p| p.arm() != model) {
+            self.planner = Some(ChainPlanner::new(model.clone(), self.options.planner.clone()));
         }
         let planner = self.planner.as_mut()?;
         let knots = Self::knots_for(current, t, horizon);

@@ -129,7 +129,8 @@ fn a_model_without_shapes_reports_no_clearance() {
 /// and the run is judged at the clearance itself: on a perturbed robot (5 % in every parameter,
 /// 1 cm in the mount) the plan that goes round an obstacle on the unconstrained path at the
 /// margin ends within 1e-3 rad without touching, its re-plans (warm-started with the clearance
-/// rows) accepted. Without shapes the planning model is the model; a negative margin is refused.
+/// rows) accepted. Without shapes the planning model is the model and a margin given is refused;
+/// a negative margin is refused.
 #[test]
 fn the_plans_keep_the_margin_and_the_run_is_judged_at_the_clearance() {
     let (arm, problem) = paper();
@@ -160,6 +161,9 @@ fn the_plans_keep_the_margin_and_the_run_is_judged_at_the_clearance() {
         run.replan_failures
     );
 
+    assert!(ReplanOptions::check_margin(&model, Some(0.05)).is_ok() && ReplanOptions::check_margin(&arm, None).is_ok());
+    let e = ReplanOptions::check_margin(&arm, Some(0.05)).unwrap_err().to_string();
+    assert!(e.contains("margin") && e.contains("no shapes"), "a margin without shapes is refused: {e}");
     let bad = TrackOptions { replan: ReplanOptions { margin: -0.01, ..Default::default() }, ..Default::default() };
     let e = bad.validate().unwrap_err().to_string();
     assert!(e.contains("margin"), "{e}");

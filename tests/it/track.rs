@@ -56,6 +56,8 @@ fn invalid_options_exit_2_with_the_flag_named() {
         (vec!["--replan-rate", "5000"], "replan-rate"),
         (vec!["--margin", "-0.01"], "margin"),
         (vec!["--margin", "nan"], "margin"),
+        // No shapes or obstacles: no clearance for a margin to extend (not accepted and ignored).
+        (vec!["--margin", "0.05"], "margin"),
         (vec!["--kp", "-1"], "kp"),
         (vec!["--kd", "nan"], "kd"),
         (vec!["--torque-noise", "-0.1"], "torque-noise"),
