@@ -10,7 +10,7 @@
 
 use std::f64::consts::TAU;
 
-use super::connection::{Connection, Local};
+use super::connection::Connection;
 use super::seeds::{Line, Seed};
 use crate::planners::optimal::seeds::ramped;
 
@@ -94,10 +94,8 @@ impl Sites {
 
 /// The rotation of the base per counter-clockwise area of the `(theta_i, theta_j)` plane at
 /// `theta` \[rad / rad^2\].
-pub fn curvature(connection: &Connection, theta: &[f64], i: usize, j: usize, local: &mut Local) -> f64 {
-    let n = theta.len();
-    connection.local(theta, &vec![0.0; n], local);
-    -(local.mixed[i * n + j] - local.mixed[j * n + i])
+pub fn curvature(connection: &Connection, theta: &[f64], i: usize, j: usize) -> f64 {
+    connection.curvature(theta, i, j)
 }
 
 /// The coil sites of the plane `(i, j)` through `base` (the other joints held there) for a
@@ -117,12 +115,11 @@ pub fn sites(
     max_radius: f64,
     ranges: [Option<[f64; 2]>; 2],
 ) -> [CoilSite; 2] {
-    let mut local = Local::new(base.len());
     let mut theta = base.to_vec();
     let mut kappa = |ti: f64, tj: f64| {
         theta[i] = ti;
         theta[j] = tj;
-        curvature(connection, &theta, i, j, &mut local)
+        curvature(connection, &theta, i, j)
     };
     // The grid's coordinate `a` of axis `c`: a turn, or the cell centres of the range.
     let axis = |c: usize, a: usize| match ranges[c] {
@@ -352,9 +349,8 @@ mod tests {
     fn a_site_holds_curvature_of_its_sign() {
         let arm = Arm::from_params(&RobotParams::src().with_mount(crate::model::Mount { a: 1.0, b: -1.0 }).unwrap());
         let connection = Connection::new(&arm);
-        let mut local = Local::new(2);
         for (sign, site) in [1.0, -1.0].into_iter().zip(sites(&connection, &[0.0, 0.0], 0, 1, 2.0, [None; 2])) {
-            assert!(sign * curvature(&connection, &site.centre, 0, 1, &mut local) > 0.0);
+            assert!(sign * curvature(&connection, &site.centre, 0, 1) > 0.0);
             let (rings, angles) = (200, 240);
             let dr = site.radius / rings as f64;
             let mut sum = 0.0;
@@ -363,7 +359,7 @@ mod tests {
                 for m in 0..angles {
                     let (s, c) = (TAU * m as f64 / angles as f64).sin_cos();
                     let th = [site.centre[0] + rr * c, site.centre[1] + rr * s];
-                    sum += sign * curvature(&connection, &th, 0, 1, &mut local) * rr * dr * TAU / angles as f64;
+                    sum += sign * curvature(&connection, &th, 0, 1) * rr * dr * TAU / angles as f64;
                 }
             }
             assert!(site.area > 0.0 && (sum - site.area).abs() <= 0.02 * sum.abs(), "{sum} vs {}", site.area);

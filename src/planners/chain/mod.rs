@@ -24,6 +24,7 @@ pub mod horizon;
 mod keep_clear;
 mod limits;
 pub mod motion;
+mod queue;
 pub(crate) mod search;
 pub mod seeds;
 mod single;

@@ -6,6 +6,7 @@ use std::time::Instant;
 
 use super::discrete::{Discretisation, Table, Targets};
 use super::motion::{ChainPlan, ChainStats};
+use super::queue::Representatives;
 use super::starts::Prepared;
 use super::{ChainPlanner, ChainProblem};
 use crate::error::Error;
@@ -82,9 +83,9 @@ impl ChainPlanner {
         if let Some(plan) = self.warm_start(problem, &mut prepared, tables, clock)? {
             return Ok(plan);
         }
-        let prepared = match prepared {
-            Some(p) => p,
-            None => self.prepare(problem)?,
+        let mut queue = match prepared {
+            Some(p) => Representatives::prepared(p),
+            None => Representatives::lazy(self, problem),
         };
         let (mut seeds, mut iterations) = (0, 0);
         let mut best_failure: Option<Candidate> = None;
@@ -94,17 +95,13 @@ impl ChainPlanner {
         // estimate is far above it; every converged refinement is kept.
         let mut best = f64::INFINITY;
         let mut done: Vec<Candidate> = Vec::new();
-        let mut queue = prepared.into_iter().peekable();
-        while queue.peek().is_some() {
+        while !queue.is_empty() {
             let (mut coarse, mut extras) = (Vec::new(), Vec::new());
             let mut refined_best = done.iter().map(|c| c.result.f).fold(f64::INFINITY, f64::min);
             let mut taken = 0;
             while taken < o.targets_solved {
-                let Some(p) = queue.next() else { break };
-                let mut p = p;
-                if p.bound > best {
-                    continue;
-                }
+                // The next whose bound is at most the least feasible cost seen.
+                let Some(mut p) = queue.next(self, problem, best) else { break };
                 if p.estimate > LATER_ESTIMATE_RATIO * refined_best {
                     // Only the line (one cheap coarse solve; the SQP may bend it into a plan far
                     // cheaper than the seeds' estimate).

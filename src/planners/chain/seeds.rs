@@ -149,11 +149,10 @@ impl Line {
             return Vec::new();
         }
         let mid = self.midpoint();
-        let mut local = Local::new(n);
         let mut planes = Vec::new();
         for i in 0..n {
             for j in i + 1..n {
-                planes.push((i, j, curvature(connection, &mid, i, j, &mut local)));
+                planes.push((i, j, curvature(connection, &mid, i, j)));
             }
         }
         planes.sort_by(|a, b| b.2.abs().total_cmp(&a.2.abs()));
@@ -162,10 +161,10 @@ impl Line {
             if kappa.abs() <= 1e-12 {
                 continue;
             }
-            let mut kappa_at = |centre: [f64; 2]| {
+            let kappa_at = |centre: [f64; 2]| {
                 let mut theta = mid.clone();
                 (theta[i], theta[j]) = (centre[0], centre[1]);
-                curvature(connection, &theta, i, j, &mut local)
+                curvature(connection, &theta, i, j)
             };
             // Along theta_i: pi R^2 |kappa| = |needed|, several turns above `max_radius`.
             let (mut axis, mut turns) = (Seed::Line, 1);

@@ -30,6 +30,16 @@ pub const PAIRED_JOINTS: usize = 3;
 /// turns of `theta1` further on 4 (at one turn the plan cost 1.3 to 1.9 times more).
 pub const TWO_JOINT_TURNS: i32 = 2;
 
+/// What the seeds of every representative share ([`ChainPlanner::seed_context`]).
+pub(super) struct SeedContext {
+    /// The curvature's comass bound ([`seeds::curvature_bound`]).
+    pub kappa_max: f64,
+    /// The coil sites found so far.
+    pub sites: Sites,
+    /// The scale of the effort bound in the cost's units.
+    pub scale: f64,
+}
+
 /// A representative with its line and seeds.
 pub(super) struct Prepared {
     /// The goal representative.
@@ -47,55 +57,85 @@ pub(super) struct Prepared {
 }
 
 impl ChainPlanner {
-    /// The goal representatives with their lines and seeds, least effort bound first: `phid`,
+    /// The goal representatives with their lines and seeds, least estimate first: `phid`,
     /// `phid +- 2 pi` nearest the start, with `wrap` the joint goals nearest it, one joint a turn
     /// further, and (up to [`PAIRED_JOINTS`] joints) two joints a turn further each, or for two
     /// joints every goal up to [`TWO_JOINT_TURNS`] turns further on each; only those inside the
-    /// ranges and within the joints' reach in the horizon.
+    /// ranges and within the joints' reach in the horizon. (The search takes them lazily, in the
+    /// same order, from [`Representatives`](super::queue::Representatives).)
     pub(super) fn prepare(&self, problem: &ChainProblem) -> Result<Vec<Prepared>, Error> {
-        let (q0, theta0) = (&problem.start, problem.start[1..].to_vec());
+        let (lines, phi_targets) = self.lines(problem);
+        let mut context = self.seed_context();
+        let mut out = Vec::new();
+        for line in &lines {
+            // The line's holonomy at rest (the initial-velocity term is small and ignored here).
+            let integral = line.holonomy(&self.connection);
+            for &phi_end in &phi_targets {
+                out.push(self.representative(problem, line, integral, phi_end, &mut context));
+            }
+        }
+        out.sort_by(|a, b| a.estimate.total_cmp(&b.estimate));
+        Ok(out)
+    }
+
+    /// The lines from the start to [`Self::goals`]' joint goals, with the base-angle targets.
+    pub(super) fn lines(&self, problem: &ChainProblem) -> (Vec<Line>, Vec<f64>) {
+        let theta0 = problem.start[1..].to_vec();
         let (joint_goals, phi_targets) = self.goals(problem);
-        let kappa_max = seeds::curvature_bound(&self.connection);
-        let mut sites = Sites::within((0..self.arm.joints()).map(|j| self.arm.limits.joint(j).position).collect());
+        let lines = joint_goals
+            .into_iter()
+            .map(|end| Line {
+                start: theta0.clone(),
+                end,
+                initial_velocity: problem.initial_velocity.clone(),
+                horizon: problem.horizon,
+            })
+            .collect();
+        (lines, phi_targets)
+    }
+
+    /// What the seeds of every representative share: the curvature's comass bound, the coil
+    /// sites found so far, the bound's scale.
+    pub(super) fn seed_context(&self) -> SeedContext {
+        let sites = Sites::within((0..self.arm.joints()).map(|j| self.arm.limits.joint(j).position).collect());
         // The bound is in the cost's units: the energy's is the effort's times a floor of R.
         let scale = match self.options.cost {
             Cost::Effort => 1.0,
             Cost::Energy => super::energy::energy_floor(&self.arm),
         };
-        let mut out = Vec::new();
-        for end in joint_goals {
-            let line = Line {
-                start: theta0.clone(),
-                end: end.clone(),
-                initial_velocity: problem.initial_velocity.clone(),
-                horizon: problem.horizon,
-            };
-            // The line's holonomy at rest (the initial-velocity term is small and ignored here).
-            let integral = line.holonomy(&self.connection);
-            for &phi_end in &phi_targets {
-                let needed = phi_end - (q0[0] - integral);
-                let (planes, radius) = (self.options.loop_planes, self.options.max_loop_radius);
-                let loops = line.loops(&self.connection, needed, planes, radius, &mut sites);
-                let estimate = if needed.abs() < 1e-9 || loops.is_empty() {
-                    line.effort_estimate(Seed::Line)
-                } else {
-                    loops.iter().map(|s| line.effort_estimate(*s)).fold(f64::INFINITY, f64::min)
-                };
-                let mut seeds = vec![Seed::Line];
-                seeds.extend(loops);
-                let targets = Targets {
-                    start: theta0.clone(),
-                    initial_velocity: problem.initial_velocity.clone(),
-                    end: end.clone(),
-                    phi_start: q0[0],
-                    phi_end,
-                };
-                let bound = scale * seeds::effort_lower_bound(&line, needed, kappa_max);
-                out.push(Prepared { targets, line: line.clone(), seeds, estimate, bound, needed });
-            }
-        }
-        out.sort_by(|a, b| a.estimate.total_cmp(&b.estimate));
-        Ok(out)
+        SeedContext { kappa_max: seeds::curvature_bound(&self.connection), sites, scale }
+    }
+
+    /// The representative of `line` (whose holonomy is `integral`) and `phi_end`, with its seeds,
+    /// estimate and bound.
+    pub(super) fn representative(
+        &self,
+        problem: &ChainProblem,
+        line: &Line,
+        integral: f64,
+        phi_end: f64,
+        context: &mut SeedContext,
+    ) -> Prepared {
+        let q0 = &problem.start;
+        let needed = phi_end - (q0[0] - integral);
+        let (planes, radius) = (self.options.loop_planes, self.options.max_loop_radius);
+        let loops = line.loops(&self.connection, needed, planes, radius, &mut context.sites);
+        let estimate = if needed.abs() < 1e-9 || loops.is_empty() {
+            line.effort_estimate(Seed::Line)
+        } else {
+            loops.iter().map(|s| line.effort_estimate(*s)).fold(f64::INFINITY, f64::min)
+        };
+        let mut seeds = vec![Seed::Line];
+        seeds.extend(loops);
+        let targets = Targets {
+            start: line.start.clone(),
+            initial_velocity: problem.initial_velocity.clone(),
+            end: line.end.clone(),
+            phi_start: q0[0],
+            phi_end,
+        };
+        let bound = context.scale * seeds::effort_lower_bound(line, needed, context.kappa_max);
+        Prepared { targets, line: line.clone(), seeds, estimate, bound, needed }
     }
 
     /// The representatives of a problem whose goal is taken literally (`wrap = false`): the goal

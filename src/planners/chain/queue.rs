@@ -1,0 +1,120 @@
+//! The goal representatives of a search, taken least estimate first and prepared only when
+//! needed: a representative's seeds (loops, coil sites) and its line's holonomy cost more than
+//! many a search's solves, and most representatives are cut by the branch and bound before they
+//! are solved.
+//!
+//! Both the seeds' estimate and the effort bound are at least what the straight line alone gives
+//! (`1.2 d^2 / T` and `d^2 / T`, `d` the line's length: every seed is at least as long as the
+//! line), so a representative is prepared only when that floor could put it first, and dropped
+//! unprepared where the floor of its bound is above the best cost already (the cost only
+//! decreases, so the search would skip it when it came to it). The representatives taken, and
+//! their order, are those of the eager [`ChainPlanner::prepare`].
+
+use super::seeds::Line;
+use super::starts::{Prepared, SeedContext};
+use super::{ChainPlanner, ChainProblem};
+
+/// Below the exact estimate by more than its rounding (a coil's legs sum to the line's length
+/// up to rounding where its entry lies on the line).
+const FLOOR_MARGIN: f64 = 1.0 - 1e-9;
+
+/// A representative, prepared or not yet.
+struct Entry {
+    /// Its place in the eager order before sorting (ties of the estimate keep it).
+    index: usize,
+    /// Its line in [`Representatives::lines`].
+    line: usize,
+    /// `phi(T)` \[rad\].
+    phi_end: f64,
+    /// At most its estimate.
+    floor: f64,
+    /// At most its bound.
+    bound_floor: f64,
+    prepared: Option<Prepared>,
+}
+
+/// The representatives not yet taken (see the [module docs](self)).
+pub(super) struct Representatives {
+    /// The lines with their holonomy once computed.
+    lines: Vec<(Line, Option<f64>)>,
+    entries: Vec<Entry>,
+    context: Option<SeedContext>,
+}
+
+impl Representatives {
+    /// The representatives of `problem` (those of [`ChainPlanner::prepare`]), none prepared.
+    pub fn lazy(planner: &ChainPlanner, problem: &ChainProblem) -> Self {
+        let (lines, phi_targets) = planner.lines(problem);
+        let context = planner.seed_context();
+        let mut entries = Vec::new();
+        for (k, line) in lines.iter().enumerate() {
+            let d = line.length();
+            let floor = 1.2 * d * d / line.horizon * FLOOR_MARGIN;
+            let bound_floor = context.scale * (d * d / line.horizon) * FLOOR_MARGIN;
+            for &phi_end in &phi_targets {
+                let index = entries.len();
+                entries.push(Entry { index, line: k, phi_end, floor, bound_floor, prepared: None });
+            }
+        }
+        Self { lines: lines.into_iter().map(|l| (l, None)).collect(), entries, context: Some(context) }
+    }
+
+    /// Representatives prepared already, in their order.
+    pub fn prepared(prepared: Vec<Prepared>) -> Self {
+        let entries = prepared
+            .into_iter()
+            .enumerate()
+            .map(|(index, p)| Entry {
+                index,
+                line: 0,
+                phi_end: p.targets.phi_end,
+                floor: 0.0,
+                bound_floor: 0.0,
+                prepared: Some(p),
+            })
+            .collect();
+        Self { lines: Vec::new(), entries, context: None }
+    }
+
+    /// Whether every representative is taken or dropped.
+    pub fn is_empty(&self) -> bool {
+        self.entries.is_empty()
+    }
+
+    /// The next representative whose bound is at most `best` (the least estimate, the first
+    /// prepared of equal ones), prepared; those whose bound exceeds `best` are dropped.
+    pub fn next(&mut self, planner: &ChainPlanner, problem: &ChainProblem, best: f64) -> Option<Prepared> {
+        loop {
+            self.entries.retain(|e| match &e.prepared {
+                Some(p) => !(p.bound > best),
+                None => !(e.bound_floor > best),
+            });
+            let order = |a: &(f64, usize), b: &(f64, usize)| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1));
+            let first = |prepared: bool| {
+                self.entries
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, e)| e.prepared.is_some() == prepared)
+                    .map(|(k, e)| (k, (e.prepared.as_ref().map_or(e.floor, |p| p.estimate), e.index)))
+                    .min_by(|a, b| order(&a.1, &b.1))
+            };
+            let (top, low) = (first(true), first(false));
+            match (top, low) {
+                (None, None) => return None,
+                (Some((k, _)), None) => return self.entries.remove(k).prepared,
+                (Some((k, t)), Some((_, l))) if order(&t, &l).is_lt() => return self.entries.remove(k).prepared,
+                (_, Some((k, _))) => self.prepare(planner, problem, k),
+            }
+        }
+    }
+
+    /// Prepares entry `k` (its line's holonomy computed once for all its base targets).
+    fn prepare(&mut self, planner: &ChainPlanner, problem: &ChainProblem, k: usize) {
+        let e = &mut self.entries[k];
+        let (line, integral) = &mut self.lines[e.line];
+        // The line's holonomy at rest (the initial-velocity term is small and ignored here).
+        let integral = *integral.get_or_insert_with(|| line.holonomy(&planner.connection));
+        let context = self.context.as_mut().expect("invariant: unprepared entries come with their context");
+        e.prepared = Some(planner.representative(problem, line, integral, e.phi_end, context));
+    }
+}
