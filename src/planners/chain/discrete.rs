@@ -320,7 +320,8 @@ impl Discretised for Discretisation {
             (true, Some(_)) => Some(DMatrix::zeros(dim, dim)),
             (false, _) => Some(DMatrix::zeros(0, 0)),
         };
-        let mut e_local = EnergyLocal::new(n);
+        // Buffers of the energy only where it is the cost (empty ones allocate nothing).
+        let mut e_local = EnergyLocal::new(if self.energy.is_some() { n } else { 0 });
         for node in &table.nodes {
             self.point(&c, node, &mut theta, &mut rate);
             self.connection.local(&theta, &rate, &mut local);

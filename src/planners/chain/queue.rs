@@ -39,6 +39,8 @@ pub(super) struct Representatives {
     lines: Vec<(Line, Option<f64>)>,
     entries: Vec<Entry>,
     context: Option<SeedContext>,
+    /// The place of the representative taken last.
+    last: usize,
 }
 
 impl Representatives {
@@ -56,7 +58,7 @@ impl Representatives {
                 entries.push(Entry { index, line: k, phi_end, floor, bound_floor, prepared: None });
             }
         }
-        Self { lines: lines.into_iter().map(|l| (l, None)).collect(), entries, context: Some(context) }
+        Self { lines: lines.into_iter().map(|l| (l, None)).collect(), entries, context: Some(context), last: 0 }
     }
 
     /// Representatives prepared already, in their order.
@@ -73,7 +75,7 @@ impl Representatives {
                 prepared: Some(p),
             })
             .collect();
-        Self { lines: Vec::new(), entries, context: None }
+        Self { lines: Vec::new(), entries, context: None, last: 0 }
     }
 
     /// Whether every representative is taken or dropped.
@@ -101,11 +103,42 @@ impl Representatives {
             let (top, low) = (first(true), first(false));
             match (top, low) {
                 (None, None) => return None,
-                (Some((k, _)), None) => return self.entries.remove(k).prepared,
-                (Some((k, t)), Some((_, l))) if order(&t, &l).is_lt() => return self.entries.remove(k).prepared,
+                (Some((k, _)), None) => return self.take(k),
+                (Some((k, t)), Some((_, l))) if order(&t, &l).is_lt() => return self.take(k),
                 (_, Some((k, _))) => self.prepare(planner, problem, k),
             }
         }
+    }
+
+    /// Up to `count` more representatives of [`Self::next`] while `alike` holds for them (the
+    /// first for which it does not is left first in the queue).
+    pub fn more(
+        &mut self,
+        planner: &ChainPlanner,
+        problem: &ChainProblem,
+        best: f64,
+        count: usize,
+        alike: impl Fn(&Prepared) -> bool,
+    ) -> Vec<Prepared> {
+        let mut out = Vec::new();
+        while out.len() < count {
+            let Some(p) = self.next(planner, problem, best) else { break };
+            if !alike(&p) {
+                // Back in its place: the least of those left, it is the next again.
+                let (index, phi_end) = (self.last, p.targets.phi_end);
+                self.entries.push(Entry { index, line: 0, phi_end, floor: 0.0, bound_floor: 0.0, prepared: Some(p) });
+                break;
+            }
+            out.push(p);
+        }
+        out
+    }
+
+    /// Removes entry `k`, prepared, and keeps its place.
+    fn take(&mut self, k: usize) -> Option<Prepared> {
+        let e = self.entries.remove(k);
+        self.last = e.index;
+        e.prepared
     }
 
     /// Prepares entry `k` (its line's holonomy computed once for all its base targets).

@@ -15,6 +15,7 @@ use crate::plan::certificate::verify_chain;
 use crate::planners::optimal::spline::SplineBasis;
 use crate::planners::optimal::sqp::{SqpOptions, SqpResult, Termination};
 use crate::planners::optimal::{Cost, EXTRA_RESIDUAL};
+use rayon::prelude::*;
 
 /// SQP options of the coarse solves.
 pub(super) const COARSE_SQP: SqpOptions =
@@ -101,24 +102,37 @@ impl ChainPlanner {
             let mut taken = 0;
             while taken < o.targets_solved {
                 // The next whose bound is at most the least feasible cost seen.
-                let Some(mut p) = queue.next(self, problem, best) else { break };
-                if p.estimate > LATER_ESTIMATE_RATIO * refined_best {
+                let Some(p) = queue.next(self, problem, best) else { break };
+                let line_only = |p: &Prepared| p.estimate > LATER_ESTIMATE_RATIO * refined_best;
+                let mut group = vec![p];
+                if line_only(&group[0]) {
                     // Only the line (one cheap coarse solve; the SQP may bend it into a plan far
-                    // cheaper than the seeds' estimate).
-                    p.seeds.truncate(1);
+                    // cheaper than the seeds' estimate); the next ones, of larger estimates, are
+                    // lines too and are solved beside it, in parallel (one seed each), and then
+                    // taken in order as if one by one (a result that lowers the best cost drops
+                    // the later ones its bound cuts).
+                    group.extend(queue.more(self, problem, best, rayon::current_num_threads() - 1, line_only));
+                    group.iter_mut().for_each(|p| p.seeds.truncate(1));
                 } else {
                     taken += 1;
                 }
-                for (c, extra) in self.solve_seeds(problem, &p, tables)? {
-                    seeds += 1;
-                    iterations += c.iterations;
-                    // A feasible extra on the finest basis (a rate-limited line, `solve_seeds`)
-                    // is a plan's cost too: it bounds the later representatives (issue 20's
-                    // 2-link bench: one of bound 40 solved beside a line of 0.46).
-                    if (!extra || c.spans == o.max_spans) && c.feasible() {
-                        best = best.min(c.result.f);
+                let solved: Vec<_> = group.par_iter().map(|p| self.solve_seeds(problem, p, tables)).collect();
+                for (p, solved) in group.iter().zip(solved) {
+                    if p.bound > best {
+                        continue;
                     }
-                    if extra { extras.push(c) } else { coarse.push(c) }
+                    for (c, extra) in solved? {
+                        seeds += 1;
+                        iterations += c.iterations;
+                        // A feasible extra on the finest basis (a rate-limited line,
+                        // `solve_seeds`) is a plan's cost too: it bounds the later
+                        // representatives (issue 20's 2-link bench: one of bound 40 solved beside
+                        // a line of 0.46).
+                        if (!extra || c.spans == o.max_spans) && c.feasible() {
+                            best = best.min(c.result.f);
+                        }
+                        if extra { extras.push(c) } else { coarse.push(c) }
+                    }
                 }
             }
             // Near the constraint: within the extra finalist's residual (a coil's coarse solve
