@@ -160,6 +160,37 @@ fn the_spart_like_plan_keeps_its_clearance_from_the_base() {
     assert!(kept > free, "kept clear {kept} against {free} ignoring the base");
 }
 
+/// The same plan at 0.03 and 0.035 m, between the clearances the search was first tried at (0.02
+/// above, 0.04): both exited 3 with the least bad plan (0.013 m and the base crossed), their
+/// coarse finalists stalled or came under the clearance, and the line's solution on the finest
+/// basis, converged at 7.53 and 7.57 rad^2/s, had been dropped as 20 % above them. Where no
+/// finalist is certified and clear, the candidates set aside are tried next.
+#[test]
+fn the_spart_like_plan_keeps_clearances_between_those_tried() {
+    let f = fixture();
+    for clearance in ["0.03", "0.035"] {
+        let o = freefloat(&[
+            "plan",
+            "--urdf",
+            &f,
+            "--from",
+            FROM,
+            "--to",
+            TO,
+            "--format",
+            "json",
+            "--clearance",
+            clearance,
+        ]);
+        assert!(o.status.success(), "{clearance}: {}", stderr(&o));
+        let r: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+        assert_eq!(r["certified"], true, "{clearance}");
+        let c = &r["clearance"];
+        let wanted: f64 = clearance.parse().unwrap();
+        assert!(c["min"].as_f64().unwrap() >= wanted && c["holds"] == true, "{clearance}: {c}");
+    }
+}
+
 /// An obstacle where the unconstrained plan's end effector arrives: exit 3 naming the obstacle,
 /// for the optimal planner and the ECSA alike (`compare` lists both, the exit names the one that
 /// failed).

@@ -29,6 +29,7 @@ pub(crate) mod search;
 pub mod seeds;
 mod single;
 mod starts;
+mod warm;
 
 use std::sync::Arc;
 

@@ -96,6 +96,7 @@ impl ChainPlanner {
         // estimate is far above it; every converged refinement is kept.
         let mut best = f64::INFINITY;
         let mut done: Vec<Candidate> = Vec::new();
+        let mut set_aside: Vec<Candidate> = Vec::new();
         while !queue.is_empty() {
             let (mut coarse, mut extras) = (Vec::new(), Vec::new());
             let mut refined_best = done.iter().map(|c| c.result.f).fold(f64::INFINITY, f64::min);
@@ -150,7 +151,13 @@ impl ChainPlanner {
             // within 20 % of the best one's.
             let first = coarse.first().filter(|c| near(c)).map_or(refined_best, |c| c.result.f.min(refined_best));
             let extra = extras.into_iter().filter(near).min_by(|a, b| a.result.f.total_cmp(&b.result.f));
-            let extra = extra.filter(|c| c.result.f <= 1.2 * first);
+            // One more than 20 % above is set aside, not dropped: where no refined plan is
+            // certified (and clear), it is the search's next answer.
+            let (extra, aside) = match extra {
+                Some(c) if c.result.f > 1.2 * first => (None, Some(c)),
+                extra => (extra, None),
+            };
+            set_aside.extend(aside);
             // Finalists, best first: a coarse cost 20 % above the best refined one (of earlier
             // batches or of this one) does not overtake on refinement, and one far from the
             // constraint is a finalist only while no plan is found. A refinement that fails
@@ -185,11 +192,29 @@ impl ChainPlanner {
             }
         }
         done.sort_by(|a, b| a.result.f.total_cmp(&b.result.f));
+        set_aside.sort_by(|a, b| a.result.f.total_cmp(&b.result.f));
+        let none_done = done.is_empty();
         // A plan under the clearance between the rows' points (issue 21) is solved again keeping
-        // more; if none clears, the least bad is returned for its certificate to report.
+        // more; if none clears, the least bad is returned for its certificate to report. After
+        // the refined plans, the candidates set aside, least cost first, refined where they are
+        // not on the finest basis yet (issue 21's SPART-like arm at 0.03 and 0.035 m: the coarse
+        // finalists stalled or came under the clearance, and the line's solution on the finest
+        // basis, converged at 7.53 and 7.57 rad^2/s, had been set aside as 20 % above them).
         let mut closest: Option<ChainPlan> = None;
-        for c in &done {
-            match self.certified_clear(problem, c, seeds, iterations, clock, tables) {
+        let mut refined = Vec::new();
+        for (c, later) in done.into_iter().map(|c| (c, false)).chain(set_aside.into_iter().map(|c| (c, true))) {
+            let c = if !later || (c.result.converged() && c.spans == o.max_spans) {
+                c
+            } else {
+                match self.refine_new(problem, c, &mut refined, tables)? {
+                    Some(c) if c.result.converged() => {
+                        iterations += c.iterations;
+                        c
+                    }
+                    _ => continue,
+                }
+            };
+            match self.certified_clear(problem, &c, seeds, iterations, clock, tables) {
                 Ok(Ok(plan)) => return Ok(plan),
                 Ok(Err(plan)) => {
                     let min = |p: &ChainPlan| p.verification.clearance.map_or(f64::NEG_INFINITY, |r| r.min);
@@ -208,7 +233,7 @@ impl ChainPlanner {
         // the holonomy is still a motion of the robot, returned when its certificate holds and it
         // stays inside every limit and clearance. Its statistics say it stalled (the report and
         // the table say it is not proven a constrained minimum).
-        if done.is_empty()
+        if none_done
             && let Some(b) = best_failure.as_ref().filter(|b| b.result.termination == Termination::Stalled)
             && let Ok(Ok(plan)) = self.certified_clear(problem, b, seeds, iterations, clock, tables)
             && plan.verification.limits.as_ref().is_none_or(|l| l.inside)
@@ -253,76 +278,6 @@ impl ChainPlanner {
         }
         refined.push(f);
         self.refine(problem, c, tables).map(Some)
-    }
-
-    /// The plan of [`super::ChainOptions::warm_start`] when there is one ([`Self::warm`]);
-    /// `prepared` keeps the representatives of a goal taken modulo 2 pi for the search.
-    pub(super) fn warm_start(
-        &self,
-        problem: &ChainProblem,
-        prepared: &mut Option<Vec<Prepared>>,
-        tables: &Tables,
-        clock: Instant,
-    ) -> Result<Option<ChainPlan>, Error> {
-        let Some(path) = &self.options.warm_start else { return Ok(None) };
-        // A literal goal has one representative, found without the seeds (whose loops and
-        // coils cost a re-plan more than its solve does).
-        let targets = if problem.wrap {
-            prepared.insert(self.prepare(problem)?).iter().map(|p| p.targets.clone()).collect()
-        } else {
-            self.literal_targets(problem)
-        };
-        self.warm(problem, path, &targets, tables, clock)
-    }
-
-    /// The warm start's plan: its projection on the coarse basis of the representative it ends
-    /// at, solved, refined and certified; `None` when no representative matches or any step
-    /// fails (the full search follows).
-    fn warm(
-        &self,
-        problem: &ChainProblem,
-        path: &super::WarmStart,
-        representatives: &[Targets],
-        tables: &Tables,
-        clock: Instant,
-    ) -> Result<Option<ChainPlan>, Error> {
-        path.validate(self.arm.joints())?;
-        let Some(end) = path.theta.last() else { return Ok(None) };
-        let near = |t: &&Targets| t.end.iter().zip(end).all(|(a, b)| (a - b).abs() <= 1e-6);
-        let Some(targets) = representatives.iter().find(near) else { return Ok(None) };
-        self.solve_from(problem, targets.clone(), path, self.options.coarse_spans, tables, clock)
-    }
-
-    /// The plan from `path` to `targets` alone (no search): its projection on `spans` uniform
-    /// spans, solved, refined and certified; `None` when any step fails.
-    pub(super) fn solve_from(
-        &self,
-        problem: &ChainProblem,
-        targets: Targets,
-        path: &super::WarmStart,
-        spans: usize,
-        tables: &Tables,
-        clock: Instant,
-    ) -> Result<Option<ChainPlan>, Error> {
-        let o = &self.options;
-        let disc = self.discretise(problem, targets, spans, o.quadrature_nodes, tables)?;
-        let Ok(x0) = disc.project(|t, out| path.at(t, out)) else { return Ok(None) };
-        let Ok(result) = super::limits::solve(self, &disc, x0, &COARSE_SQP, None) else { return Ok(None) };
-        if !(result.c.abs() <= 1e-6 && result.f.is_finite()) {
-            return Ok(None);
-        }
-        let (nodes, iterations) = (o.quadrature_nodes, result.iterations);
-        let c = self.refine(problem, Candidate { disc, result, spans, nodes, iterations }, tables)?;
-        if !c.result.converged() {
-            return Ok(None);
-        }
-        let iterations = c.iterations;
-        // Under the clearance between the rows' points, solved again keeping more (issue 21);
-        // a plan that still does not clear is returned for the caller to judge.
-        Ok(match self.certified_clear(problem, &c, 1, iterations, clock, tables) {
-            Ok(Ok(plan) | Err(plan)) => Some(plan),
-            Err(_) => None,
-        })
     }
 
     /// The discretisation of `targets` on `spans` uniform spans and `nodes` nodes per span.

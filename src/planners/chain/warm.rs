@@ -1,0 +1,84 @@
+//! The warm start of the chain planner ([`super::ChainOptions::warm_start`], the re-plans of
+//! `track`): a given path solved, refined and certified to the representative it ends at, without
+//! the search.
+
+use std::time::Instant;
+
+use super::discrete::Targets;
+use super::motion::ChainPlan;
+use super::search::{COARSE_SQP, Candidate, Tables};
+use super::starts::Prepared;
+use super::{ChainPlanner, ChainProblem};
+use crate::error::Error;
+
+impl ChainPlanner {
+    /// The plan of [`super::ChainOptions::warm_start`] when there is one ([`Self::warm`]);
+    /// `prepared` keeps the representatives of a goal taken modulo 2 pi for the search.
+    pub(super) fn warm_start(
+        &self,
+        problem: &ChainProblem,
+        prepared: &mut Option<Vec<Prepared>>,
+        tables: &Tables,
+        clock: Instant,
+    ) -> Result<Option<ChainPlan>, Error> {
+        let Some(path) = &self.options.warm_start else { return Ok(None) };
+        // A literal goal has one representative, found without the seeds (whose loops and
+        // coils cost a re-plan more than its solve does).
+        let targets = if problem.wrap {
+            prepared.insert(self.prepare(problem)?).iter().map(|p| p.targets.clone()).collect()
+        } else {
+            self.literal_targets(problem)
+        };
+        self.warm(problem, path, &targets, tables, clock)
+    }
+
+    /// The warm start's plan: its projection on the coarse basis of the representative it ends
+    /// at, solved, refined and certified; `None` when no representative matches or any step
+    /// fails (the full search follows).
+    fn warm(
+        &self,
+        problem: &ChainProblem,
+        path: &super::WarmStart,
+        representatives: &[Targets],
+        tables: &Tables,
+        clock: Instant,
+    ) -> Result<Option<ChainPlan>, Error> {
+        path.validate(self.arm.joints())?;
+        let Some(end) = path.theta.last() else { return Ok(None) };
+        let near = |t: &&Targets| t.end.iter().zip(end).all(|(a, b)| (a - b).abs() <= 1e-6);
+        let Some(targets) = representatives.iter().find(near) else { return Ok(None) };
+        self.solve_from(problem, targets.clone(), path, self.options.coarse_spans, tables, clock)
+    }
+
+    /// The plan from `path` to `targets` alone (no search): its projection on `spans` uniform
+    /// spans, solved, refined and certified; `None` when any step fails.
+    pub(super) fn solve_from(
+        &self,
+        problem: &ChainProblem,
+        targets: Targets,
+        path: &super::WarmStart,
+        spans: usize,
+        tables: &Tables,
+        clock: Instant,
+    ) -> Result<Option<ChainPlan>, Error> {
+        let o = &self.options;
+        let disc = self.discretise(problem, targets, spans, o.quadrature_nodes, tables)?;
+        let Ok(x0) = disc.project(|t, out| path.at(t, out)) else { return Ok(None) };
+        let Ok(result) = super::limits::solve(self, &disc, x0, &COARSE_SQP, None) else { return Ok(None) };
+        if !(result.c.abs() <= 1e-6 && result.f.is_finite()) {
+            return Ok(None);
+        }
+        let (nodes, iterations) = (o.quadrature_nodes, result.iterations);
+        let c = self.refine(problem, Candidate { disc, result, spans, nodes, iterations }, tables)?;
+        if !c.result.converged() {
+            return Ok(None);
+        }
+        let iterations = c.iterations;
+        // Under the clearance between the rows' points, solved again keeping more (issue 21);
+        // a plan that still does not clear is returned for the caller to judge.
+        Ok(match self.certified_clear(problem, &c, 1, iterations, clock, tables) {
+            Ok(Ok(plan) | Err(plan)) => Some(plan),
+            Err(_) => None,
+        })
+    }
+}
