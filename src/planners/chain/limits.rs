@@ -388,6 +388,9 @@ impl Discretised for Limited<'_> {
     }
 }
 
+/// SQP iterations of a rate-limited line's first coarse solve (see `ChainPlanner::solve_seed`).
+pub(crate) const CAPPED_LINE: usize = 8;
+
 /// Restarts of a constrained solve that stalled short of its KKT tolerance ([`solve`]).
 const STALL_RESTARTS: usize = 4;
 
