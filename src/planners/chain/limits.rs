@@ -22,18 +22,21 @@
 //! tolerance is inside the declared one.
 
 mod clearance;
+mod loose;
+mod ranges;
 
-use std::f64::consts::TAU;
+pub(crate) use ranges::{inside_ranges, least_time, within_reach};
 
 use nalgebra::DVector;
 
+use super::ChainPlanner;
 use super::connection::{Connection, Local};
 use super::discrete::Discretisation;
-use super::{ChainPlanner, ChainProblem};
 use crate::dynamics::arm::ArmDynamics;
 use crate::error::Error;
 use crate::model::InputError;
-use crate::model::arm::{Arm, Limits};
+use crate::model::arm::Arm;
+use crate::model::arm::lumped::SIZE;
 use crate::numerics::quadrature::GaussLegendre;
 use crate::planners::optimal::band::BandCholesky;
 use crate::planners::optimal::discrete::Evaluation;
@@ -169,6 +172,8 @@ impl<'a> Limited<'a> {
     }
 
     /// The torque rows (two per joint and point) into `out`.
+    // The indices are the formula's: joints `j`, `k` and the basis functions `l` of the span.
+    #[allow(clippy::needless_range_loop)]
     fn torques(&self, c: &[Vec<f64>], order: usize, out: &mut Inequalities) {
         if self.torque.is_empty() {
             return;
@@ -184,6 +189,15 @@ impl<'a> Limited<'a> {
         let (mut th, mut w, mut a) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
         // The arm's constants once for every point (as `inverse_dynamics` builds them per call).
         let dynamics = ArmDynamics::new(self.arm);
+        // Work arrays of the inverse dynamics (no allocation per call).
+        let (mut tau, mut up, mut down) = ([0.0; SIZE], [0.0; SIZE], [0.0; SIZE]);
+        let mut spare = ([0.0; SIZE], [0.0; SIZE]);
+        let mut inverse = |th: &[f64], w: &[f64], a: &[f64], out: &mut [f64; SIZE]| {
+            dynamics.inverse_into(th, w, a, &mut out[..n], &mut spare.0[..=n], &mut spare.1[..=n]);
+        };
+        // Sensitivities d tau_j / d (theta_k, theta'_k, theta''_k): `sens[which][j][k]`.
+        let mut sens = [[[0.0; SIZE]; SIZE]; 3];
+        let mut row = Vec::new();
         for &t in &times {
             let span = basis.span_of_interval(basis.interval(t));
             let d = basis.ders(span, t);
@@ -194,53 +208,51 @@ impl<'a> Limited<'a> {
                 w[j] = (0..=p).map(|l| d[1][l] * cj[l]).sum();
                 a[j] = (0..=p).map(|l| d[2][l] * cj[l]).sum();
             }
-            let tau = dynamics.inverse(&th, &w, &a).tau;
-            // Sensitivities d tau / d (theta_k, theta'_k, theta''_k), `n` columns each.
-            let mut sens = vec![[vec![0.0; n], vec![0.0; n], vec![0.0; n]]; n];
+            inverse(&th, &w, &a, &mut tau);
             if order >= 1 {
+                // In theta and theta' by central differences (exact up to rounding in theta',
+                // in which the torque is quadratic); in theta'' exactly, the reduced inertia
+                // `M_jk - M_j0 M_0k / M_00` (the torque is affine in it, the base's `phi''`
+                // eliminated by the momentum row).
                 for k in 0..n {
-                    for (which, h) in [(0, 1e-6 * (1.0 + th[k].abs())), (1, 1e-6 * (1.0 + w[k].abs()))] {
-                        let (mut plus, mut minus) = ((th.clone(), w.clone()), (th.clone(), w.clone()));
-                        if which == 0 {
-                            plus.0[k] += h;
-                            minus.0[k] -= h;
-                        } else {
-                            plus.1[k] += h;
-                            minus.1[k] -= h;
-                        }
-                        let up = dynamics.inverse(&plus.0, &plus.1, &a).tau;
-                        let down = dynamics.inverse(&minus.0, &minus.1, &a).tau;
-                        for (jj, s) in sens.iter_mut().enumerate() {
-                            s[which][k] = (up[jj] - down[jj]) / (2.0 * h);
+                    for which in 0..2 {
+                        let x = if which == 0 { &mut th } else { &mut w };
+                        let (x0, h) = (x[k], 1e-6 * (1.0 + x[k].abs()));
+                        x[k] = x0 + h;
+                        inverse(&th, &w, &a, &mut up);
+                        let x = if which == 0 { &mut th } else { &mut w };
+                        x[k] = x0 - h;
+                        inverse(&th, &w, &a, &mut down);
+                        let x = if which == 0 { &mut th } else { &mut w };
+                        x[k] = x0;
+                        for jj in 0..n {
+                            sens[which][jj][k] = (up[jj] - down[jj]) / (2.0 * h);
                         }
                     }
-                    let mut unit = a.clone();
-                    unit[k] += 1.0;
-                    let up = dynamics.inverse(&th, &w, &unit).tau;
-                    for (jj, s) in sens.iter_mut().enumerate() {
-                        s[2][k] = up[jj] - tau[jj];
+                }
+                let m = dynamics.model_terms(&th, &[0.0; SIZE][..=n]);
+                for jj in 0..n {
+                    for k in 0..n {
+                        sens[2][jj][k] =
+                            m.inertia(jj + 1, k + 1) - m.inertia(jj + 1, 0) * m.inertia(0, k + 1) / m.inertia(0, 0);
                     }
                 }
             }
             for &(j, inv) in &self.torque {
-                let mut row = Vec::new();
+                out.values.push(tau[j] * inv - 1.0);
+                out.values.push(-tau[j] * inv - 1.0);
                 if order >= 1 {
-                    let [s0, s1, s2] = &sens[j];
-                    for (l, ((v0, v1), v2)) in d[0].iter().zip(&d[1]).zip(&d[2]).enumerate().take(p + 1) {
-                        for (k, ((a0, a1), a2)) in s0.iter().zip(s1).zip(s2).enumerate() {
+                    row.clear();
+                    for l in 0..=p {
+                        for k in 0..n {
                             if let Some(idx) = self.index(first + l, k) {
-                                let v = a0 * v0 + a1 * v1 + a2 * v2;
+                                let v = sens[0][j][k] * d[0][l] + sens[1][j][k] * d[1][l] + sens[2][j][k] * d[2][l];
                                 row.push((idx, v * inv));
                             }
                         }
                     }
-                }
-                out.values.push(tau[j] * inv - 1.0);
-                out.values.push(-tau[j] * inv - 1.0);
-                if order >= 1 {
-                    let negated = row.iter().map(|&(i, v)| (i, -v)).collect();
-                    out.rows.push(row);
-                    out.rows.push(negated);
+                    out.rows.push(row.clone());
+                    out.rows.push(row.iter().map(|&(i, v)| (i, -v)).collect());
                 }
             }
         }
@@ -376,6 +388,9 @@ impl Discretised for Limited<'_> {
     }
 }
 
+/// SQP iterations of a rate-limited line's first coarse solve (see `ChainPlanner::solve_seed`).
+pub(crate) const CAPPED_LINE: usize = 8;
+
 /// Restarts of a constrained solve that stalled short of its KKT tolerance ([`solve`]).
 const STALL_RESTARTS: usize = 4;
 
@@ -447,103 +462,4 @@ fn constrained(planner: &ChainPlanner) -> bool {
 /// an obstacle, with obstacle rows on) that is checked, and the rows are on.
 pub(crate) fn keeps_clearance(planner: &ChainPlanner) -> bool {
     planner.clearance_rows && clearance::Clearance::new(&planner.arm, planner.obstacle_rows, 0.0).is_some()
-}
-
-/// Keeps the goal representatives inside the ranges: each limited joint's goal is moved by whole
-/// turns to the representative inside its range nearest the given one (dropped when none is
-/// inside), duplicates removed; the base-angle targets likewise with a base range
-/// ([`base_inside`]). Without limits both are unchanged.
-pub(crate) fn inside_ranges(limits: &Limits, goals: &mut Vec<Vec<f64>>, phi_targets: &mut Vec<f64>) {
-    base_inside(limits, phi_targets);
-    if limits.joints.iter().all(|j| j.position.is_none()) {
-        return;
-    }
-    let mut kept: Vec<Vec<f64>> = Vec::new();
-    for mut g in goals.drain(..) {
-        let ok = g.iter_mut().enumerate().all(|(j, v)| match limits.joint(j).position {
-            Some(range) => shift_inside(v, range),
-            None => true,
-        });
-        if ok && !kept.iter().any(|k| k.iter().zip(&g).all(|(a, b)| (a - b).abs() <= 1e-12)) {
-            kept.push(g);
-        }
-    }
-    *goals = kept;
-}
-
-/// The least time in which one joint can move by `distance` \[rad\] with `|theta'| <= v` and
-/// `|theta''| <= a` (either may be absent): `distance / v` from any start velocity; from rest to
-/// rest, the bang-bang time `2 sqrt(distance / a)`, or with both `distance / v + v / a` once the
-/// joint reaches `v` (`distance >= v^2 / a`). 0 without either limit.
-pub(crate) fn least_time(distance: f64, velocity: Option<f64>, acceleration: Option<f64>, at_rest: bool) -> f64 {
-    let d = distance.abs();
-    match (velocity, acceleration.filter(|_| at_rest)) {
-        (Some(v), Some(a)) if d >= v * v / a => d / v + v / a,
-        (_, Some(a)) => 2.0 * (d / a).sqrt(),
-        (Some(v), None) => d / v,
-        (None, None) => 0.0,
-    }
-}
-
-/// Drops the goal representatives that a joint cannot reach in `horizon` within its velocity
-/// and acceleration limits ([`least_time`]; a necessary condition, so no feasible plan is lost).
-pub(crate) fn within_reach(limits: &Limits, start: &[f64], at_rest: bool, horizon: f64, goals: &mut Vec<Vec<f64>>) {
-    goals.retain(|g| {
-        g.iter().zip(start).enumerate().all(|(j, (g, s))| {
-            let l = limits.joint(j);
-            least_time(g - s, l.velocity, l.acceleration, at_rest) <= horizon * (1.0 + 1e-9)
-        })
-    });
-}
-
-/// Keeps the base-angle targets inside the base range (moved by whole turns, as
-/// [`inside_ranges`]); unchanged without a base range.
-fn base_inside(limits: &Limits, targets: &mut Vec<f64>) {
-    let Some(range) = limits.base else { return };
-    let mut kept: Vec<f64> = Vec::new();
-    for mut v in targets.drain(..) {
-        if shift_inside(&mut v, range) && !kept.iter().any(|k| (k - v).abs() <= 1e-12) {
-            kept.push(v);
-        }
-    }
-    *targets = kept;
-}
-
-/// Moves `v` by whole turns into `[lo, hi]` (nearest its value); false when no turn fits.
-fn shift_inside(v: &mut f64, [lo, hi]: [f64; 2]) -> bool {
-    if (lo..=hi).contains(v) {
-        return true;
-    }
-    let k = if *v > hi { ((*v - hi) / TAU).ceil() } else { -((lo - *v) / TAU).ceil() };
-    let moved = *v - k * TAU;
-    if (lo..=hi).contains(&moved) {
-        *v = moved;
-        true
-    } else {
-        false
-    }
-}
-
-impl ChainProblem {
-    /// Checks the start and goal against `arm`'s ranges: a limited joint's angle (and `phi`
-    /// with a base range) outside its range is an [`InputError`] naming the joint, the value and
-    /// the range (a limited joint is never wrapped).
-    pub(crate) fn validate_ranges(&self, arm: &Arm) -> Result<(), Error> {
-        let check = |name: &str, value: f64, range: Option<[f64; 2]>, key: String| match range {
-            Some([lo, hi]) if !(lo..=hi).contains(&value) => Err(Error::from(InputError::InvalidParameter {
-                name: format!("{name} outside {key} = [{lo}, {hi}] rad"),
-                value,
-                expected: "an angle inside the declared range (a limited angle is literal, never wrapped)",
-            })),
-            _ => Ok(()),
-        };
-        for (name, q) in [("start", &self.start), ("goal", &self.goal)] {
-            check(&format!("{name} phi"), q[0], arm.limits.base, "base.limit".into())?;
-            for (j, v) in q.iter().enumerate().skip(1) {
-                let range = arm.limits.joint(j - 1).position;
-                check(&format!("{name} theta{j}"), *v, range, format!("link[{j}].limit"))?;
-            }
-        }
-        Ok(())
-    }
 }

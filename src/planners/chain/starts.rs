@@ -14,7 +14,7 @@ use super::{ChainPlanner, ChainProblem};
 use crate::error::Error;
 use crate::model::wrap_angle;
 use crate::planners::optimal::Cost;
-use crate::planners::optimal::sqp::Discretised;
+use crate::planners::optimal::sqp::{Discretised, SqpOptions};
 
 /// Uniform knot spans per turn of a coil seed (cubic B-splines follow a circle to about 1e-3 of
 /// its radius at this resolution; the radius is then re-fitted to the constraint), as the
@@ -282,10 +282,32 @@ impl ChainPlanner {
                 }
             }
         }
+        let nodes = o.quadrature_nodes;
+        let rate_limited_line = seed == Seed::Line && self.arm.limits.rate_limited() && o.max_spans > spans;
         for (x0, guess) in starts {
-            let Ok(result) = super::limits::solve(self, &disc, x0, &COARSE_SQP, guess) else { continue };
-            let (nodes, iterations) = (o.quadrature_nodes, result.iterations);
-            let c = Candidate { disc: disc.clone(), result, spans, nodes, iterations };
+            let coarse = |x0, options| {
+                let result = super::limits::solve(self, &disc, x0, options, guess).ok()?;
+                let iterations = result.iterations;
+                Some(Candidate { disc: disc.clone(), result, spans, nodes, iterations })
+            };
+            // The rate-limited line's coarse solve to `super::limits::CAPPED_LINE` iterations
+            // first: where it is still infeasible there it serves only as the finest basis' warm
+            // start (below), and the rest of its solve was wasted (issue 20's 3-link bench: 24
+            // iterations, 67 QPs, to a stall off the constraint; from the 8th the finest basis'
+            // solve takes the same 9). Elsewhere, solved in full from the seed, as without a cap.
+            let capped = SqpOptions { max_iterations: super::limits::CAPPED_LINE, ..COARSE_SQP };
+            let Some(mut c) = coarse(x0.clone(), if rate_limited_line { &capped } else { &COARSE_SQP }) else {
+                continue;
+            };
+            let full = |c: Candidate| if rate_limited_line { coarse(x0.clone(), &COARSE_SQP) } else { Some(c) };
+            if rate_limited_line && c.feasible() && !c.result.converged() {
+                // Feasible there: the rest of the solve, from where it stopped.
+                let rest = SqpOptions { max_iterations: COARSE_SQP.max_iterations - c.iterations, ..COARSE_SQP };
+                let more = super::limits::solve(self, &disc, c.result.x.clone(), &rest, Some(c.result.lambda));
+                let Ok(result) = more else { continue };
+                let iterations = c.iterations + result.iterations;
+                c = Candidate { disc: disc.clone(), result, spans, nodes, iterations };
+            }
             let feasible = c.feasible();
             // A rate limit's control-point rows are conservative by `O(h^2)` on spans of
             // width `h`: where the coarse line cannot meet the constraint inside them, the
@@ -312,12 +334,16 @@ impl ChainPlanner {
                 if let Some(result) = result {
                     let iterations = result.iterations;
                     let f = Candidate { disc: fine, result, spans: o.max_spans, nodes, iterations };
-                    if !f.feasible() {
+                    if !f.feasible()
+                        && let Some(c) = full(c)
+                    {
                         out.push((c, coil));
                     }
                     out.push((f, true));
                     continue;
                 }
+                let Some(again) = full(c) else { continue };
+                c = again;
             }
             out.push((c, coil && seed == Seed::Line));
         }
