@@ -22,7 +22,6 @@
 //! tolerance is inside the declared one.
 
 mod clearance;
-mod loose;
 mod ranges;
 
 pub(crate) use ranges::{inside_ranges, least_time, within_reach};

@@ -74,9 +74,6 @@ impl ChainPlanner {
         if super::limits::keeps_clearance(self) {
             return self.plan_keeping_clearance(problem, &tables, clock);
         }
-        if let Some(plan) = self.plan_inside_without_rows(problem, &tables, clock)? {
-            return Ok(plan);
-        }
         self.search(problem, &tables, clock)
     }
 
