@@ -26,6 +26,13 @@ const TO: &str = "30,60,-30,20,-60";
 /// Every pair with the base left out: the links against each other only.
 const NO_BASE: [&str; 6] = ["--no-collide", "base,link2", "--no-collide", "base,link3", "--no-collide", "base,link4"];
 
+/// The JSON report of a `plan` that must succeed.
+fn planned(args: &[&str]) -> serde_json::Value {
+    let o = freefloat(args);
+    assert!(o.status.success(), "{args:?}: {}", stderr(&o));
+    serde_json::from_slice(&o.stdout).unwrap()
+}
+
 fn close(a: [f64; 2], b: [f64; 2]) -> bool {
     (a[0] - b[0]).abs() < 1e-12 && (a[1] - b[1]).abs() < 1e-12
 }
@@ -142,17 +149,13 @@ fn toml_width_and_shape_keys() {
 fn the_spart_like_plan_keeps_its_clearance_from_the_base() {
     let f = fixture();
     let plan = ["plan", "--urdf", &f, "--from", FROM, "--to", TO, "--format", "json"];
-    let o = freefloat(&[&plan[..], &["--clearance", "0.02"]].concat());
-    assert!(o.status.success(), "{}", stderr(&o));
-    let r: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let r = planned(&[&plan[..], &["--clearance", "0.02"]].concat());
     assert_eq!(r["certified"], true);
     let c = &r["clearance"];
     assert!(c["min"].as_f64().unwrap() >= 0.02 && c["holds"] == true, "{c}");
     let kept = r["effort"].as_f64().unwrap();
 
-    let o = freefloat(&[&plan[..], &NO_BASE[..]].concat());
-    assert!(o.status.success(), "{}", stderr(&o));
-    let r: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let r = planned(&[&plan[..], &NO_BASE[..]].concat());
     let c = &r["clearance"];
     assert_eq!((&r["certified"], &c["between"]), (&serde_json::json!(true), &serde_json::json!(["link 1", "link 3"])));
     assert!(c["min"].as_f64().unwrap() > 0.1 && c["holds"] == true, "{c}");
@@ -168,22 +171,9 @@ fn the_spart_like_plan_keeps_its_clearance_from_the_base() {
 #[test]
 fn the_spart_like_plan_keeps_clearances_between_those_tried() {
     let f = fixture();
+    let plan = ["plan", "--urdf", &f, "--from", FROM, "--to", TO, "--format", "json"];
     for clearance in ["0.03", "0.035"] {
-        let o = freefloat(&[
-            "plan",
-            "--urdf",
-            &f,
-            "--from",
-            FROM,
-            "--to",
-            TO,
-            "--format",
-            "json",
-            "--clearance",
-            clearance,
-        ]);
-        assert!(o.status.success(), "{clearance}: {}", stderr(&o));
-        let r: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+        let r = planned(&[&plan[..], &["--clearance", clearance]].concat());
         assert_eq!(r["certified"], true, "{clearance}");
         let c = &r["clearance"];
         let wanted: f64 = clearance.parse().unwrap();
