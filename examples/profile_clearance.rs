@@ -1,6 +1,8 @@
 //! Runs the minimum-effort planner keeping a clearance repeatedly (for profiling with perf):
 //! `profile_clearance CASE N [CLEARANCE]` with CASE `spart` (the SPART-like fixture with its base
-//! box, `benches/clearance.rs`) or `3link` (the 3-link example around an obstacle).
+//! box, `benches/clearance.rs`), `3link` (the 3-link example around an obstacle) or `random`
+//! (N random problems on the SPART-like fixture; `FF_ONLY=K` runs problem K alone,
+//! `FF_RATES=free` lifts the joints' velocity, acceleration and torque limits).
 use freefloat::model::arm::Arm;
 use freefloat::model::arm::collision::Body;
 use freefloat::model::geometry::Shape;
@@ -81,8 +83,18 @@ fn random(arm: Arm, n: usize) -> Result<(), Box<dyn std::error::Error>> {
         let angle = |j: usize, u: f64| if j == 0 { 30.0 * u - 15.0_f64 } else { 180.0 * u - 90.0 }.to_radians();
         let start: Vec<f64> = (0..5).map(|j| angle(j, uniform())).collect();
         let goal: Vec<f64> = (0..5).map(|j| angle(j, uniform())).collect();
+        if std::env::var("FF_ONLY").is_ok_and(|v| v != k.to_string()) {
+            continue;
+        }
         for clearance in [0.0, 0.02, 0.04] {
             let mut arm = arm.clone();
+            if std::env::var("FF_RATES").is_ok_and(|v| v == "free") {
+                // The joints' rates unlimited (their ranges kept): SPART's own file declares
+                // 100 rad/s and 1000 N m.
+                for j in &mut arm.limits.joints {
+                    (j.velocity, j.torque, j.acceleration) = (None, None, None);
+                }
+            }
             arm.geometry.clearance = clearance;
             let clock = std::time::Instant::now();
             let problem = ChainProblem::rest_to_rest(start.clone(), goal.clone(), 10.0);
