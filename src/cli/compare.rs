@@ -34,7 +34,7 @@ pub fn compare(args: &CompareArgs) -> anyhow::Result<ExitCode> {
     };
     // The ECSA's plain series moves at t = 0: its torques cannot start from rest.
     let hint = match (failure.method, args.problem.window) {
-        (Method::Ecsa, WindowArg::None) if args.problem.torques => {
+        (Method::Ecsa, WindowArg::None) if args.problem.torques && compared.torques_from_rest => {
             "; its plain series does not start at rest, --window sin2 does"
         }
         _ => "",
@@ -60,6 +60,9 @@ struct Compared {
     refused: Vec<Method>,
     /// The methods without a certified plan, in the columns' order: the first one is the exit's.
     failures: Vec<Failure>,
+    /// Whether an ECSA without a certified plan under `--torques` and the plain series hints at
+    /// `--window sin2` (the 2-link robot's: its torque level starts at rest, the series does not).
+    torques_from_rest: bool,
 }
 
 /// A method without a certified plan.
@@ -73,7 +76,7 @@ struct Failure {
 impl Compared {
     /// An empty comparison under `title`.
     fn new(title: String) -> Self {
-        Self { title, reports: Vec::new(), refused: Vec::new(), failures: Vec::new() }
+        Self { title, reports: Vec::new(), refused: Vec::new(), failures: Vec::new(), torques_from_rest: false }
     }
 
     /// Adds `method`'s plan (its report and certificate) or why it has none.
@@ -112,6 +115,7 @@ fn two_link(args: &CompareArgs) -> anyhow::Result<Compared> {
     let (geometry, _) = super::geometry::two_link(&args.problem.robot, &args.problem.geometry)?;
     let goal = degrees(&problem.goal.to_array());
     let mut compared = Compared::new(title("", problem.robot.mount, &problem.start.to_array(), &goal, problem.horizon));
+    compared.torques_from_rest = true;
     for method in COMPARED {
         let result = plan_with(method, &args.problem, &problem)?.and_then(|mut planned| {
             planned.check_clearance(&geometry)?;
