@@ -3,7 +3,6 @@
 pub mod args;
 mod check;
 mod compare;
-mod compare_arm;
 pub mod config;
 mod domain;
 mod geometry;

@@ -352,6 +352,30 @@ fn arm_compare_lists_every_method() {
     }
 }
 
+/// One `compare` table for every robot (issue 19): the paper's robot with a joint limit, planned
+/// by the n-joint pipeline (the NFA refused), has the rows of the paper's robot in the 2-link
+/// pipeline, in the same order and columns.
+#[test]
+fn arm_compare_has_the_two_link_rows() {
+    let labels = |args: &[&str]| {
+        let o = freefloat(args);
+        assert_eq!(o.status.code(), Some(0), "{args:?}: {}", stderr(&o));
+        let text = String::from_utf8_lossy(&o.stdout).into_owned();
+        let rows: Vec<String> = text
+            .lines()
+            .skip(2)
+            .take_while(|line| !["optimal", "nfa", "ecsa"].iter().any(|m| line.starts_with(&format!("  {m}: "))))
+            .map(|line| line[2..33].trim_end().to_string())
+            .collect();
+        (rows, text)
+    };
+    let (two_link, text) = labels(&["compare"]);
+    let (arm, arm_text) = labels(&["compare", "--limit", "theta2.velocity=500"]);
+    assert_eq!(two_link, arm, "{text}\n{arm_text}");
+    assert!(two_link.len() == 18 && two_link.contains(&"min |sigma|, min |P|".to_string()), "{text}");
+    assert!(arm_text.starts_with("freefloat compare: 2-link arm, ") && arm_text.contains("(refused)"), "{arm_text}");
+}
+
 /// `--to-ee` on the SPART-like 4-link URDF: the final sample's tool point (the test's own
 /// forward kinematics) is the pose, every inverse-kinematics branch tried is listed with its
 /// residual and effort, and the plan kept is the certified one of least effort; the notes name
