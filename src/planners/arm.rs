@@ -218,10 +218,13 @@ pub fn plan_arm(arm: &Arm, method: Method, request: &ArmRequest) -> Result<ArmPl
         Err(Error::from(InputError::InvalidParameter { name: "--method".into(), value: arm.joints() as f64, expected }))
     };
     if method == Method::Nfa {
-        return refuse(
+        return refuse(if arm.joints() == 2 {
+            "the optimal or ecsa method for an arm planned by this pipeline: the NFA plans the paper's 2-link \
+             model (`plan --method nfa`, which checks its plan against the arm's limits and shapes)"
+        } else {
             "the optimal or ecsa method for this arm: the NFA's chained form (Eq. 10) is the 2-link robot's, \
-             and this arm has another number of links",
-        );
+             and this arm has another number of links"
+        });
     }
     request.validate()?;
     if method != Method::Ecsa && (request.ecsa.harmonics != 1 || request.ecsa.window != Window::None) {

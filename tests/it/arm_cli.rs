@@ -374,6 +374,8 @@ fn arm_compare_has_the_two_link_rows() {
     assert_eq!(two_link, arm, "{text}\n{arm_text}");
     assert!(two_link.len() == 18 && two_link.contains(&"min |sigma|, min |P|".to_string()), "{text}");
     assert!(arm_text.starts_with("freefloat compare: 2-link arm, ") && arm_text.contains("(refused)"), "{arm_text}");
+    // The NFA's refusal says why for a 2-link arm (not "another number of links").
+    assert!(arm_text.contains("`plan --method nfa`") && !arm_text.contains("another number of links"), "{arm_text}");
 }
 
 /// `--to-ee` on the SPART-like 4-link URDF: the final sample's tool point (the test's own
