@@ -326,6 +326,8 @@ mod tests_cost;
 mod tests_limits;
 
 #[cfg(test)]
+mod tests_clearance_oracle;
+#[cfg(test)]
 mod tests_oracle;
 
 #[cfg(test)]

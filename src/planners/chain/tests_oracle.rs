@@ -16,13 +16,15 @@ use crate::dynamics::arm::ArmDynamics;
 use crate::model::arm::{JointLimits, Limits};
 
 /// The transcribed problem: `N` intervals of width `h`, the interior nodes' angles free.
-struct Transcription<'a> {
-    arm: &'a Arm,
-    dynamics: ArmDynamics,
-    start: Vec<f64>,
-    goal: Vec<f64>,
-    horizon: f64,
-    intervals: usize,
+pub(super) struct Transcription<'a> {
+    pub(super) arm: &'a Arm,
+    pub(super) dynamics: ArmDynamics,
+    pub(super) start: Vec<f64>,
+    pub(super) goal: Vec<f64>,
+    pub(super) horizon: f64,
+    pub(super) intervals: usize,
+    /// The distance every pair of the robot's own bodies keeps at the interior nodes \[m\].
+    pub(super) keep: Option<f64>,
 }
 
 impl Transcription<'_> {
@@ -35,7 +37,7 @@ impl Transcription<'_> {
     }
 
     /// The node angles (start and goal included) of the free variables `x`.
-    fn nodes(&self, x: &[f64]) -> Vec<Vec<f64>> {
+    pub(super) fn nodes(&self, x: &[f64]) -> Vec<Vec<f64>> {
         let n = self.n();
         let mut out = vec![self.start[1..].to_vec()];
         out.extend(x.chunks(n).map(|c| c.to_vec()));
@@ -94,6 +96,10 @@ impl Transcription<'_> {
                 out.extend([(q[k][j] - hi) / (hi - lo), (lo - q[k][j]) / (hi - lo)]);
             }
         }
+        if let Some(keep) = self.keep.filter(|_| k > 0 && k < self.intervals) {
+            let at: Vec<f64> = std::iter::once(0.0).chain(q[k].iter().copied()).collect();
+            out.extend(self.arm.geometry.clearances(self.arm, &at).iter().map(|p| (keep - p.distance) / 0.1));
+        }
         out
     }
 
@@ -103,7 +109,7 @@ impl Transcription<'_> {
     }
 
     /// Effort, holonomy residual and the limits' rows at `x`.
-    fn evaluate(&self, x: &[f64]) -> (f64, f64, Vec<f64>) {
+    pub(super) fn evaluate(&self, x: &[f64]) -> (f64, f64, Vec<f64>) {
         let q = self.nodes(x);
         let h = self.h();
         let mut effort = 0.0;
@@ -166,7 +172,14 @@ fn penalty(g: &[f64], z: &[f64], r: f64) -> f64 {
 }
 
 /// L-BFGS (memory 8) with a backtracking Armijo line search on the augmented Lagrangian.
-fn minimise(t: &Transcription, mut x: Vec<f64>, lambda: f64, z: &[f64], r: f64, iterations: usize) -> Vec<f64> {
+pub(super) fn minimise(
+    t: &Transcription,
+    mut x: Vec<f64>,
+    lambda: f64,
+    z: &[f64],
+    r: f64,
+    iterations: usize,
+) -> Vec<f64> {
     let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(p, q)| p * q).sum::<f64>();
     let mut f = t.lagrangian(&x, lambda, z, r);
     let mut g = t.gradient(&x, lambda, z, r);
@@ -242,6 +255,7 @@ fn oracle_from(arm: &Arm, problem: &ChainProblem, intervals: usize, starts: usiz
         goal: problem.goal.clone(),
         horizon: problem.horizon,
         intervals,
+        keep: None,
     };
     let n = arm.joints();
     let mut seed: u64 = 0x9e37_79b9_7f4a_7c15;
