@@ -29,8 +29,10 @@ use super::args::{CostArg, Format, PlanArgs, TransformArg, WindowArg};
 use super::ros::OutKind;
 
 /// The method of `plan`: `--method`, else the NFA when `--transform` names a transformation, else
-/// the optimal planner. A method-specific flag given to another method is bad input (exit 2).
-fn method(args: &PlanArgs) -> anyhow::Result<Method> {
+/// the optimal planner. A method-specific flag given to another method is bad input (exit 2). For
+/// an arm other than the paper's robot (`arm`), a moving start is the planner's to refuse (the
+/// `n`-joint ECSA plans from rest), and `--transform` was refused before ([`refuse_flags`]).
+fn method(args: &PlanArgs, arm: Option<&Arm>) -> anyhow::Result<Method> {
     let p = &args.problem;
     let transform = p.transform != TransformArg::Auto;
     let method = match args.method {
@@ -39,12 +41,15 @@ fn method(args: &PlanArgs) -> anyhow::Result<Method> {
         None => Method::Optimal,
     };
     let ecsa = p.harmonics != 1 || p.window != WindowArg::None;
-    let moving = super::parse_list::<2>("--from-velocity", &p.from_velocity)?.iter().any(|v| v.abs() > 0.0);
+    let moving =
+        arm.is_none() && super::parse_list::<2>("--from-velocity", &p.from_velocity)?.iter().any(|v| v.abs() > 0.0);
     let optimal = p.smooth_ends || p.no_wrap || p.cost != CostArg::Effort || moving;
+    let optimal_flags =
+        if arm.is_some() { "--smooth-ends/--cost/--no-wrap" } else { "--from-velocity/--smooth-ends/--cost/--no-wrap" };
     let misplaced = [
         (transform, Method::Nfa, "--transform"),
         (ecsa, Method::Ecsa, "--harmonics/--window"),
-        (optimal, Method::Optimal, "--from-velocity/--smooth-ends/--cost/--no-wrap"),
+        (optimal, Method::Optimal, optimal_flags),
     ];
     for (given, owner, flags) in misplaced {
         if given && method != owner {
@@ -190,7 +195,9 @@ pub fn run(args: &PlanArgs) -> anyhow::Result<ExitCode> {
     // Issue 20: a 2-link arm with limits takes the n-joint pipeline, but for the NFA (2-link
     // only), whose plan is checked against the limits.
     let (obtained, gif) = match super::any_robot(&args.problem.robot)? {
-        super::Robot::Arm(arm) if !(arm.joints() == 2 && method(args)? == Method::Nfa) => pipelines::arm(args, &arm)?,
+        super::Robot::Arm(arm) if !(arm.joints() == 2 && method(args, None)? == Method::Nfa) => {
+            pipelines::arm(args, &arm)?
+        }
         super::Robot::Arm(arm) => pipelines::two_link(args, Some(arm))?,
         super::Robot::TwoLink => pipelines::two_link(args, None)?,
     };

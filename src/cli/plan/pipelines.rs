@@ -21,7 +21,7 @@ use freefloat::report::plot::{GifOptions, PictureFormat};
 use freefloat::track::closed_loop_certificate;
 
 use super::Obtained;
-use crate::cli::args::{CostArg, ElbowArg, PlanArgs, ProblemArgs, RobotArgs, TransformArg, WindowArg};
+use crate::cli::args::{CostArg, ElbowArg, PlanArgs, ProblemArgs, RobotArgs, TransformArg};
 
 /// The checked `--gif` file and its options.
 type Gif<'a> = Option<(&'a PathBuf, GifOptions)>;
@@ -107,7 +107,7 @@ pub(super) fn two_link(args: &PlanArgs, limited: Option<Arm>) -> anyhow::Result<
     let gif = crate::cli::checked_gif(args)?;
     let problem = crate::cli::problem(&args.problem)?;
     let (geometry, _) = crate::cli::geometry::two_link(&args.problem.robot, &args.problem.geometry)?;
-    let mut planned = plan_with(super::method(args)?, &args.problem, &problem)??;
+    let mut planned = plan_with(super::method(args, None)?, &args.problem, &problem)??;
     // The clearance and the limits in one pass.
     let limits = crate::cli::limits::two_link_checks(limited.as_ref(), geometry.clone(), &mut planned)?;
     // With torques, the closed-loop certificate too: executable with feedback?
@@ -135,13 +135,7 @@ pub(super) fn arm<'a>(args: &'a PlanArgs, arm: &Arm) -> anyhow::Result<(Obtained
         }
         None => None,
     };
-    let method = args.method.map(Method::from).unwrap_or(Method::Optimal);
-    if method == Method::Ecsa && (p.smooth_ends || p.cost != CostArg::Effort || p.no_wrap) {
-        bail!("--smooth-ends/--cost/--no-wrap apply to --method optimal, not to --method ecsa");
-    }
-    if method != Method::Ecsa && (p.harmonics != 1 || p.window != WindowArg::None) {
-        bail!("--harmonics/--window apply to --method ecsa, not to --method {}", method.name());
-    }
+    let method = super::method(args, Some(arm))?;
     let mut planning = plan_problem(p, arm, method)?.map_err(|e| name_flag(e, p))?;
     planning.notes.extend(geometry_notes);
     let file = p.robot.robot.as_ref().or(p.robot.urdf.as_ref()).map_or("the robot".into(), |f| f.display().to_string());
