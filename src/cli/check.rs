@@ -34,7 +34,7 @@ fn robot(args: &RobotArgs) -> anyhow::Result<(Arm, Vec<String>)> {
 
 /// Angles in degrees from a flag, each within `--from`/`--to`'s bound, in radians.
 fn angles(flag: &str, text: &str) -> anyhow::Result<Vec<f64>> {
-    let values = super::plan_arm::list(flag, text)?;
+    let values = super::parse_numbers(flag, text)?;
     if let Some(x) = values.iter().find(|x| x.abs() > super::config::max_angle_deg()) {
         bail!("{flag}: {x} deg is out of range: angles with |angle| <= 572957 deg (1e4 rad, docs/spec.md §2)");
     }

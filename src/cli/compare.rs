@@ -12,8 +12,7 @@ use freefloat::report::io::PlanReport;
 use freefloat::report::numbers::{error_number, number, rounded, significant};
 
 use super::args::{CompareArgs, CompareFormat, WindowArg};
-use super::plan::plan_with;
-use super::plan_arm::{Planning, plan_problem, problem, refuse_flags};
+use super::plan::{Planning, degrees, plan_problem, plan_with, problem, refuse_flags};
 
 /// Runs `compare`: the optimal planner, the NFA and the ECSA on the same problem, side by side.
 /// Exit 0 when every plan is certified; 3 when one has no certified plan (the others are still
@@ -102,11 +101,6 @@ fn title(robot: &str, mount: freefloat::Mount, start: &[f64], goal: &str, horizo
         degrees(start),
         number(horizon)
     )
-}
-
-/// Angles [rad] in degrees rounded to 4 decimals: `(45, 120, 80)`.
-fn degrees(q: &[f64]) -> String {
-    format!("({})", list(&q.iter().map(|x| x.to_degrees()).collect::<Vec<_>>()))
 }
 
 /// The paper's 2-link robot: each method through [`plan_with`], the clearance checked.

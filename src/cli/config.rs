@@ -71,7 +71,7 @@ pub fn angles(flag: &str, text: &str) -> anyhow::Result<freefloat::Configuration
 /// `count` angles in degrees of `flag` (`PHI,TH1,..,THn` of an `n = count - 1`-link arm), in
 /// radians, each within [`max_angle_deg`]; the wrong count is bad input naming the flag.
 pub fn arm_angles(flag: &str, text: &str, count: usize) -> anyhow::Result<Vec<f64>> {
-    let values = super::plan_arm::list(flag, text)?;
+    let values = super::parse_numbers(flag, text)?;
     let n = count.saturating_sub(1);
     if values.len() != count {
         anyhow::bail!(

@@ -9,7 +9,6 @@ mod geometry;
 mod limits;
 mod output;
 mod plan;
-mod plan_arm;
 mod reproduce;
 mod robot;
 mod ros;
@@ -109,6 +108,25 @@ pub fn parse_list<const N: usize>(flag: &str, text: &str) -> anyhow::Result<[f64
         *slot = x;
     }
     Ok(out)
+}
+
+/// Parses a comma-separated list of finite numbers (at most 64), naming the flag on error.
+pub fn parse_numbers(flag: &str, text: &str) -> anyhow::Result<Vec<f64>> {
+    let parts: Vec<&str> = text.split(',').map(str::trim).collect();
+    if parts.len() > 64 {
+        bail!("{flag} takes at most 64 numbers, got {}", parts.len());
+    }
+    parts
+        .iter()
+        .map(|part| {
+            let x: f64 =
+                part.parse().map_err(|_| anyhow::anyhow!("{flag}: `{}` is not a number", config::quote(part)))?;
+            if !x.is_finite() {
+                bail!("{flag}: `{}` is not a finite number", config::quote(part));
+            }
+            Ok(x)
+        })
+        .collect()
 }
 
 /// What `--preset`/`--robot`/`--urdf` name: a 2-link arm (the paper's model, link inertias

@@ -55,7 +55,7 @@ fn options(args: &TrackArgs, n: usize) -> anyhow::Result<TrackOptions> {
     let torque_bias = match &args.torque_bias {
         None => Vec::new(),
         Some(text) => {
-            let bias = super::plan_arm::list("--torque-bias", text)?;
+            let bias = super::parse_numbers("--torque-bias", text)?;
             if bias.len() != n {
                 anyhow::bail!(
                     "--torque-bias takes {n} comma-separated torques TAU1,..,TAU{n} in N m for this {n}-link arm, got {}",

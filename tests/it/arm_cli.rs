@@ -352,15 +352,20 @@ fn arm_compare_lists_every_method() {
     }
 }
 
+/// The stdout of a run that must exit 0 (a table).
+fn table(args: &[&str]) -> String {
+    let o = freefloat(args);
+    assert_eq!(o.status.code(), Some(0), "{args:?}: {}", stderr(&o));
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
 /// One `compare` table for every robot (issue 19): the paper's robot with a joint limit, planned
 /// by the n-joint pipeline (the NFA refused), has the rows of the paper's robot in the 2-link
 /// pipeline, in the same order and columns.
 #[test]
 fn arm_compare_has_the_two_link_rows() {
     let labels = |args: &[&str]| {
-        let o = freefloat(args);
-        assert_eq!(o.status.code(), Some(0), "{args:?}: {}", stderr(&o));
-        let text = String::from_utf8_lossy(&o.stdout).into_owned();
+        let text = table(args);
         let rows: Vec<String> = text
             .lines()
             .skip(2)
@@ -376,6 +381,46 @@ fn arm_compare_has_the_two_link_rows() {
     assert!(arm_text.starts_with("freefloat compare: 2-link arm, ") && arm_text.contains("(refused)"), "{arm_text}");
     // The NFA's refusal says why for a 2-link arm (not "another number of links").
     assert!(arm_text.contains("`plan --method nfa`") && !arm_text.contains("another number of links"), "{arm_text}");
+}
+
+/// One `plan` table for every robot: the paper's robot as a 2-link arm (a limit sends it through
+/// the `n`-joint planner) has the 2-link table's lines, with the same labels in the same order,
+/// where both apply.
+#[test]
+fn arm_plan_has_the_two_link_lines() {
+    let labels = |args: &[&str]| {
+        let text = table(args);
+        let rows: Vec<String> = text
+            .lines()
+            .skip(1)
+            .filter(|line| line.len() > 27)
+            .map(|line| line[2..27].trim_end().to_string())
+            .collect();
+        (rows, text)
+    };
+    let (two_link, text) = labels(&["plan", "--torques", "--samples", "201"]);
+    let (arm, arm_text) = labels(&["plan", "--torques", "--samples", "201", "--limit", "theta2.velocity=500"]);
+    let shared = [
+        "start q0 [deg]",
+        "goal  qd [deg]",
+        "horizon",
+        "reached q(T) [deg]",
+        "verified final error",
+        "effort",
+        "max |u1|, |u2|",
+        "optimality",
+        "min |sigma|, |P|",
+        "joint travel [deg]",
+        "max |tau1|, |tau2|",
+        "torque final error",
+        "max |base row of (6)|",
+        "time",
+    ];
+    let kept = |rows: &[String]| rows.iter().filter(|r| shared.contains(&r.as_str())).cloned().collect::<Vec<_>>();
+    assert_eq!(kept(&two_link), shared, "{text}");
+    assert_eq!(kept(&arm), shared, "{arm_text}");
+    assert!(arm_text.starts_with("freefloat plan: optimal (minimum effort), 2-link arm, "), "{arm_text}");
+    assert!(arm.iter().any(|r| r == "limits") && arm.iter().any(|r| r == "max |angular momentum|"), "{arm_text}");
 }
 
 /// `--to-ee` on the SPART-like 4-link URDF: the final sample's tool point (the test's own
