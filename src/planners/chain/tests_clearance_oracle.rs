@@ -9,6 +9,14 @@ use super::tests_oracle::{Transcription, minimise};
 use super::*;
 use crate::dynamics::arm::ArmDynamics;
 
+/// The rows of node `k` of `q` keeping [`Transcription::keep`] between every pair of the robot's
+/// own bodies, `(keep - d) / 0.1 m <= 0` (none at the ends, which are given, or without `keep`).
+pub(super) fn clearance_rows(t: &Transcription, q: &[Vec<f64>], k: usize) -> Vec<f64> {
+    let Some(keep) = t.keep.filter(|_| k > 0 && k < t.intervals) else { return Vec::new() };
+    let at: Vec<f64> = std::iter::once(0.0).chain(q[k].iter().copied()).collect();
+    t.arm.geometry.clearances(t.arm, &at).iter().map(|p| (keep - p.distance) / 0.1).collect()
+}
+
 /// The oracle's augmented-Lagrangian iteration from `x` (the nodes' free angles); returns the
 /// solution and whether it is feasible (holonomy within 1e-6 rad, every row within 1e-5).
 fn solve(t: &Transcription, mut x: Vec<f64>) -> (Vec<f64>, bool) {

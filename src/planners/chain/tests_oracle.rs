@@ -96,10 +96,7 @@ impl Transcription<'_> {
                 out.extend([(q[k][j] - hi) / (hi - lo), (lo - q[k][j]) / (hi - lo)]);
             }
         }
-        if let Some(keep) = self.keep.filter(|_| k > 0 && k < self.intervals) {
-            let at: Vec<f64> = std::iter::once(0.0).chain(q[k].iter().copied()).collect();
-            out.extend(self.arm.geometry.clearances(self.arm, &at).iter().map(|p| (keep - p.distance) / 0.1));
-        }
+        out.extend(super::tests_clearance_oracle::clearance_rows(self, q, k));
         out
     }
 
