@@ -329,6 +329,8 @@ mod tests_limits;
 mod tests_clearance_oracle;
 #[cfg(test)]
 mod tests_oracle;
+#[cfg(test)]
+mod tests_oracle_solver;
 
 #[cfg(test)]
 mod tests_recorded;

@@ -5,7 +5,8 @@
 //! inside the base (exit 3 on the command line).
 
 use super::seeds::{Line, Seed};
-use super::tests_oracle::{Transcription, minimise};
+use super::tests_oracle::Transcription;
+use super::tests_oracle_solver::augmented_lagrangian;
 use super::*;
 use crate::dynamics::arm::ArmDynamics;
 
@@ -17,26 +18,10 @@ pub(super) fn clearance_rows(t: &Transcription, q: &[Vec<f64>], k: usize) -> Vec
     t.arm.geometry.clearances(t.arm, &at).iter().map(|p| (keep - p.distance) / 0.1).collect()
 }
 
-/// The oracle's augmented-Lagrangian iteration from `x` (the nodes' free angles); returns the
-/// solution and whether it is feasible (holonomy within 1e-6 rad, every row within 1e-5).
-fn solve(t: &Transcription, mut x: Vec<f64>) -> (Vec<f64>, bool) {
-    let rows = t.evaluate(&x).2.len();
-    let (mut lambda, mut z, mut r) = (0.0, vec![0.0; rows], 10.0);
-    let mut last = f64::INFINITY;
-    for _ in 0..30 {
-        x = minimise(t, x, lambda, &z, r, 300);
-        let (_, c, g) = t.evaluate(&x);
-        lambda += r * c;
-        z.iter_mut().zip(&g).for_each(|(zi, gi)| *zi = (*zi + r * gi).max(0.0));
-        let violation = g.iter().fold(c.abs(), |m, v| m.max(*v));
-        if violation <= 1e-9 {
-            break;
-        }
-        if violation > 0.25 * last && r < 1e8 {
-            r *= 5.0;
-        }
-        last = violation;
-    }
+/// [`augmented_lagrangian`] from `x`; the solution, and whether it is feasible (holonomy within
+/// 1e-6 rad, every row within 1e-5).
+fn solve(t: &Transcription, x: Vec<f64>) -> (Vec<f64>, bool) {
+    let (x, _) = augmented_lagrangian(t, x);
     let (_, c, g) = t.evaluate(&x);
     let feasible = c.abs() <= 1e-6 && g.iter().all(|v| *v <= 1e-5);
     (x, feasible)

@@ -3,14 +3,12 @@
 //! from several random starts. It shares no code with the planner's SQP, its splines or its
 //! connection: the joint path is piecewise linear, the base follows the arm's own
 //! [`Arm::base_rate`] (Eq. 7) by the midpoint rule, the torques are the inverse dynamics at the
-//! nodes with finite-difference rates (rest at both ends), every limit a penalised row.
-//!
-//! ## Reference
-//! J. Nocedal, S. J. Wright, *Numerical Optimization*, 2nd ed., Springer (2006), Secs. 17.4
-//! (the bound-constrained augmented Lagrangian) and 7.2 (L-BFGS), doi:10.1007/978-0-387-40065-5.
+//! nodes with finite-difference rates (rest at both ends), every limit a penalised row. Its
+//! solver is [`super::tests_oracle_solver`].
 
 use super::horizon::uses;
 use super::tests::three_link;
+use super::tests_oracle_solver::{augmented_lagrangian, penalty};
 use super::*;
 use crate::dynamics::arm::ArmDynamics;
 use crate::model::arm::{JointLimits, Limits};
@@ -119,14 +117,14 @@ impl Transcription<'_> {
     }
 
     /// The augmented Lagrangian `E + lambda c + r c^2 / 2 + sum (max(0, z + r g)^2 - z^2) / 2r`.
-    fn lagrangian(&self, x: &[f64], lambda: f64, z: &[f64], r: f64) -> f64 {
+    pub(super) fn lagrangian(&self, x: &[f64], lambda: f64, z: &[f64], r: f64) -> f64 {
         let (e, c, g) = self.evaluate(x);
         e + lambda * c + 0.5 * r * c * c + penalty(&g, z, r)
     }
 
     /// Its gradient by central differences, each node's angles moving only the terms next to it
     /// (the intervals on either side, the rows of the node and its neighbours).
-    fn gradient(&self, x: &[f64], lambda: f64, z: &[f64], r: f64) -> Vec<f64> {
+    pub(super) fn gradient(&self, x: &[f64], lambda: f64, z: &[f64], r: f64) -> Vec<f64> {
         let (n, h, intervals) = (self.n(), self.h(), self.intervals);
         let mut q = self.nodes(x);
         let steps: Vec<f64> = q.windows(2).map(|w| self.base_step(&w[0], &w[1])).collect();
@@ -161,76 +159,6 @@ impl Transcription<'_> {
         }
         out
     }
-}
-
-/// The inequalities' part of the augmented Lagrangian, `sum (max(0, z + r g)^2 - z^2) / 2r`.
-fn penalty(g: &[f64], z: &[f64], r: f64) -> f64 {
-    g.iter().zip(z).map(|(gi, zi)| ((zi + r * gi).max(0.0).powi(2) - zi * zi) / (2.0 * r)).sum()
-}
-
-/// L-BFGS (memory 8) with a backtracking Armijo line search on the augmented Lagrangian.
-pub(super) fn minimise(
-    t: &Transcription,
-    mut x: Vec<f64>,
-    lambda: f64,
-    z: &[f64],
-    r: f64,
-    iterations: usize,
-) -> Vec<f64> {
-    let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(p, q)| p * q).sum::<f64>();
-    let mut f = t.lagrangian(&x, lambda, z, r);
-    let mut g = t.gradient(&x, lambda, z, r);
-    let mut memory: Vec<(Vec<f64>, Vec<f64>)> = Vec::new();
-    for _ in 0..iterations {
-        // Two-loop recursion.
-        let mut d: Vec<f64> = g.iter().map(|v| -v).collect();
-        let mut alphas = Vec::new();
-        for (s, y) in memory.iter().rev() {
-            let a = dot(s, &d) / dot(y, s);
-            d.iter_mut().zip(y).for_each(|(di, yi)| *di -= a * yi);
-            alphas.push(a);
-        }
-        if let Some((s, y)) = memory.last() {
-            let gamma = dot(s, y) / dot(y, y);
-            d.iter_mut().for_each(|di| *di *= gamma);
-        }
-        for ((s, y), a) in memory.iter().zip(alphas.iter().rev()) {
-            let b = dot(y, &d) / dot(y, s);
-            d.iter_mut().zip(s).for_each(|(di, si)| *di += (a - b) * si);
-        }
-        if dot(&d, &g) >= 0.0 {
-            d = g.iter().map(|v| -v).collect();
-            memory.clear();
-        }
-        let slope = dot(&d, &g);
-        let mut step = 1.0;
-        let mut accepted = None;
-        for _ in 0..40 {
-            let trial: Vec<f64> = x.iter().zip(&d).map(|(a, b)| a + step * b).collect();
-            let ft = t.lagrangian(&trial, lambda, z, r);
-            if ft <= f + 1e-4 * step * slope {
-                accepted = Some((trial, ft));
-                break;
-            }
-            step *= 0.5;
-        }
-        let Some((trial, ft)) = accepted else { break };
-        let gt = t.gradient(&trial, lambda, z, r);
-        let s: Vec<f64> = trial.iter().zip(&x).map(|(a, b)| a - b).collect();
-        let y: Vec<f64> = gt.iter().zip(&g).map(|(a, b)| a - b).collect();
-        if dot(&s, &y) > 1e-12 * dot(&s, &s).sqrt() * dot(&y, &y).sqrt() {
-            memory.push((s, y));
-            if memory.len() > 8 {
-                memory.remove(0);
-            }
-        }
-        let done = (f - ft).abs() <= 1e-13 * (1.0 + f.abs());
-        (x, f, g) = (trial, ft, gt);
-        if done {
-            break;
-        }
-    }
-    x
 }
 
 /// The oracle's constrained minimum effort: the least effort over `starts` random starts of a
@@ -284,23 +212,7 @@ fn oracle_from(arm: &Arm, problem: &ChainProblem, intervals: usize, starts: usiz
                 }
             }
         }
-        let rows = t.evaluate(&x).2.len();
-        let (mut lambda, mut z, mut r) = (0.0, vec![0.0; rows], 10.0);
-        let mut last = f64::INFINITY;
-        for _ in 0..30 {
-            x = minimise(&t, x, lambda, &z, r, 300);
-            let (_, c, g) = t.evaluate(&x);
-            lambda += r * c;
-            z.iter_mut().zip(&g).for_each(|(zi, gi)| *zi = (*zi + r * gi).max(0.0));
-            let violation = g.iter().fold(c.abs(), |m, v| m.max(*v));
-            if violation <= 1e-9 {
-                break;
-            }
-            if violation > 0.25 * last && r < 1e8 {
-                r *= 5.0;
-            }
-            last = violation;
-        }
+        let (x, r) = augmented_lagrangian(&t, x);
         let (e, c, g) = t.evaluate(&x);
         let worst = g.iter().fold(f64::NEG_INFINITY, |m, v| m.max(*v));
         eprintln!("  oracle start: effort {e:.6}, holonomy residual {c:.1e} rad, largest row {worst:.1e}, r {r:.0e}");
