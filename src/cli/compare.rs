@@ -1,7 +1,7 @@
 //! `freefloat compare`: the optimal planner, the NFA and the ECSA on the same problem, side by side
 //! (docs/spec.md §3), for every robot. Only how each method's plan is obtained depends on the
-//! robot ([`two_link`]: the paper's model, [`arm`]: any other arm, the NFA refused); the table,
-//! the JSON, the exit codes and the messages are written once.
+//! robot ([`two_link`]: the paper's model, [`arm`]: any other arm, the NFA refused unless it is
+//! the paper's model); the table, the JSON, the exit codes and the messages are written once.
 
 use std::process::ExitCode;
 
@@ -79,7 +79,7 @@ impl Compared {
     }
 
     /// Adds `method`'s plan (its report and certificate) or why it has none.
-    fn add(&mut self, method: Method, planned: Result<(PlanReport, Result<(), freefloat::Error>), freefloat::Error>) {
+    fn add(&mut self, method: Method, planned: Outcome) {
         let (report, certified) = match planned {
             Ok((report, certified)) => (Ok(report), certified.map_err(|e| (e, "is not certified"))),
             Err(e) => (Err(e.to_string()), Err((e, "has no plan"))),
@@ -124,8 +124,9 @@ fn two_link(args: &CompareArgs) -> anyhow::Result<Compared> {
 }
 
 /// An arm of another number of links than the paper's two (or a 2-link arm off the paper's model,
-/// or with limits): the optimal planner and the ECSA through [`plan_problem`], the NFA refused
-/// with [`plan_arm`]'s reason.
+/// or with limits): the optimal planner and the ECSA through [`plan_problem`]; the NFA of the
+/// paper's model checked against the arm ([`two_link_nfa`]), else refused with [`plan_arm`]'s
+/// reason.
 fn arm(args: &CompareArgs, arm: &Arm) -> anyhow::Result<Compared> {
     let p = &args.problem;
     refuse_flags(p, arm)?;
@@ -136,6 +137,12 @@ fn arm(args: &CompareArgs, arm: &Arm) -> anyhow::Result<Compared> {
     let robot = format!("{}-link arm, ", arm.joints());
     let mut compared = Compared::new(title(&robot, arm.mount, &chain.start, &goal, p.ends.time));
     for method in COMPARED {
+        if method == Method::Nfa
+            && let Some(nfa) = two_link_nfa(p, arm)?
+        {
+            compared.add(method, nfa);
+            continue;
+        }
         let result = match method {
             Method::Nfa => plan_arm(arm, method, &ArmRequest::new(chain.clone())).map(|planned| Planning {
                 planned,
@@ -164,6 +171,33 @@ fn arm(args: &CompareArgs, arm: &Arm) -> anyhow::Result<Compared> {
         }
     }
     Ok(compared)
+}
+
+/// A method's report and certificate, or why it has no plan.
+type Outcome = Result<(PlanReport, Result<(), freefloat::Error>), freefloat::Error>;
+
+/// The NFA of a 2-link arm that is the paper's model (e.g. the preset with `--limit`), as
+/// `plan --method nfa` plans it: the paper's model's plan, checked along its motion against the
+/// arm's limits and shapes (a limit it breaks is a failure, exit 3); `None` for another arm (the
+/// NFA refused with [`plan_arm`]'s reason).
+fn two_link_nfa(p: &super::args::ProblemArgs, arm: &Arm) -> anyhow::Result<Option<Outcome>> {
+    if arm.as_src().is_none() {
+        return Ok(None);
+    }
+    let problem = super::problem(p)?;
+    let (geometry, _) = super::geometry::two_link(&p.robot, &p.geometry)?;
+    let mut planned = match plan_with(Method::Nfa, p, &problem)? {
+        Ok(planned) => planned,
+        Err(e) if e.is_bad_input() => return Err(e.into()),
+        Err(e) => return Ok(Some(Err(e))),
+    };
+    let limits = super::limits::two_link_checks(Some(arm), geometry, &mut planned)?;
+    let mut r = PlanReport::new(&planned, false);
+    r.robot = arm.clone();
+    r.limits = limits.clone();
+    let certified = planned.certified().and_then(|()| limits.map_or(Ok(()), |l| l.check()));
+    r.certified &= certified.is_ok();
+    Ok(Some(Ok((r, certified))))
 }
 
 /// The JSON object of `compare`: `{"optimal": report, "nfa": report, "ecsa": report}`, a method

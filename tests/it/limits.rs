@@ -69,6 +69,16 @@ fn ecsa_and_nfa_plans_over_a_limit_exit_3() {
     let o = freefloat(&["plan", "--method", "nfa", "--limit", "theta2.velocity=5"]);
     assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
     assert!(stderr(&o).contains("theta2's velocity"), "{}", stderr(&o));
+    // Its report says so too: not certified, outside (as an arm's report is).
+    let o = freefloat(&["plan", "--method", "nfa", "--limit", "theta2.velocity=5", "--format", "json"]);
+    let json: serde_json::Value = serde_json::from_slice(&o.stdout).expect("the report");
+    assert_eq!((&json["certified"], &json["limits"]["inside"]), (&false.into(), &false.into()), "{json}");
+    // `compare` plans the NFA of the paper's model too and checks it the same way: no
+    // certified NFA column over the limit, one inside it.
+    let o = freefloat(&["compare", "--limit", "theta2.velocity=5", "--format", "json"]);
+    assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
+    let json: serde_json::Value = serde_json::from_slice(&o.stdout).expect("the comparison");
+    assert_eq!((&json["nfa"]["certified"], &json["nfa"]["limits"]["inside"]), (&false.into(), &false.into()));
     let o = freefloat(&["plan", "--method", "nfa", "--limit", "theta2.velocity=500"]);
     assert!(o.status.success(), "{}", stderr(&o));
     // And `compare` for an arm with a limit: no method passes the limit certified.

@@ -84,7 +84,11 @@ pub fn table(r: &PlanReport, base_residual: Option<f64>) -> String {
         verdict(r.verification.certified)
     );
     if arm {
-        s += &format!("  max |angular momentum|   {} kg m^2/s\n", scientific(r.verification.max_abs_momentum, 2));
+        // The velocity level's; with `--torques` the torque level's follows, each named.
+        s += &format!(
+            "  max |angular momentum|   {} kg m^2/s (velocity level)\n",
+            scientific(r.verification.max_abs_momentum, 2)
+        );
     }
     // Unknown (`None`) for an arm's plan, whose motion has no configuration between stages.
     if let Some(deviation) = r.max_path_deviation {
@@ -223,6 +227,7 @@ pub fn table(r: &PlanReport, base_residual: Option<f64>) -> String {
 /// the base row of Eq. (6).
 fn torque_lines(r: &PlanReport, base_residual: Option<f64>) -> String {
     let (Some(tau), Some(account)) = (&r.max_abs_torque, &r.torque_certificate) else { return String::new() };
+    let level = if matches!(account, TorqueAccount::Arm(_)) { " (torque level)" } else { "" };
     let (final_error, tolerance, certified, deviation, steps, momentum) = match account {
         TorqueAccount::TwoLink(t) => {
             let c = &t.certificate;
@@ -244,7 +249,7 @@ fn torque_lines(r: &PlanReport, base_residual: Option<f64>) -> String {
     if let Some(deviation) = deviation {
         s += &format!("  torque path deviation    {} rad ({steps} integrator steps)\n", error_number(deviation));
     }
-    s += &format!("  max |angular momentum|   {} kg m^2/s\n", error_number(momentum));
+    s += &format!("  max |angular momentum|   {} kg m^2/s{level}\n", error_number(momentum));
     if let Some(residual) = base_residual {
         s += &format!("  max |base row of (6)|    {} N m\n", error_number(residual));
     }
