@@ -204,10 +204,10 @@ def compare(
     A :class:`Robot`, or a 2-link :class:`Arm` that is the paper's model, takes every method
     (default :data:`METHODS`: optimal, NFA and ECSA) and returns :class:`Plan` values. Any other
     :class:`Arm` (or a robot given ``limits``, ``obstacles``, ``clearance`` or ``no_collide``) is
-    compared by the arm pipeline: by default ``optimal`` and ``ecsa`` (``optimal`` alone for a
-    2-link arm there), as :class:`Plan` values with the keywords of :func:`plan` for an arm;
-    the NFA is refused with :class:`BadInput` (the paper's normal form, Eq. 10, is for two
-    joints). Each method takes its own keywords and ignores the others'. With ``strict=False``
+    compared by the arm pipeline: by default ``optimal`` and ``ecsa``, as :class:`Plan` values
+    with the keywords of :func:`plan` for an arm; the NFA is refused with :class:`BadInput` (the
+    paper's normal form, Eq. 10, is for two joints; at two joints it plans the paper's
+    :class:`Robot`, which has no limits or shapes). Each method takes its own keywords and ignores the others'. With ``strict=False``
     a method without a certified plan maps to its exception instead of raising it; bad input
     always raises."""
     arm_only = any(kwargs.get(k) is not None for k in _ARM_ONLY)
@@ -217,7 +217,7 @@ def compare(
         robot = robot.to_robot()
     if not isinstance(robot, Arm):
         return _compare_robot(robot, start, goal, T, methods=methods, strict=strict, **kwargs)
-    served = ("optimal",) if robot.joints == 2 else ("optimal", "ecsa")
+    served = ("optimal", "ecsa")
     names = list(served if methods is None else methods)
     for name in names:
         if name not in METHODS:
@@ -230,8 +230,8 @@ def compare(
             why = (
                 "the NFA's normal form (Eq. 10) is for two joints"
                 if name == "nfa" and robot.joints != 2
-                else "a 2-link arm with limits or shapes is compared by the minimum-effort planner alone "
-                "(the NFA and the ECSA plan the paper's Robot, which has neither)"
+                else "a 2-link arm with limits or shapes is compared by the minimum-effort planner and the ECSA "
+                "(the NFA plans the paper's Robot, which has neither)"
             )
             raise BadInput(
                 f"compare: method {name!r} does not serve this arm of {robot.joints} link(s): {why}; "

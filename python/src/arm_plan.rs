@@ -150,15 +150,15 @@ pub fn plan_arm<'py>(
         .with_harmonics(harmonics)
         .map_err(BindingError::from)
         .py_result(py)?;
-    if n == 2 && method != Method::Optimal {
-        // The library's reason ("another number of links") is not this arm's: point to the
-        // 2-link pipeline, which has no limits or shapes.
-        let message = format!(
-            "the arm pipeline has no method={:?} for a 2-link arm (freefloat.plan takes it there when the arm has \
-             limits or shapes, or is not of the paper's model)",
-            method.name()
-        );
-        let expected = "method=\"optimal\"; the NFA and ECSA plan the 2-link robot without limits or shapes: \
+    if n == 2 && method == Method::Nfa {
+        // The library's reason ("another number of links") is not this arm's: the NFA plans the
+        // paper's 2-link model, which has no limits or shapes of its own (the command line's
+        // `plan --method nfa --limit` checks its plan against them; here the 2-link pipeline
+        // plans it without).
+        let message = "the arm pipeline has no method=\"nfa\" for a 2-link arm (freefloat.plan takes it there when \
+             the arm has limits or shapes, or is not of the paper's model)"
+            .to_string();
+        let expected = "method=\"optimal\" or \"ecsa\"; the NFA plans the 2-link robot without limits or shapes: \
              freefloat.plan(arm.to_robot(), ...)";
         return Err(
             BindingError::Key { kind: "invalid_parameter", name: "method".into(), message, expected }.into_pyerr(py)

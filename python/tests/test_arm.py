@@ -330,14 +330,18 @@ def test_goal_ee_serves_every_arm(three_link):
         three_link.inverse_kinematics((0.5, float("nan"), 0.0), ARM_START)
 
 
-def test_compare_of_a_two_link_arm_with_limits_says_why_it_is_optimal_alone():
-    """A 2-link arm given limits is compared by the arm pipeline: the minimum-effort plan alone,
-    and the NFA refused for that reason (not for its number of joints)."""
+def test_compare_of_a_two_link_arm_with_limits_says_why_the_nfa_is_refused():
+    """A 2-link arm given limits is compared by the arm pipeline, as on the command line: the
+    minimum-effort plan and the ECSA (each inside the limit), and the NFA refused for that
+    reason (not for its number of joints)."""
     arm = ff.Arm.from_robot(ff.Robot.src())
     limits = {"theta1": {"velocity": 5.0}}
     plans = ff.compare(arm, START, GOAL, HORIZON, limits=limits)
-    assert set(plans) == {"optimal"} and plans["optimal"].final_error <= 1e-9
-    with pytest.raises(ff.BadInput, match="minimum-effort planner alone"):
+    assert set(plans) == {"optimal", "ecsa"}
+    for p in plans.values():
+        assert p.certified and p.final_error <= 1e-9
+        assert p.certificate["limits"]["inside"] is True, p.certificate["limits"]
+    with pytest.raises(ff.BadInput, match="the NFA plans the paper's Robot"):
         ff.compare(arm, START, GOAL, HORIZON, limits=limits, methods=["nfa"])
 
 
