@@ -83,14 +83,14 @@ fn main() {
         if case == "auto" {
             let s = planner.shortest_horizon(&problem).expect("a horizon");
             eprintln!(
-                "T {:.4} probes {} effort {:.6} spans {}",
+                "T {:.4} probes {} effort {:.10} spans {}",
                 s.horizon, s.probes, s.plan.stats.effort, s.plan.stats.spans
             );
         } else {
             let p = planner.plan(&problem).expect("plans");
             let s = &p.stats;
             eprintln!(
-                "effort {:.6} seeds {} iterations {} final {} spans {} nodes {}",
+                "effort {:.10} seeds {} iterations {} final {} spans {} nodes {}",
                 s.effort, s.seeds, s.iterations, s.final_iterations, s.spans, s.quadrature_nodes
             );
         }

@@ -111,7 +111,7 @@ impl ChainPlanner {
             return Ok(None);
         }
         let iterations = result.iterations;
-        let c = Candidate { disc, result, spans, nodes, iterations };
+        let c = Candidate { disc, result, spans, nodes, iterations, stands_for: None };
         Ok(self.certified_clear(problem, &c, 1, iterations, clock, tables).ok().and_then(Result::ok))
     }
 

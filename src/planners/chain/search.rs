@@ -50,6 +50,10 @@ pub(super) struct Candidate {
     pub nodes: usize,
     /// SQP iterations so far.
     pub iterations: usize,
+    /// The coarse cost this solve stands for, where it is that coarse solution solved again on
+    /// the finest basis (a rate-limited line's, see `ChainPlanner::solve_seed`): another seed's
+    /// coarse solution of that cost is the same point, whose refinement this solve already is.
+    pub stands_for: Option<f64>,
 }
 
 impl Candidate {
@@ -98,7 +102,7 @@ impl ChainPlanner {
         let mut done: Vec<Candidate> = Vec::new();
         let mut set_aside: Vec<Candidate> = Vec::new();
         while !queue.is_empty() {
-            let (mut coarse, mut extras) = (Vec::new(), Vec::new());
+            let (mut coarse, mut extras, mut stood_for) = (Vec::new(), Vec::new(), Vec::new());
             let mut refined_best = done.iter().map(|c| c.result.f).fold(f64::INFINITY, f64::min);
             let mut taken = 0;
             while taken < o.targets_solved {
@@ -132,6 +136,7 @@ impl ChainPlanner {
                         if (!extra || c.spans == o.max_spans) && c.feasible() {
                             best = best.min(c.result.f);
                         }
+                        stood_for.extend(c.stands_for);
                         if extra { extras.push(c) } else { coarse.push(c) }
                     }
                 }
@@ -162,7 +167,12 @@ impl ChainPlanner {
             // batches or of this one) does not overtake on refinement, and one far from the
             // constraint is a finalist only while no plan is found. A refinement that fails
             // does not use up a finalist's place (at most twice as many are tried).
-            let (mut converged, mut tried, mut refined): (usize, usize, Vec<f64>) = (0, 0, Vec::new());
+            // The coarse costs stood for by finest-basis solves count as refined already: on
+            // issue 20's 2-link bench a loop's coarse solve stalled off the constraint at the
+            // rate-limited line's capped solution (cost equal to 12 digits) and its refinement,
+            // 18 QPs, found the line's plan again.
+            let (mut converged, mut tried) = (0, 0);
+            let mut refined: Vec<f64> = std::mem::take(&mut stood_for);
             let finalists = extra.into_iter().map(|c| (c, true)).chain(coarse.into_iter().map(|c| (c, false)));
             for (c, extra) in finalists {
                 if !extra && (converged >= o.finalists || tried >= 2 * o.finalists) {
@@ -396,7 +406,7 @@ impl ChainPlanner {
         let guess = if self.arm.joints() == 1 { None } else { Some(c.result.lambda) };
         let result = super::limits::solve_restarting(self, &disc, x0, &self.options.sqp, guess)?;
         let iterations = c.iterations + result.iterations;
-        Ok(Candidate { disc, result, spans, nodes, iterations })
+        Ok(Candidate { disc, result, spans, nodes, iterations, stands_for: None })
     }
 
     fn plan_of(&self, c: &Candidate, stats: ChainStats) -> ChainPlan {

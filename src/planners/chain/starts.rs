@@ -293,7 +293,7 @@ impl ChainPlanner {
             let coarse = |x0, options| {
                 let result = super::limits::solve(self, &disc, x0, options, guess).ok()?;
                 let iterations = result.iterations;
-                Some(Candidate { disc: disc.clone(), result, spans, nodes, iterations })
+                Some(Candidate { disc: disc.clone(), result, spans, nodes, iterations, stands_for: None })
             };
             // The rate-limited line's coarse solve to `super::limits::CAPPED_LINE` iterations
             // first: where it is still infeasible there it serves only as the finest basis' warm
@@ -311,7 +311,7 @@ impl ChainPlanner {
                 let more = super::limits::solve(self, &disc, c.result.x.clone(), &rest, Some(c.result.lambda));
                 let Ok(result) = more else { continue };
                 let iterations = c.iterations + result.iterations;
-                c = Candidate { disc: disc.clone(), result, spans, nodes, iterations };
+                c = Candidate { disc: disc.clone(), result, spans, nodes, iterations, stands_for: None };
             }
             let feasible = c.feasible();
             // A rate limit's control-point rows are conservative by `O(h^2)` on spans of
@@ -338,7 +338,10 @@ impl ChainPlanner {
                 }
                 if let Some(result) = result {
                     let iterations = result.iterations;
-                    let f = Candidate { disc: fine, result, spans: o.max_spans, nodes, iterations };
+                    let mut f =
+                        Candidate { disc: fine, result, spans: o.max_spans, nodes, iterations, stands_for: None };
+                    // Feasible, it stands for the coarse line (`Candidate::stands_for`).
+                    f.stands_for = f.feasible().then_some(c.result.f);
                     if !f.feasible()
                         && let Some(c) = full(c)
                     {
