@@ -117,7 +117,10 @@ impl ChainPlanner {
                 } else {
                     taken += 1;
                 }
-                let solved: Vec<_> = group.par_iter().map(|p| self.solve_seeds(problem, p, tables)).collect();
+                // A coarse cost 20 % above the best refined one is no finalist (below): a solve that
+                // cannot end under it is given up (`super::hopeless`).
+                let ceiling = 1.2 * refined_best;
+                let solved: Vec<_> = group.par_iter().map(|p| self.solve_seeds(problem, p, ceiling, tables)).collect();
                 for (p, solved) in group.iter().zip(solved) {
                     if p.bound > best {
                         continue;
@@ -125,6 +128,9 @@ impl ChainPlanner {
                     for (c, extra) in solved? {
                         seeds += 1;
                         iterations += c.iterations;
+                        if c.result.termination == Termination::Abandoned {
+                            continue;
+                        }
                         // A feasible extra on the finest basis (a rate-limited line,
                         // `solve_seeds`) is a plan's cost too: it bounds the later
                         // representatives (issue 20's 2-link bench: one of bound 40 solved beside
