@@ -459,7 +459,7 @@ pub(crate) fn solve_restarting(
 }
 
 /// Whether `planner`'s solves carry inequality rows: declared limits or a clearance to keep.
-fn constrained(planner: &ChainPlanner) -> bool {
+pub(super) fn constrained(planner: &ChainPlanner) -> bool {
     !planner.arm.limits.is_empty() || keeps_clearance(planner)
 }
 

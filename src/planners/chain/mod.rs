@@ -20,6 +20,7 @@ pub mod coil;
 pub mod connection;
 pub mod discrete;
 pub mod energy;
+mod hopeless;
 pub mod horizon;
 mod keep_clear;
 mod limits;

@@ -78,6 +78,11 @@ impl Representatives {
         Self { lines: Vec::new(), entries, context: None, last: 0 }
     }
 
+    /// Drops every representative left.
+    pub fn clear(&mut self) {
+        self.entries.clear();
+    }
+
     /// Whether every representative is taken or dropped.
     pub fn is_empty(&self) -> bool {
         self.entries.is_empty()

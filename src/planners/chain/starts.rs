@@ -8,13 +8,14 @@ use rayon::prelude::*;
 
 use super::coil::Sites;
 use super::discrete::Targets;
+use super::hopeless::Hopeless;
 use super::search::{COARSE_SQP, Candidate, Tables};
 use super::seeds::{self, Line, Seed};
 use super::{ChainPlanner, ChainProblem};
 use crate::error::Error;
 use crate::model::wrap_angle;
 use crate::planners::optimal::Cost;
-use crate::planners::optimal::sqp::{Discretised, SqpOptions};
+use crate::planners::optimal::sqp::{self, Discretised, SqpOptions};
 
 /// Uniform knot spans per turn of a coil seed (cubic B-splines follow a circle to about 1e-3 of
 /// its radius at this resolution; the radius is then re-fitted to the constraint), as the
@@ -219,10 +220,14 @@ impl ChainPlanner {
     /// coil re-fitted, on [`SPANS_PER_TURN`] spans per turn, with the multiplier guessed from
     /// `lambda ~ -2 f / needed` (the effort grows as the square of the coil's length, the
     /// rotation linearly, and `df/d phi_end = -lambda`).
+    ///
+    /// On an arm without limits or clearance rows, a solve whose cost cannot end at or below
+    /// `ceiling` is given up ([`Hopeless`]; infinite: none is).
     pub(super) fn solve_seeds(
         &self,
         problem: &ChainProblem,
         p: &Prepared,
+        ceiling: f64,
         tables: &Tables,
     ) -> Result<Vec<(Candidate, bool)>, Error> {
         // A coil of two turns or more (one turn is a seed beside the loops at `n = 2`).
@@ -230,7 +235,7 @@ impl ChainPlanner {
         // The seeds are independent: solved in parallel, gathered in their order (the first
         // error in that order is returned), so that the result does not depend on the threads.
         let solved: Vec<Result<Vec<(Candidate, bool)>, Error>> =
-            p.seeds.par_iter().map(|&seed| self.solve_seed(problem, p, seed, coil, tables)).collect();
+            p.seeds.par_iter().map(|&seed| self.solve_seed(problem, p, seed, coil, ceiling, tables)).collect();
         let mut out = Vec::new();
         for s in solved {
             out.extend(s?);
@@ -251,6 +256,7 @@ impl ChainPlanner {
         p: &Prepared,
         seed: Seed,
         coil: bool,
+        ceiling: f64,
         tables: &Tables,
     ) -> Result<Vec<(Candidate, bool)>, Error> {
         let o = &self.options;
@@ -290,8 +296,14 @@ impl ChainPlanner {
             && o.max_spans > spans
             && !super::limits::keeps_clearance(self);
         for (x0, guess) in starts {
-            let coarse = |x0, options| {
-                let result = super::limits::solve(self, &disc, x0, options, guess).ok()?;
+            let coarse = |x0, options: &SqpOptions| {
+                let result = if ceiling.is_finite() && !super::limits::constrained(self) {
+                    let mut watch = Hopeless::new(ceiling, options.max_iterations);
+                    sqp::solve_watched(&disc, x0, options, guess, &mut |k, f, c| watch.abandon(k, f, c))
+                } else {
+                    super::limits::solve(self, &disc, x0, options, guess)
+                };
+                let result = result.ok()?;
                 let iterations = result.iterations;
                 Some(Candidate { disc: disc.clone(), result, spans, nodes, iterations, stands_for: None })
             };

@@ -113,6 +113,8 @@ pub enum Termination {
     DegenerateConstraint,
     /// Feasible, but the KKT residual stopped decreasing above its tolerance (rounding floor).
     Stalled,
+    /// The caller's watch gave the solve up ([`solve_watched`]).
+    Abandoned,
 }
 
 impl Termination {
@@ -124,6 +126,7 @@ impl Termination {
             Termination::RadiusCollapsed => "radius_collapsed",
             Termination::DegenerateConstraint => "degenerate_constraint",
             Termination::Stalled => "stalled",
+            Termination::Abandoned => "abandoned",
         }
     }
 }
@@ -202,6 +205,19 @@ pub fn solve<P: Discretised>(
     options: &SqpOptions,
     guess: Option<f64>,
 ) -> Result<SqpResult, Error> {
+    solve_watched(problem, x0, options, guess, &mut |_, _, _| false)
+}
+
+/// [`solve`], with `abandon(iterations, f, c)` asked at every iterate of the equality-only
+/// iteration (not the S-l1-QP one): where it answers `true` the solve stops there as
+/// [`Termination::Abandoned`]. Where it never does, the iterates are exactly [`solve`]'s.
+pub fn solve_watched<P: Discretised>(
+    problem: &P,
+    x0: DVector<f64>,
+    options: &SqpOptions,
+    guess: Option<f64>,
+    abandon: &mut dyn FnMut(usize, f64, f64) -> bool,
+) -> Result<SqpResult, Error> {
     let s = problem.effort_hessian();
     let hb = problem.half_bandwidth();
     let chol = problem.effort_cholesky().ok_or(Error::from(InputError::InvalidParameter {
@@ -238,6 +254,9 @@ pub fn solve<P: Discretised>(
         }
         if iterations >= options.max_iterations {
             break Termination::MaxIterations;
+        }
+        if abandon(iterations, e.f, e.c) {
+            break Termination::Abandoned;
         }
         if radius < 1e-15 * (1.0 + m.norm(&x)) {
             break Termination::RadiusCollapsed;
