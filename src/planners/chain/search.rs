@@ -24,9 +24,9 @@ pub(super) const COARSE_SQP: SqpOptions =
 /// After the first converged refinement, a representative's loops and coils are solved only
 /// when its estimate is at most this times the best cost found (the two-joint planner's rule:
 /// coil estimates are pessimistic, but one far above the best plan does not overtake it); its
-/// line is solved up to [`UNSOLVED_ESTIMATE_RATIO`]. The two-joint planner's ratio is 10 on estimates without the 1.2
-/// of [`super::seeds::Line::effort_estimate`]; at 10 here, its better plan on one of the 300
-/// recorded problems (index 232, 4.23 against 7.35 rad^2/s) was cut.
+/// line is solved up to [`UNSOLVED_ESTIMATE_RATIO`]. The two-joint planner's ratio is 10 on
+/// estimates without the 1.2 of [`super::seeds::Line::effort_estimate`]; at 10 here, its better
+/// plan on one of the 300 recorded problems (index 232, 4.23 against 7.35 rad^2/s) was cut.
 const LATER_ESTIMATE_RATIO: f64 = 12.0;
 
 /// After the first converged refinement, a representative whose estimate is more than this
