@@ -194,9 +194,8 @@ fn two_link_nfa(p: &super::args::ProblemArgs, arm: &Arm) -> anyhow::Result<Optio
     let limits = super::limits::two_link_checks(Some(arm), geometry, &mut planned)?;
     let mut r = PlanReport::new(&planned, false);
     r.robot = arm.clone();
-    r.limits = limits.clone();
+    r.set_limits(limits.clone());
     let certified = planned.certified().and_then(|()| limits.map_or(Ok(()), |l| l.check()));
-    r.certified &= certified.is_ok();
     Ok(Some(Ok((r, certified))))
 }
 

@@ -341,6 +341,14 @@ impl PlanReport {
         }
     }
 
+    /// Sets the use of the robot's limits along a 2-link plan checked against them (`None`:
+    /// none declared); `certified` holds only inside them, as an arm's report does (issue 20
+    /// item 5).
+    pub fn set_limits(&mut self, limits: Option<LimitReport>) {
+        self.certified &= limits.as_ref().is_none_or(|l| l.check().is_ok());
+        self.limits = limits;
+    }
+
     /// This report with the closed-loop certificate (it does not change `certified`, which
     /// holds the open-loop levels).
     pub fn with_closed_loop(mut self, certificate: ClosedLoopCertificate) -> Self {

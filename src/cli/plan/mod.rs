@@ -87,9 +87,7 @@ impl Obtained {
                 if let Some(arm) = limited {
                     r.robot = arm.clone();
                 }
-                r.limits = limits.clone();
-                // Certified inside the limits, as an arm's report is (issue 20 item 5).
-                r.certified &= limits.as_ref().is_none_or(|l| l.check().is_ok());
+                r.set_limits(limits.clone());
                 r.notes.push(tool.clone());
                 match closed_loop {
                     Some(c) => r.with_closed_loop(c.clone()),
