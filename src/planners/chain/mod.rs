@@ -30,6 +30,8 @@ pub(crate) mod search;
 pub mod seeds;
 mod single;
 mod starts;
+#[cfg(test)]
+pub(crate) use starts::LINE_SPANS_PER_TURN;
 mod warm;
 
 use std::sync::Arc;

@@ -391,7 +391,9 @@ impl ChainPlanner {
             }
             previous = Some(c.result.f);
         }
-        if !resolved && (c.spans == self.options.coarse_spans || !c.result.converged()) {
+        // Never doubled (its basis already the finest, e.g. a long line's or a coil's): solved
+        // again at the refinement's accuracy.
+        if !resolved && (c.spans == first || !c.result.converged()) {
             c = self.resolve(problem, &c, c.spans, c.nodes, tables)?;
         }
         while c.nodes < 32 && self.holonomy_residual(&c) > 0.01 * o.tolerance {

@@ -31,6 +31,21 @@ pub const PAIRED_JOINTS: usize = 3;
 /// turns of `theta1` further on 4 (at one turn the plan cost 1.3 to 1.9 times more).
 pub const TWO_JOINT_TURNS: i32 = 2;
 
+/// Uniform knot spans per turn of a line's longest joint travel on which its line and loop
+/// seeds are solved too, where that is more than [`super::ChainOptions::coarse_spans`]. On
+/// the 50 random mounts of the paper's problem, two representatives of two turns on both joints
+/// reached their best basin only from a basis this fine (at a = 1.446, b = -1.417 the plan
+/// 445.14 -> 349.54 rad^2/s, at a = 1.254, b = -1.236 179.13 -> 169.33), and one of two turns
+/// on `theta1` only from the coarse one (a = 1.244, b = 0.766: 46.36 there, 48.18 on 18 spans):
+/// both are solved.
+pub(crate) const LINE_SPANS_PER_TURN: usize = 8;
+
+/// The uniform knot spans of [`LINE_SPANS_PER_TURN`] for `line`.
+fn line_spans(line: &Line) -> usize {
+    let travel = line.start.iter().zip(&line.end).map(|(a, b)| (b - a).abs()).fold(0.0, f64::max);
+    (LINE_SPANS_PER_TURN as f64 * travel / TAU).ceil() as usize
+}
+
 /// What the seeds of every representative share ([`ChainPlanner::seed_context`]).
 pub(super) struct SeedContext {
     /// The curvature's comass bound ([`seeds::curvature_bound`]).
@@ -213,11 +228,11 @@ impl ChainPlanner {
     }
 
     /// The coarse solutions of a representative, each marked `true` where it is the line beside
-    /// a coil or the line on the finest basis (ranked apart, see [`ChainPlanner::plan`]): the
-    /// line on the coarse basis (with a rate limit, where it cannot meet the constraint there,
-    /// on the finest basis too); each loop
-    /// as estimated and re-fitted to the constraint (they lead to different local minima); each
-    /// coil re-fitted, on [`SPANS_PER_TURN`] spans per turn, with the multiplier guessed from
+    /// a coil or the line on the finest basis (ranked apart, see [`ChainPlanner::plan`]), each
+    /// seed on its bases ([`Self::seed_bases`]): the line (with a rate limit, where it cannot
+    /// meet the constraint on its basis, on the finest basis too); each loop as estimated and
+    /// re-fitted to the constraint (they lead to different local minima); each coil re-fitted,
+    /// with the multiplier guessed from
     /// `lambda ~ -2 f / needed` (the effort grows as the square of the coil's length, the
     /// rotation linearly, and `df/d phi_end = -lambda`).
     ///
@@ -234,8 +249,11 @@ impl ChainPlanner {
         let coil = p.seeds.iter().any(|s| matches!(s, Seed::Coil { turns, .. } if *turns >= 2));
         // The seeds are independent: solved in parallel, gathered in their order (the first
         // error in that order is returned), so that the result does not depend on the threads.
-        let solved: Vec<Result<Vec<(Candidate, bool)>, Error>> =
-            p.seeds.par_iter().map(|&seed| self.solve_seed(problem, p, seed, coil, ceiling, tables)).collect();
+        let solved: Vec<Result<Vec<(Candidate, bool)>, Error>> = self
+            .seed_bases(p)
+            .par_iter()
+            .map(|&basis| self.solve_seed(problem, p, basis, coil, ceiling, tables))
+            .collect();
         let mut out = Vec::new();
         for s in solved {
             out.extend(s?);
@@ -248,13 +266,13 @@ impl ChainPlanner {
         Ok(out)
     }
 
-    /// The coarse solutions of one seed of [`Self::solve_seeds`] (`coil`: the representative
-    /// has a coil of two turns or more).
+    /// The coarse solutions of one seed of [`Self::solve_seeds`] on its `spans` uniform spans
+    /// (`coil`: the representative has a coil of two turns or more).
     fn solve_seed(
         &self,
         problem: &ChainProblem,
         p: &Prepared,
-        seed: Seed,
+        (seed, spans): (Seed, usize),
         coil: bool,
         ceiling: f64,
         tables: &Tables,
@@ -262,10 +280,6 @@ impl ChainPlanner {
         let o = &self.options;
         let line = &p.line;
         let mut out = Vec::new();
-        let spans = match seed {
-            Seed::Coil { turns, .. } => o.coarse_spans.max(SPANS_PER_TURN * turns),
-            _ => o.coarse_spans,
-        };
         let disc = self.discretise(problem, p.targets.clone(), spans, o.quadrature_nodes, tables)?;
         let project = |seed: Seed| disc.project(|t, out| line.path(seed, t, out));
         let residual = |s: Seed| project(s).map_or(f64::NAN, |x| disc.evaluate(&x, 0).c);
@@ -368,6 +382,26 @@ impl ChainPlanner {
             out.push((c, coil && seed == Seed::Line));
         }
         Ok(out)
+    }
+
+    /// The seeds of a representative with the uniform spans each is solved on: a coil on
+    /// [`SPANS_PER_TURN`] per turn; the line and loops on the coarse basis and, where the line
+    /// travels far, on [`LINE_SPANS_PER_TURN`] per turn too.
+    fn seed_bases(&self, p: &Prepared) -> Vec<(Seed, usize)> {
+        let o = &self.options;
+        let long = line_spans(&p.line).min(o.max_spans);
+        let mut out = Vec::new();
+        for &seed in &p.seeds {
+            if let Seed::Coil { turns, .. } = seed {
+                out.push((seed, o.coarse_spans.max(SPANS_PER_TURN * turns)));
+                continue;
+            }
+            out.push((seed, o.coarse_spans));
+            if long > o.coarse_spans {
+                out.push((seed, long));
+            }
+        }
+        out
     }
 
     /// The largest radius, at most `max` \[rad\], of a coil about `seed`'s centre inside the

@@ -1,7 +1,8 @@
 //! A slow, exhaustive minimum-effort search, the test oracle of the planner (issue 19, item 2):
 //! every goal representative within two turns of each joint and of the base, every seed the
 //! planner knows in both orientations (the line, loops beside it and on it, loops along either
-//! joint, the coil, the NFA's path), each solved on a finer coarse basis (16 spans), all
+//! joint, the coil, the NFA's path), each solved on a finer coarse basis (16 spans, and a line
+//! of more than a turn and its loops on 16 spans per turn of its longest travel too), all
 //! feasible solutions of a representative within 50 % of its best refined on up to 64 spans, the
 //! best certified plan kept. A representative whose effort lower bound exceeds the best effort
 //! found is skipped: the bound is a proof, not a heuristic, so the search stays exhaustive over
@@ -15,6 +16,7 @@ use super::seeds::{self, Line, SeedKind};
 use super::{OptimalOptions, OptimalPlanner, sqp};
 use crate::model::wrap_angle;
 use crate::plan::{Method, Motion, PlanningProblem};
+use crate::planners::chain::LINE_SPANS_PER_TURN;
 
 /// Turns either way of each joint and of the base around the nearest representative.
 const TURNS: i32 = 2;
@@ -83,13 +85,29 @@ pub(crate) fn reference_effort(problem: &PlanningProblem) -> Option<(f64, [f64; 
         let site = if needed >= 0.0 { &sites[0] } else { &sites[1] };
         let coil = line.coil(site, needed, r);
         let mut starts = vec![(disc.clone(), o.coarse_spans, x_line.clone(), None)];
-        let residual =
-            |kind: SeedKind| disc.project(|t| line.path(kind, t)).map_or(f64::NAN, |x| disc.evaluate(&x, 0).c);
-        for kind in kinds {
-            let fitted = line.fit_radius(kind, r, residual);
-            for seed in [kind, fitted] {
-                if let Ok(x) = disc.project(|t| line.path(seed, t)) {
-                    starts.push((disc.clone(), o.coarse_spans, x, None));
+        // The line and loops on the coarse basis and, for a line of more than a turn, on twice
+        // the planner's spans per turn of its longest travel (`LINE_SPANS_PER_TURN`) too.
+        let travel = (0..2).map(|j| (line.end[j] - line.start[j]).abs()).fold(0.0, f64::max);
+        let long = ((2 * LINE_SPANS_PER_TURN) as f64 * travel / TAU).ceil() as usize;
+        let mut bases = vec![(disc.clone(), o.coarse_spans)];
+        if long > o.coarse_spans {
+            let spans = long.min(o.max_spans);
+            if let Ok(d) = planner.discretise(problem, targets, spans, o.quadrature_nodes, &tables) {
+                if let Ok(x) = d.project(|t| line.at(t)) {
+                    starts.push((d.clone(), spans, x, None));
+                }
+                bases.push((d, spans));
+            }
+        }
+        for (disc, spans) in &bases {
+            let residual =
+                |kind: SeedKind| disc.project(|t| line.path(kind, t)).map_or(f64::NAN, |x| disc.evaluate(&x, 0).c);
+            for &kind in &kinds {
+                let fitted = line.fit_radius(kind, r, residual);
+                for seed in [kind, fitted] {
+                    if let Ok(x) = disc.project(|t| line.path(seed, t)) {
+                        starts.push((disc.clone(), *spans, x, None));
+                    }
                 }
             }
         }
