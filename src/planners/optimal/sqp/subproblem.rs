@@ -185,6 +185,15 @@ impl Model<'_> {
                 .sum::<f64>()
     }
 
+    /// An upper bound on the linearised infeasibility's reduction by any step in the trust region
+    /// `|d|_inf <= radius`: each term `max(0, g_i)` (and `|c|`) falls by at most itself and by at
+    /// most its gradient's l1 norm times the radius.
+    pub(super) fn reducible(&self, c: f64, values: &[f64], radius: f64) -> f64 {
+        let reach = |row: &[(usize, f64)]| row.iter().map(|(_, a)| a.abs()).sum::<f64>() * radius;
+        c.abs().min(self.e.grad_c.lp_norm(1) * radius)
+            + values.iter().zip(self.rows).map(|(v, row)| if *v > 0.0 { v.min(reach(row)) } else { 0.0 }).sum::<f64>()
+    }
+
     /// `grad f^T d + 1/2 d^T (W + rho grad c grad c^T) d`.
     pub(super) fn quadratic(&self, d: &DVector<f64>) -> f64 {
         let wd = matvec(&self.w, self.hb, d);
