@@ -213,7 +213,7 @@ pub(super) fn solve<P: Discretised>(
         let active: Vec<&[(usize, f64)]> =
             (0..z.len()).filter(|&i| z[i] > 1e-6 * largest_z.max(1.0)).map(|i| g.rows[i].as_slice()).collect();
         let (w, rho) = convexify(e.lagrangian_hessian(m.s, lambda), &e.grad_c, &active, m.s, hb);
-        let model = Model { w, rho, hb, e: &e, rows: &g.rows, working: &working };
+        let model = Model { w, rho, hb, e: &e, rows: &g.rows, working: &working, solver: RefCell::new(None) };
         let left = |d: &DVector<f64>| model.infeasibility(e.c, &g.values, d);
         let Some(mut step) = model.solve(e.c, &g.values, mu, radius) else {
             radius *= 0.25;
