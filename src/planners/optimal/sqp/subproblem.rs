@@ -34,14 +34,15 @@ pub(super) struct Model<'a> {
     /// The working set: rows sent to the QP however far from their limit (those found near or
     /// broken by an earlier step of this solve; see [`Model::solve`]).
     pub(super) working: &'a RefCell<Vec<bool>>,
-    /// The last QP's solver and the rows it was sent: a QP of the same rows at this iterate (a
-    /// steering penalty, a second-order correction) has the same sparsity (the same `W`, rows
-    /// and radius), and updates `P`, `q` and `b` in it instead of setting up a solver again (its
-    /// ordering, symbolic factorisation and equilibration, a fifth of a QP's time; the
-    /// equilibration kept from the first data changes a solution only within Clarabel's
-    /// tolerance). On issue 20's benches 13 of 46 QPs (3-link velocity), 21 of 63 (2-link) and 23
-    /// of 106 (SPART-like), the same plans, Clarabel's iterations within 0.5 %.
-    pub(super) solver: RefCell<Option<(Vec<usize>, DefaultSolver<f64>)>>,
+    /// The solve's last QP solver and the rows it was sent: a QP of the same rows (a steering
+    /// penalty, a second-order correction, often the next iterate's) updates `P`, `A`, `q` and
+    /// `b` in it instead of setting up a solver again (its ordering, symbolic factorisation and
+    /// equilibration, a fifth of a QP's time), where the matrices' sparsity is the same (checked
+    /// by Clarabel; otherwise a new solver). The equilibration kept from the first data changes
+    /// a solution only within Clarabel's tolerance: on issue 20's benches 24 of 46 QPs (3-link
+    /// velocity), 42 of 63 (2-link) and 76 of 106 (SPART-like) reuse a solver, to the same
+    /// plans, Clarabel's iterations within 0.6 %.
+    pub(super) solver: &'a RefCell<Option<(Vec<usize>, DefaultSolver<f64>)>>,
 }
 
 impl Model<'_> {
@@ -168,7 +169,10 @@ impl Model<'_> {
         let mut cache = self.solver.borrow_mut();
         let reused = match cache.as_mut() {
             Some((sent, solver)) if sent.as_slice() == active && solver.is_data_update_allowed() => {
-                solver.update_P(&p.nzval).is_ok() && solver.update_q(&q).is_ok() && solver.update_b(&b).is_ok()
+                solver.update_P(&p).is_ok()
+                    && solver.update_A(&a).is_ok()
+                    && solver.update_q(&q).is_ok()
+                    && solver.update_b(&b).is_ok()
             }
             _ => false,
         };
