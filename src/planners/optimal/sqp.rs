@@ -26,6 +26,7 @@ use crate::error::Error;
 use crate::model::InputError;
 
 mod inequality;
+mod subproblem;
 #[cfg(test)]
 mod tests_inequality;
 

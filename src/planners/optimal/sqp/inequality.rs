@@ -36,16 +36,13 @@
 
 use std::cell::RefCell;
 
-use clarabel::algebra::CscMatrix;
-use clarabel::solver::{
-    DefaultSettingsBuilder, DefaultSolver, IPSolver, NonnegativeConeT, SolverStatus, SupportedConeT, ZeroConeT,
-};
 use nalgebra::{DMatrix, DVector};
 
+use super::subproblem::Model;
 use super::{Discretised, Inequalities, Metric, SqpOptions, SqpResult, Termination};
 use crate::error::Error;
 use crate::model::InputError;
-use crate::planners::optimal::band::{BandCholesky, matvec};
+use crate::planners::optimal::band::BandCholesky;
 use crate::planners::optimal::discrete::Evaluation;
 
 /// The largest violation `max(0, g_i)` of the inequalities.
@@ -56,213 +53,6 @@ fn violation(g: &Inequalities) -> f64 {
 /// The l1 penalty `sum_i max(0, g_i)`.
 fn penalty(g: &Inequalities) -> f64 {
     g.values.iter().map(|v| v.max(0.0)).sum()
-}
-
-/// The solution of one QP subproblem.
-struct Step {
-    d: DVector<f64>,
-    /// Multiplier of the linearised equality.
-    lambda: f64,
-    /// Multipliers of the inequality rows (zero for rows left out).
-    z: Vec<f64>,
-}
-
-/// The QP's data at an iterate: the convex model `W` (with the augmented weight `rho` on
-/// `(grad c^T d)^2`), the cost's and the constraints' gradients.
-struct Model<'a> {
-    w: DMatrix<f64>,
-    rho: f64,
-    hb: usize,
-    e: &'a Evaluation,
-    rows: &'a [Vec<(usize, f64)>],
-    /// The working set: rows sent to the QP however far from their limit (those found near or
-    /// broken by an earlier step of this solve; see [`Model::solve`]).
-    working: &'a RefCell<Vec<bool>>,
-}
-
-impl Model<'_> {
-    /// Solves the S-l1-QP subproblem with the constraints' values `c` and `values` (those at the
-    /// iterate, or at a trial point shifted back by its step for the second-order correction);
-    /// `None` when Clarabel fails.
-    ///
-    /// Screening (an active-set outer loop): the QP gets only the rows within [`SCREEN`] of
-    /// their limit and the working set's; a row left out whose linearisation the step breaks
-    /// joins the working set and the QP is solved again, until the step keeps every row. The
-    /// result is the full QP's minimiser: a row left out holds at the step, so with its elastic
-    /// variable zero and its multiplier zero the reduced QP's optimality conditions are the full
-    /// QP's, and the QP is convex (module docs). Rows that cannot become active inside the trust
-    /// region (`g_i + |grad g_i|_1 radius < 0`) are never sent.
-    fn solve(&self, c: f64, values: &[f64], mu: f64, radius: f64) -> Option<Step> {
-        let reach = |i: usize| self.rows[i].iter().map(|(_, a)| a.abs()).sum::<f64>() * radius;
-        let reachable: Vec<bool> = (0..values.len()).map(|i| values[i] + reach(i) >= 0.0).collect();
-        let mut working = self.working.borrow_mut();
-        working.resize(values.len(), false);
-        loop {
-            let sent: Vec<usize> =
-                (0..values.len()).filter(|&i| reachable[i] && (working[i] || values[i] >= -SCREEN)).collect();
-            let step = self.solve_rows(c, values, mu, radius, &sent)?;
-            let mut broken = false;
-            for i in 0..values.len() {
-                if !reachable[i] || working[i] || values[i] >= -SCREEN {
-                    continue;
-                }
-                let linear = values[i] + self.rows[i].iter().map(|&(k, a)| a * step.d[k]).sum::<f64>();
-                if linear > -0.5 * SCREEN {
-                    working[i] = true;
-                    broken |= linear > 0.0;
-                }
-            }
-            if !broken {
-                return Some(step);
-            }
-        }
-    }
-
-    /// The S-l1-QP subproblem with the inequality rows `active` only (the others' multipliers
-    /// zero); `None` when Clarabel fails.
-    fn solve_rows(&self, c: f64, values: &[f64], mu: f64, radius: f64, active: &[usize]) -> Option<Step> {
-        let (e, hb) = (self.e, self.hb);
-        let dim = e.grad_f.len();
-        let m = active.len();
-        // Variables: d (dim), s+ and s- of the equality, w = grad c^T d, t_k of each active row.
-        let nv = dim + 3 + m;
-        let (sp, sm, wv) = (dim, dim + 1, dim + 2);
-        // P: W's upper band in the d block, rho on w (all divided by mu: the slacks' weight is 1,
-        // the same minimiser, and Clarabel's relative tolerances stay meaningful).
-        let mut cols: Vec<Vec<(usize, f64)>> = vec![Vec::new(); nv];
-        for (j, col) in cols.iter_mut().enumerate().take(dim) {
-            for i in j.saturating_sub(hb)..=j {
-                let v = self.w[(i, j)] / mu;
-                if v != 0.0 {
-                    col.push((i, v));
-                }
-            }
-        }
-        if self.rho > 0.0 {
-            cols[wv].push((wv, self.rho / mu));
-        }
-        let p = csc(nv, nv, &cols);
-        let mut q = vec![0.0; nv];
-        for (qk, gk) in q.iter_mut().zip(e.grad_f.iter()) {
-            *qk = gk / mu;
-        }
-        q[sp] = 1.0;
-        q[sm] = 1.0;
-        for qk in &mut q[dim + 3..] {
-            *qk = 1.0;
-        }
-        // Rows of A x + s = b: the equality and w's definition (zero cone), then s+- >= 0,
-        // t >= 0, the active rows, and the box |d_k| <= radius (nonnegative cone).
-        let mut a: Vec<Vec<(usize, f64)>> = vec![Vec::new(); nv];
-        let mut b = Vec::new();
-        for (k, v) in e.grad_c.iter().enumerate() {
-            if *v != 0.0 {
-                a[k].push((0, *v));
-                a[k].push((1, *v));
-            }
-        }
-        a[sp].push((0, -1.0));
-        a[sm].push((0, 1.0));
-        a[wv].push((1, -1.0));
-        b.extend([-c, 0.0]);
-        let mut row = 2;
-        for k in [sp, sm].into_iter().chain(dim + 3..nv) {
-            a[k].push((row, -1.0));
-            b.push(0.0);
-            row += 1;
-        }
-        for (r, &i) in active.iter().enumerate() {
-            for &(k, v) in &self.rows[i] {
-                a[k].push((row, v));
-            }
-            a[dim + 3 + r].push((row, -1.0));
-            b.push(-values[i]);
-            row += 1;
-        }
-        for col in a.iter_mut().take(dim) {
-            col.push((row, 1.0));
-            col.push((row + 1, -1.0));
-            b.extend([radius, radius]);
-            row += 2;
-        }
-        let a = csc(row, nv, &a);
-        let cones: [SupportedConeT<f64>; 2] = [ZeroConeT(2), NonnegativeConeT(row - 2)];
-        let settings = DefaultSettingsBuilder::default()
-            .verbose(false)
-            .max_iter(100)
-            .tol_gap_abs(QP_TOLERANCE)
-            .tol_gap_rel(QP_TOLERANCE)
-            .tol_feas(QP_TOLERANCE)
-            // No iterative refinement of the KKT solves (each interior-point iteration's
-            // residuals come from the data, so an inexact step is corrected by the next): on
-            // issue 21's SPART case the refinement's solves and residual products were a third of
-            // Clarabel's time, and without it the planner takes the same 640 SQP iterations to
-            // the same plan (effort equal to 1e-9) in 4.9 s of CPU instead of 6.0 s.
-            .iterative_refinement_enable(false)
-            .build()
-            .ok()?;
-        let mut solver = DefaultSolver::new(&p, &q, &a, &b, &cones, settings).ok()?;
-        solver.solve();
-        let sol = &solver.solution;
-        if !matches!(sol.status, SolverStatus::Solved | SolverStatus::AlmostSolved) {
-            return None;
-        }
-        let d = DVector::from_column_slice(&sol.x[..dim]);
-        if !d.iter().all(|v| v.is_finite()) {
-            return None;
-        }
-        let mut z = vec![0.0; values.len()];
-        for (r, &i) in active.iter().enumerate() {
-            z[i] = mu * sol.z[4 + m + r].max(0.0);
-        }
-        // The equality's multiplier: its row's and w's (whose row carries rho grad c^T d).
-        Some(Step { d, lambda: mu * (sol.z[0] + sol.z[1]), z })
-    }
-
-    /// The linearised infeasibility `|c + grad c^T d| + sum max(0, g_i + grad g_i^T d)`.
-    fn infeasibility(&self, c: f64, values: &[f64], d: &DVector<f64>) -> f64 {
-        (c + self.e.grad_c.dot(d)).abs()
-            + values
-                .iter()
-                .zip(self.rows)
-                .map(|(v, row)| (v + row.iter().map(|&(k, a)| a * d[k]).sum::<f64>()).max(0.0))
-                .sum::<f64>()
-    }
-
-    /// `grad f^T d + 1/2 d^T (W + rho grad c grad c^T) d`.
-    fn quadratic(&self, d: &DVector<f64>) -> f64 {
-        let wd = matvec(&self.w, self.hb, d);
-        let ad = self.e.grad_c.dot(d);
-        self.e.grad_f.dot(d) + 0.5 * (d.dot(&wd) + self.rho * ad * ad)
-    }
-}
-
-/// Rows within this (scaled) distance of their limit are sent to every QP (see
-/// [`Model::solve`]); farther ones only once a step comes within half of it.
-const SCREEN: f64 = 0.05;
-
-/// Clarabel's gap and feasibility tolerances (its default 1e-8 is too loose for the multipliers
-/// of a QP whose cost is divided by a large penalty; at 1e-10 the steps near a solution, of order
-/// 1e-7, were determined to only a few digits, and a screened QP (fewer rows, the same minimiser)
-/// and the full one gave steps that differed by a tenth, enough to stall the SQP at the
-/// constraints' rounding floor on issue 20's 3-link bench, which plans again at 1e-12).
-const QP_TOLERANCE: f64 = 1e-12;
-
-/// A CSC matrix from its columns' `(row, value)` entries (rows increasing within a column).
-fn csc(m: usize, n: usize, cols: &[Vec<(usize, f64)>]) -> CscMatrix<f64> {
-    let mut colptr = Vec::with_capacity(n + 1);
-    let (mut rowval, mut nzval) = (Vec::new(), Vec::new());
-    colptr.push(0);
-    for col in cols {
-        let mut sorted = col.clone();
-        sorted.sort_by_key(|(r, _)| *r);
-        for (r, v) in sorted {
-            rowval.push(r);
-            nzval.push(v);
-        }
-        colptr.push(rowval.len());
-    }
-    CscMatrix::new(m, n, colptr, rowval, nzval)
 }
 
 /// The convex model of `w`, with the equality's gradient `a` and the active rows' normals `b_i`
@@ -375,6 +165,7 @@ pub(super) fn solve<P: Discretised>(
     let mut lambda = guess.unwrap_or(0.0);
     let mut z = vec![0.0; g.values.len()];
     let working = RefCell::new(vec![false; g.values.len()]);
+    let solver = RefCell::new(None);
     let mut mu = guess.map_or(1.0, |v| (2.0 * v.abs()).max(1.0));
     let mut radius = (m.norm(&x) * 0.5).max(1.0);
     let mut iterations = 0;
@@ -423,7 +214,7 @@ pub(super) fn solve<P: Discretised>(
         let active: Vec<&[(usize, f64)]> =
             (0..z.len()).filter(|&i| z[i] > 1e-6 * largest_z.max(1.0)).map(|i| g.rows[i].as_slice()).collect();
         let (w, rho) = convexify(e.lagrangian_hessian(m.s, lambda), &e.grad_c, &active, m.s, hb);
-        let model = Model { w, rho, hb, e: &e, rows: &g.rows, working: &working };
+        let model = Model { w, rho, hb, e: &e, rows: &g.rows, working: &working, solver: &solver };
         let left = |d: &DVector<f64>| model.infeasibility(e.c, &g.values, d);
         let Some(mut step) = model.solve(e.c, &g.values, mu, radius) else {
             radius *= 0.25;
@@ -433,9 +224,14 @@ pub(super) fn solve<P: Discretised>(
         // allows (the step of a 1e4 times larger penalty) is the reference; the penalty is raised
         // tenfold (up to three times) until the step achieves a tenth of it (as any step that removes
         // a tenth of the infeasibility does: the reference is then not solved, 12 of 118 QPs on issue
-        // 20's SPART-like bench).
-        let enough = infeasibility - left(&step.d) >= 0.1 * infeasibility;
-        if !enough && infeasibility > tol && left(&step.d) > 1e-12 * (1.0 + infeasibility) && mu < 1e8 {
+        // 20's SPART-like bench). Nor is it where the step achieves a tenth of an upper bound on
+        // it, the reduction each term allows inside the trust region (`Model::reducible`): the
+        // loop would stop at once (one reference a plan on issue 20's 3-link velocity bench, whose
+        // QPs fell from 51 to 46 as the working set then grew differently; the same plan).
+        let reduction = infeasibility - left(&step.d);
+        let enough = reduction >= 0.1 * infeasibility;
+        let bounded = || reduction >= 0.1 * (1.0 + 1e-9) * model.reducible(e.c, &g.values, radius);
+        if !enough && infeasibility > tol && left(&step.d) > 1e-12 * (1.0 + infeasibility) && mu < 1e8 && !bounded() {
             let best = model.solve(e.c, &g.values, 1e4 * mu, radius).map(|s| infeasibility - left(&s.d));
             if let Some(best) = best.filter(|b| *b > 0.0) {
                 for _ in 0..3 {
