@@ -15,6 +15,7 @@
 //! num-dual's second derivatives.
 
 use crate::model::arm::Arm;
+use crate::numerics::trig::sin_cos;
 
 /// Largest number of joints the chain planner takes.
 pub const MAX_JOINTS: usize = crate::model::arm::MAX_LINKS;
@@ -128,7 +129,7 @@ impl Connection {
         e[0] = self.beta_sin_cos;
         for j in 0..n {
             psi = if j == 0 { theta[0] } else { psi + theta[j] };
-            e[j + 1] = psi.sin_cos();
+            e[j + 1] = sin_cos(psi);
             w[j + 1] = w[j] + rate[j];
         }
         let mut f = self.f0;
@@ -172,7 +173,7 @@ impl Connection {
         let mut psi = self.beta;
         for k in 0..n {
             psi = if k == 0 { theta[0] } else { psi + theta[k] };
-            cs[k + 1] = psi.sin_cos();
+            cs[k + 1] = sin_cos(psi);
         }
         // Per segment `s`: the suffix sums `sum_{t > b} X_st` of `[2K C, 2K S]` at `b = i`,
         // `b = j` and `b = s` (those `local` reads for the plane), summed as `local` sums them.
@@ -269,7 +270,7 @@ impl Connection {
         }
         cs[0] = self.beta_sin_cos;
         for s in 1..n1 {
-            cs[s] = psi[s].sin_cos();
+            cs[s] = sin_cos(psi[s]);
         }
         // X_st for s < t: [2K C, h C, 2K S, h S] with h = K (W_s + W_t).
         let mut F = self.f0;
