@@ -11,7 +11,7 @@ use std::sync::Arc;
 
 use nalgebra::{DMatrix, DVector};
 
-use super::connection::{Connection, Local};
+use super::connection::{Connection, Local, specialised};
 use super::energy::{EnergyLocal, energy, energy_local};
 use crate::error::Error;
 use crate::model::InputError;
@@ -204,28 +204,28 @@ impl Discretisation {
 
     /// `(theta, theta')` at a node into the buffers.
     fn point(&self, c: &[Vec<f64>], node: &Node, theta: &mut [f64], rate: &mut [f64]) {
-        let p = self.table.basis.degree();
-        for (j, cj) in c.iter().enumerate() {
-            let cj = &cj[node.first..=node.first + p];
-            let (mut v, mut r) = (0.0, 0.0);
-            for ((value, rate), c) in node.value.iter().zip(&node.rate).zip(cj) {
-                v += value * c;
-                r += rate * c;
-            }
-            theta[j] = v;
-            rate[j] = r;
-        }
+        point_of(self.table.basis.degree(), c, node, theta, rate);
     }
 
     /// The quadrature of `integral_0^T g dt` \[rad\] and of the effort \[rad^2/s\] at `x`.
     pub fn integrals(&self, x: &DVector<f64>) -> (f64, f64) {
-        let n = self.table.joints;
+        let (n, p) = (self.table.joints, self.table.basis.degree());
+        specialised!(n, |n| match p {
+            3 => self.integrals_of(x, n, 3),
+            p => self.integrals_of(x, n, p),
+        })
+    }
+
+    /// [`Self::integrals`] for `n` joints and degree `p` (those of the table; inlined where they
+    /// are constants).
+    #[inline(always)]
+    fn integrals_of(&self, x: &DVector<f64>, n: usize, p: usize) -> (f64, f64) {
         let c = self.coefficients(x);
         let (mut theta, mut rate) = (vec![0.0; n], vec![0.0; n]);
         let (mut holonomy, mut effort) = (0.0, 0.0);
         for node in &self.table.nodes {
-            self.point(&c, node, &mut theta, &mut rate);
-            holonomy += node.weight * self.connection.value(&theta, &rate);
+            point_of(p, &c, node, &mut theta, &mut rate);
+            holonomy += node.weight * self.connection.value_of(n, &theta, &rate);
             effort += node.weight * rate.iter().map(|w| w * w).sum::<f64>();
         }
         (holonomy, effort)
@@ -287,9 +287,7 @@ impl Discretised for Discretisation {
 
     /// Effort `f` and `c = phi(0) - integral g dt - phi_end` at `x`, with derivatives by `order`.
     fn evaluate(&self, x: &DVector<f64>, order: usize) -> Evaluation {
-        let table = &*self.table;
-        let (n, p, len, r) = (table.joints, table.basis.degree(), table.basis.len(), table.fixed);
-        let dim = x.len();
+        let (n, p) = (self.table.joints, self.table.basis.degree());
         let residual = |integral: f64| self.targets.phi_start - integral - self.targets.phi_end;
         if order == 0 {
             let (integral, effort) = self.integrals(x);
@@ -304,7 +302,24 @@ impl Discretised for Discretisation {
                 hess_c: none,
             };
         }
-        let second = order >= 2;
+        // The same operations in the same order for every (n, p); inlined with them constant
+        // for two to seven joints and cubic splines (the seed solves) the loops unroll.
+        specialised!(n, |n| match p {
+            3 => self.derivatives(x, order >= 2, n, 3),
+            p => self.derivatives(x, order >= 2, n, p),
+        })
+    }
+}
+
+impl Discretisation {
+    /// [`Discretised::evaluate`] at `order >= 1` (`second`: with the Hessians), for `n` joints
+    /// and degree `p` (those of the table).
+    #[inline(always)]
+    fn derivatives(&self, x: &DVector<f64>, second: bool, n: usize, p: usize) -> Evaluation {
+        let table = &*self.table;
+        let (len, r) = (table.basis.len(), table.fixed);
+        let dim = x.len();
+        let residual = |integral: f64| self.targets.phi_start - integral - self.targets.phi_end;
         let c = self.coefficients(x);
         let (mut theta, mut rate) = (vec![0.0; n], vec![0.0; n]);
         let mut local = Local::new(n);
@@ -323,8 +338,8 @@ impl Discretised for Discretisation {
         // Buffers of the energy only where it is the cost (empty ones allocate nothing).
         let mut e_local = EnergyLocal::new(if self.energy.is_some() { n } else { 0 });
         for node in &table.nodes {
-            self.point(&c, node, &mut theta, &mut rate);
-            self.connection.local(&theta, &rate, &mut local);
+            point_of(p, &c, node, &mut theta, &mut rate);
+            self.connection.local_of(n, &theta, &rate, &mut local);
             let w = node.weight;
             integral += w * local.value;
             if let Some(arm) = &self.energy {
@@ -406,6 +421,21 @@ impl Discretised for Discretisation {
             }
         }
         Evaluation { f, c: residual(integral), grad_f, grad_c, hess_f, hess_c }
+    }
+}
+
+/// [`Discretisation::point`] on a basis of degree `p` (inlined where `p` is a constant).
+#[inline(always)]
+fn point_of(p: usize, c: &[Vec<f64>], node: &Node, theta: &mut [f64], rate: &mut [f64]) {
+    for (j, cj) in c.iter().enumerate() {
+        let cj = &cj[node.first..=node.first + p];
+        let (mut v, mut r) = (0.0, 0.0);
+        for ((value, rate), c) in node.value.iter().zip(&node.rate).zip(cj) {
+            v += value * c;
+            r += rate * c;
+        }
+        theta[j] = v;
+        rate[j] = r;
     }
 }
 
