@@ -378,12 +378,20 @@ impl Discretisation {
             if let (Some(_), Some(h)) = (&self.energy, hess_f.as_mut()) {
                 add_energy_hessian(h, &e_local, node, &idx[..=p], n, w);
             }
-            let data = hess_c.as_mut_slice();
-            for l in 0..=p {
-                let il = idx[l];
-                if il == usize::MAX {
-                    continue;
+            // The free local coefficients `(l, free index times n)`, in order: the loops below
+            // run over them alone. (Every entry takes one term per node, so the order of the
+            // loops does not change the sums.)
+            let mut free_locals = [(0, 0); MAX_DEGREE + 1];
+            let mut count = 0;
+            for (l, &il) in idx.iter().enumerate().take(p + 1) {
+                if il != usize::MAX {
+                    free_locals[count] = (l, il);
+                    count += 1;
                 }
+            }
+            let free_locals = &free_locals[..count];
+            let data = hess_c.as_mut_slice();
+            for (a, &(l, il)) in free_locals.iter().enumerate() {
                 let (v, dr) = (node.value[l] * w, node.rate[l] * w);
                 for j in 0..n {
                     // d^2 g / d c_{l j} d(theta_jj, theta'_jj) contracted with c_{l j}'s factors.
@@ -394,16 +402,17 @@ impl Discretisation {
                     let mixed = &local.mixed[j * n..(j + 1) * n];
                     let col = (il + j) * dim;
                     // The rows on and below the diagonal (`ll >= l`, and `jj >= j` where
-                    // `ll = l`); the others are mirrored after the sum.
-                    for (ll, &index) in idx.iter().enumerate().take(p + 1).skip(l) {
-                        if index == usize::MAX {
-                            continue;
-                        }
+                    // `ll = l`); the others are mirrored after the sum. The mixed term of
+                    // (l, j) as theta and (ll, jj) as theta'.
+                    let (vv, rr) = (node.value[l], node.rate[l]);
+                    let out = &mut data[col + il + j..col + il + n];
+                    for ((o, rw), m) in out.iter_mut().zip(&row[j..n]).zip(&mixed[j..n]) {
+                        *o -= rw * vv + m * v * rr;
+                    }
+                    for &(ll, index) in &free_locals[a + 1..] {
                         let (vv, rr) = (node.value[ll], node.rate[ll]);
-                        let from = if ll == l { j } else { 0 };
-                        let out = &mut data[col + index + from..col + index + n];
-                        // The mixed term of (l, j) as theta and (ll, jj) as theta'.
-                        for ((o, rw), m) in out.iter_mut().zip(&row[from..]).zip(&mixed[from..]) {
+                        let out = &mut data[col + index..col + index + n];
+                        for ((o, rw), m) in out.iter_mut().zip(&row[..n]).zip(&mixed[..n]) {
                             *o -= rw * vv + m * v * rr;
                         }
                     }
