@@ -13,7 +13,7 @@ pub fn matvec(a: &DMatrix<f64>, hb: usize, x: &DVector<f64>) -> DVector<f64> {
     let n = x.len();
     let mut y = DVector::zeros(n);
     let (data, out) = (a.as_slice(), y.as_mut_slice());
-    for (j, &xj) in x.iter().enumerate() {
+    for (j, &xj) in x.as_slice().iter().enumerate() {
         let (lo, hi) = (j.saturating_sub(hb), (j + hb + 1).min(n));
         for (yi, aij) in out[lo..hi].iter_mut().zip(&data[j * n + lo..j * n + hi]) {
             *yi += aij * xj;
