@@ -232,30 +232,58 @@ impl Line {
     /// `turns` counter-clockwise windings at constant speed, straight to the end, the speed
     /// ramped at both ends; the initial velocity added as on the line. False for another seed.
     pub fn coil_path(&self, seed: Seed, t: f64, out: &mut [f64]) -> bool {
+        self.coil_path_of(seed).is_some_and(|c| c.at(self, t, out))
+    }
+
+    /// What [`Self::coil_path`] computes once per coil (its legs, entry point), for many `t`
+    /// (a projection evaluates the path at every quadrature node); `None` for another seed.
+    pub fn coil_path_of(&self, seed: Seed) -> Option<CoilPath> {
         let (Seed::Coil { i, j, centre, radius, .. }, Some((e, u, l1, l2, l3))) = (seed, self.legs(seed)) else {
-            return false;
+            return None;
         };
         let mid = self.midpoint();
         let entry = self.entry(&mid, i, j, e);
-        let s = (l1 + l2 + l3) * ramped(t / self.horizon, 0.05);
+        Some(CoilPath { i, j, centre, radius, u, l1, l2, l3, entry })
+    }
+}
+
+/// A coil's path with its legs computed ([`Line::coil_path_of`]).
+#[derive(Debug, Clone)]
+pub struct CoilPath {
+    i: usize,
+    j: usize,
+    centre: [f64; 2],
+    radius: f64,
+    u: [f64; 2],
+    l1: f64,
+    l2: f64,
+    l3: f64,
+    entry: Vec<f64>,
+}
+
+impl CoilPath {
+    /// [`Line::coil_path`] at `t` on `line` (the line it was made of); always true.
+    pub fn at(&self, line: &Line, t: f64, out: &mut [f64]) -> bool {
+        let CoilPath { i, j, centre, radius, u, l1, l2, l3, ref entry } = *self;
+        let s = (l1 + l2 + l3) * ramped(t / line.horizon, 0.05);
         if s < l1 {
             let f = s / l1.max(1e-300);
             for (k, o) in out.iter_mut().enumerate() {
-                *o = self.start[k] + (entry[k] - self.start[k]) * f;
+                *o = line.start[k] + (entry[k] - line.start[k]) * f;
             }
         } else if s < l1 + l2 {
-            out.copy_from_slice(&entry);
+            out.copy_from_slice(entry);
             let (sp, cp) = ((s - l1) / radius).sin_cos();
             out[i] = centre[0] + radius * (u[0] * cp - u[1] * sp);
             out[j] = centre[1] + radius * (u[0] * sp + u[1] * cp);
         } else {
             let f = ((s - l1 - l2) / l3.max(1e-300)).min(1.0);
             for (k, o) in out.iter_mut().enumerate() {
-                *o = entry[k] + (self.end[k] - entry[k]) * f;
+                *o = entry[k] + (line.end[k] - entry[k]) * f;
             }
         }
-        let h = t * (1.0 - t / self.horizon).powi(2);
-        for (o, u0) in out.iter_mut().zip(&self.initial_velocity) {
+        let h = t * (1.0 - t / line.horizon).powi(2);
+        for (o, u0) in out.iter_mut().zip(&line.initial_velocity) {
             *o += u0 * h;
         }
         true

@@ -15,6 +15,43 @@
 //! num-dual's second derivatives.
 
 use crate::model::arm::Arm;
+use crate::numerics::trig::sin_cos;
+
+/// `body(n)` with `n` a constant for two to seven joints (the loops of the inlined body unrolled,
+/// their bounds checks gone; the same operations in the same order, so the same bits), else
+/// with `n` as it comes.
+macro_rules! specialised {
+    ($n:expr, |$k:ident| $body:expr) => {
+        match $n {
+            2 => {
+                let $k = 2;
+                $body
+            }
+            3 => {
+                let $k = 3;
+                $body
+            }
+            4 => {
+                let $k = 4;
+                $body
+            }
+            5 => {
+                let $k = 5;
+                $body
+            }
+            6 => {
+                let $k = 6;
+                $body
+            }
+            7 => {
+                let $k = 7;
+                $body
+            }
+            $k => $body,
+        }
+    };
+}
+pub(crate) use specialised;
 
 /// Largest number of joints the chain planner takes.
 pub const MAX_JOINTS: usize = crate::model::arm::MAX_LINKS;
@@ -121,18 +158,24 @@ impl Connection {
 
     /// `(F, N = G . rate)` at `theta` (values only; `n <=` [`MAX_JOINTS`]).
     fn f_and_n(&self, theta: &[f64], rate: &[f64]) -> (f64, f64) {
-        let n = self.n;
+        specialised!(self.n, |n| self.f_and_n_of(n, theta, rate))
+    }
+
+    /// [`Self::f_and_n`] for `n = self.n` (inlined where `n` is a constant).
+    #[inline(always)]
+    fn f_and_n_of(&self, n: usize, theta: &[f64], rate: &[f64]) -> (f64, f64) {
+        let (theta, rate) = (&theta[..n], &rate[..n]);
         let mut e = [(0.0, 0.0); MAX_JOINTS + 1];
         let mut w = [0.0; MAX_JOINTS + 1];
         let mut psi = self.beta;
         e[0] = self.beta_sin_cos;
         for j in 0..n {
             psi = if j == 0 { theta[0] } else { psi + theta[j] };
-            e[j + 1] = psi.sin_cos();
+            e[j + 1] = sin_cos(psi);
             w[j + 1] = w[j] + rate[j];
         }
         let mut f = self.f0;
-        let mut nn: f64 = self.g0.iter().zip(rate).map(|(g, r)| g * r).sum();
+        let mut nn: f64 = self.g0[..n].iter().zip(&rate[..n]).map(|(g, r)| g * r).sum();
         for s in 0..n {
             let (ss, cs) = e[s];
             for t in s + 1..=n {
@@ -158,6 +201,13 @@ impl Connection {
         n / f
     }
 
+    /// [`Self::value`] for `n = self.n` joints (inlined where `n` is a constant).
+    #[inline(always)]
+    pub(super) fn value_of(&self, n: usize, theta: &[f64], rate: &[f64]) -> f64 {
+        let (f, nn) = self.f_and_n_of(n, theta, rate);
+        nn / f
+    }
+
     /// The curvature `kappa_ij = -(da_j/dtheta_i - da_i/dtheta_j)` of the plane of joints `i`
     /// and `j` at `theta` \[rad / rad^2\]: bit for bit what [`Self::local`] gives at zero rate
     /// (the same sums in the same order), at a fraction of its cost (the coil sites evaluate it
@@ -166,13 +216,19 @@ impl Connection {
         if i > j {
             return -self.curvature(theta, j, i);
         }
-        let n = self.n;
+        specialised!(self.n, |n| self.curvature_of(n, theta, i, j))
+    }
+
+    /// [`Self::curvature`] for `i < j` and `n = self.n` (inlined where `n` is a constant).
+    #[inline(always)]
+    fn curvature_of(&self, n: usize, theta: &[f64], i: usize, j: usize) -> f64 {
+        let theta = &theta[..n];
         let mut cs = [(0.0, 0.0); MAX_JOINTS + 1];
         cs[0] = self.beta_sin_cos;
         let mut psi = self.beta;
         for k in 0..n {
             psi = if k == 0 { theta[0] } else { psi + theta[k] };
-            cs[k + 1] = psi.sin_cos();
+            cs[k + 1] = sin_cos(psi);
         }
         // Per segment `s`: the suffix sums `sum_{t > b} X_st` of `[2K C, 2K S]` at `b = i`,
         // `b = j` and `b = s` (those `local` reads for the plane), summed as `local` sums them.
@@ -235,9 +291,15 @@ impl Connection {
     /// `s <= m < t` (0-based) alone, so the sums over pairs of the gradients and Hessians are
     /// two-dimensional prefix sums `Q[a][b] = sum_{s <= a} sum_{t > b} X_st`: `O(n^2)` work after
     /// `n + 1` sines and cosines.
-    #[allow(non_snake_case)]
     pub fn local(&self, theta: &[f64], rate: &[f64], out: &mut Local) {
-        let n = self.n;
+        specialised!(self.n, |n| self.local_of(n, theta, rate, out))
+    }
+
+    /// [`Self::local`] for `n = self.n` (inlined where `n` is a constant).
+    #[allow(non_snake_case)]
+    #[inline(always)]
+    pub(super) fn local_of(&self, n: usize, theta: &[f64], rate: &[f64], out: &mut Local) {
+        let (theta, rate) = (&theta[..n], &rate[..n]);
         let n1 = n + 1;
         // The buffers as separate slices (no reloads of their addresses between the loops).
         let Local {
@@ -269,11 +331,11 @@ impl Connection {
         }
         cs[0] = self.beta_sin_cos;
         for s in 1..n1 {
-            cs[s] = psi[s].sin_cos();
+            cs[s] = sin_cos(psi[s]);
         }
         // X_st for s < t: [2K C, h C, 2K S, h S] with h = K (W_s + W_t).
         let mut F = self.f0;
-        let mut N: f64 = self.g0.iter().zip(rate).map(|(g, r)| g * r).sum();
+        let mut N: f64 = self.g0[..n].iter().zip(&rate[..n]).map(|(g, r)| g * r).sum();
         for s in 0..n {
             let (ss, cs_s) = cs[s];
             let k = &self.k[s * n1..(s + 1) * n1];

@@ -11,7 +11,7 @@ use std::sync::Arc;
 
 use nalgebra::{DMatrix, DVector};
 
-use super::connection::{Connection, Local};
+use super::connection::{Connection, Local, specialised};
 use super::energy::{EnergyLocal, energy, energy_local};
 use crate::error::Error;
 use crate::model::InputError;
@@ -204,28 +204,28 @@ impl Discretisation {
 
     /// `(theta, theta')` at a node into the buffers.
     fn point(&self, c: &[Vec<f64>], node: &Node, theta: &mut [f64], rate: &mut [f64]) {
-        let p = self.table.basis.degree();
-        for (j, cj) in c.iter().enumerate() {
-            let cj = &cj[node.first..=node.first + p];
-            let (mut v, mut r) = (0.0, 0.0);
-            for ((value, rate), c) in node.value.iter().zip(&node.rate).zip(cj) {
-                v += value * c;
-                r += rate * c;
-            }
-            theta[j] = v;
-            rate[j] = r;
-        }
+        point_of(self.table.basis.degree(), c, node, theta, rate);
     }
 
     /// The quadrature of `integral_0^T g dt` \[rad\] and of the effort \[rad^2/s\] at `x`.
     pub fn integrals(&self, x: &DVector<f64>) -> (f64, f64) {
-        let n = self.table.joints;
+        let (n, p) = (self.table.joints, self.table.basis.degree());
+        specialised!(n, |n| match p {
+            3 => self.integrals_of(x, n, 3),
+            p => self.integrals_of(x, n, p),
+        })
+    }
+
+    /// [`Self::integrals`] for `n` joints and degree `p` (those of the table; inlined where they
+    /// are constants).
+    #[inline(always)]
+    fn integrals_of(&self, x: &DVector<f64>, n: usize, p: usize) -> (f64, f64) {
         let c = self.coefficients(x);
         let (mut theta, mut rate) = (vec![0.0; n], vec![0.0; n]);
         let (mut holonomy, mut effort) = (0.0, 0.0);
         for node in &self.table.nodes {
-            self.point(&c, node, &mut theta, &mut rate);
-            holonomy += node.weight * self.connection.value(&theta, &rate);
+            point_of(p, &c, node, &mut theta, &mut rate);
+            holonomy += node.weight * self.connection.value_of(n, &theta, &rate);
             effort += node.weight * rate.iter().map(|w| w * w).sum::<f64>();
         }
         (holonomy, effort)
@@ -287,9 +287,7 @@ impl Discretised for Discretisation {
 
     /// Effort `f` and `c = phi(0) - integral g dt - phi_end` at `x`, with derivatives by `order`.
     fn evaluate(&self, x: &DVector<f64>, order: usize) -> Evaluation {
-        let table = &*self.table;
-        let (n, p, len, r) = (table.joints, table.basis.degree(), table.basis.len(), table.fixed);
-        let dim = x.len();
+        let (n, p) = (self.table.joints, self.table.basis.degree());
         let residual = |integral: f64| self.targets.phi_start - integral - self.targets.phi_end;
         if order == 0 {
             let (integral, effort) = self.integrals(x);
@@ -304,7 +302,24 @@ impl Discretised for Discretisation {
                 hess_c: none,
             };
         }
-        let second = order >= 2;
+        // The same operations in the same order for every (n, p); inlined with them constant
+        // for two to seven joints and cubic splines (the seed solves) the loops unroll.
+        specialised!(n, |n| match p {
+            3 => self.derivatives(x, order >= 2, n, 3),
+            p => self.derivatives(x, order >= 2, n, p),
+        })
+    }
+}
+
+impl Discretisation {
+    /// [`Discretised::evaluate`] at `order >= 1` (`second`: with the Hessians), for `n` joints
+    /// and degree `p` (those of the table).
+    #[inline(always)]
+    fn derivatives(&self, x: &DVector<f64>, second: bool, n: usize, p: usize) -> Evaluation {
+        let table = &*self.table;
+        let (len, r) = (table.basis.len(), table.fixed);
+        let dim = x.len();
+        let residual = |integral: f64| self.targets.phi_start - integral - self.targets.phi_end;
         let c = self.coefficients(x);
         let (mut theta, mut rate) = (vec![0.0; n], vec![0.0; n]);
         let mut local = Local::new(n);
@@ -323,8 +338,8 @@ impl Discretised for Discretisation {
         // Buffers of the energy only where it is the cost (empty ones allocate nothing).
         let mut e_local = EnergyLocal::new(if self.energy.is_some() { n } else { 0 });
         for node in &table.nodes {
-            self.point(&c, node, &mut theta, &mut rate);
-            self.connection.local(&theta, &rate, &mut local);
+            point_of(p, &c, node, &mut theta, &mut rate);
+            self.connection.local_of(n, &theta, &rate, &mut local);
             let w = node.weight;
             integral += w * local.value;
             if let Some(arm) = &self.energy {
@@ -363,12 +378,20 @@ impl Discretised for Discretisation {
             if let (Some(_), Some(h)) = (&self.energy, hess_f.as_mut()) {
                 add_energy_hessian(h, &e_local, node, &idx[..=p], n, w);
             }
-            let data = hess_c.as_mut_slice();
-            for l in 0..=p {
-                let il = idx[l];
-                if il == usize::MAX {
-                    continue;
+            // The free local coefficients `(l, free index times n)`, in order: the loops below
+            // run over them alone. (Every entry takes one term per node, so the order of the
+            // loops does not change the sums.)
+            let mut free_locals = [(0, 0); MAX_DEGREE + 1];
+            let mut count = 0;
+            for (l, &il) in idx.iter().enumerate().take(p + 1) {
+                if il != usize::MAX {
+                    free_locals[count] = (l, il);
+                    count += 1;
                 }
+            }
+            let free_locals = &free_locals[..count];
+            let data = hess_c.as_mut_slice();
+            for (a, &(l, il)) in free_locals.iter().enumerate() {
                 let (v, dr) = (node.value[l] * w, node.rate[l] * w);
                 for j in 0..n {
                     // d^2 g / d c_{l j} d(theta_jj, theta'_jj) contracted with c_{l j}'s factors.
@@ -379,16 +402,17 @@ impl Discretised for Discretisation {
                     let mixed = &local.mixed[j * n..(j + 1) * n];
                     let col = (il + j) * dim;
                     // The rows on and below the diagonal (`ll >= l`, and `jj >= j` where
-                    // `ll = l`); the others are mirrored after the sum.
-                    for (ll, &index) in idx.iter().enumerate().take(p + 1).skip(l) {
-                        if index == usize::MAX {
-                            continue;
-                        }
+                    // `ll = l`); the others are mirrored after the sum. The mixed term of
+                    // (l, j) as theta and (ll, jj) as theta'.
+                    let (vv, rr) = (node.value[l], node.rate[l]);
+                    let out = &mut data[col + il + j..col + il + n];
+                    for ((o, rw), m) in out.iter_mut().zip(&row[j..n]).zip(&mixed[j..n]) {
+                        *o -= rw * vv + m * v * rr;
+                    }
+                    for &(ll, index) in &free_locals[a + 1..] {
                         let (vv, rr) = (node.value[ll], node.rate[ll]);
-                        let from = if ll == l { j } else { 0 };
-                        let out = &mut data[col + index + from..col + index + n];
-                        // The mixed term of (l, j) as theta and (ll, jj) as theta'.
-                        for ((o, rw), m) in out.iter_mut().zip(&row[from..]).zip(&mixed[from..]) {
+                        let out = &mut data[col + index..col + index + n];
+                        for ((o, rw), m) in out.iter_mut().zip(&row[..n]).zip(&mixed[..n]) {
                             *o -= rw * vv + m * v * rr;
                         }
                     }
@@ -406,6 +430,21 @@ impl Discretised for Discretisation {
             }
         }
         Evaluation { f, c: residual(integral), grad_f, grad_c, hess_f, hess_c }
+    }
+}
+
+/// [`Discretisation::point`] on a basis of degree `p` (inlined where `p` is a constant).
+#[inline(always)]
+fn point_of(p: usize, c: &[Vec<f64>], node: &Node, theta: &mut [f64], rate: &mut [f64]) {
+    for (j, cj) in c.iter().enumerate() {
+        let cj = &cj[node.first..=node.first + p];
+        let (mut v, mut r) = (0.0, 0.0);
+        for ((value, rate), c) in node.value.iter().zip(&node.rate).zip(cj) {
+            v += value * c;
+            r += rate * c;
+        }
+        theta[j] = v;
+        rate[j] = r;
     }
 }
 

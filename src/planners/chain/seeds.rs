@@ -92,6 +92,23 @@ impl Line {
         if self.coil_path(seed, t, out) {
             return;
         }
+        self.other_path(seed, t, out);
+    }
+
+    /// [`Self::path`] as a function of `t`, with what a coil's computes once per coil
+    /// computed once (for the many `t` of a projection).
+    pub fn path_of(&self, seed: Seed) -> impl Fn(f64, &mut [f64]) + '_ {
+        let coil = self.coil_path_of(seed);
+        move |t, out| match &coil {
+            Some(c) => {
+                c.at(self, t, out);
+            }
+            None => self.other_path(seed, t, out),
+        }
+    }
+
+    /// [`Self::path`] of a seed that is not a coil.
+    fn other_path(&self, seed: Seed, t: f64, out: &mut [f64]) {
         self.at(t, out);
         if let Seed::Loop { i, j, direction, orientation, radius, turns } = seed {
             let psi = TAU * turns as f64 * smooth_step(t / self.horizon);

@@ -281,7 +281,7 @@ impl ChainPlanner {
         let line = &p.line;
         let mut out = Vec::new();
         let disc = self.discretise(problem, p.targets.clone(), spans, o.quadrature_nodes, tables)?;
-        let project = |seed: Seed| disc.project(|t, out| line.path(seed, t, out));
+        let project = |seed: Seed| disc.project(line.path_of(seed));
         let residual = |s: Seed| project(s).map_or(f64::NAN, |x| disc.evaluate(&x, 0).c);
         let mut starts = Vec::new();
         let reach = |s: Seed| seed == Seed::Line || self.within_speeds(line, s);
@@ -360,7 +360,7 @@ impl ChainPlanner {
                 let solve = |x0| super::limits::solve(self, &fine, x0, &COARSE_SQP, None).ok();
                 let mut result = solve(warm);
                 if !result.as_ref().is_some_and(|r| r.c.abs() <= 1e-6 && r.f.is_finite()) {
-                    result = solve(fine.project(|t, out| line.path(seed, t, out))?);
+                    result = solve(fine.project(line.path_of(seed))?);
                 }
                 if let Some(result) = result {
                     let iterations = result.iterations;
@@ -433,9 +433,10 @@ impl ChainPlanner {
         let samples = 64 * turns;
         let (mut previous, mut at) = (vec![0.0; n], vec![0.0; n]);
         let mut variation = vec![0.0; n];
-        line.path(seed, 0.0, &mut previous);
+        let path = line.path_of(seed);
+        path(0.0, &mut previous);
         for k in 1..=samples {
-            line.path(seed, line.horizon * k as f64 / samples as f64, &mut at);
+            path(line.horizon * k as f64 / samples as f64, &mut at);
             for j in 0..n {
                 variation[j] += (at[j] - previous[j]).abs();
             }

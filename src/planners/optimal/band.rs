@@ -13,7 +13,7 @@ pub fn matvec(a: &DMatrix<f64>, hb: usize, x: &DVector<f64>) -> DVector<f64> {
     let n = x.len();
     let mut y = DVector::zeros(n);
     let (data, out) = (a.as_slice(), y.as_mut_slice());
-    for (j, &xj) in x.iter().enumerate() {
+    for (j, &xj) in x.as_slice().iter().enumerate() {
         let (lo, hi) = (j.saturating_sub(hb), (j + hb + 1).min(n));
         for (yi, aij) in out[lo..hi].iter_mut().zip(&data[j * n + lo..j * n + hi]) {
             *yi += aij * xj;
@@ -28,6 +28,9 @@ pub fn matvec(a: &DMatrix<f64>, hb: usize, x: &DVector<f64>) -> DVector<f64> {
 #[derive(Debug, Clone)]
 pub struct BandCholesky {
     l: Vec<f64>,
+    /// The band of `L` again by columns below the diagonal, for the backward substitution:
+    /// `columns[i * hb + m] = L[i + 1 + m, i]` (contiguous, where the rows are `hb` apart).
+    columns: Vec<f64>,
     n: usize,
     hb: usize,
 }
@@ -60,7 +63,13 @@ impl BandCholesky {
                 l[row_i + j] = s / d;
             }
         }
-        Some(Self { l, n, hb })
+        let mut columns = vec![0.0; n * hb];
+        for i in 0..n {
+            for k in i + 1..(i + hb + 1).min(n) {
+                columns[i * hb + k - i - 1] = l[k * w + hb - k + i];
+            }
+        }
+        Some(Self { l, columns, n, hb })
     }
 
     /// `A^-1 b`.
@@ -78,14 +87,11 @@ impl BandCholesky {
             y[i] = s / l[row + i];
         }
         for i in (0..n).rev() {
-            // L[k, i] for k = i + 1 .. is l[k * w + hb - k + i] = l[(k + 1) hb + i]: stride hb.
+            // L[k, i] for k = i + 1 .. hi, in that order.
             let hi = (i + hb + 1).min(n);
             let mut s = y[i];
-            if i + 1 < hi {
-                let column = l[(i + 2) * hb + i..].iter().step_by(hb);
-                for (lki, yk) in column.zip(&y[i + 1..hi]) {
-                    s -= lki * yk;
-                }
+            for (lki, yk) in self.columns[i * hb..i * hb + hi - i - 1].iter().zip(&y[i + 1..hi]) {
+                s -= lki * yk;
             }
             y[i] = s / l[i * w + hb];
         }

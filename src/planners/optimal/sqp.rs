@@ -264,7 +264,7 @@ pub fn solve_watched<P: Discretised>(
         }
         iterations += 1;
         since_best += 1;
-        let w = e.lagrangian_hessian(m.s, lambda_w);
+        let w = band_lagrangian(&e, m.s, lambda_w, hb);
         let den = e.grad_c.dot(&a_s);
         if !(den > 0.0) && e.c.abs() > options.constraint_tolerance {
             break Termination::DegenerateConstraint;
@@ -349,6 +349,22 @@ pub fn solve_watched<P: Discretised>(
         }
     };
     Ok(SqpResult { x, lambda, f: e.f, c: e.c, kkt, iterations, termination, kkt_tolerance: options.kkt_tolerance })
+}
+
+/// The Lagrangian's Hessian `hess_f + lambda hess_c` ([`Evaluation::lagrangian_hessian`]) on
+/// its band of half-bandwidth `hb` alone, zero outside: the iteration reads no other entry (by
+/// [`matvec`] and [`BandCholesky::new`]), and the dense products cost `dim^2` per iteration.
+fn band_lagrangian(e: &Evaluation, s: &DMatrix<f64>, lambda: f64, hb: usize) -> DMatrix<f64> {
+    let h = e.hess_f_or(s);
+    let n = h.nrows();
+    let mut w = DMatrix::zeros(n, n);
+    let (hc, hf, out) = (e.hess_c.as_slice(), h.as_slice(), w.as_mut_slice());
+    for col in 0..n {
+        for k in col * n + col.saturating_sub(hb)..col * n + (col + hb + 1).min(n) {
+            out[k] = hc[k] * lambda + hf[k];
+        }
+    }
+    w
 }
 
 /// Projected, `S`-preconditioned Steihaug CG for `min r0^T t + 1/2 t^T W t` subject to
