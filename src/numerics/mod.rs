@@ -8,4 +8,3 @@ pub mod format;
 pub mod iteration;
 pub mod ode;
 pub mod quadrature;
-pub mod trig;
