@@ -77,6 +77,18 @@ def _arm_pipeline(arm: Arm) -> bool:
     return False
 
 
+def _paper_model(arm: Arm) -> bool:
+    """Whether ``arm`` is a 2-link arm of the paper's model (:meth:`Arm.to_robot`), limits and
+    shapes aside: the NFA plans it (checked against them)."""
+    if arm.joints != 2:
+        return False
+    try:
+        arm.to_robot()
+    except BadInput:
+        return False
+    return True
+
+
 def _check_arm_keywords(function: str, arm: Arm, kwargs: dict) -> None:
     """Every keyword of ``kwargs`` is one the arm pipeline takes for ``arm``: one of
     :data:`_ROBOT_ONLY` is :class:`BadInput` (a ``ValueError``) naming it and why, any other
@@ -105,7 +117,9 @@ def plan(robot: _Union[Robot, Arm], start: _Any, goal: _Any = None, T: _Any = No
 
     A :class:`Robot`, or a 2-link :class:`Arm` of the paper's model without limits or shapes of
     its own, takes every method and keyword (the 2-link pipeline); any other :class:`Arm` (the
-    arm pipeline) takes ``method="optimal"`` or ``"ecsa"`` and the keywords ``samples, torques,
+    arm pipeline) takes ``method="optimal"`` or ``"ecsa"`` (and ``"nfa"`` for a 2-link arm of the
+    paper's model with limits or shapes: the NFA's plan of the paper's :class:`Robot`, checked
+    against them, :class:`NotCertified` outside) and the keywords ``samples, torques,
     wrap, initial_velocity, tolerance, harmonics, window, smooth_ends, cost, limits, obstacles,
     clearance, no_collide``: ``transform`` (the NFA's) is :class:`BadInput` (a ``ValueError``)
     naming it and why, an unknown keyword ``TypeError``. Its ``goal_ee`` (the command line's
@@ -204,10 +218,11 @@ def compare(
     A :class:`Robot`, or a 2-link :class:`Arm` that is the paper's model, takes every method
     (default :data:`METHODS`: optimal, NFA and ECSA) and returns :class:`Plan` values. Any other
     :class:`Arm` (or a robot given ``limits``, ``obstacles``, ``clearance`` or ``no_collide``) is
-    compared by the arm pipeline: by default ``optimal`` and ``ecsa``, as :class:`Plan` values
-    with the keywords of :func:`plan` for an arm; the NFA is refused with :class:`BadInput` (the
-    paper's normal form, Eq. 10, is for two joints; at two joints it plans the paper's
-    :class:`Robot`, which has no limits or shapes). Each method takes its own keywords and ignores the others'. With ``strict=False``
+    compared by the arm pipeline: by default ``optimal`` and ``ecsa`` (and ``nfa`` for a 2-link
+    arm of the paper's model, its plan checked against the arm's limits and shapes), as
+    :class:`Plan` values with the keywords of :func:`plan` for an arm; elsewhere the NFA is
+    refused with :class:`BadInput` (the paper's normal form, Eq. 10, is for two joints of the
+    paper's model). Each method takes its own keywords and ignores the others'. With ``strict=False``
     a method without a certified plan maps to its exception instead of raising it; bad input
     always raises."""
     arm_only = any(kwargs.get(k) is not None for k in _ARM_ONLY)
@@ -217,7 +232,9 @@ def compare(
         robot = robot.to_robot()
     if not isinstance(robot, Arm):
         return _compare_robot(robot, start, goal, T, methods=methods, strict=strict, **kwargs)
-    served = ("optimal", "ecsa")
+    # A 2-link arm of the paper's model with limits or shapes: the NFA's plan of the paper's Robot
+    # checked against them (as the command line's compare).
+    served = ("optimal", "nfa", "ecsa") if _paper_model(robot) else ("optimal", "ecsa")
     names = list(served if methods is None else methods)
     for name in names:
         if name not in METHODS:
@@ -230,8 +247,7 @@ def compare(
             why = (
                 "the NFA's normal form (Eq. 10) is for two joints"
                 if name == "nfa" and robot.joints != 2
-                else "a 2-link arm with limits or shapes is compared by the minimum-effort planner and the ECSA "
-                "(the NFA plans the paper's Robot, which has neither)"
+                else "the NFA plans a 2-link arm of the paper's model (Eq. 1), and this one is not"
             )
             raise BadInput(
                 f"compare: method {name!r} does not serve this arm of {robot.joints} link(s): {why}; "

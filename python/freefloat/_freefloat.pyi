@@ -593,8 +593,11 @@ def plan_arm(
     1e-6 rad). ``method`` is ``"optimal"`` (minimum effort) or ``"ecsa"`` (the
     paper's reference method, from rest only; its motions can cost far more effort), with
     ``harmonics`` (1 to 4) and ``window`` (``"none"`` or ``"sin2"``) as in :func:`plan`
-    (given with another method: :class:`BadInput`); ``"nfa"`` (the chained form is the 2-link
-    robot's) is :class:`BadInput` with the reason.
+    (given with another method: :class:`BadInput`); ``"nfa"`` plans a 2-link arm of the paper's
+    model (the NFA's plan of its :class:`Robot`, checked against the arm's limits and shapes:
+    :class:`NotCertified` outside them; to a goal configuration in a given ``T``) and is
+    :class:`BadInput` with the reason for any other arm (the chained form is the 2-link
+    robot's).
     ``obstacles`` (issue 21; the command line's ``--obstacle``, in the inertial frame whose origin
     is the system's centre of mass, m): a list of ``("circle", x, y, r)``, ``("capsule", x1, y1,
     x2, y2, r)``, ``("box", x, y, w, h)``, ``("polygon", [x1, y1, x2, y2, ...])`` (convex) or

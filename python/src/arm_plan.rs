@@ -17,6 +17,7 @@ use pyo3::sync::PyOnceLock;
 use pyo3::types::{PyDict, PyList};
 
 use crate::arm::{PyArm, exactly};
+use crate::arm_nfa::{NfaRequest, plan_nfa_of_arm};
 use crate::compat::InputError;
 use crate::convert::{Reals, column};
 use crate::errors::{BindingError, IntoPyResult};
@@ -150,16 +151,17 @@ pub fn plan_arm<'py>(
         .with_harmonics(harmonics)
         .map_err(BindingError::from)
         .py_result(py)?;
-    if n == 2 && method == Method::Nfa {
-        // The library's reason ("another number of links") is not this arm's: the NFA plans the
-        // paper's 2-link model, which has no limits or shapes of its own (the command line's
-        // `plan --method nfa --limit` checks its plan against them; here the 2-link pipeline
-        // plans it without).
-        let message = "the arm pipeline has no method=\"nfa\" for a 2-link arm (freefloat.plan takes it there when \
-             the arm has limits or shapes, or is not of the paper's model)"
+    // The NFA plans the paper's 2-link model (module `arm_nfa`); another 2-link arm, a pose
+    // goal or the shortest horizon is refused naming why (the library's reason, "another number
+    // of links", is not this arm's).
+    let nfa_robot = (n == 2 && method == Method::Nfa).then(|| arm.as_src());
+    if let Some(robot) = &nfa_robot
+        && (robot.is_none() || goal_ee.is_some() || shortest_horizon)
+    {
+        let message = "method=\"nfa\" plans a 2-link arm of the paper's model to a goal configuration in a given \
+             horizon (not a goal_ee, not T=\"auto\")"
             .to_string();
-        let expected = "method=\"optimal\" or \"ecsa\"; the NFA plans the 2-link robot without limits or shapes: \
-             freefloat.plan(arm.to_robot(), ...)";
+        let expected = "method=\"optimal\" or \"ecsa\", or the NFA to a goal configuration with a horizon in s";
         return Err(
             BindingError::Key { kind: "invalid_parameter", name: "method".into(), message, expected }.into_pyerr(py)
         );
@@ -195,6 +197,15 @@ pub fn plan_arm<'py>(
     };
     let problem = ChainProblem { start, goal, horizon, initial_velocity, wrap };
     problem.validate(&arm).py_result(py)?;
+    if let Some(Some(robot)) = nfa_robot {
+        if smooth_ends || cost != "effort" || problem.initial_velocity.iter().any(|w| *w != 0.0) {
+            let keywords = "smooth_ends/cost/initial_velocity";
+            return Err(BindingError::Misplaced { keywords, owner: "optimal", method: "nfa" }.into_pyerr(py));
+        }
+        let (start, goal) = (&problem.start, &problem.goal);
+        let request = NfaRequest { start, goal, horizon, samples, tolerance, torques };
+        return plan_nfa_of_arm(py, &arm, robot, &request);
+    }
     let cost = match cost {
         "effort" => Cost::Effort,
         "energy" => Cost::Energy,

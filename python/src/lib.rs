@@ -7,6 +7,7 @@
 //! domain maps run with the GIL released.
 
 mod arm;
+mod arm_nfa;
 mod arm_plan;
 mod cli;
 mod compat;

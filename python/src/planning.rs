@@ -275,8 +275,25 @@ pub fn plan_core(
     Ok(Planned { plan, report, torques, elbow })
 }
 
+impl Planned {
+    /// A plan to a goal configuration with its report and torque level.
+    pub fn new(plan: Plan, report: PlanReport, torques: Option<TorqueReport>) -> Self {
+        Self { plan, report, torques, elbow: None }
+    }
+}
+
 /// The Python plan of `planned`; `NotCertified` (carrying the plan) when a certificate fails.
 pub fn into_python(py: Python<'_>, planned: Planned) -> PyResult<Bound<'_, PyPlan>> {
+    into_python_checked(py, planned, None)
+}
+
+/// [`into_python`], `NotCertified` also with `failure` (a check beyond the plan's own
+/// certificates, e.g. an arm's limits) where the certificates hold.
+pub fn into_python_checked(
+    py: Python<'_>,
+    planned: Planned,
+    failure: Option<freefloat::Error>,
+) -> PyResult<Bound<'_, PyPlan>> {
     let Planned { plan, report, torques, elbow } = planned;
     let tr = &plan.trajectory;
     let report_value = serde_json::to_value(&report).map_err(|e| {
@@ -305,7 +322,7 @@ pub fn into_python(py: Python<'_>, planned: Planned) -> PyResult<Bound<'_, PyPla
         report: report_value,
         certificate: PyOnceLock::new(),
     };
-    let failure = plan.certified().err().or_else(|| torques.as_ref().and_then(|t| t.check().err()));
+    let failure = plan.certified().err().or_else(|| torques.as_ref().and_then(|t| t.check().err())).or(failure);
     certified_or_raise(py, py_plan, failure)
 }
 

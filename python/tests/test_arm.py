@@ -220,9 +220,10 @@ def test_method_refusals_give_the_reason(three_link, src):
         ff.plan(three_link, start, goal, 10.0, method="ecsa", window="hann")
     with pytest.raises(ff.BadInput, match="from rest"):
         ff.plan(three_link, start, goal, 10.0, method="ecsa", initial_velocity=[0.1, 0.0, 0.0])
-    # A 2-link arm is pointed to plan, which has both.
-    with pytest.raises(ff.BadInput, match=r"freefloat\.plan"), pytest.warns(DeprecationWarning):
-        ff.plan_arm(src, START, GOAL, HORIZON, method="nfa")
+    # A 2-link arm of the paper's model: the NFA's plan of its Robot (the same effort).
+    with pytest.warns(DeprecationWarning):
+        nfa = ff.plan_arm(src, START, GOAL, HORIZON, method="nfa")
+    assert nfa.certified and nfa.effort == pytest.approx(ff.plan(src, START, GOAL, HORIZON, method="nfa").effort)
     with pytest.raises(TypeError):
         ff.plan("three_link.toml", ARM_START, ARM_GOAL, 10.0)
 
@@ -330,19 +331,26 @@ def test_goal_ee_serves_every_arm(three_link):
         three_link.inverse_kinematics((0.5, float("nan"), 0.0), ARM_START)
 
 
-def test_compare_of_a_two_link_arm_with_limits_says_why_the_nfa_is_refused():
-    """A 2-link arm given limits is compared by the arm pipeline, as on the command line: the
-    minimum-effort plan and the ECSA (each inside the limit), and the NFA refused for that
-    reason (not for its number of joints)."""
+def test_a_two_link_arm_with_limits_plans_and_compares_the_nfa_checked_against_them():
+    """A 2-link arm of the paper's model given limits is planned and compared as on the command
+    line: the NFA plans the paper's Robot (the same plan, its effort equal) and its motion is
+    checked against the limits; a limit under the NFA's peak is NotCertified naming it."""
     arm = ff.Arm.from_robot(ff.Robot.src())
     limits = {"theta1": {"velocity": 5.0}}
     plans = ff.compare(arm, START, GOAL, HORIZON, limits=limits)
-    assert set(plans) == {"optimal", "ecsa"}
+    assert set(plans) == {"optimal", "nfa", "ecsa"}
     for p in plans.values():
         assert p.certified and p.final_error <= 1e-9
         assert p.certificate["limits"]["inside"] is True, p.certificate["limits"]
-    with pytest.raises(ff.BadInput, match="the NFA plans the paper's Robot"):
-        ff.compare(arm, START, GOAL, HORIZON, limits=limits, methods=["nfa"])
+    paper = ff.plan(ff.Robot.src(), START, GOAL, HORIZON, method="nfa")
+    assert plans["nfa"].method == "nfa" and plans["nfa"].effort == pytest.approx(paper.effort, rel=1e-12)
+    # The NFA's peak theta2 rate is far above 0.01 rad/s: outside, never a plan.
+    peak = float(np.max(np.abs(paper.dq[:, 2])))
+    assert peak > 0.01
+    with pytest.raises(ff.NotCertified, match="theta2"):
+        ff.plan(arm, START, GOAL, HORIZON, method="nfa", limits={"theta2": {"velocity": 0.01}})
+    with pytest.raises(ff.BadInput, match="method"):
+        ff.plan(arm, START, T=HORIZON, goal_ee=(0.5, 0.5, 0.0), method="nfa", limits=limits)
 
 
 def test_a_robot_and_an_arm_plan_carry_the_same_arrays_and_keys(three_link, three_link_plan):
