@@ -247,7 +247,7 @@ def compare(
             why = (
                 "the NFA's normal form (Eq. 10) is for two joints"
                 if name == "nfa" and robot.joints != 2
-                else "the NFA plans a 2-link arm of the paper's model (Eq. 1), and this one is not"
+                else "the NFA plans a 2-link arm of the paper's model, and this one is not"
             )
             raise BadInput(
                 f"compare: method {name!r} does not serve this arm of {robot.joints} link(s): {why}; "
