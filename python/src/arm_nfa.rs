@@ -14,7 +14,7 @@ use pyo3::prelude::*;
 use crate::compat::{PlanReport, PlannerOptions, planner};
 use crate::errors::IntoPyResult;
 use crate::plan_class::PyPlan;
-use crate::planning::{Planned, into_python_checked};
+use crate::planning::{Planned, into_python};
 
 /// What the NFA of an arm needs from `plan_arm`'s keywords.
 pub struct NfaRequest<'a> {
@@ -64,5 +64,6 @@ pub fn plan_nfa_of_arm<'py>(
     report.robot = arm.clone();
     report.set_limits(limits.clone());
     let outside = limits.and_then(|l| l.check().err());
-    into_python_checked(py, Planned::new(planned.plan, report, planned.torques), outside)
+    let planned = Planned { plan: planned.plan, report, torques: planned.torques, elbow: None };
+    into_python(py, planned, outside)
 }

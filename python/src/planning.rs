@@ -242,10 +242,10 @@ pub enum Target {
 /// A plan with its report (the CLI's JSON), the torque level with torques, the elbow of a plan
 /// to a pose.
 pub struct Planned {
-    plan: Plan,
-    report: PlanReport,
-    torques: Option<TorqueReport>,
-    elbow: Option<Elbow>,
+    pub(crate) plan: Plan,
+    pub(crate) report: PlanReport,
+    pub(crate) torques: Option<TorqueReport>,
+    pub(crate) elbow: Option<Elbow>,
 }
 
 /// Plans with `method` to `target`, then adds the torque level when asked (as `freefloat plan
@@ -275,25 +275,10 @@ pub fn plan_core(
     Ok(Planned { plan, report, torques, elbow })
 }
 
-impl Planned {
-    /// A plan to a goal configuration with its report and torque level.
-    pub fn new(plan: Plan, report: PlanReport, torques: Option<TorqueReport>) -> Self {
-        Self { plan, report, torques, elbow: None }
-    }
-}
-
-/// The Python plan of `planned`; `NotCertified` (carrying the plan) when a certificate fails.
-pub fn into_python(py: Python<'_>, planned: Planned) -> PyResult<Bound<'_, PyPlan>> {
-    into_python_checked(py, planned, None)
-}
-
-/// [`into_python`], `NotCertified` also with `failure` (a check beyond the plan's own
-/// certificates, e.g. an arm's limits) where the certificates hold.
-pub fn into_python_checked(
-    py: Python<'_>,
-    planned: Planned,
-    failure: Option<freefloat::Error>,
-) -> PyResult<Bound<'_, PyPlan>> {
+/// The Python plan of `planned`; `NotCertified` (carrying the plan) when a certificate fails or,
+/// where they hold, with `failure` (a check beyond the plan's own certificates, e.g. an arm's
+/// limits).
+pub fn into_python(py: Python<'_>, planned: Planned, failure: Option<freefloat::Error>) -> PyResult<Bound<'_, PyPlan>> {
     let Planned { plan, report, torques, elbow } = planned;
     let tr = &plan.trajectory;
     let report_value = serde_json::to_value(&report).map_err(|e| {
@@ -442,7 +427,7 @@ pub fn plan<'py>(
     let method = parse_method(method).py_result(py)?;
     options.check_method(method).py_result(py)?;
     let planned = py.detach(|| plan_core(method, &problem, target, &options)).py_result(py)?;
-    into_python(py, planned)
+    into_python(py, planned, None)
 }
 
 /// Plans the same problem with each of `methods` (default: all), returning a dict method ->
@@ -501,7 +486,7 @@ pub fn compare<'py>(
             Err(BindingError::Library(e)) if e.is_bad_input() => return Err(library_error(py, &e, None)),
             Err(e @ BindingError::Library(_)) => Err(e.into_pyerr(py)),
             Err(e) => return Err(e.into_pyerr(py)),
-            Ok(planned) => into_python(py, planned).map(Bound::into_any),
+            Ok(planned) => into_python(py, planned, None).map(Bound::into_any),
         };
         match value {
             Ok(p) => out.set_item(name, p)?,
