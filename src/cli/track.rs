@@ -167,6 +167,14 @@ pub fn run(args: &TrackArgs) -> anyhow::Result<ExitCode> {
     planned.certified()?;
     let plan = &planned.plan;
     if let Some(trials) = args.trials {
+        // Nothing drawn per trial: every trial is the same run (the table would show N copies).
+        let random = [args.perturb, args.perturb_mount, args.torque_noise, args.noise_q, args.noise_dq];
+        if trials > 1 && random.iter().all(|v| *v == 0.0) {
+            super::note(&format!(
+                "note: no --perturb, --perturb-mount, --torque-noise, --noise-q or --noise-dq: nothing is drawn per \
+                 trial, so the {trials} trials are one run repeated\n"
+            ));
+        }
         let mc = MonteCarloOptions {
             trials,
             seed: args.seed,

@@ -43,6 +43,13 @@ fn monte_carlo_prints_success_rates() {
     assert!(o.status.success(), "{}", stderr(&o));
     let out = String::from_utf8_lossy(&o.stdout);
     assert!(out.contains("3 trials") && out.contains("replan") && out.contains('%'), "{out}");
+    assert!(!stderr(&o).contains("one run repeated"), "{}", stderr(&o));
+    // Nothing drawn per trial: the trials are one run, and the note says so.
+    let mut same = vec!["track", "--mount", "0.1,0.1", "--controller", "ct", "--trials", "2"];
+    same.extend(FAST);
+    let o = freefloat(&same);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stderr(&o).contains("the 2 trials are one run repeated"), "{}", stderr(&o));
 }
 
 #[test]
