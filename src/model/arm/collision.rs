@@ -213,6 +213,12 @@ impl Geometry {
     /// generic over [`Scalar`] so that dual numbers give the exact derivatives in `q`. A body
     /// of several shapes is their union: its distance to another is the least over its shapes.
     pub fn clearances<D: Scalar>(&self, arm: &Arm, q: &[D]) -> Vec<PairClearance<D>> {
+        self.clearances_of(arm, q, &self.pairs(arm.joints()))
+    }
+
+    /// [`Geometry::clearances`] of the pairs `pairs` only (some of [`Geometry::pairs`], in their
+    /// order), for a caller that evaluates them at many `q`: the pairs found once.
+    pub fn clearances_of<D: Scalar>(&self, arm: &Arm, q: &[D], pairs: &[(Body, Body)]) -> Vec<PairClearance<D>> {
         let poses = body_poses(arm, q);
         let zero = D::from(0.0);
         let inertial = Pose { x: zero, y: zero, angle: zero };
@@ -240,9 +246,9 @@ impl Geometry {
             Body::Link(k) => k,
             Body::Obstacle(k) => n + k,
         };
-        self.pairs(n)
-            .into_iter()
-            .map(|(a, b)| {
+        pairs
+            .iter()
+            .map(|&(a, b)| {
                 let (ia, ib) = (index(a), index(b));
                 let (sa, sb) = (self.shapes(a), self.shapes(b));
                 // The pair of shapes of least distance by the real parts (a union's distance is

@@ -277,6 +277,16 @@ impl<'a> Limited<'a> {
     /// quadrature per part, with its exact gradient in the free coefficients for `order >= 1`
     /// (empty otherwise).
     fn phi_path(&self, c: &[Vec<f64>], pieces: usize, order: usize) -> Vec<PathPoint> {
+        let mut out = Vec::new();
+        self.phi_path_each(c, pieces, order, |p| {
+            out.push(PathPoint { t: p.t, span: p.span, phi: p.phi, grad: p.grad.to_vec() });
+        });
+        out
+    }
+
+    /// [`Limited::phi_path`]'s points handed to `each` in order, the gradient borrowed (not
+    /// copied for every point: the obstacles' rows read it only near an obstacle).
+    fn phi_path_each(&self, c: &[Vec<f64>], pieces: usize, order: usize, mut each: impl FnMut(PathPoint<&[f64]>)) {
         let basis = self.disc.basis();
         let (p, n) = (basis.degree(), self.arm.joints());
         let connection = self.connection;
@@ -286,7 +296,6 @@ impl<'a> Limited<'a> {
         let mut grad = vec![0.0; if order >= 1 { self.disc.dim() } else { 0 }];
         let mut local = Local::new(n);
         let (mut th, mut w) = (vec![0.0; n], vec![0.0; n]);
-        let mut out = Vec::with_capacity(pieces * (b.len() - 1));
         for (s, win) in b.windows(2).enumerate() {
             let span = basis.span_of_interval(s);
             let first = span - p;
@@ -317,10 +326,9 @@ impl<'a> Limited<'a> {
                         phi -= weight * connection.value(&th, &w);
                     }
                 }
-                out.push(PathPoint { t: to, span, phi, grad: grad.clone() });
+                each(PathPoint { t: to, span, phi, grad: &grad });
             }
         }
-        out
     }
 }
 
@@ -341,8 +349,9 @@ impl Limited<'_> {
     }
 }
 
-/// The base angle at one time of [`Limited::phi_path`].
-struct PathPoint {
+/// The base angle at one time of [`Limited::phi_path`] (its gradient owned, or borrowed by
+/// [`Limited::phi_path_each`]).
+struct PathPoint<G = Vec<f64>> {
     /// The time \[s\].
     t: f64,
     /// The knot span (of the basis' numbering) the point closes.
@@ -350,7 +359,7 @@ struct PathPoint {
     /// `phi(t)` \[rad\].
     phi: f64,
     /// `d phi(t) / dx` in the free coefficients (empty for order 0).
-    grad: Vec<f64>,
+    grad: G,
 }
 
 impl Discretised for Limited<'_> {

@@ -4,6 +4,7 @@
 
 use std::f64::consts::TAU;
 
+use nalgebra::DVector;
 use rayon::prelude::*;
 
 use super::coil::Sites;
@@ -309,7 +310,20 @@ impl ChainPlanner {
             && self.arm.limits.rate_limited()
             && o.max_spans > spans
             && !super::limits::keeps_clearance(self);
+        // A loop whose re-fitted radius is its own (the fit found none better) starts from the
+        // same point twice: its solutions are the first start's again, taken without solving
+        // (the solves are deterministic; issue 21's SPART-like bench solved two such pairs).
+        let mut previous: Option<(DVector<f64>, Option<f64>, usize)> = None;
         for (x0, guess) in starts {
+            if let Some((same, g, from)) = &previous
+                && *same == x0
+                && *g == guess
+            {
+                let again = out[*from..].to_vec();
+                out.extend(again);
+                continue;
+            }
+            previous = Some((x0.clone(), guess, out.len()));
             let coarse = |x0, options: &SqpOptions| {
                 let result = if ceiling.is_finite() && !super::limits::constrained(self) {
                     let mut watch = Hopeless::new(ceiling, options.max_iterations);

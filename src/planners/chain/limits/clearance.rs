@@ -21,7 +21,7 @@
 use nalgebra::{Const, U1};
 use num_dual::{Derivative, DualSVec64};
 
-use super::Limited;
+use super::{Limited, PathPoint};
 use crate::model::arm::collision::{Body, Geometry, PairClearance};
 use crate::planners::optimal::sqp::{Discretised, Inequalities};
 
@@ -55,6 +55,8 @@ pub(super) struct Clearance {
     scale: f64,
     /// Some body against an obstacle is checked: those pairs get rows too (through `phi(t)`).
     obstacles: bool,
+    /// The pairs with a row, in [`Geometry::pairs`]' order (found once, not at every point).
+    pairs: Vec<(Body, Body)>,
 }
 
 impl Clearance {
@@ -70,18 +72,14 @@ impl Clearance {
             return None;
         }
         let mean = arm.links.iter().map(|l| l.length).sum::<f64>() / arm.joints() as f64;
-        Some(Self { keep: geometry.clearance + MARGIN + reserve, scale: 1.0 / mean.max(1e-3), obstacles })
+        let pairs = pairs.into_iter().filter(|pair| obstacles || !against(pair)).collect();
+        Some(Self { keep: geometry.clearance + MARGIN + reserve, scale: 1.0 / mean.max(1e-3), obstacles, pairs })
     }
 }
 
 /// True for a pair of a body and an obstacle.
 fn obstacle<D>(pair: &PairClearance<D>) -> bool {
     matches!(pair.b, Body::Obstacle(_))
-}
-
-/// True for a pair that has a row: every pair with obstacle rows, else the robot's own.
-fn rowed<D>(obstacles: bool, pair: &PairClearance<D>) -> bool {
-    obstacles || !obstacle(pair)
 }
 
 impl Limited<'_> {
@@ -96,12 +94,11 @@ impl Limited<'_> {
         // Distances between the robot's own bodies do not change when the whole system turns
         // about its centre of mass, which is what `phi` does at fixed `theta`: without obstacles
         // the base angle is not needed, and the rows are local in the coefficients.
-        let points = if rows.obstacles { self.phi_path(c, OBSTACLE_PIECES, order) } else { self.path_points(PIECES) };
         let from = if rows.obstacles { 0 } else { 1 };
         let dim = self.disc.dim();
-        for point in points {
+        let mut at = |point: PathPoint<&[f64]>| {
             if point.t >= horizon {
-                continue;
+                return;
             }
             let first = point.span - p;
             let [value, _] = basis.values_and_rates(point.span, point.t);
@@ -110,10 +107,10 @@ impl Limited<'_> {
                 q[j + 1] = (0..=p).map(|l| value[l] * c[j][first + l]).sum();
             }
             if order == 0 {
-                for pair in geometry.clearances(self.arm, &q).into_iter().filter(|x| rowed(rows.obstacles, x)) {
+                for pair in geometry.clearances_of(self.arm, &q, &rows.pairs) {
                     out.values.push((rows.keep - pair.distance) * rows.scale);
                 }
-                continue;
+                return;
             }
             // d d_ab / d q_i, one vector-dual pass per CHUNK coordinates (phi's only with
             // obstacles): the same exact derivatives as one pass per coordinate, with the poses'
@@ -130,8 +127,7 @@ impl Limited<'_> {
                         None => Multi::from(v),
                     })
                     .collect();
-                let pairs: Vec<_> =
-                    geometry.clearances(self.arm, &dq).into_iter().filter(|x| rowed(rows.obstacles, x)).collect();
+                let pairs = geometry.clearances_of(self.arm, &dq, &rows.pairs);
                 if slopes.is_empty() {
                     values = pairs.iter().map(|x| x.distance.re).collect();
                     against_obstacle = pairs.iter().map(obstacle).collect();
@@ -156,7 +152,7 @@ impl Limited<'_> {
                     continue;
                 }
                 let mut dense = vec![0.0; if *far { dim } else { 0 }];
-                for (k, g) in dense.iter_mut().zip(&point.grad) {
+                for (k, g) in dense.iter_mut().zip(point.grad) {
                     *k = -rows.scale * s[0] * g;
                 }
                 let mut row: Vec<(usize, f64)> = Vec::with_capacity((p + 1) * n);
@@ -175,6 +171,13 @@ impl Limited<'_> {
                     row = dense.into_iter().enumerate().filter(|(_, v)| *v != 0.0).collect();
                 }
                 out.rows.push(row);
+            }
+        };
+        if rows.obstacles {
+            self.phi_path_each(c, OBSTACLE_PIECES, order, at);
+        } else {
+            for p in self.path_points(PIECES) {
+                at(PathPoint { t: p.t, span: p.span, phi: p.phi, grad: &p.grad[..] });
             }
         }
     }
