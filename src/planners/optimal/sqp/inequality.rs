@@ -139,6 +139,15 @@ fn kkt(m: &Metric, e: &Evaluation, g: &Inequalities, lambda: f64, z: &[f64]) -> 
 /// Most times the penalty is lowered in one solve (a guard against cycling).
 const PENALTY_DECREASES: usize = 8;
 
+/// Consecutive iterations with a vanishing step (`|d|_inf <= 1e-10 (1 + |x|_inf)`) after which
+/// an infeasible solve stops as stalled: the QP, with the penalty steered up, finds no step that
+/// reduces the linearised infeasibility inside a trust region many times larger, so the iterate
+/// is a stationary point of the infeasibility's model, and later iterations solve the same QP
+/// again. On issue 20's 2-link bench a loop's coarse solve reached such a point (the capped
+/// line's, 3.6e-3 rad off the constraint) at its 7th iteration and took 11 more, 28 of the
+/// plan's 67 QPs, to stop there at twice `stall_iterations` (now 46 QPs, the same plan).
+const STATIONARY_STEPS: usize = 2;
+
 /// Solves `min f` subject to `c = 0`, `g <= 0` from `x0` (see the module docs). Converged means
 /// `|c| <= constraint_tolerance`, `max g <= constraint_tolerance` (the rows are scaled to the
 /// limits, so this is relative) and the KKT residual, the least of the QPs' at the iterate,
@@ -173,6 +182,8 @@ pub(super) fn solve<P: Discretised>(
     let mut kkt_here = f64::INFINITY;
     let (mut best_kkt, mut since_best, mut decreases) = (f64::INFINITY, 0, 0);
     let (mut least_infeasibility, mut since_infeasibility) = (f64::INFINITY, 0);
+    // Consecutive iterations whose step vanished (below the iterate's rounding).
+    let mut vanished = 0;
     let tol = options.constraint_tolerance;
     let termination = loop {
         if !(e.f.is_finite() && e.c.is_finite() && g.values.iter().all(|v| v.is_finite())) {
@@ -202,7 +213,9 @@ pub(super) fn solve<P: Discretised>(
         if infeasibility < 0.99 * least_infeasibility {
             (least_infeasibility, since_infeasibility) = (infeasibility, 0);
         }
-        if !feasible && since_infeasibility >= 2 * options.stall_iterations {
+        // Infeasible where the steps have vanished: a stationary point of the infeasibility's
+        // model ([`STATIONARY_STEPS`]).
+        if !feasible && (since_infeasibility >= 2 * options.stall_iterations || vanished >= STATIONARY_STEPS) {
             break Termination::Stalled;
         }
         iterations += 1;
@@ -317,6 +330,7 @@ pub(super) fn solve<P: Discretised>(
             }
         }
         let step_norm = accepted_step.amax();
+        vanished = if step_norm <= 1e-10 * (1.0 + x.amax()) { vanished + 1 } else { 0 };
         if ratio >= 1e-8 {
             x += &accepted_step;
             e = problem.evaluate(&x, 2);
