@@ -167,14 +167,6 @@ pub fn run(args: &TrackArgs) -> anyhow::Result<ExitCode> {
     planned.certified()?;
     let plan = &planned.plan;
     if let Some(trials) = args.trials {
-        // Nothing drawn per trial: every trial is the same run (the table would show N copies).
-        let random = [args.perturb, args.perturb_mount, args.torque_noise, args.noise_q, args.noise_dq];
-        if trials > 1 && random.iter().all(|v| *v == 0.0) {
-            super::note(&format!(
-                "note: no --perturb, --perturb-mount, --torque-noise, --noise-q or --noise-dq: nothing is drawn per \
-                 trial, so the {trials} trials are one run repeated\n"
-            ));
-        }
         let mc = MonteCarloOptions {
             trials,
             seed: args.seed,
@@ -245,6 +237,15 @@ fn monte(
         rayon::current_num_threads(),
         seconds * rayon::current_num_threads() as f64 / runs
     ));
+    // Nothing drawn per trial: every trial is the same run (the table would show N copies).
+    let random = [args.perturb, args.perturb_mount, args.torque_noise, args.noise_q, args.noise_dq];
+    if mc.trials > 1 && random.iter().all(|v| *v == 0.0) {
+        super::note(&format!(
+            "note: no --perturb, --perturb-mount, --torque-noise, --noise-q or --noise-dq: nothing is drawn per \
+             trial, so the {} trials are one run repeated\n",
+            mc.trials
+        ));
+    }
     let scope = if mc.shard == Shard::ALL {
         format!("{} trials", mc.trials)
     } else {
