@@ -1,11 +1,13 @@
 //! The shortest horizon inside the robot's limits (issue 20 item 4; docs/spec.md §2): the least
-//! `T`, to 1 %, at which the constrained planner finds a certified plan, and that plan.
+//! `T`, to 1 %, at which the constrained planner finds a certified plan, and that plan. Where
+//! the arm keeps a clearance (issue 21), a plan found is one that keeps it too.
 //!
 //! Feasibility is monotone in `T`: a plan of horizon `T` played `k > 1` times slower is a plan of
 //! horizon `k T` with the same path (positions and base angle unchanged), velocities divided by
-//! `k`, and accelerations and torques (Eq. 6 at zero momentum: `M theta'' + C theta'`) by `k^2`.
-//! So the search brackets the shortest horizon and bisects it (geometrically). Two bounds
-//! shorten it: below, a joint cannot average more than its velocity limit,
+//! `k`, and accelerations and torques (Eq. 6 at zero momentum: `M theta'' + C theta'`) by `k^2`;
+//! with the same path, the bodies keep the same distances. So the search brackets the shortest
+//! horizon and bisects it (geometrically). Two bounds shorten it: below, a joint cannot average
+//! more than its velocity limit,
 //! `T >= |theta_d - theta_0| / v_max` (with an acceleration limit from rest, the bang-bang
 //! time, `limits::least_time`); above, a plan at `T` with the largest uses `u_v` of a
 //! velocity, `u_a` of an acceleration and `u_tau` of a torque limit time-scales to a feasible
@@ -126,6 +128,18 @@ pub fn uses(planner: &ChainPlanner, plan: &ChainPlan) -> (Option<Binding>, f64) 
     (best, scale)
 }
 
+/// A plan's use of a rate limit (the time-scaling factor of [`uses`]) from which a longer horizon
+/// may find what this one did not.
+const RATE_BINDS: f64 = 0.99;
+
+/// The verified motion inside every limit and clear of every body and obstacle by the clearance
+/// asked for: a plan the search may stop at. The planner returns a plan that does not clear as
+/// its least bad one (`keep_clear`), which is no horizon found.
+fn fits(plan: &ChainPlan) -> bool {
+    let v = &plan.verification;
+    v.limits.as_ref().is_none_or(|l| l.inside) && v.clearance.is_none_or(|r| r.holds())
+}
+
 impl ChainPlanner {
     /// The shortest horizon, to 1 %, at which this planner finds a certified plan inside every
     /// limit of the arm, and the minimum-effort plan at it (see the [module docs](self)).
@@ -167,7 +181,20 @@ impl ChainPlanner {
         while found.is_none() && t <= HORIZON_RANGE.1 {
             probes += 1;
             match self.plan(&ChainProblem { horizon: t, ..problem.clone() }) {
-                Ok(plan) => found = Some((t, plan)),
+                Ok(plan) if fits(&plan) => found = Some((t, plan)),
+                // The least bad plan where none clears (`keep_clear`): a longer horizon only
+                // relaxes the rate limits, so the search goes on past a collision only while one
+                // binds.
+                Ok(plan) => {
+                    let v = &plan.verification;
+                    match v.collision() {
+                        Err(e) if uses(self, &plan).1 < RATE_BINDS => return Err(e),
+                        Err(e) => last_error = Some(e),
+                        Ok(()) => last_error = v.limits.as_ref().and_then(|l| l.check().err()),
+                    }
+                    lo = lo.max(t);
+                    t *= 2.0;
+                }
                 Err(e) if e.is_bad_input() => return Err(e),
                 Err(e) => {
                     last_error = Some(e);
@@ -209,7 +236,11 @@ impl ChainPlanner {
             }
             probes += 1;
             match self.plan(&ChainProblem { horizon: below, ..problem.clone() }) {
-                Ok(p) => (hi, plan, full) = (below, p, true),
+                Ok(p) if fits(&p) => (hi, plan, full) = (below, p, true),
+                Ok(_) => {
+                    lo = below;
+                    break;
+                }
                 Err(e) if e.is_bad_input() => return Err(e),
                 Err(_) => {
                     lo = below;
@@ -221,6 +252,7 @@ impl ChainPlanner {
         if !full {
             probes += 1;
             if let Ok(f) = self.plan(&ChainProblem { horizon: hi, ..problem.clone() })
+                && fits(&f)
                 && f.stats.cost < plan.stats.cost
             {
                 plan = f;
@@ -250,8 +282,8 @@ impl ChainPlanner {
     }
 
     /// The plan at horizon `t` from `plan` time-scaled to it (same path, same goal
-    /// representative) alone, inside every limit; `None` when it does not converge, certify and
-    /// fit.
+    /// representative) alone, inside every limit and clear; `None` when it does not converge,
+    /// certify and fit.
     pub(super) fn probe(&self, problem: &ChainProblem, plan: &ChainPlan, t: f64) -> Result<Option<ChainPlan>, Error> {
         let horizon = plan.horizon();
         let k = horizon / t;
@@ -284,8 +316,7 @@ impl ChainPlanner {
         let Some(p) = self.solve_from(&scaled, targets, &path, spans, &tables, Instant::now())? else {
             return Ok(None);
         };
-        let inside = p.verification.limits.as_ref().is_none_or(|l| l.inside);
-        Ok(inside.then_some(p))
+        Ok(fits(&p).then_some(p))
     }
 
     /// [`ChainPlanner::plan`], and when the arm has a rate limit (velocity, acceleration or
