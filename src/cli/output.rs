@@ -21,6 +21,33 @@ pub fn quiet() -> bool {
     QUIET.load(Ordering::Relaxed)
 }
 
+/// A spinner on stderr with `message` and the time elapsed while long work runs (a plan that
+/// keeps a clearance, `--time auto`'s search), cleared when dropped; drawn only on a terminal
+/// and not under `--quiet`, so that nothing of it reaches a pipe or a file.
+pub struct Spinner(indicatif::ProgressBar);
+
+impl Spinner {
+    /// Starts the spinner (hidden off a terminal or under `--quiet`).
+    pub fn start(message: &'static str) -> Self {
+        use std::io::IsTerminal;
+        if !std::io::stderr().is_terminal() || quiet() {
+            return Self(indicatif::ProgressBar::hidden());
+        }
+        let bar = indicatif::ProgressBar::new_spinner().with_message(message);
+        if let Ok(style) = indicatif::ProgressStyle::with_template("{spinner} {msg}, {elapsed} elapsed") {
+            bar.set_style(style);
+        }
+        bar.enable_steady_tick(std::time::Duration::from_millis(200));
+        Self(bar)
+    }
+}
+
+impl Drop for Spinner {
+    fn drop(&mut self) {
+        self.0.finish_and_clear();
+    }
+}
+
 /// Prints a note (progress, summaries, hints) on stderr, unless `--quiet`.
 pub fn note(text: &str) {
     if !quiet() {

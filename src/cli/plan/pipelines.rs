@@ -187,6 +187,11 @@ pub(in crate::cli) fn plan_problem(
     }
     let mut notes = vec![tool_note(&p.robot, arm)?];
     let mut to_ee = None;
+    let _spinner = crate::cli::output::Spinner::start(if auto_horizon(p) {
+        "searching the shortest horizon inside the limits (--time auto)"
+    } else {
+        "planning"
+    });
     let first = match &p.to_ee {
         None => plan_arm(arm, method, &request(&problem)),
         Some(text) => {
