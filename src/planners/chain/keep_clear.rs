@@ -10,6 +10,7 @@ use super::motion::ChainPlan;
 use super::search::{Candidate, Tables};
 use super::{ChainPlanner, ChainProblem};
 use crate::error::Error;
+use crate::planners::optimal::sqp::Termination;
 
 /// How many times a plan under the clearance between the rows' points is solved again.
 const CLEARANCE_RETRIES: usize = 3;
@@ -54,7 +55,7 @@ impl ChainPlanner {
         // 3.9323 at 0 m, 3.9525 / 4.0296 at 0.02 m, 4.0576 / 4.0896 at 0.04 m). So without
         // obstacles the search with the rows follows at once.
         let obstacles = !self.arm.geometry.obstacles.is_empty();
-        if obstacles && let Ok(Some(repaired)) = self.repair(problem, &free, tables, clock) {
+        if obstacles && let Ok(Some(repaired)) = self.repair(problem, &free, tables, clock, true) {
             return Ok(repaired);
         }
         if !with_own_rows {
@@ -62,7 +63,7 @@ impl ChainPlanner {
         }
         let kept = match own.search(problem, tables, clock) {
             Ok(k) if !clears(&k) && !self.arm.geometry.obstacles.is_empty() => {
-                match self.repair(problem, &k, tables, clock) {
+                match self.repair(problem, &k, tables, clock, true) {
                     Ok(Some(repaired)) => return Ok(repaired),
                     _ => Ok(k),
                 }
@@ -79,14 +80,16 @@ impl ChainPlanner {
 
     /// The certified plan that keeps the clearance from `free`'s path: solved with the rows on
     /// `free`'s own basis from its exact coefficients, to the goal representative it reaches,
-    /// then [`Self::certified_clear`]; `None` when the solve does not converge or no plan clears
-    /// (an error, e.g. a failed projection, likewise leaves the caller's plan as it is).
+    /// then [`Self::certified_clear`]; where the solve does not converge, `two_steps` tries
+    /// [`Self::repair_in_two_steps`]; `None` when no plan clears (an error, e.g. a failed
+    /// projection, likewise leaves the caller's plan as it is).
     fn repair(
         &self,
         problem: &ChainProblem,
         free: &ChainPlan,
         tables: &Tables,
         clock: Instant,
+        two_steps: bool,
     ) -> Result<Option<ChainPlan>, Error> {
         let end = free.at(problem.horizon);
         let near = |x: f64, goal: f64| goal + std::f64::consts::TAU * ((x - goal) / std::f64::consts::TAU).round();
@@ -107,12 +110,45 @@ impl ChainPlanner {
         let Ok(result) = super::limits::solve(self, &disc, x0, &self.options.sqp, Some(free.stats.multiplier)) else {
             return Ok(None);
         };
-        if !result.converged() {
-            return Ok(None);
+        if !result.converged()
+            && two_steps
+            && let Some(plan) = self.repair_in_two_steps(problem, free, tables, clock)?
+        {
+            return Ok(Some(plan));
         }
         let iterations = result.iterations;
         let c = Candidate { disc, result, spans, nodes, iterations, stands_for: None };
-        Ok(self.certified_clear(problem, &c, 1, iterations, clock, tables).ok().and_then(Result::ok))
+        // A solve that did not converge but meets the holonomy is a motion of the robot still:
+        // kept where it clears inside every limit, its statistics saying it is not proven the
+        // least cost (as the search's stalled attempt, `search`).
+        if !c.result.converged() && (!c.feasible() || c.result.termination == Termination::Abandoned) {
+            return Ok(None);
+        }
+        let plan = self.certified_clear(problem, &c, 1, iterations, clock, tables).ok().and_then(Result::ok);
+        Ok(plan.filter(|p| p.verification.limits.as_ref().is_none_or(|l| l.inside)))
+    }
+
+    /// Where the repair to the clearance asked for stalls, the repair to touching (clearance 0)
+    /// first and from its plan the repair to the clearance: the 3-link arm around its obstacle
+    /// (`benches/clearance.rs`'s) from 0.069 m inside it stalls at 0.01 m (holonomy 3e-4 rad
+    /// after 25 iterations) and converges at 0 and 0.005 m. `None` where either step fails.
+    fn repair_in_two_steps(
+        &self,
+        problem: &ChainProblem,
+        free: &ChainPlan,
+        tables: &Tables,
+        clock: Instant,
+    ) -> Result<Option<ChainPlan>, Error> {
+        if self.arm.geometry.clearance <= 0.0 {
+            return Ok(None);
+        }
+        let mut arm = (*self.arm).clone();
+        arm.geometry.clearance = 0.0;
+        let touching = ChainPlanner { arm: Arc::new(arm), ..self.clone() };
+        match touching.repair(problem, free, tables, clock, false)? {
+            Some(touching) => self.repair(problem, &touching, tables, clock, false),
+            None => Ok(None),
+        }
     }
 
     /// [`Self::certified`], and where the certified plan comes under the clearance (the rows
