@@ -46,17 +46,7 @@ fn the_oracle_finds_clear_plans_where_the_planner_returns_a_collision() {
     for j in &mut arm.limits.joints {
         (j.velocity, j.torque, j.acceleration) = (None, None, None);
     }
-    // `profile_clearance random`'s draws: base within +-15 deg, joints within +-90 deg.
-    let mut state: u64 = 0x2545_f491_4f6c_dd1d;
-    let mut uniform = move || {
-        state ^= state << 13;
-        state ^= state >> 7;
-        state ^= state << 17;
-        (state >> 11) as f64 / (1u64 << 53) as f64
-    };
-    let angle = |j: usize, u: f64| if j == 0 { 30.0 * u - 15.0_f64 } else { 180.0 * u - 90.0 }.to_radians();
-    let start: Vec<f64> = (0..5).map(|j| angle(j, uniform())).collect();
-    let goal: Vec<f64> = (0..5).map(|j| angle(j, uniform())).collect();
+    let (start, goal) = random_problem();
     let intervals = 120;
     let t = Transcription {
         arm: &arm,
@@ -91,4 +81,21 @@ fn the_oracle_finds_clear_plans_where_the_planner_returns_a_collision() {
     let least = free.verification.clearance.expect("shapes").min;
     eprintln!("planner: effort {:.4}, least clearance {least:.4} m; oracle {best:.4}", free.effort());
     assert!(best.is_finite() && best < 30.0, "the oracle finds a clear plan: {best}");
+}
+
+/// `examples/profile_clearance.rs random`'s first problem: the start and goal `[phi, theta]`
+/// (the base within +-15 deg, the joints within +-90 deg) \[rad\].
+pub(super) fn random_problem() -> (Vec<f64>, Vec<f64>) {
+    // `profile_clearance random`'s draws: base within +-15 deg, joints within +-90 deg.
+    let mut state: u64 = 0x2545_f491_4f6c_dd1d;
+    let mut uniform = move || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let angle = |j: usize, u: f64| if j == 0 { 30.0 * u - 15.0_f64 } else { 180.0 * u - 90.0 }.to_radians();
+    let start: Vec<f64> = (0..5).map(|j| angle(j, uniform())).collect();
+    let goal: Vec<f64> = (0..5).map(|j| angle(j, uniform())).collect();
+    (start, goal)
 }
