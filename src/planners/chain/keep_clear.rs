@@ -1,6 +1,7 @@
 //! The chain planner where the arm keeps a clearance (issue 21): the search without the
 //! clearance rows first, its plan repaired in its own basin where it does not clear, the search
-//! with the rows of the robot's own bodies last; and the certificate's clearance retries.
+//! with the rows of the robot's own bodies next, a first phase with every constraint soft
+//! (`super::augmented`) from the line last; and the certificate's clearance retries.
 
 use std::sync::Arc;
 use std::time::Instant;
@@ -27,7 +28,8 @@ impl ChainPlanner {
     /// search's speed. Else, where there are obstacles, that plan pushed clear by the rows in its
     /// own basin (a few solves on its own basis); else the search with the rows of the robot's own bodies (every seed
     /// under them; the obstacles' rows are dense, and that search would not be bounded in
-    /// time), its plan pushed clear of the obstacles likewise. Where none clears, the least
+    /// time), its plan pushed clear of the obstacles likewise; where that plan does not clear
+    /// either, the last resort [`Self::soft_search`]. Where none clears, the least
     /// bad is returned for its certificate to report (the pair, the time and the depth).
     pub(super) fn plan_keeping_clearance(
         &self,
@@ -77,7 +79,6 @@ impl ChainPlanner {
         };
         let least = |p: &ChainPlan| p.verification.clearance.map_or(f64::INFINITY, |r| r.min);
         if !kept.as_ref().is_ok_and(clears)
-            && std::env::var("FF_NOSOFT").is_err()
             && let Ok(Some(plan)) = (ChainPlanner { clearance_pieces: SOFT_PIECES, ..own.clone() })
                 .soft_search(problem, &free, tables, clock)
         {
@@ -128,10 +129,12 @@ impl ChainPlanner {
         Ok(self.certified_clear(problem, &c, 1, iterations, clock, tables).ok().and_then(Result::ok))
     }
 
-    /// The search's last resort where no plan cleared (issue 21): from the free plan's path and
-    /// from the straight line to the goal representative it reaches, on its basis, a first phase
-    /// with every constraint soft ([`super::limits::soft_start`]), then the SQP with the rows
-    /// from there and the certificate; the clear plan of least effort, `None` where none clears.
+    /// The search's last resort where no plan cleared (issue 21): from the straight line to the
+    /// goal representative the free plan reaches, on the free plan's basis, a first phase with
+    /// every constraint soft ([`super::limits::soft_start`]; from the free plan's own path it
+    /// ended far off the holonomy on the first random problem of `examples/profile_clearance.rs`),
+    /// then the SQP with the rows from there, refined, and the certificate; `None` where the
+    /// plan does not clear. The rows hold at [`SOFT_PIECES`] points per span.
     fn soft_search(
         &self,
         problem: &ChainProblem,
@@ -161,12 +164,6 @@ impl ChainPlanner {
         let Ok(result) = super::limits::solve_restarting(self, &disc, x, &self.options.sqp, Some(lambda)) else {
             return Ok(None);
         };
-        if std::env::var("FF_DEBUG").is_ok() {
-            eprintln!(
-                "soft start on {spans} spans: f {:.4} c {:.1e} kkt {:.1e} its {} {:?}",
-                result.f, result.c, result.kkt, result.iterations, result.termination
-            );
-        }
         let iterations = result.iterations;
         let c = Candidate { disc, result, spans, nodes, iterations, stands_for: None };
         if !c.feasible() {
@@ -175,34 +172,14 @@ impl ChainPlanner {
         // Refined (finer spans, denser rows) first; the solution on its own basis where that
         // does not clear. A stalled solution that meets the holonomy is a motion of the robot:
         // its certificate judges it (its statistics say it is not proven a minimum).
-        let mut best: Option<ChainPlan> = None;
         for c in [self.refine(problem, c.clone(), tables)?, c] {
-            if std::env::var("FF_DEBUG").is_ok() {
-                eprintln!(
-                    "soft candidate on {} spans: f {:.4} c {:.1e} kkt {:.1e} {:?}",
-                    c.spans, c.result.f, c.result.c, c.result.kkt, c.result.termination
-                );
-            }
-            if !c.feasible() {
-                continue;
-            }
-            let judged = self.certified_clear(problem, &c, 1, c.iterations, clock, tables);
-            if std::env::var("FF_DEBUG").is_ok() {
-                let least = |p: &ChainPlan| p.verification.clearance.map_or(f64::NAN, |r| r.min);
-                match &judged {
-                    Ok(Ok(p)) => eprintln!("  clear {:.4} effort {:.4}", least(p), p.stats.effort),
-                    Ok(Err(p)) => eprintln!("  under {:.4} effort {:.4}", least(p), p.stats.effort),
-                    Err(e) => eprintln!("  error {e}"),
-                }
-            }
-            if let Ok(Ok(plan)) = judged
-                && best.as_ref().is_none_or(|b| plan.stats.effort < b.stats.effort)
+            if c.feasible()
+                && let Ok(Ok(plan)) = self.certified_clear(problem, &c, 1, c.iterations, clock, tables)
             {
-                best = Some(plan);
-                break;
+                return Ok(Some(plan));
             }
         }
-        Ok(best)
+        Ok(None)
     }
 
     /// [`Self::certified`], and where the certified plan comes under the clearance (the rows
