@@ -1,6 +1,7 @@
 //! The chain planner where the arm keeps a clearance (issue 21): the search without the
 //! clearance rows first, its plan repaired in its own basin where it does not clear, the search
-//! with the rows of the robot's own bodies last; and the certificate's clearance retries.
+//! with the rows of the robot's own bodies next, a first phase with every constraint soft
+//! (`super::augmented`) from the line last; and the certificate's clearance retries.
 
 use std::sync::Arc;
 use std::time::Instant;
@@ -8,9 +9,15 @@ use std::time::Instant;
 use super::discrete::Targets;
 use super::motion::ChainPlan;
 use super::search::{Candidate, Tables};
+use super::seeds::{Line, Seed};
 use super::{ChainPlanner, ChainProblem};
 use crate::error::Error;
 use crate::planners::optimal::sqp::Termination;
+
+/// Points per knot span of the rows in the search's last resort ([`ChainPlanner::soft_search`]):
+/// at the search's four, the plan it found on the first random problem of
+/// `examples/profile_clearance.rs` dipped 0.01 m under 0.02 m between them.
+const SOFT_PIECES: usize = 16;
 
 /// How many times a plan under the clearance between the rows' points is solved again.
 const CLEARANCE_RETRIES: usize = 3;
@@ -22,7 +29,8 @@ impl ChainPlanner {
     /// search's speed. Else, where there are obstacles, that plan pushed clear by the rows in its
     /// own basin (a few solves on its own basis); else the search with the rows of the robot's own bodies (every seed
     /// under them; the obstacles' rows are dense, and that search would not be bounded in
-    /// time), its plan pushed clear of the obstacles likewise. Where none clears, the least
+    /// time), its plan pushed clear of the obstacles likewise; where that plan does not clear
+    /// either, the last resort [`Self::soft_search`]. Where none clears, the least
     /// bad is returned for its certificate to report (the pair, the time and the depth).
     pub(super) fn plan_keeping_clearance(
         &self,
@@ -71,6 +79,12 @@ impl ChainPlanner {
             kept => kept,
         };
         let least = |p: &ChainPlan| p.verification.clearance.map_or(f64::INFINITY, |r| r.min);
+        if !kept.as_ref().is_ok_and(clears)
+            && let Ok(Some(plan)) = (ChainPlanner { clearance_pieces: SOFT_PIECES, ..own.clone() })
+                .soft_search(problem, &free, tables, clock)
+        {
+            return Ok(plan);
+        }
         match kept {
             Ok(k) if least(&free) > least(&k) => Ok(free),
             Err(_) => Ok(free),
@@ -149,6 +163,59 @@ impl ChainPlanner {
             Some(touching) => self.repair(problem, &touching, tables, clock, false),
             None => Ok(None),
         }
+    }
+
+    /// The search's last resort where no plan cleared (issue 21): from the straight line to the
+    /// goal representative the free plan reaches, on the free plan's basis, a first phase with
+    /// every constraint soft ([`super::limits::soft_start`]; from the free plan's own path it
+    /// ended far off the holonomy on the first random problem of `examples/profile_clearance.rs`),
+    /// then the SQP with the rows from there, refined, and the certificate; `None` where the
+    /// plan does not clear. The rows hold at [`SOFT_PIECES`] points per span.
+    fn soft_search(
+        &self,
+        problem: &ChainProblem,
+        free: &ChainPlan,
+        tables: &Tables,
+        clock: Instant,
+    ) -> Result<Option<ChainPlan>, Error> {
+        let end = free.at(problem.horizon);
+        let near = |x: f64, goal: f64| goal + std::f64::consts::TAU * ((x - goal) / std::f64::consts::TAU).round();
+        let targets = Targets {
+            start: problem.start[1..].to_vec(),
+            initial_velocity: problem.initial_velocity.clone(),
+            end: end.theta.iter().zip(&problem.goal[1..]).map(|(x, g)| near(*x, *g)).collect(),
+            phi_start: problem.start[0],
+            phi_end: near(end.phi, problem.goal[0]),
+        };
+        let line = Line {
+            start: targets.start.clone(),
+            end: targets.end.clone(),
+            initial_velocity: targets.initial_velocity.clone(),
+            horizon: problem.horizon,
+        };
+        let (spans, nodes) = (free.stats.spans, free.stats.quadrature_nodes);
+        let disc = self.discretise(problem, targets, spans, nodes, tables)?;
+        let x0 = disc.project(line.path_of(Seed::Line))?;
+        let Some((x, lambda)) = super::limits::soft_start(self, &disc, x0, 1e-6) else { return Ok(None) };
+        let Ok(result) = super::limits::solve_restarting(self, &disc, x, &self.options.sqp, Some(lambda)) else {
+            return Ok(None);
+        };
+        let iterations = result.iterations;
+        let c = Candidate { disc, result, spans, nodes, iterations, stands_for: None };
+        if !c.feasible() {
+            return Ok(None);
+        }
+        // Refined (finer spans, denser rows) first; the solution on its own basis where that
+        // does not clear. A stalled solution that meets the holonomy is a motion of the robot:
+        // its certificate judges it (its statistics say it is not proven a minimum).
+        for c in [self.refine(problem, c.clone(), tables)?, c] {
+            if c.feasible()
+                && let Ok(Ok(plan)) = self.certified_clear(problem, &c, 1, c.iterations, clock, tables)
+            {
+                return Ok(Some(plan));
+            }
+        }
+        Ok(None)
     }
 
     /// [`Self::certified`], and where the certified plan comes under the clearance (the rows

@@ -24,6 +24,7 @@
 mod clearance;
 mod ranges;
 
+pub(crate) use clearance::PIECES as CLEARANCE_PIECES;
 pub(crate) use ranges::{inside_ranges, least_time, within_reach};
 
 use nalgebra::DVector;
@@ -145,7 +146,10 @@ impl<'a> Limited<'a> {
         let base = arm.limits.base.map(|[lo, hi]| [lo + MARGIN * (hi - lo), hi - MARGIN * (hi - lo)]);
         let clearance = planner
             .clearance_rows
-            .then(|| clearance::Clearance::new(arm, planner.obstacle_rows, planner.options.clearance_reserve))
+            .then(|| {
+                clearance::Clearance::new(arm, planner.obstacle_rows, planner.options.clearance_reserve)
+                    .map(|c| c.at(planner.clearance_pieces))
+            })
             .flatten();
         Some(Self { disc, arm, connection, linear, torque, base, clearance, free })
     }
@@ -426,6 +430,24 @@ pub(crate) fn solve(
             expected: "a clamped spline basis with simple interior knots",
         })),
     }
+}
+
+/// The first phase of a clearance search ([`super::augmented`]): the augmented Lagrangian of
+/// `disc` with `planner`'s limits and rows from `x0` (clipped into the position ranges), every
+/// constraint soft at first; the point and the holonomy's multiplier, the SQP's start. `None`
+/// where `planner` has no rows.
+pub(crate) fn soft_start(
+    planner: &ChainPlanner,
+    disc: &Discretisation,
+    x0: DVector<f64>,
+    tolerance: f64,
+) -> Option<(DVector<f64>, f64)> {
+    if !constrained(planner) {
+        return None;
+    }
+    let limited = Limited::new(planner, disc)?;
+    let x0 = limited.clip(x0);
+    Some(super::augmented::augmented_lagrangian(&limited, x0, tolerance))
 }
 
 /// [`solve`] at the refinement's accuracy, restarted where it stalls short of its KKT

@@ -16,6 +16,7 @@
 //! With one joint `a(theta) dtheta` is exact, so `phi(T)` is fixed by `theta(T)`: the planner
 //! checks the goal for consistency ([`Error::HolonomyFixed`]) and then minimises the effort alone.
 
+mod augmented;
 pub mod coil;
 pub mod connection;
 pub mod discrete;
@@ -290,13 +291,23 @@ pub struct ChainPlanner {
     /// The clearance to the obstacles as constraints too (dense rows through `phi(t)`; off for
     /// the search with rows, on for the repair of its plan, see [`Self::plan`]).
     obstacle_rows: bool,
+    /// Points per knot span at which the rows of the robot's own bodies hold (more in the
+    /// clearance search's last resort, `keep_clear.rs`).
+    clearance_pieces: usize,
 }
 
 impl ChainPlanner {
     /// A planner for `arm` with `options`.
     pub fn new(arm: Arm, options: ChainOptions) -> Self {
         let connection = Arc::new(connection::Connection::new(&arm));
-        Self { arm: Arc::new(arm), options, connection, clearance_rows: true, obstacle_rows: true }
+        Self {
+            arm: Arc::new(arm),
+            options,
+            connection,
+            clearance_rows: true,
+            obstacle_rows: true,
+            clearance_pieces: limits::CLEARANCE_PIECES,
+        }
     }
 
     /// The arm.

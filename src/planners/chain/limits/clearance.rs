@@ -26,7 +26,7 @@ use crate::model::arm::collision::{Body, Geometry, PairClearance};
 use crate::planners::optimal::sqp::{Discretised, Inequalities};
 
 /// Points per knot span at which every pair's clearance is bounded.
-pub(super) const PIECES: usize = 4;
+pub(crate) const PIECES: usize = 4;
 
 /// Points per knot span with an obstacle: a link sweeps past a small obstacle between rows
 /// that are further apart (its tip moves about 6 cm in a quarter span of a 10 s plan at 1 m/s).
@@ -57,6 +57,8 @@ pub(super) struct Clearance {
     obstacles: bool,
     /// The pairs with a row, in [`Geometry::pairs`]' order (found once, not at every point).
     pairs: Vec<(Body, Body)>,
+    /// Points per knot span of the rows of the robot's own bodies ([`PIECES`] unless set).
+    pieces: usize,
 }
 
 impl Clearance {
@@ -73,7 +75,20 @@ impl Clearance {
         }
         let mean = arm.links.iter().map(|l| l.length).sum::<f64>() / arm.joints() as f64;
         let pairs = pairs.into_iter().filter(|pair| obstacles || !against(pair)).collect();
-        Some(Self { keep: geometry.clearance + MARGIN + reserve, scale: 1.0 / mean.max(1e-3), obstacles, pairs })
+        Some(Self {
+            keep: geometry.clearance + MARGIN + reserve,
+            scale: 1.0 / mean.max(1e-3),
+            obstacles,
+            pairs,
+            pieces: PIECES,
+        })
+    }
+}
+
+impl Clearance {
+    /// The same rows at `pieces` points per knot span (at least one) where no obstacle has rows.
+    pub(super) fn at(self, pieces: usize) -> Self {
+        Self { pieces: pieces.max(1), ..self }
     }
 }
 
@@ -176,7 +191,7 @@ impl Limited<'_> {
         if rows.obstacles {
             self.phi_path_each(c, OBSTACLE_PIECES, order, at);
         } else {
-            for p in self.path_points(PIECES) {
+            for p in self.path_points(rows.pieces) {
                 at(PathPoint { t: p.t, span: p.span, phi: p.phi, grad: &p.grad[..] });
             }
         }
