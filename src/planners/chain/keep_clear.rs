@@ -99,11 +99,7 @@ impl ChainPlanner {
         };
         let (spans, nodes) = (free.stats.spans, free.stats.quadrature_nodes);
         let disc = self.discretise(problem, targets, spans, nodes, tables)?;
-        let x0 = disc.project(|t, out| {
-            for (o, c) in out.iter_mut().zip(&free.coefficients) {
-                *o = free.basis.evaluate(c, t)[0];
-            }
-        })?;
+        let x0 = disc.project(|t, out| free.basis.values_each(&free.coefficients, t, out))?;
         let Ok(result) = super::limits::solve(self, &disc, x0, &self.options.sqp, Some(free.stats.multiplier)) else {
             return Ok(None);
         };

@@ -177,12 +177,11 @@ impl ChainPlan {
         let t = t.clamp(0.0, self.horizon());
         let mut point =
             ChainPoint { t, phi: self.phi(t), theta: Vec::new(), rate: Vec::new(), acceleration: Vec::new() };
-        for c in &self.coefficients {
-            let [v, d, a] = self.basis.evaluate(c, t);
+        self.basis.evaluate_each(&self.coefficients, t, |_, [v, d, a]| {
             point.theta.push(v);
             point.rate.push(d);
             point.acceleration.push(a);
-        }
+        });
         point
     }
 
@@ -221,9 +220,7 @@ impl JointMotion for ChainPlan {
     }
 
     fn joint_acceleration(&self, t: f64, out: &mut [f64]) {
-        for (o, c) in out.iter_mut().zip(&self.coefficients) {
-            *o = self.basis.evaluate(c, t.clamp(0.0, self.horizon()))[2];
-        }
+        self.basis.evaluate_each(&self.coefficients, t.clamp(0.0, self.horizon()), |j, [_, _, a]| out[j] = a);
     }
 
     fn phi_rate(&self, t: f64) -> f64 {

@@ -424,11 +424,7 @@ impl ChainPlanner {
         let disc = self.discretise(problem, c.disc.targets().clone(), spans, nodes, tables)?;
         let old = c.disc.coefficients(&c.result.x);
         let old_basis = c.disc.basis();
-        let x0 = disc.project(|t, out| {
-            for (o, cj) in out.iter_mut().zip(&old) {
-                *o = old_basis.evaluate(cj, t)[0];
-            }
-        })?;
+        let x0 = disc.project(|t, out| old_basis.values_each(&old, t, out))?;
         let guess = if self.arm.joints() == 1 { None } else { Some(c.result.lambda) };
         let result = super::limits::solve_restarting(self, &disc, x0, &self.options.sqp, guess)?;
         let iterations = c.iterations + result.iterations;
@@ -504,9 +500,7 @@ fn peak_velocity(plan: &ChainPlan) -> f64 {
     for w in b.windows(2) {
         for k in 0..=16 {
             let t = w[0] + (w[1] - w[0]) * k as f64 / 16.0;
-            for c in plan.coefficients() {
-                peak = peak.max(plan.basis().evaluate(c, t)[1].abs());
-            }
+            plan.basis().evaluate_each(plan.coefficients(), t, |_, [_, rate, _]| peak = peak.max(rate.abs()));
         }
     }
     peak

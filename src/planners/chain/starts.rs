@@ -366,11 +366,7 @@ impl ChainPlanner {
                 // the 3-link bench the plan's iterations 46 -> 18), and from the line where that
                 // start is not feasible (issue 20's oracle case 6 stalled from it).
                 let (old, basis) = (c.disc.coefficients(&c.result.x), c.disc.basis());
-                let warm = fine.project(|t, out| {
-                    for (o, cj) in out.iter_mut().zip(&old) {
-                        *o = basis.evaluate(cj, t)[0];
-                    }
-                })?;
+                let warm = fine.project(|t, out| basis.values_each(&old, t, out))?;
                 let solve = |x0| super::limits::solve(self, &fine, x0, &COARSE_SQP, None).ok();
                 let mut result = solve(warm);
                 if !result.as_ref().is_some_and(|r| r.c.abs() <= 1e-6 && r.f.is_finite()) {
