@@ -250,7 +250,12 @@ impl Discretisation {
         let (mut target, mut theta, mut rate) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
         for node in &table.nodes {
             path(node.t, &mut target);
-            self.point(&fixed, node, &mut theta, &mut rate);
+            // The fixed coefficients' path is zero (exactly) where none of them is local.
+            if node.first < r || node.first + p >= len - r {
+                self.point(&fixed, node, &mut theta, &mut rate);
+            } else {
+                theta.fill(0.0);
+            }
             for l in 0..=p {
                 let Some(i) = free(node.first + l, r, len) else { continue };
                 for j in 0..n {

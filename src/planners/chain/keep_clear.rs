@@ -107,7 +107,7 @@ impl ChainPlanner {
             return Ok(None);
         }
         let iterations = result.iterations;
-        let c = Candidate { disc, result, spans, nodes, iterations, stands_for: None };
+        let c = Candidate { disc, result, spans, nodes, iterations, stands_for: None, phi: Default::default() };
         Ok(self.certified_clear(problem, &c, 1, iterations, clock, tables).ok().and_then(Result::ok))
     }
 

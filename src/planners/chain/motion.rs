@@ -123,6 +123,23 @@ impl ChainPlan {
         me
     }
 
+    /// [`Self::new`] with the base angle at the breakpoints known already (`phi_at_breakpoints`,
+    /// [`Self::breakpoint_phi`] of the same plan).
+    pub(super) fn with_phi(
+        connection: Arc<Connection>,
+        basis: SplineBasis,
+        coefficients: Vec<Vec<f64>>,
+        phi_at_breakpoints: Vec<f64>,
+        stats: ChainStats,
+    ) -> Self {
+        Self { connection, basis, coefficients, phi_at_breakpoints, stats, verification: ChainVerification::pending() }
+    }
+
+    /// The base angle at the breakpoints \[rad\].
+    pub(super) fn breakpoint_phi(&self) -> &[f64] {
+        &self.phi_at_breakpoints
+    }
+
     /// `integral_a^b g dt` by `rule`.
     fn holonomy(&self, rule: &GaussLegendre, a: f64, b: f64) -> f64 {
         let n = self.joints();
