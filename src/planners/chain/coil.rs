@@ -115,11 +115,14 @@ pub fn sites(
     max_radius: f64,
     ranges: [Option<[f64; 2]>; 2],
 ) -> [CoilSite; 2] {
-    let mut theta = base.to_vec();
+    // The angles of the segments before both joints are the base's at every point.
+    let (mut theta, mut fixed) = (base.to_vec(), Angles::default());
+    connection.angles_from(&theta, 0, &mut fixed);
     let mut kappa = |ti: f64, tj: f64| {
         theta[i] = ti;
         theta[j] = tj;
-        curvature(connection, &theta, i, j)
+        connection.angles_from(&theta, i.min(j), &mut fixed);
+        connection.curvature_at(&fixed, i, j)
     };
     // The grid's coordinate `a` of axis `c`: a turn, or the cell centres of the range.
     let axis = |c: usize, a: usize| match ranges[c] {

@@ -164,12 +164,12 @@ impl Connection {
 
     /// `(F, N = G . rate)` at `theta` (values only; `n <=` [`MAX_JOINTS`]).
     fn f_and_n(&self, theta: &[f64], rate: &[f64]) -> (f64, f64) {
-        specialised!(self.n, |n| self.f_and_n_of(n, theta, rate))
+        specialised!(self.n, |n| self.f_and_n_of(n, theta, rate, None))
     }
 
     /// [`Self::f_and_n`] for `n = self.n` (inlined where `n` is a constant).
     #[inline(always)]
-    fn f_and_n_of(&self, n: usize, theta: &[f64], rate: &[f64]) -> (f64, f64) {
+    fn f_and_n_of(&self, n: usize, theta: &[f64], rate: &[f64], keep: Option<&mut [(f64, f64)]>) -> (f64, f64) {
         let (theta, rate) = (&theta[..n], &rate[..n]);
         let mut e = [(0.0, 0.0); MAX_JOINTS + 1];
         let mut w = [0.0; MAX_JOINTS + 1];
@@ -179,6 +179,9 @@ impl Connection {
             psi = if j == 0 { theta[0] } else { psi + theta[j] };
             e[j + 1] = sin_cos(psi);
             w[j + 1] = w[j] + rate[j];
+        }
+        if let Some(keep) = keep {
+            keep[..n].copy_from_slice(&e[1..=n]);
         }
         let mut f = self.f0;
         let mut nn: f64 = self.g0[..n].iter().zip(&rate[..n]).map(|(g, r)| g * r).sum();
@@ -207,10 +210,11 @@ impl Connection {
         n / f
     }
 
-    /// [`Self::value`] for `n = self.n` joints (inlined where `n` is a constant).
+    /// [`Self::value`] for `n = self.n` joints (inlined where `n` is a constant), the sines and
+    /// cosines of the links' angles kept in `keep` (`n` of them) where given.
     #[inline(always)]
-    pub(super) fn value_of(&self, n: usize, theta: &[f64], rate: &[f64]) -> f64 {
-        let (f, nn) = self.f_and_n_of(n, theta, rate);
+    pub(super) fn value_of(&self, n: usize, theta: &[f64], rate: &[f64], keep: Option<&mut [(f64, f64)]>) -> f64 {
+        let (f, nn) = self.f_and_n_of(n, theta, rate, keep);
         nn / f
     }
 
@@ -222,13 +226,22 @@ impl Connection {
     /// two-dimensional prefix sums `Q[a][b] = sum_{s <= a} sum_{t > b} X_st`: `O(n^2)` work after
     /// `n + 1` sines and cosines.
     pub fn local(&self, theta: &[f64], rate: &[f64], out: &mut Local) {
-        specialised!(self.n, |n| self.local_of(n, theta, rate, out))
+        specialised!(self.n, |n| self.local_of(n, theta, rate, out, None))
     }
 
-    /// [`Self::local`] for `n = self.n` (inlined where `n` is a constant).
+    /// [`Self::local`] for `n = self.n` (inlined where `n` is a constant), with the sines and
+    /// cosines of the links' angles `known` already where given (those [`Self::value_of`] kept at
+    /// the same `theta`: the same bits).
     #[allow(non_snake_case)]
     #[inline(always)]
-    pub(super) fn local_of(&self, n: usize, theta: &[f64], rate: &[f64], out: &mut Local) {
+    pub(super) fn local_of(
+        &self,
+        n: usize,
+        theta: &[f64],
+        rate: &[f64],
+        out: &mut Local,
+        known: Option<&[(f64, f64)]>,
+    ) {
         let (theta, rate) = (&theta[..n], &rate[..n]);
         let n1 = n + 1;
         // The buffers as separate slices (no reloads of their addresses between the loops).
@@ -260,8 +273,13 @@ impl Connection {
             rate_sum[j + 1] = rate_sum[j] + rate[j];
         }
         cs[0] = self.beta_sin_cos;
-        for s in 1..n1 {
-            cs[s] = sin_cos(psi[s]);
+        match known {
+            Some(known) => cs[1..n1].copy_from_slice(&known[..n]),
+            None => {
+                for s in 1..n1 {
+                    cs[s] = sin_cos(psi[s]);
+                }
+            }
         }
         // X_st for s < t: [2K C, h C, 2K S, h S] with h = K (W_s + W_t).
         let mut F = self.f0;
