@@ -146,7 +146,10 @@ pub struct Discretisation {
 /// same `x` (bit for bit), whose sines and cosines are then not taken again. A clone starts
 /// empty (a discretisation per solve).
 #[derive(Debug, Default)]
-struct KeptAngles(Mutex<Option<(DVector<f64>, Vec<(f64, f64)>)>>);
+struct KeptAngles(Mutex<Option<Kept>>);
+
+/// The `x` of the last integrals and the sines and cosines at its nodes.
+type Kept = (DVector<f64>, Vec<(f64, f64)>);
 
 impl Clone for KeptAngles {
     fn clone(&self) -> Self {
