@@ -10,7 +10,7 @@
 
 use std::f64::consts::TAU;
 
-use super::connection::Connection;
+use super::connection::{Angles, Connection};
 use super::seeds::{Line, Seed};
 use crate::planners::optimal::seeds::ramped;
 
@@ -115,11 +115,14 @@ pub fn sites(
     max_radius: f64,
     ranges: [Option<[f64; 2]>; 2],
 ) -> [CoilSite; 2] {
-    let mut theta = base.to_vec();
+    // The angles of the segments before both joints are the base's at every point.
+    let (mut theta, mut fixed) = (base.to_vec(), Angles::default());
+    connection.angles_from(&theta, 0, &mut fixed);
     let mut kappa = |ti: f64, tj: f64| {
         theta[i] = ti;
         theta[j] = tj;
-        curvature(connection, &theta, i, j)
+        connection.angles_from(&theta, i.min(j), &mut fixed);
+        connection.curvature_at(&fixed, i, j)
     };
     // The grid's coordinate `a` of axis `c`: a turn, or the cell centres of the range.
     let axis = |c: usize, a: usize| match ranges[c] {
@@ -133,11 +136,19 @@ pub fn sites(
             None => r,
         })
     };
+    // The grid's rows hold `theta_i`: the angles of the segments before joint `j` are taken
+    // once per row (bit for bit those of `kappa`).
     let mut grid = Vec::with_capacity(GRID * GRID);
+    let mut row = base.to_vec();
+    let mut angles = Angles::default();
+    connection.angles_from(&row, 0, &mut angles);
     for a in 0..GRID {
+        row[i] = axis(0, a);
+        connection.angles_from(&row, i, &mut angles);
         for b in 0..GRID {
-            let point = [axis(0, a), axis(1, b)];
-            grid.push((point, kappa(point[0], point[1])));
+            row[j] = axis(1, b);
+            connection.angles_from(&row, j, &mut angles);
+            grid.push(([row[i], row[j]], connection.curvature_at(&angles, i, j)));
         }
     }
     let literal = ranges.map(|r| r.is_some());

@@ -20,6 +20,9 @@ use crate::model::arm::Arm;
 // `f64::sin_cos` was a sixth of a plan's time at a = b = 0.1.
 use libm::sincos as sin_cos;
 
+mod curvature;
+pub use curvature::Angles;
+
 /// `body(n)` with `n` a constant for two to seven joints (the loops of the inlined body unrolled,
 /// their bounds checks gone; the same operations in the same order, so the same bits), else
 /// with `n` as it comes.
@@ -161,12 +164,12 @@ impl Connection {
 
     /// `(F, N = G . rate)` at `theta` (values only; `n <=` [`MAX_JOINTS`]).
     fn f_and_n(&self, theta: &[f64], rate: &[f64]) -> (f64, f64) {
-        specialised!(self.n, |n| self.f_and_n_of(n, theta, rate))
+        specialised!(self.n, |n| self.f_and_n_of(n, theta, rate, None))
     }
 
     /// [`Self::f_and_n`] for `n = self.n` (inlined where `n` is a constant).
     #[inline(always)]
-    fn f_and_n_of(&self, n: usize, theta: &[f64], rate: &[f64]) -> (f64, f64) {
+    fn f_and_n_of(&self, n: usize, theta: &[f64], rate: &[f64], keep: Option<&mut [(f64, f64)]>) -> (f64, f64) {
         let (theta, rate) = (&theta[..n], &rate[..n]);
         let mut e = [(0.0, 0.0); MAX_JOINTS + 1];
         let mut w = [0.0; MAX_JOINTS + 1];
@@ -176,6 +179,9 @@ impl Connection {
             psi = if j == 0 { theta[0] } else { psi + theta[j] };
             e[j + 1] = sin_cos(psi);
             w[j + 1] = w[j] + rate[j];
+        }
+        if let Some(keep) = keep {
+            keep[..n].copy_from_slice(&e[1..=n]);
         }
         let mut f = self.f0;
         let mut nn: f64 = self.g0[..n].iter().zip(&rate[..n]).map(|(g, r)| g * r).sum();
@@ -204,87 +210,12 @@ impl Connection {
         n / f
     }
 
-    /// [`Self::value`] for `n = self.n` joints (inlined where `n` is a constant).
+    /// [`Self::value`] for `n = self.n` joints (inlined where `n` is a constant), the sines and
+    /// cosines of the links' angles kept in `keep` (`n` of them) where given.
     #[inline(always)]
-    pub(super) fn value_of(&self, n: usize, theta: &[f64], rate: &[f64]) -> f64 {
-        let (f, nn) = self.f_and_n_of(n, theta, rate);
+    pub(super) fn value_of(&self, n: usize, theta: &[f64], rate: &[f64], keep: Option<&mut [(f64, f64)]>) -> f64 {
+        let (f, nn) = self.f_and_n_of(n, theta, rate, keep);
         nn / f
-    }
-
-    /// The curvature `kappa_ij = -(da_j/dtheta_i - da_i/dtheta_j)` of the plane of joints `i`
-    /// and `j` at `theta` \[rad / rad^2\]: bit for bit what [`Self::local`] gives at zero rate
-    /// (the same sums in the same order), at a fraction of its cost (the coil sites evaluate it
-    /// on a grid of a thousand points per plane).
-    pub fn curvature(&self, theta: &[f64], i: usize, j: usize) -> f64 {
-        if i > j {
-            return -self.curvature(theta, j, i);
-        }
-        specialised!(self.n, |n| self.curvature_of(n, theta, i, j))
-    }
-
-    /// [`Self::curvature`] for `i < j` and `n = self.n` (inlined where `n` is a constant).
-    #[inline(always)]
-    fn curvature_of(&self, n: usize, theta: &[f64], i: usize, j: usize) -> f64 {
-        let theta = &theta[..n];
-        let mut cs = [(0.0, 0.0); MAX_JOINTS + 1];
-        cs[0] = self.beta_sin_cos;
-        let mut psi = self.beta;
-        for k in 0..n {
-            psi = if k == 0 { theta[0] } else { psi + theta[k] };
-            cs[k + 1] = sin_cos(psi);
-        }
-        // Per segment `s`: the suffix sums `sum_{t > b} X_st` of `[2K C, 2K S]` at `b = i`,
-        // `b = j` and `b = s` (those `local` reads for the plane), summed as `local` sums them.
-        let mut at_i = [[0.0; 2]; MAX_JOINTS + 1];
-        let mut at_j = [[0.0; 2]; MAX_JOINTS + 1];
-        let mut diagonal = [0.0; MAX_JOINTS + 1];
-        let mut pairs = [[0.0; 2]; MAX_JOINTS + 1];
-        let mut f = self.f0;
-        for s in 0..=n {
-            let (ss, cs_s) = cs[s];
-            for t in s + 1..=n {
-                let (st, ct) = cs[t];
-                let (c, sn) = (cs_s * ct + ss * st, ss * ct - cs_s * st);
-                let kk = 2.0 * self.k[s * (n + 1) + t];
-                f += kk * c;
-                pairs[t] = [kk * c, kk * sn];
-            }
-            let mut acc = [0.0; 2];
-            for b in (s..=n).rev() {
-                if b == i {
-                    at_i[s] = acc;
-                }
-                if b == j {
-                    at_j[s] = acc;
-                }
-                if b == s {
-                    diagonal[s] = acc[0];
-                }
-                if b > s {
-                    for (a, v) in acc.iter_mut().zip(pairs[b]) {
-                        *a += v;
-                    }
-                }
-            }
-        }
-        // Q[a][b] = sum_{s <= a} suffix[s][b] (component `k`).
-        let q = |a: usize, column: &[[f64; 2]], k: usize| column[..=a].iter().fold(0.0, |acc, x| acc + x[k]);
-        let g = |m: usize| {
-            let tail = (m + 1..n).rev().fold(0.0, |acc, s| acc + diagonal[s]);
-            let column = if m == i { &at_i } else { &at_j };
-            self.g0[m] + tail + 0.5 * q(m, column, 0)
-        };
-        let (f_grad_i, f_grad_j) = (q(i, &at_i, 1), q(j, &at_j, 1));
-        let q_ij = q(i, &at_j, 1);
-        // dG_j/dtheta_i and dG_i/dtheta_j.
-        let dg_j_i = 0.0 + 0.5 * q_ij;
-        let first = (i + 1..=j).rev().fold(0.0, |acc, s| acc + at_j[s][1]);
-        let dg_i_j = first + 0.5 * q_ij;
-        let inv = 1.0 / f;
-        let (a_i, a_j) = (g(i) * inv, g(j) * inv);
-        let mixed_ij = (dg_j_i - a_j * f_grad_i) * inv;
-        let mixed_ji = (dg_i_j - a_i * f_grad_j) * inv;
-        -(mixed_ij - mixed_ji)
     }
 
     /// `g`, its gradient and Hessian in `(theta, rate)` into `out`.
@@ -295,13 +226,22 @@ impl Connection {
     /// two-dimensional prefix sums `Q[a][b] = sum_{s <= a} sum_{t > b} X_st`: `O(n^2)` work after
     /// `n + 1` sines and cosines.
     pub fn local(&self, theta: &[f64], rate: &[f64], out: &mut Local) {
-        specialised!(self.n, |n| self.local_of(n, theta, rate, out))
+        specialised!(self.n, |n| self.local_of(n, theta, rate, out, None))
     }
 
-    /// [`Self::local`] for `n = self.n` (inlined where `n` is a constant).
+    /// [`Self::local`] for `n = self.n` (inlined where `n` is a constant), with the sines and
+    /// cosines of the links' angles `known` already where given (those [`Self::value_of`] kept at
+    /// the same `theta`: the same bits).
     #[allow(non_snake_case)]
     #[inline(always)]
-    pub(super) fn local_of(&self, n: usize, theta: &[f64], rate: &[f64], out: &mut Local) {
+    pub(super) fn local_of(
+        &self,
+        n: usize,
+        theta: &[f64],
+        rate: &[f64],
+        out: &mut Local,
+        known: Option<&[(f64, f64)]>,
+    ) {
         let (theta, rate) = (&theta[..n], &rate[..n]);
         let n1 = n + 1;
         // The buffers as separate slices (no reloads of their addresses between the loops).
@@ -333,8 +273,13 @@ impl Connection {
             rate_sum[j + 1] = rate_sum[j] + rate[j];
         }
         cs[0] = self.beta_sin_cos;
-        for s in 1..n1 {
-            cs[s] = sin_cos(psi[s]);
+        match known {
+            Some(known) => cs[1..n1].copy_from_slice(&known[..n]),
+            None => {
+                for s in 1..n1 {
+                    cs[s] = sin_cos(psi[s]);
+                }
+            }
         }
         // X_st for s < t: [2K C, h C, 2K S, h S] with h = K (W_s + W_t).
         let mut F = self.f0;

@@ -7,11 +7,11 @@
 //! `x[(i - r) n + j]` for coefficient `i` of joint `j`, so every Hessian is banded with
 //! half-bandwidth `n (p + 1) - 1`.
 
-use std::sync::Arc;
+use std::sync::{Arc, Mutex, PoisonError};
 
 use nalgebra::{DMatrix, DVector};
 
-use super::connection::{Connection, Local, specialised};
+use super::connection::{Connection, Local, MAX_JOINTS, specialised};
 use super::energy::{EnergyLocal, energy, energy_local};
 use crate::error::Error;
 use crate::model::InputError;
@@ -137,6 +137,24 @@ pub struct Discretisation {
     /// The arm whose kinetic energy is the cost ([`Cost::Energy`](crate::planners::optimal::Cost));
     /// `None`: the effort.
     energy: Option<Arc<Arm>>,
+    /// The links' sines and cosines at the nodes of the last integrals.
+    kept: KeptAngles,
+}
+
+/// The sines and cosines of the links' angles at every node (`n` per node) at the last `x`
+/// whose integrals were taken: the SQP takes the derivatives of an accepted trial step at the
+/// same `x` (bit for bit), whose sines and cosines are then not taken again. A clone starts
+/// empty (a discretisation per solve).
+#[derive(Debug, Default)]
+struct KeptAngles(Mutex<Option<Kept>>);
+
+/// The `x` of the last integrals and the sines and cosines at its nodes.
+type Kept = (DVector<f64>, Vec<(f64, f64)>);
+
+impl Clone for KeptAngles {
+    fn clone(&self) -> Self {
+        Self::default()
+    }
 }
 
 impl Discretisation {
@@ -151,7 +169,7 @@ impl Discretisation {
             head.push(h);
             tail.push(t);
         }
-        Self { connection, table, targets, head, tail, energy: None }
+        Self { connection, table, targets, head, tail, energy: None, kept: KeptAngles::default() }
     }
 
     /// The same problem with the kinetic energy of `arm` at zero angular momentum as the cost
@@ -223,11 +241,23 @@ impl Discretisation {
         let c = self.coefficients(x);
         let (mut theta, mut rate) = (vec![0.0; n], vec![0.0; n]);
         let (mut holonomy, mut effort) = (0.0, 0.0);
+        let mut memo = self.kept.0.lock().unwrap_or_else(PoisonError::into_inner);
+        // The buffers of the last integrals reused.
+        let (mut at, mut kept) = memo.take().unwrap_or_else(|| (DVector::zeros(0), Vec::new()));
+        kept.clear();
+        let mut keep = [(0.0, 0.0); MAX_JOINTS];
         for node in &self.table.nodes {
             point_of(p, &c, node, &mut theta, &mut rate);
-            holonomy += node.weight * self.connection.value_of(n, &theta, &rate);
+            holonomy += node.weight * self.connection.value_of(n, &theta, &rate, Some(&mut keep[..n]));
             effort += node.weight * rate.iter().map(|w| w * w).sum::<f64>();
+            kept.extend_from_slice(&keep[..n]);
         }
+        if at.len() == x.len() {
+            at.copy_from(x);
+        } else {
+            at = x.clone();
+        }
+        *memo = Some((at, kept));
         (holonomy, effort)
     }
 
@@ -250,7 +280,12 @@ impl Discretisation {
         let (mut target, mut theta, mut rate) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
         for node in &table.nodes {
             path(node.t, &mut target);
-            self.point(&fixed, node, &mut theta, &mut rate);
+            // The fixed coefficients' path is zero (exactly) where none of them is local.
+            if node.first < r || node.first + p >= len - r {
+                self.point(&fixed, node, &mut theta, &mut rate);
+            } else {
+                theta.fill(0.0);
+            }
             for l in 0..=p {
                 let Some(i) = free(node.first + l, r, len) else { continue };
                 for j in 0..n {
@@ -337,9 +372,13 @@ impl Discretisation {
         };
         // Buffers of the energy only where it is the cost (empty ones allocate nothing).
         let mut e_local = EnergyLocal::new(if self.energy.is_some() { n } else { 0 });
-        for node in &table.nodes {
+        // The sines and cosines of the last integrals where they were taken at this very `x`.
+        let memo = self.kept.0.lock().unwrap_or_else(PoisonError::into_inner);
+        let same = |y: &DVector<f64>| y.len() == dim && y.iter().zip(x.iter()).all(|(a, b)| a.to_bits() == b.to_bits());
+        let known = memo.as_ref().filter(|(y, _)| same(y)).map(|(_, kept)| kept.as_slice());
+        for (k, node) in table.nodes.iter().enumerate() {
             point_of(p, &c, node, &mut theta, &mut rate);
-            self.connection.local_of(n, &theta, &rate, &mut local);
+            self.connection.local_of(n, &theta, &rate, &mut local, known.map(|v| &v[k * n..(k + 1) * n]));
             let w = node.weight;
             integral += w * local.value;
             if let Some(arm) = &self.energy {

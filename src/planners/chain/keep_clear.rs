@@ -116,11 +116,7 @@ impl ChainPlanner {
         };
         let (spans, nodes) = (free.stats.spans, free.stats.quadrature_nodes);
         let disc = self.discretise(problem, targets, spans, nodes, tables)?;
-        let x0 = disc.project(|t, out| {
-            for (o, c) in out.iter_mut().zip(&free.coefficients) {
-                *o = free.basis.evaluate(c, t)[0];
-            }
-        })?;
+        let x0 = disc.project(|t, out| free.basis.values_each(&free.coefficients, t, out))?;
         let Ok(result) = super::limits::solve(self, &disc, x0, &self.options.sqp, Some(free.stats.multiplier)) else {
             return Ok(None);
         };
@@ -131,7 +127,7 @@ impl ChainPlanner {
             return Ok(Some(plan));
         }
         let iterations = result.iterations;
-        let c = Candidate { disc, result, spans, nodes, iterations, stands_for: None };
+        let c = Candidate { disc, result, spans, nodes, iterations, stands_for: None, phi: Default::default() };
         // A solve that did not converge but meets the holonomy is a motion of the robot still:
         // kept where it clears inside every limit, its statistics saying it is not proven the
         // least cost (as the search's stalled attempt, `search`).
@@ -201,7 +197,7 @@ impl ChainPlanner {
             return Ok(None);
         };
         let iterations = result.iterations;
-        let c = Candidate { disc, result, spans, nodes, iterations, stands_for: None };
+        let c = Candidate { disc, result, spans, nodes, iterations, stands_for: None, phi: Default::default() };
         if !c.feasible() {
             return Ok(None);
         }

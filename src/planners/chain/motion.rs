@@ -123,6 +123,23 @@ impl ChainPlan {
         me
     }
 
+    /// [`Self::new`] with the base angle at the breakpoints known already (`phi_at_breakpoints`,
+    /// [`Self::breakpoint_phi`] of the same plan).
+    pub(super) fn with_phi(
+        connection: Arc<Connection>,
+        basis: SplineBasis,
+        coefficients: Vec<Vec<f64>>,
+        phi_at_breakpoints: Vec<f64>,
+        stats: ChainStats,
+    ) -> Self {
+        Self { connection, basis, coefficients, phi_at_breakpoints, stats, verification: ChainVerification::pending() }
+    }
+
+    /// The base angle at the breakpoints \[rad\].
+    pub(super) fn breakpoint_phi(&self) -> &[f64] {
+        &self.phi_at_breakpoints
+    }
+
     /// `integral_a^b g dt` by `rule`.
     fn holonomy(&self, rule: &GaussLegendre, a: f64, b: f64) -> f64 {
         let n = self.joints();
@@ -177,12 +194,11 @@ impl ChainPlan {
         let t = t.clamp(0.0, self.horizon());
         let mut point =
             ChainPoint { t, phi: self.phi(t), theta: Vec::new(), rate: Vec::new(), acceleration: Vec::new() };
-        for c in &self.coefficients {
-            let [v, d, a] = self.basis.evaluate(c, t);
+        self.basis.evaluate_each(&self.coefficients, t, |_, [v, d, a]| {
             point.theta.push(v);
             point.rate.push(d);
             point.acceleration.push(a);
-        }
+        });
         point
     }
 
@@ -221,9 +237,7 @@ impl JointMotion for ChainPlan {
     }
 
     fn joint_acceleration(&self, t: f64, out: &mut [f64]) {
-        for (o, c) in out.iter_mut().zip(&self.coefficients) {
-            *o = self.basis.evaluate(c, t.clamp(0.0, self.horizon()))[2];
-        }
+        self.basis.evaluate_each(&self.coefficients, t.clamp(0.0, self.horizon()), |j, [_, _, a]| out[j] = a);
     }
 
     fn phi_rate(&self, t: f64) -> f64 {

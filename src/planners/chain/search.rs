@@ -1,7 +1,7 @@
 //! The chain planner's search: goal representatives ranked by their seeds' estimated effort,
 //! every seed solved on the coarse basis, the best feasible solution refined, the plan certified.
 
-use std::sync::{Arc, Mutex, PoisonError};
+use std::sync::{Arc, Mutex, OnceLock, PoisonError};
 use std::time::Instant;
 
 use super::discrete::{Discretisation, Table, Targets};
@@ -63,6 +63,9 @@ pub(super) struct Candidate {
     /// the finest basis (a rate-limited line's, see `ChainPlanner::solve_seed`): another seed's
     /// coarse solution of that cost is the same point, whose refinement this solve already is.
     pub stands_for: Option<f64>,
+    /// The plan's base angle at the breakpoints, once computed ([`ChainPlan`]'s, from `disc`
+    /// and `result.x`: the refinement's residual check and the certificate share it).
+    pub phi: OnceLock<Vec<f64>>,
 }
 
 impl Candidate {
@@ -407,7 +410,7 @@ impl ChainPlanner {
 
     /// `|phi(T) - phi_end|` of the candidate with the plan's finer quadrature.
     fn holonomy_residual(&self, c: &Candidate) -> f64 {
-        let plan = self.plan_of(c, ChainStats::default_for(c));
+        let plan = self.plan_of(c, ChainStats::unmeasured(c));
         let t = c.disc.basis().horizon();
         (plan.phi(t) - c.disc.targets().phi_end).abs()
     }
@@ -424,21 +427,23 @@ impl ChainPlanner {
         let disc = self.discretise(problem, c.disc.targets().clone(), spans, nodes, tables)?;
         let old = c.disc.coefficients(&c.result.x);
         let old_basis = c.disc.basis();
-        let x0 = disc.project(|t, out| {
-            for (o, cj) in out.iter_mut().zip(&old) {
-                *o = old_basis.evaluate(cj, t)[0];
-            }
-        })?;
+        let x0 = disc.project(|t, out| old_basis.values_each(&old, t, out))?;
         let guess = if self.arm.joints() == 1 { None } else { Some(c.result.lambda) };
         let result = super::limits::solve_restarting(self, &disc, x0, &self.options.sqp, guess)?;
         let iterations = c.iterations + result.iterations;
-        Ok(Candidate { disc, result, spans, nodes, iterations, stands_for: None })
+        Ok(Candidate { disc, result, spans, nodes, iterations, stands_for: None, phi: Default::default() })
     }
 
     fn plan_of(&self, c: &Candidate, stats: ChainStats) -> ChainPlan {
         let coefficients = c.disc.coefficients(&c.result.x);
-        let phi0 = c.disc.targets().phi_start;
-        ChainPlan::new(self.connection.clone(), c.disc.basis().clone(), coefficients, phi0, stats)
+        let (connection, basis) = (self.connection.clone(), c.disc.basis().clone());
+        if let Some(phi) = c.phi.get() {
+            return ChainPlan::with_phi(connection, basis, coefficients, phi.clone(), stats);
+        }
+        let plan = ChainPlan::new(connection, basis, coefficients, c.disc.targets().phi_start, stats);
+        // Set once: the same plan whoever computes it.
+        let _ = c.phi.set(plan.breakpoint_phi().to_vec());
+        plan
     }
 
     /// The plan of a converged candidate with its statistics and certificate; an error when the
@@ -476,11 +481,16 @@ impl ChainPlanner {
 impl ChainStats {
     /// The statistics of a candidate before the plan measures it.
     fn default_for(c: &Candidate) -> Self {
+        Self { effort: c.disc.integrals(&c.result.x).1, ..Self::unmeasured(c) }
+    }
+
+    /// [`Self::default_for`] without the effort (NaN; its quadrature is a pass over the nodes).
+    fn unmeasured(c: &Candidate) -> Self {
         Self {
             iterations: c.iterations,
             final_iterations: c.result.iterations,
             seeds: 0,
-            effort: c.disc.integrals(&c.result.x).1,
+            effort: f64::NAN,
             cost: c.result.f,
             peak_velocity: f64::NAN,
             constraint_residual: c.result.c.abs(),
@@ -504,9 +514,7 @@ fn peak_velocity(plan: &ChainPlan) -> f64 {
     for w in b.windows(2) {
         for k in 0..=16 {
             let t = w[0] + (w[1] - w[0]) * k as f64 / 16.0;
-            for c in plan.coefficients() {
-                peak = peak.max(plan.basis().evaluate(c, t)[1].abs());
-            }
+            plan.basis().evaluate_each(plan.coefficients(), t, |_, [_, rate, _]| peak = peak.max(rate.abs()));
         }
     }
     peak

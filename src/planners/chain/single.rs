@@ -78,6 +78,7 @@ impl ChainPlanner {
                 spans: o.max_spans,
                 nodes: o.quadrature_nodes,
                 stands_for: None,
+                phi: Default::default(),
             };
             return self.certified(problem, &c, 1, c.iterations, clock);
         }

@@ -333,7 +333,15 @@ impl ChainPlanner {
                 };
                 let result = result.ok()?;
                 let iterations = result.iterations;
-                Some(Candidate { disc: disc.clone(), result, spans, nodes, iterations, stands_for: None })
+                Some(Candidate {
+                    disc: disc.clone(),
+                    result,
+                    spans,
+                    nodes,
+                    iterations,
+                    stands_for: None,
+                    phi: Default::default(),
+                })
             };
             // The rate-limited line's coarse solve to `super::limits::CAPPED_LINE` iterations
             // first: where it is still infeasible there it serves only as the finest basis' warm
@@ -351,7 +359,15 @@ impl ChainPlanner {
                 let more = super::limits::solve(self, &disc, c.result.x.clone(), &rest, Some(c.result.lambda));
                 let Ok(result) = more else { continue };
                 let iterations = c.iterations + result.iterations;
-                c = Candidate { disc: disc.clone(), result, spans, nodes, iterations, stands_for: None };
+                c = Candidate {
+                    disc: disc.clone(),
+                    result,
+                    spans,
+                    nodes,
+                    iterations,
+                    stands_for: None,
+                    phi: Default::default(),
+                };
             }
             let feasible = c.feasible();
             // A rate limit's control-point rows are conservative by `O(h^2)` on spans of
@@ -366,11 +382,7 @@ impl ChainPlanner {
                 // the 3-link bench the plan's iterations 46 -> 18), and from the line where that
                 // start is not feasible (issue 20's oracle case 6 stalled from it).
                 let (old, basis) = (c.disc.coefficients(&c.result.x), c.disc.basis());
-                let warm = fine.project(|t, out| {
-                    for (o, cj) in out.iter_mut().zip(&old) {
-                        *o = basis.evaluate(cj, t)[0];
-                    }
-                })?;
+                let warm = fine.project(|t, out| basis.values_each(&old, t, out))?;
                 let solve = |x0| super::limits::solve(self, &fine, x0, &COARSE_SQP, None).ok();
                 let mut result = solve(warm);
                 if !result.as_ref().is_some_and(|r| r.c.abs() <= 1e-6 && r.f.is_finite()) {
@@ -378,8 +390,15 @@ impl ChainPlanner {
                 }
                 if let Some(result) = result {
                     let iterations = result.iterations;
-                    let mut f =
-                        Candidate { disc: fine, result, spans: o.max_spans, nodes, iterations, stands_for: None };
+                    let mut f = Candidate {
+                        disc: fine,
+                        result,
+                        spans: o.max_spans,
+                        nodes,
+                        iterations,
+                        stands_for: None,
+                        phi: Default::default(),
+                    };
                     // Feasible, it stands for the coarse line (`Candidate::stands_for`).
                     f.stands_for = f.feasible().then_some(c.result.f);
                     if !f.feasible()

@@ -69,7 +69,11 @@ impl ChainPlanner {
             return Ok(None);
         }
         let (nodes, iterations) = (o.quadrature_nodes, result.iterations);
-        let c = self.refine(problem, Candidate { disc, result, spans, nodes, iterations, stands_for: None }, tables)?;
+        let c = self.refine(
+            problem,
+            Candidate { disc, result, spans, nodes, iterations, stands_for: None, phi: Default::default() },
+            tables,
+        )?;
         if !c.result.converged() {
             return Ok(None);
         }

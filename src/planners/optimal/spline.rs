@@ -221,15 +221,39 @@ impl SplineBasis {
 
     /// `(theta, theta', theta'')` of the spline with coefficients `c` at `t` \[rad, rad/s, rad/s^2\].
     pub fn evaluate(&self, c: &[f64], t: f64) -> [f64; 3] {
+        let mut out = [0.0; 3];
+        self.evaluate_each(std::slice::from_ref(&c), t, |_, v| out = v);
+        out
+    }
+
+    /// [`Self::evaluate`] of every spline of `coefficients` at one `t`, the basis functions
+    /// computed once: `out(j, [theta, theta', theta''])` of the `j`-th, bit for bit.
+    pub fn evaluate_each<C: AsRef<[f64]>>(&self, coefficients: &[C], t: f64, mut out: impl FnMut(usize, [f64; 3])) {
         let s = self.interval(t);
         let span = self.span_of_interval(s);
         let d = self.ders(span, t);
         let first = span - self.degree;
-        let mut out = [0.0; 3];
-        for (k, o) in out.iter_mut().enumerate() {
-            *o = (0..=self.degree).map(|l| d[k][l] * c[first + l]).sum();
+        for (j, c) in coefficients.iter().enumerate() {
+            let c = c.as_ref();
+            let mut v = [0.0; 3];
+            for (k, o) in v.iter_mut().enumerate() {
+                *o = (0..=self.degree).map(|l| d[k][l] * c[first + l]).sum();
+            }
+            out(j, v);
         }
-        out
+    }
+
+    /// The values alone of every spline of `coefficients` at `t` into `out` (bit for bit those of
+    /// [`Self::evaluate`], without the derivatives: a projection's path).
+    pub fn values_each<C: AsRef<[f64]>>(&self, coefficients: &[C], t: f64, out: &mut [f64]) {
+        let s = self.interval(t);
+        let span = self.span_of_interval(s);
+        let value = self.triangle(span, t).map(|row| row[self.degree]);
+        let first = span - self.degree;
+        for (o, c) in out.iter_mut().zip(coefficients) {
+            let c = c.as_ref();
+            *o = (0..=self.degree).map(|l| value[l] * c[first + l]).sum();
+        }
     }
 
     /// The coefficients fixed by the end conditions: `theta^(k)(0) = start[k]` and
