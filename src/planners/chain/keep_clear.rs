@@ -97,8 +97,8 @@ impl ChainPlanner {
             phi_start: problem.start[0],
             phi_end: near(end.phi, problem.goal[0]),
         };
-        let (spans, nodes) = (free.stats.spans, free.stats.quadrature_nodes);
-        let disc = self.discretise(problem, targets, spans, nodes, tables)?;
+        let (spans, nodes, grading) = (free.stats.spans, free.stats.quadrature_nodes, free.stats.grading);
+        let disc = self.discretise_graded(problem, targets, [spans, nodes, grading], tables)?;
         let x0 = disc.project(|t, out| {
             for (o, c) in out.iter_mut().zip(&free.coefficients) {
                 *o = free.basis.evaluate(c, t)[0];
@@ -111,7 +111,7 @@ impl ChainPlanner {
             return Ok(None);
         }
         let iterations = result.iterations;
-        let c = Candidate { disc, result, spans, nodes, iterations, stands_for: None };
+        let c = Candidate { disc, result, spans, nodes, grading, iterations, stands_for: None };
         Ok(self.certified_clear(problem, &c, 1, iterations, clock, tables).ok().and_then(Result::ok))
     }
 

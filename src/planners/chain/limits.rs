@@ -22,6 +22,7 @@
 //! tolerance is inside the declared one.
 
 mod clearance;
+mod ends;
 mod ranges;
 
 pub(crate) use ranges::{inside_ranges, least_time, within_reach};

@@ -333,7 +333,15 @@ impl ChainPlanner {
                 };
                 let result = result.ok()?;
                 let iterations = result.iterations;
-                Some(Candidate { disc: disc.clone(), result, spans, nodes, iterations, stands_for: None })
+                Some(Candidate {
+                    disc: disc.clone(),
+                    result,
+                    spans,
+                    nodes,
+                    grading: self.options.grading,
+                    iterations,
+                    stands_for: None,
+                })
             };
             // The rate-limited line's coarse solve to `super::limits::CAPPED_LINE` iterations
             // first: where it is still infeasible there it serves only as the finest basis' warm
@@ -351,7 +359,15 @@ impl ChainPlanner {
                 let more = super::limits::solve(self, &disc, c.result.x.clone(), &rest, Some(c.result.lambda));
                 let Ok(result) = more else { continue };
                 let iterations = c.iterations + result.iterations;
-                c = Candidate { disc: disc.clone(), result, spans, nodes, iterations, stands_for: None };
+                c = Candidate {
+                    disc: disc.clone(),
+                    result,
+                    spans,
+                    nodes,
+                    grading: self.options.grading,
+                    iterations,
+                    stands_for: None,
+                };
             }
             let feasible = c.feasible();
             // A rate limit's control-point rows are conservative by `O(h^2)` on spans of
@@ -378,8 +394,15 @@ impl ChainPlanner {
                 }
                 if let Some(result) = result {
                     let iterations = result.iterations;
-                    let mut f =
-                        Candidate { disc: fine, result, spans: o.max_spans, nodes, iterations, stands_for: None };
+                    let mut f = Candidate {
+                        disc: fine,
+                        result,
+                        spans: o.max_spans,
+                        nodes,
+                        grading: self.options.grading,
+                        iterations,
+                        stands_for: None,
+                    };
                     // Feasible, it stands for the coarse line (`Candidate::stands_for`).
                     f.stands_for = f.feasible().then_some(c.result.f);
                     if !f.feasible()
