@@ -311,9 +311,11 @@ impl ChainPlanner {
         // `O(h^2)`, `limits`) rule out what the plan's finer basis fits, and every probe there
         // failed where the full search (which solves the line on the finest basis too) did not,
         // moving the top down by under 1 % a round (119 probes, 9.7 s on issue 20's bench).
-        let spans = plan.stats.spans.max(self.options.coarse_spans);
+        // Its end grading likewise (`super::limits::ends`: a plan at its velocity limit from rest
+        // fits a shorter horizon on finer end spans).
+        let basis = (plan.stats.spans.max(self.options.coarse_spans), plan.stats.grading.max(self.options.grading));
         let tables = Tables::default();
-        let Some(p) = self.solve_from(&scaled, targets, &path, spans, &tables, Instant::now())? else {
+        let Some(p) = self.solve_from(&scaled, targets, &path, basis, &tables, Instant::now())? else {
             return Ok(None);
         };
         Ok(fits(&p).then_some(p))

@@ -114,8 +114,8 @@ impl ChainPlanner {
             phi_start: problem.start[0],
             phi_end: near(end.phi, problem.goal[0]),
         };
-        let (spans, nodes) = (free.stats.spans, free.stats.quadrature_nodes);
-        let disc = self.discretise(problem, targets, spans, nodes, tables)?;
+        let (spans, nodes, grading) = (free.stats.spans, free.stats.quadrature_nodes, free.stats.grading);
+        let disc = self.discretise_graded(problem, targets, [spans, nodes, grading], tables)?;
         let x0 = disc.project(|t, out| free.basis.values_each(&free.coefficients, t, out))?;
         let Ok(result) = super::limits::solve(self, &disc, x0, &self.options.sqp, Some(free.stats.multiplier)) else {
             return Ok(None);
@@ -127,7 +127,8 @@ impl ChainPlanner {
             return Ok(Some(plan));
         }
         let iterations = result.iterations;
-        let c = Candidate { disc, result, spans, nodes, iterations, stands_for: None, phi: Default::default() };
+        let c =
+            Candidate { disc, result, spans, nodes, grading, iterations, stands_for: None, phi: Default::default() };
         // A solve that did not converge but meets the holonomy is a motion of the robot still:
         // kept where it clears inside every limit, its statistics saying it is not proven the
         // least cost (as the search's stalled attempt, `search`).
@@ -197,7 +198,9 @@ impl ChainPlanner {
             return Ok(None);
         };
         let iterations = result.iterations;
-        let c = Candidate { disc, result, spans, nodes, iterations, stands_for: None, phi: Default::default() };
+        let grading = self.options.grading;
+        let c =
+            Candidate { disc, result, spans, nodes, grading, iterations, stands_for: None, phi: Default::default() };
         if !c.feasible() {
             return Ok(None);
         }

@@ -54,6 +54,10 @@ pub struct ChainStats {
     pub converged: bool,
     /// Uniform knot spans of the final basis (before the end grading).
     pub spans: usize,
+    /// Graded knots per end of the final basis ([`super::ChainOptions::grading`], or more where a
+    /// velocity limit binds where the path leaves or reaches rest).
+    #[serde(skip)]
+    pub grading: usize,
     /// Gauss–Legendre nodes per span of the final solve.
     pub quadrature_nodes: usize,
     /// Wall time of the planning (without the certificate) \[s\].

@@ -38,13 +38,13 @@ const LATER_ESTIMATE_RATIO: f64 = 12.0;
 /// the paper's problem every effort is the same to 1e-9 at this ratio and at 20.
 const UNSOLVED_ESTIMATE_RATIO: f64 = 50.0;
 
-/// The tables built in one planning call, by (uniform spans, quadrature nodes), shared by the
-/// seeds solved in parallel.
+/// The tables built in one planning call, by (uniform spans, quadrature nodes, end grading),
+/// shared by the seeds solved in parallel.
 #[derive(Default)]
 pub(super) struct Tables(Mutex<Vec<TableEntry>>);
 
-/// A cached table with its (uniform spans, quadrature nodes).
-type TableEntry = ((usize, usize), Arc<Table>);
+/// A cached table with its (uniform spans, quadrature nodes, end grading).
+type TableEntry = ((usize, usize, usize), Arc<Table>);
 
 /// A solve: its discretisation and result.
 #[derive(Clone)]
@@ -57,6 +57,9 @@ pub(super) struct Candidate {
     pub spans: usize,
     /// Quadrature nodes per span of `disc`.
     pub nodes: usize,
+    /// Graded knots per end of `disc` ([`super::ChainOptions::grading`], more where a velocity
+    /// limit binds in an end layer: `super::limits::ends`).
+    pub grading: usize,
     /// SQP iterations so far.
     pub iterations: usize,
     /// The coarse cost this solve stands for, where it is that coarse solution solved again on
@@ -326,9 +329,20 @@ impl ChainPlanner {
         nodes: usize,
         tables: &Tables,
     ) -> Result<Discretisation, Error> {
+        self.discretise_graded(problem, targets, [spans, nodes, self.options.grading], tables)
+    }
+
+    /// [`Self::discretise`] with `grading` graded knots per end.
+    pub(super) fn discretise_graded(
+        &self,
+        problem: &ChainProblem,
+        targets: Targets,
+        [spans, nodes, grading]: [usize; 3],
+        tables: &Tables,
+    ) -> Result<Discretisation, Error> {
         // Built under the lock: a table is built once however many seeds ask for it.
         let mut cache = tables.0.lock().unwrap_or_else(PoisonError::into_inner);
-        let cached = cache.iter().find(|(key, _)| *key == (spans, nodes)).map(|(_, t)| t.clone());
+        let cached = cache.iter().find(|(key, _)| *key == (spans, nodes, grading)).map(|(_, t)| t.clone());
         let table = match cached {
             Some(t) => t,
             None => {
@@ -343,10 +357,10 @@ impl ChainPlanner {
                             expected: "breakpoints that end at the problem's horizon",
                         }));
                     }
-                    None => SplineBasis::graded(self.degree(), problem.horizon, spans, self.options.grading)?,
+                    None => SplineBasis::graded(self.degree(), problem.horizon, spans, grading)?,
                 };
                 let t = Arc::new(Table::new(basis, self.arm.joints(), self.fixed(), nodes)?);
-                cache.push(((spans, nodes), t.clone()));
+                cache.push(((spans, nodes, grading), t.clone()));
                 t
             }
         };
@@ -399,6 +413,7 @@ impl ChainPlanner {
         if !resolved && (c.spans == first || !c.result.converged()) {
             c = self.resolve(problem, &c, c.spans, c.nodes, tables)?;
         }
+        c = self.sharpen_ends(problem, c, tables)?;
         while c.nodes < 32 && self.holonomy_residual(&c) > 0.01 * o.tolerance {
             c = self.resolve(problem, &c, c.spans, (2 * c.nodes).min(32), tables)?;
             if !c.result.converged() {
@@ -424,14 +439,23 @@ impl ChainPlanner {
         nodes: usize,
         tables: &Tables,
     ) -> Result<Candidate, Error> {
-        let disc = self.discretise(problem, c.disc.targets().clone(), spans, nodes, tables)?;
+        let disc = self.discretise_graded(problem, c.disc.targets().clone(), [spans, nodes, c.grading], tables)?;
         let old = c.disc.coefficients(&c.result.x);
         let old_basis = c.disc.basis();
         let x0 = disc.project(|t, out| old_basis.values_each(&old, t, out))?;
         let guess = if self.arm.joints() == 1 { None } else { Some(c.result.lambda) };
         let result = super::limits::solve_restarting(self, &disc, x0, &self.options.sqp, guess)?;
         let iterations = c.iterations + result.iterations;
-        Ok(Candidate { disc, result, spans, nodes, iterations, stands_for: None, phi: Default::default() })
+        Ok(Candidate {
+            disc,
+            result,
+            spans,
+            nodes,
+            grading: c.grading,
+            iterations,
+            stands_for: None,
+            phi: Default::default(),
+        })
     }
 
     fn plan_of(&self, c: &Candidate, stats: ChainStats) -> ChainPlan {
@@ -500,6 +524,7 @@ impl ChainStats {
             termination: c.result.termination,
             converged: c.result.converged(),
             spans: c.spans,
+            grading: c.grading,
             quadrature_nodes: c.nodes,
             plan_seconds: f64::NAN,
             clearance_reserve: 0.0,

@@ -77,6 +77,7 @@ impl ChainPlanner {
                 result,
                 spans: o.max_spans,
                 nodes: o.quadrature_nodes,
+                grading: o.grading,
                 stands_for: None,
                 phi: Default::default(),
             };

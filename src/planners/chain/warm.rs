@@ -47,22 +47,24 @@ impl ChainPlanner {
         let Some(end) = path.theta.last() else { return Ok(None) };
         let near = |t: &&Targets| t.end.iter().zip(end).all(|(a, b)| (a - b).abs() <= 1e-6);
         let Some(targets) = representatives.iter().find(near) else { return Ok(None) };
-        self.solve_from(problem, targets.clone(), path, self.options.coarse_spans, tables, clock)
+        let basis = (self.options.coarse_spans, self.options.grading);
+        self.solve_from(problem, targets.clone(), path, basis, tables, clock)
     }
 
     /// The plan from `path` to `targets` alone (no search): its projection on `spans` uniform
-    /// spans, solved, refined and certified; `None` when any step fails.
+    /// spans with `grading` graded knots per end, solved, refined and certified; `None` when any
+    /// step fails.
     pub(super) fn solve_from(
         &self,
         problem: &ChainProblem,
         targets: Targets,
         path: &super::WarmStart,
-        spans: usize,
+        (spans, grading): (usize, usize),
         tables: &Tables,
         clock: Instant,
     ) -> Result<Option<ChainPlan>, Error> {
         let o = &self.options;
-        let disc = self.discretise(problem, targets, spans, o.quadrature_nodes, tables)?;
+        let disc = self.discretise_graded(problem, targets, [spans, o.quadrature_nodes, grading], tables)?;
         let Ok(x0) = disc.project(|t, out| path.at(t, out)) else { return Ok(None) };
         let Ok(result) = super::limits::solve(self, &disc, x0, &COARSE_SQP, None) else { return Ok(None) };
         if !(result.c.abs() <= 1e-6 && result.f.is_finite()) {
@@ -71,7 +73,7 @@ impl ChainPlanner {
         let (nodes, iterations) = (o.quadrature_nodes, result.iterations);
         let c = self.refine(
             problem,
-            Candidate { disc, result, spans, nodes, iterations, stands_for: None, phi: Default::default() },
+            Candidate { disc, result, spans, nodes, grading, iterations, stands_for: None, phi: Default::default() },
             tables,
         )?;
         if !c.result.converged() {

@@ -1,0 +1,82 @@
+//! The end layers of a plan whose velocity limit binds where it leaves or reaches rest (issue 20,
+//! the limits oracle's case 13).
+//!
+//! Without an acceleration limit the minimum-effort path of a joint that runs at its velocity
+//! limit from the start jumps to that speed at `t = 0`: the constrained problem's infimum is not
+//! attained, and a spline from rest gets near it only by ramping up within its first knot
+//! spans. A joint held at its limit loses, in a ramp of duration `tau`, about `v tau / 2` of
+//! travel that the rest of the path must make up at a higher cost, an effort gap of order
+//! `tau / T` that doubling the uniform spans only halves. The graded knots at `h / 4^j` of the
+//! end spans ([`crate::planners::optimal::spline::SplineBasis::graded`]) are such a ramp's room:
+//! each further level quarters `tau` at the cost of two knots per end. On case 13 (three joints
+//! at their velocity limits from the start or up to the goal, 32 spans) the plan costs 7.2300
+//! with one level, 7.1423 with two, 7.1217 with three, 7.1166 with four, against the oracle's
+//! 7.1224 on its piecewise-linear transcription (whose first interval may start at full speed),
+//! while 64 and 128 uniform spans at one level give 7.1653 and 7.1362.
+//!
+//! The spline spaces are nested (a level inserts knots), so the refined solution's projection
+//! onto the finer basis is the same path, inside the same limits (a knot insertion's control
+//! points are convex combinations of the old ones): the solve there starts feasible at the same
+//! effort. A refinement at its limit in an end layer is solved once more with the end spans
+//! graded to [`END_GRADING`] levels (one solve of 4 to 7 SQP iterations on the benches, about
+//! as many from one level to the next).
+
+use super::super::search::{Candidate, Tables};
+use super::super::{ChainPlanner, ChainProblem};
+use crate::error::Error;
+
+/// Graded knots per end of a refinement at its velocity limit in an end layer (`h / 4^3`: on 32
+/// spans of a 10 s horizon, 4.9 ms). Deeper levels gain under 0.15 % more (four: the 3-link
+/// velocity bench 17.6058 -> 17.5945, the 2-link 0.44707 -> 0.44652, case 13 7.1217 -> 7.1166)
+/// while the SQP begins to stall there (at four the oracle's cases 10 and 14 collapsed their
+/// trust region; at five and six the benches stall short of their KKT tolerance, and the
+/// certificate's finer steps took up to five times longer).
+pub(in super::super) const END_GRADING: usize = 3;
+
+/// A joint whose speed is within this relative distance of its limit is at it.
+const AT_LIMIT: f64 = 1e-4;
+
+/// Samples of the speed per end layer (the first or last uniform span).
+const SAMPLES: usize = 16;
+
+impl ChainPlanner {
+    /// A converged refinement `c` at its velocity limit in an end layer (a joint at its limit
+    /// within the first or last uniform span) with fewer than [`END_GRADING`] graded knots per
+    /// end, solved again, warm-started from itself, with that many: the solution there where it
+    /// converges at no higher cost, else `c`. Unchanged elsewhere, and on given knots
+    /// ([`super::super::ChainOptions::knots`]).
+    pub(in super::super) fn sharpen_ends(
+        &self,
+        problem: &ChainProblem,
+        c: Candidate,
+        tables: &Tables,
+    ) -> Result<Candidate, Error> {
+        if self.options.knots.is_some()
+            || c.grading >= END_GRADING
+            || !c.result.converged()
+            || !self.at_speed_in_an_end_layer(&c)
+        {
+            return Ok(c);
+        }
+        let graded = Candidate { grading: END_GRADING, ..c.clone() };
+        let finer = self.resolve(problem, &graded, c.spans, c.nodes, tables)?;
+        Ok(if finer.result.converged() && finer.result.f <= c.result.f { finer } else { c })
+    }
+
+    /// Whether a velocity-limited joint of `c`'s path is at its limit (to [`AT_LIMIT`]) in the
+    /// first or last uniform span.
+    fn at_speed_in_an_end_layer(&self, c: &Candidate) -> bool {
+        let basis = c.disc.basis();
+        let horizon = basis.horizon();
+        let h = horizon / c.spans as f64;
+        let coefficients = c.disc.coefficients(&c.result.x);
+        coefficients.iter().enumerate().any(|(j, cj)| {
+            self.arm.limits.joint(j).velocity.is_some_and(|v| {
+                (0..=SAMPLES).any(|k| {
+                    let s = h * k as f64 / SAMPLES as f64;
+                    [s, horizon - s].iter().any(|&t| basis.evaluate(cj, t)[1].abs() >= (1.0 - AT_LIMIT) * v)
+                })
+            })
+        })
+    }
+}
