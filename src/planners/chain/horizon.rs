@@ -27,7 +27,7 @@ use std::f64::consts::TAU;
 use std::time::Instant;
 
 use super::discrete::Targets;
-use super::search::Tables;
+use super::tables::Tables;
 use super::{ChainPlan, ChainPlanner, ChainProblem, WarmStart};
 use crate::dynamics::arm::inverse_dynamics;
 use crate::error::Error;

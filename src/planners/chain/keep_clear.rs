@@ -8,8 +8,9 @@ use std::time::Instant;
 
 use super::discrete::Targets;
 use super::motion::ChainPlan;
-use super::search::{Candidate, Tables};
+use super::search::Candidate;
 use super::seeds::{Line, Seed};
+use super::tables::Tables;
 use super::{ChainPlanner, ChainProblem};
 use crate::error::Error;
 use crate::planners::optimal::sqp::Termination;
@@ -21,6 +22,19 @@ const SOFT_PIECES: usize = 16;
 
 /// How many times a plan under the clearance between the rows' points is solved again.
 const CLEARANCE_RETRIES: usize = 3;
+
+/// The goal representative `free` reaches: the problem's goal shifted by whole turns to its end.
+fn reached(problem: &ChainProblem, free: &ChainPlan) -> Targets {
+    let end = free.at(problem.horizon);
+    let near = |x: f64, goal: f64| goal + std::f64::consts::TAU * ((x - goal) / std::f64::consts::TAU).round();
+    Targets {
+        start: problem.start[1..].to_vec(),
+        initial_velocity: problem.initial_velocity.clone(),
+        end: end.theta.iter().zip(&problem.goal[1..]).map(|(x, g)| near(*x, *g)).collect(),
+        phi_start: problem.start[0],
+        phi_end: near(end.phi, problem.goal[0]),
+    }
+}
 
 impl ChainPlanner {
     /// [`Self::plan`] where the arm keeps a clearance. First the search without the clearance
@@ -105,15 +119,7 @@ impl ChainPlanner {
         clock: Instant,
         two_steps: bool,
     ) -> Result<Option<ChainPlan>, Error> {
-        let end = free.at(problem.horizon);
-        let near = |x: f64, goal: f64| goal + std::f64::consts::TAU * ((x - goal) / std::f64::consts::TAU).round();
-        let targets = Targets {
-            start: problem.start[1..].to_vec(),
-            initial_velocity: problem.initial_velocity.clone(),
-            end: end.theta.iter().zip(&problem.goal[1..]).map(|(x, g)| near(*x, *g)).collect(),
-            phi_start: problem.start[0],
-            phi_end: near(end.phi, problem.goal[0]),
-        };
+        let targets = reached(problem, free);
         let (spans, nodes, grading) = (free.stats.spans, free.stats.quadrature_nodes, free.stats.grading);
         let disc = self.discretise_graded(problem, targets, [spans, nodes, grading], tables)?;
         let x0 = disc.project(|t, out| free.basis.values_each(&free.coefficients, t, out))?;
@@ -127,8 +133,7 @@ impl ChainPlanner {
             return Ok(Some(plan));
         }
         let iterations = result.iterations;
-        let c =
-            Candidate { disc, result, spans, nodes, grading, iterations, stands_for: None, phi: Default::default() };
+        let c = Candidate::new(disc, result, [spans, nodes, grading], iterations);
         // A solve that did not converge but meets the holonomy is a motion of the robot still:
         // kept where it clears inside every limit, its statistics saying it is not proven the
         // least cost (as the search's stalled attempt, `search`).
@@ -175,15 +180,7 @@ impl ChainPlanner {
         tables: &Tables,
         clock: Instant,
     ) -> Result<Option<ChainPlan>, Error> {
-        let end = free.at(problem.horizon);
-        let near = |x: f64, goal: f64| goal + std::f64::consts::TAU * ((x - goal) / std::f64::consts::TAU).round();
-        let targets = Targets {
-            start: problem.start[1..].to_vec(),
-            initial_velocity: problem.initial_velocity.clone(),
-            end: end.theta.iter().zip(&problem.goal[1..]).map(|(x, g)| near(*x, *g)).collect(),
-            phi_start: problem.start[0],
-            phi_end: near(end.phi, problem.goal[0]),
-        };
+        let targets = reached(problem, free);
         let line = Line {
             start: targets.start.clone(),
             end: targets.end.clone(),
@@ -199,8 +196,7 @@ impl ChainPlanner {
         };
         let iterations = result.iterations;
         let grading = self.options.grading;
-        let c =
-            Candidate { disc, result, spans, nodes, grading, iterations, stands_for: None, phi: Default::default() };
+        let c = Candidate::new(disc, result, [spans, nodes, grading], iterations);
         if !c.feasible() {
             return Ok(None);
         }
@@ -210,6 +206,7 @@ impl ChainPlanner {
         for c in [self.refine(problem, c.clone(), tables)?, c] {
             if c.feasible()
                 && let Ok(Ok(plan)) = self.certified_clear(problem, &c, 1, c.iterations, clock, tables)
+                && plan.verification.limits.as_ref().is_none_or(|l| l.inside)
             {
                 return Ok(Some(plan));
             }

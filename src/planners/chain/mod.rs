@@ -33,6 +33,7 @@ mod single;
 mod starts;
 #[cfg(test)]
 pub(crate) use starts::LINE_SPANS_PER_TURN;
+mod tables;
 mod warm;
 
 use std::sync::Arc;

@@ -1,20 +1,19 @@
 //! The chain planner's search: goal representatives ranked by their seeds' estimated effort,
 //! every seed solved on the coarse basis, the best feasible solution refined, the plan certified.
 
-use std::sync::{Arc, Mutex, OnceLock, PoisonError};
+use std::sync::OnceLock;
 use std::time::Instant;
 
-use super::discrete::{Discretisation, Table, Targets};
+use super::discrete::Discretisation;
 use super::motion::{ChainPlan, ChainStats};
 use super::queue::Representatives;
 use super::starts::Prepared;
+use super::tables::Tables;
 use super::{ChainPlanner, ChainProblem};
 use crate::error::Error;
-use crate::model::InputError;
 use crate::plan::certificate::verify_chain;
-use crate::planners::optimal::spline::SplineBasis;
+use crate::planners::optimal::EXTRA_RESIDUAL;
 use crate::planners::optimal::sqp::{SqpOptions, SqpResult, Termination};
-use crate::planners::optimal::{Cost, EXTRA_RESIDUAL};
 use rayon::prelude::*;
 
 /// SQP options of the coarse solves.
@@ -37,14 +36,6 @@ const LATER_ESTIMATE_RATIO: f64 = 12.0;
 /// 140 rad^2/s. On the 300 recorded two-link problems and the 50 random mounts of
 /// the paper's problem every effort is the same to 1e-9 at this ratio and at 20.
 const UNSOLVED_ESTIMATE_RATIO: f64 = 50.0;
-
-/// The tables built in one planning call, by (uniform spans, quadrature nodes, end grading),
-/// shared by the seeds solved in parallel.
-#[derive(Default)]
-pub(super) struct Tables(Mutex<Vec<TableEntry>>);
-
-/// A cached table with its (uniform spans, quadrature nodes, end grading).
-type TableEntry = ((usize, usize, usize), Arc<Table>);
 
 /// A solve: its discretisation and result.
 #[derive(Clone)]
@@ -72,6 +63,13 @@ pub(super) struct Candidate {
 }
 
 impl Candidate {
+    /// A solve on `disc` with (uniform spans, quadrature nodes, end grading) `basis`, after
+    /// `iterations` SQP iterations in all, standing for no other solve.
+    pub(super) fn new(disc: Discretisation, result: SqpResult, basis: [usize; 3], iterations: usize) -> Self {
+        let [spans, nodes, grading] = basis;
+        Self { disc, result, spans, nodes, grading, iterations, stands_for: None, phi: OnceLock::new() }
+    }
+
     /// The holonomy constraint met to 1e-6 rad at a finite cost.
     pub(super) fn feasible(&self) -> bool {
         self.result.c.abs() <= 1e-6 && self.result.f.is_finite()
@@ -320,58 +318,6 @@ impl ChainPlanner {
         self.refine(problem, c, tables).map(Some)
     }
 
-    /// The discretisation of `targets` on `spans` uniform spans and `nodes` nodes per span.
-    pub(super) fn discretise(
-        &self,
-        problem: &ChainProblem,
-        targets: Targets,
-        spans: usize,
-        nodes: usize,
-        tables: &Tables,
-    ) -> Result<Discretisation, Error> {
-        self.discretise_graded(problem, targets, [spans, nodes, self.options.grading], tables)
-    }
-
-    /// [`Self::discretise`] with `grading` graded knots per end.
-    pub(super) fn discretise_graded(
-        &self,
-        problem: &ChainProblem,
-        targets: Targets,
-        [spans, nodes, grading]: [usize; 3],
-        tables: &Tables,
-    ) -> Result<Discretisation, Error> {
-        // Built under the lock: a table is built once however many seeds ask for it.
-        let mut cache = tables.0.lock().unwrap_or_else(PoisonError::into_inner);
-        let cached = cache.iter().find(|(key, _)| *key == (spans, nodes, grading)).map(|(_, t)| t.clone());
-        let table = match cached {
-            Some(t) => t,
-            None => {
-                let basis = match &self.options.knots {
-                    Some(b) if b.last().is_some_and(|&t| (t - problem.horizon).abs() <= 1e-12 * problem.horizon) => {
-                        SplineBasis::on_breakpoints(self.degree(), b)?
-                    }
-                    Some(b) => {
-                        return Err(Error::from(InputError::InvalidParameter {
-                            name: "knots".into(),
-                            value: b.last().copied().unwrap_or(f64::NAN),
-                            expected: "breakpoints that end at the problem's horizon",
-                        }));
-                    }
-                    None => SplineBasis::graded(self.degree(), problem.horizon, spans, grading)?,
-                };
-                let t = Arc::new(Table::new(basis, self.arm.joints(), self.fixed(), nodes)?);
-                cache.push(((spans, nodes, grading), t.clone()));
-                t
-            }
-        };
-        drop(cache);
-        let disc = Discretisation::on(self.connection.clone(), table, targets);
-        Ok(match self.options.cost {
-            Cost::Effort => disc,
-            Cost::Energy => disc.with_energy(self.arm.clone()),
-        })
-    }
-
     /// Doubles the spans until the effort settles (or `max_spans`; a candidate on the coarse
     /// basis or not converged on `max_spans` is solved again there with the refined solves'
     /// options; where a doubling fails, the last converged basis is kept, the coarse one solved
@@ -446,16 +392,7 @@ impl ChainPlanner {
         let guess = if self.arm.joints() == 1 { None } else { Some(c.result.lambda) };
         let result = super::limits::solve_restarting(self, &disc, x0, &self.options.sqp, guess)?;
         let iterations = c.iterations + result.iterations;
-        Ok(Candidate {
-            disc,
-            result,
-            spans,
-            nodes,
-            grading: c.grading,
-            iterations,
-            stands_for: None,
-            phi: Default::default(),
-        })
+        Ok(Candidate::new(disc, result, [spans, nodes, c.grading], iterations))
     }
 
     fn plan_of(&self, c: &Candidate, stats: ChainStats) -> ChainPlan {

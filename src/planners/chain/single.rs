@@ -7,9 +7,10 @@ use nalgebra::DVector;
 
 use super::discrete::{Discretisation, Targets};
 use super::motion::ChainPlan;
-use super::search::{Candidate, Tables};
+use super::search::Candidate;
 use super::seeds::Seed;
 use super::starts::Prepared;
+use super::tables::Tables;
 use super::{ChainPlanner, ChainProblem};
 use crate::error::Error;
 use crate::model::wrap_angle;
@@ -71,16 +72,8 @@ impl ChainPlanner {
                 termination: Termination::Converged,
                 kkt_tolerance: o.sqp.kkt_tolerance,
             };
-            let c = Candidate {
-                disc,
-                iterations: result.iterations,
-                result,
-                spans: o.max_spans,
-                nodes: o.quadrature_nodes,
-                grading: o.grading,
-                stands_for: None,
-                phi: Default::default(),
-            };
+            let iterations = result.iterations;
+            let c = Candidate::new(disc, result, [o.max_spans, o.quadrature_nodes, o.grading], iterations);
             return self.certified(problem, &c, 1, c.iterations, clock);
         }
         Err(Error::HolonomyFixed {

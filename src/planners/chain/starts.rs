@@ -10,8 +10,9 @@ use rayon::prelude::*;
 use super::coil::Sites;
 use super::discrete::Targets;
 use super::hopeless::Hopeless;
-use super::search::{COARSE_SQP, Candidate, Tables};
+use super::search::{COARSE_SQP, Candidate};
 use super::seeds::{self, Line, Seed};
+use super::tables::Tables;
 use super::{ChainPlanner, ChainProblem};
 use crate::error::Error;
 use crate::model::wrap_angle;
@@ -333,16 +334,7 @@ impl ChainPlanner {
                 };
                 let result = result.ok()?;
                 let iterations = result.iterations;
-                Some(Candidate {
-                    disc: disc.clone(),
-                    result,
-                    spans,
-                    nodes,
-                    grading: self.options.grading,
-                    iterations,
-                    stands_for: None,
-                    phi: Default::default(),
-                })
+                Some(Candidate::new(disc.clone(), result, [spans, nodes, self.options.grading], iterations))
             };
             // The rate-limited line's coarse solve to `super::limits::CAPPED_LINE` iterations
             // first: where it is still infeasible there it serves only as the finest basis' warm
@@ -360,16 +352,7 @@ impl ChainPlanner {
                 let more = super::limits::solve(self, &disc, c.result.x.clone(), &rest, Some(c.result.lambda));
                 let Ok(result) = more else { continue };
                 let iterations = c.iterations + result.iterations;
-                c = Candidate {
-                    disc: disc.clone(),
-                    result,
-                    spans,
-                    nodes,
-                    grading: self.options.grading,
-                    iterations,
-                    stands_for: None,
-                    phi: Default::default(),
-                };
+                c = Candidate::new(disc.clone(), result, [spans, nodes, self.options.grading], iterations);
             }
             let feasible = c.feasible();
             // A rate limit's control-point rows are conservative by `O(h^2)` on spans of
@@ -392,16 +375,7 @@ impl ChainPlanner {
                 }
                 if let Some(result) = result {
                     let iterations = result.iterations;
-                    let mut f = Candidate {
-                        disc: fine,
-                        result,
-                        spans: o.max_spans,
-                        nodes,
-                        grading: self.options.grading,
-                        iterations,
-                        stands_for: None,
-                        phi: Default::default(),
-                    };
+                    let mut f = Candidate::new(fine, result, [o.max_spans, nodes, self.options.grading], iterations);
                     // Feasible, it stands for the coarse line (`Candidate::stands_for`).
                     f.stands_for = f.feasible().then_some(c.result.f);
                     if !f.feasible()

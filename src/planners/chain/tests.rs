@@ -79,7 +79,7 @@ fn chain_matches_the_two_joint_planner() {
             phi_start: problem.start[0],
             phi_end: two.stats.phi_end,
         };
-        let tables = search::Tables::default();
+        let tables = tables::Tables::default();
         let disc = planner.discretise(&problem, targets, 32, 16, &tables).unwrap();
         let x0 = disc
             .project(|t, out| {
@@ -165,7 +165,7 @@ fn chain_plan_is_a_constrained_minimum() {
         phi_start: problem.start[0],
         phi_end: end.phi,
     };
-    let tables = search::Tables::default();
+    let tables = tables::Tables::default();
     let disc = planner.discretise(&problem, targets, plan.stats.spans, plan.stats.quadrature_nodes, &tables).unwrap();
     let x = disc
         .project(|t, out| {
@@ -260,7 +260,7 @@ fn chain_discretisation_derivatives_match_differences() {
         phi_start: 0.3,
         phi_end: -0.2,
     };
-    let tables = search::Tables::default();
+    let tables = tables::Tables::default();
     let disc = planner.discretise(&problem, targets, 4, 8, &tables).unwrap();
     let x = disc.project(|t, out| {
         out.copy_from_slice(&[0.5 + 0.9 * (t / 3.0).sin(), -0.4 + 0.7 * (t / 2.0).cos(), 0.8 - 0.1 * t])

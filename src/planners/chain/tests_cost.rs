@@ -77,7 +77,7 @@ fn chain_energy_derivatives_match_differences() {
         phi_start: 0.3,
         phi_end: -0.2,
     };
-    let tables = search::Tables::default();
+    let tables = tables::Tables::default();
     let disc = planner.discretise(&p, targets, 4, 8, &tables).unwrap();
     let x = disc
         .project(|t, out| {

@@ -6,8 +6,9 @@ use std::time::Instant;
 
 use super::discrete::Targets;
 use super::motion::ChainPlan;
-use super::search::{COARSE_SQP, Candidate, Tables};
+use super::search::{COARSE_SQP, Candidate};
 use super::starts::Prepared;
+use super::tables::Tables;
 use super::{ChainPlanner, ChainProblem};
 use crate::error::Error;
 
@@ -71,11 +72,7 @@ impl ChainPlanner {
             return Ok(None);
         }
         let (nodes, iterations) = (o.quadrature_nodes, result.iterations);
-        let c = self.refine(
-            problem,
-            Candidate { disc, result, spans, nodes, grading, iterations, stands_for: None, phi: Default::default() },
-            tables,
-        )?;
+        let c = self.refine(problem, Candidate::new(disc, result, [spans, nodes, grading], iterations), tables)?;
         if !c.result.converged() {
             return Ok(None);
         }

@@ -83,9 +83,7 @@ impl Clearance {
             pieces: PIECES,
         })
     }
-}
 
-impl Clearance {
     /// The same rows at `pieces` points per knot span (at least one) where no obstacle has rows.
     pub(super) fn at(self, pieces: usize) -> Self {
         Self { pieces: pieces.max(1), ..self }

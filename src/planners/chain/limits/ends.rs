@@ -21,7 +21,8 @@
 //! graded to [`END_GRADING`] levels (one solve of 4 to 7 SQP iterations on the benches, about
 //! as many from one level to the next).
 
-use super::super::search::{Candidate, Tables};
+use super::super::search::Candidate;
+use super::super::tables::Tables;
 use super::super::{ChainPlanner, ChainProblem};
 use crate::error::Error;
 
@@ -66,6 +67,9 @@ impl ChainPlanner {
     /// Whether a velocity-limited joint of `c`'s path is at its limit (to [`AT_LIMIT`]) in the
     /// first or last uniform span.
     fn at_speed_in_an_end_layer(&self, c: &Candidate) -> bool {
+        if self.arm.limits.joints.iter().all(|l| l.velocity.is_none()) {
+            return false;
+        }
         let basis = c.disc.basis();
         let horizon = basis.horizon();
         let h = horizon / c.spans as f64;
