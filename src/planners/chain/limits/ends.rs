@@ -63,6 +63,28 @@ impl ChainPlanner {
         Ok(if finer.result.converged() && finer.result.f <= c.result.f { finer } else { c })
     }
 
+    /// A coarse solution `c` already at its velocity limit in an end layer, refined directly
+    /// with [`END_GRADING`] graded knots per end (one fine solve where [`Self::sharpen_ends`]
+    /// would take two): the refinement where it converges on finer spans, else `None` (and the
+    /// uniform refinement, then its sharpening, are tried as before).
+    pub(in super::super) fn refine_on_graded_ends(
+        &self,
+        problem: &ChainProblem,
+        c: &Candidate,
+        tables: &Tables,
+    ) -> Result<Option<Candidate>, Error> {
+        if self.options.knots.is_some()
+            || c.grading >= END_GRADING
+            || !c.result.converged()
+            || !self.at_speed_in_an_end_layer(c)
+        {
+            return Ok(None);
+        }
+        let graded = Candidate { grading: END_GRADING, ..c.clone() };
+        let refined = self.refine(problem, graded, tables)?;
+        Ok(refined.result.converged().then_some(refined))
+    }
+
     /// Whether a velocity-limited joint of `c`'s path is at its limit (to [`AT_LIMIT`]) in the
     /// first or last uniform span.
     fn at_speed_in_an_end_layer(&self, c: &Candidate) -> bool {
