@@ -19,7 +19,8 @@
 //! points are convex combinations of the old ones): the solve there starts feasible at the same
 //! effort. A refinement at its limit in an end layer is solved once more with the end spans
 //! graded to [`END_GRADING`] levels (one solve of 4 to 7 SQP iterations on the benches, about
-//! as many from one level to the next).
+//! as many from one level to the next); one already at its limit there before its refinement is
+//! refined on those levels directly ([`ChainPlanner::refine_on_graded_ends`]).
 
 use super::super::search::{Candidate, Tables};
 use super::super::{ChainPlanner, ChainProblem};
@@ -63,10 +64,11 @@ impl ChainPlanner {
         Ok(if finer.result.converged() && finer.result.f <= c.result.f { finer } else { c })
     }
 
-    /// A coarse solution `c` already at its velocity limit in an end layer, refined directly
-    /// with [`END_GRADING`] graded knots per end (one fine solve where [`Self::sharpen_ends`]
-    /// would take two): the refinement where it converges on finer spans, else `None` (and the
-    /// uniform refinement, then its sharpening, are tried as before).
+    /// A converged candidate `c` at its velocity limit in an end layer before its refinement
+    /// (on the benches a rate-limited line already solved on the finest basis), refined with
+    /// [`END_GRADING`] graded knots per end from the start: one fine solve where the refinement
+    /// on `c`'s grading and then [`Self::sharpen_ends`] take two. The refinement where it
+    /// converges, else `None` (and `c` is refined on its own grading, then sharpened).
     pub(in super::super) fn refine_on_graded_ends(
         &self,
         problem: &ChainProblem,
