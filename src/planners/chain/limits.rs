@@ -22,7 +22,7 @@
 //! tolerance is inside the declared one.
 
 mod clearance;
-pub(super) mod ends;
+mod ends;
 mod ranges;
 
 pub(crate) use clearance::PIECES as CLEARANCE_PIECES;

@@ -324,9 +324,6 @@ impl ChainPlanner {
     /// again so), then raises the quadrature nodes until the finer quadrature of the plan's base
     /// angle agrees to 1% of the tolerance.
     pub(super) fn refine(&self, problem: &ChainProblem, mut c: Candidate, tables: &Tables) -> Result<Candidate, Error> {
-        if let Some(graded) = self.refine_on_graded_ends(problem, &c, tables)? {
-            return Ok(graded);
-        }
         let o = &self.options;
         let mut previous: Option<f64> = None;
         let (mut spans, first) = (c.spans, c.spans);

@@ -362,23 +362,7 @@ impl ChainPlanner {
             // the same seed again on finer bases (on issue 20's 3-link bench 75 to 104 of 400
             // ms, to a worse plan or none).
             if seed == Seed::Line && !feasible && self.arm.limits.rate_limited() && o.max_spans > spans {
-                // Under a velocity limit on the end grading of a plan at its limit from rest
-                // (`super::limits::ends`) from the start: a richer basis than the uniform one
-                // (a level inserts knots), and the refinement's sharpening solve is spared (the
-                // 3-link bench's SQP iterations 25 -> 19, the SPART-like one's effort 1.30684
-                // -> 1.30399).
-                let velocity = (0..self.arm.joints()).any(|j| self.arm.limits.joint(j).velocity.is_some());
-                let grading = if velocity && o.knots.is_none() {
-                    super::limits::ends::END_GRADING.max(o.grading)
-                } else {
-                    o.grading
-                };
-                let fine = self.discretise_graded(
-                    problem,
-                    p.targets.clone(),
-                    [o.max_spans, o.quadrature_nodes, grading],
-                    tables,
-                )?;
+                let fine = self.discretise(problem, p.targets.clone(), o.max_spans, o.quadrature_nodes, tables)?;
                 // From the coarse line's solution (nearer the limits' minimum than the line; on
                 // the 3-link bench the plan's iterations 46 -> 18), and from the line where that
                 // start is not feasible (issue 20's oracle case 6 stalled from it).
@@ -391,7 +375,7 @@ impl ChainPlanner {
                 }
                 if let Some(result) = result {
                     let iterations = result.iterations;
-                    let mut f = Candidate::new(fine, result, [o.max_spans, nodes, grading], iterations);
+                    let mut f = Candidate::new(fine, result, [o.max_spans, nodes, self.options.grading], iterations);
                     // Feasible, it stands for the coarse line (`Candidate::stands_for`).
                     f.stands_for = f.feasible().then_some(c.result.f);
                     if !f.feasible()

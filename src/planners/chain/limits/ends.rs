@@ -19,8 +19,7 @@
 //! points are convex combinations of the old ones): the solve there starts feasible at the same
 //! effort. A refinement at its limit in an end layer is solved once more with the end spans
 //! graded to [`END_GRADING`] levels (one solve of 4 to 7 SQP iterations on the benches, about
-//! as many from one level to the next); one already at its limit there before its refinement is
-//! refined on those levels directly ([`ChainPlanner::refine_on_graded_ends`]).
+//! as many from one level to the next).
 
 use super::super::search::Candidate;
 use super::super::tables::Tables;
@@ -63,29 +62,6 @@ impl ChainPlanner {
         let graded = Candidate { grading: END_GRADING, ..c.clone() };
         let finer = self.resolve(problem, &graded, c.spans, c.nodes, tables)?;
         Ok(if finer.result.converged() && finer.result.f <= c.result.f { finer } else { c })
-    }
-
-    /// A converged candidate `c` at its velocity limit in an end layer before its refinement
-    /// (on the benches a rate-limited line already solved on the finest basis), refined with
-    /// [`END_GRADING`] graded knots per end from the start: one fine solve where the refinement
-    /// on `c`'s grading and then [`Self::sharpen_ends`] take two. The refinement where it
-    /// converges, else `None` (and `c` is refined on its own grading, then sharpened).
-    pub(in super::super) fn refine_on_graded_ends(
-        &self,
-        problem: &ChainProblem,
-        c: &Candidate,
-        tables: &Tables,
-    ) -> Result<Option<Candidate>, Error> {
-        if self.options.knots.is_some()
-            || c.grading >= END_GRADING
-            || !c.result.converged()
-            || !self.at_speed_in_an_end_layer(c)
-        {
-            return Ok(None);
-        }
-        let graded = Candidate { grading: END_GRADING, ..c.clone() };
-        let refined = self.refine(problem, graded, tables)?;
-        Ok(refined.result.converged().then_some(refined))
     }
 
     /// Whether a velocity-limited joint of `c`'s path is at its limit (to [`AT_LIMIT`]) in the
