@@ -7,6 +7,7 @@ use std::process::{Command, Output};
 
 use freefloat::model::arm::Arm;
 use freefloat::model::geometry::Shape;
+use freefloat::planners::chain::ChainProblem;
 
 fn freefloat(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_freefloat")).args(args).output().expect("the binary runs")
@@ -181,9 +182,12 @@ fn the_spart_like_plan_keeps_clearances_between_those_tried() {
     }
 }
 
-/// An obstacle where the unconstrained plan's end effector arrives: exit 3 naming the obstacle,
-/// for the optimal planner and the ECSA alike (`compare` lists both, the exit names the one that
-/// failed).
+/// An obstacle where the unconstrained plan's end effector arrives: every motion ends inside it,
+/// so `plan` and `compare` refuse the goal at once (exit 2), naming the end, the pair and the
+/// depth, instead of searching every seed for a plan that cannot be certified. An obstacle on the
+/// ECSA's path but clear of both ends (where its end effector passes at t = 5 s, measured at
+/// (-0.608, -0.019) m): the ECSA does not avoid it, and its plan is never certified (exit 3,
+/// naming the obstacle).
 #[test]
 fn an_obstacle_on_the_path_is_never_certified() {
     let f = fixture();
@@ -201,23 +205,53 @@ fn an_obstacle_on_the_path_is_never_certified() {
         "circle:0.95,1.55,0.1",
     ];
     args.extend(NO_BASE);
+    for command in ["plan", "compare"] {
+        args[0] = command;
+        let clock = std::time::Instant::now();
+        let o = freefloat(&args);
+        assert_eq!(o.status.code(), Some(2), "{command}: {}", stderr(&o));
+        let e = stderr(&o);
+        assert!(e.contains("goal (--to)") && e.contains("link 4 and obstacle 1"), "{command}: {e}");
+        // Refused before any search: the bound is generous for a loaded machine.
+        assert!(clock.elapsed().as_secs_f64() < 20.0, "{command}: {:?}", clock.elapsed());
+    }
+    args[0] = "plan";
+    args[10] = "circle:-0.61,-0.02,0.05";
+    args.extend(["--method", "ecsa", "--format", "json"]);
     let o = freefloat(&args);
     assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
     assert!(stderr(&o).contains("link 4 and obstacle 1"), "{}", stderr(&o));
-    args[0] = "compare";
-    args.extend(["--format", "json"]);
-    let o = freefloat(&args);
-    assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
-    let r: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
-    for method in ["optimal", "ecsa"] {
-        assert_eq!(r[method]["certified"], false, "{method}");
-        assert_eq!(r[method]["clearance"]["between"][1], "obstacle 1", "{method}");
-    }
     // Bad flags are bad input.
     for bad in [["--obstacle", "circle:1,1"], ["--clearance", "-1"], ["--no-collide", "base,link9"]] {
         let o = freefloat(&[&["plan", "--urdf", &f, "--from", FROM, "--to", TO][..], &bad[..]].concat());
         assert_eq!(o.status.code(), Some(2), "{bad:?}: {}", stderr(&o));
     }
+}
+
+/// A start or goal closer than `--clearance` to a pair that is checked is refused at once
+/// (exit 2), naming the end and the pair, and the JSON error carries the distance. The SPART-like
+/// arm's start has link 2 within 0.5 m of the base (measured 0.446 m).
+#[test]
+fn ends_under_the_clearance_are_refused_at_once() {
+    let f = fixture();
+    let o = freefloat(&["plan", "--urdf", &f, "--from", FROM, "--to", TO, "--clearance", "0.5", "--format", "json"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    let r: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let numbers = &r["error"]["numbers"];
+    let name = numbers["name"].as_str().unwrap();
+    assert!(name.starts_with("start (--from)") && name.contains("under the clearance 0.5 m"), "{r}");
+    // The distance reported is the least over the pairs at the start, by the library's geometry.
+    let d = numbers["value"].as_f64().unwrap();
+    let path = Path::new(&f);
+    let mut arm = Arm::from_urdf_str(&std::fs::read_to_string(path).unwrap(), path).unwrap();
+    let deg = |s: &str| s.split(',').map(|x| x.parse::<f64>().unwrap().to_radians()).collect::<Vec<_>>();
+    let least = arm.geometry.min_clearance(&arm, &deg(FROM)).unwrap();
+    assert_eq!((least.a.to_string(), least.b.to_string()), ("base".into(), "link 2".into()));
+    assert!((least.distance - d).abs() < 1e-12 && d < 0.5, "{d} against {least:?}");
+    // At a clearance both ends keep, the problem is not refused.
+    let goal_least = arm.geometry.min_clearance(&arm, &deg(TO)).unwrap().distance;
+    arm.geometry.clearance = 0.99 * d.min(goal_least);
+    ChainProblem::rest_to_rest(deg(FROM), deg(TO), 10.0).validate(&arm).unwrap();
 }
 
 /// The 2-link pipeline checks the clearance of every method, the NFA included: an obstacle at
