@@ -41,8 +41,9 @@ def test_an_obstacle_is_checked_in_every_form(arm):
 
 
 def test_a_clearance_the_motion_cannot_keep_is_refused(arm):
-    # The end effector starts within 0.5 m of the obstacle: 1 m of clearance is impossible.
-    with pytest.raises((ff.NotCertified, ff.NoPlan)):
+    # The end effector starts within 0.5 m of the obstacle: 1 m of clearance is impossible, and
+    # the start is refused as bad input before any search, naming the end.
+    with pytest.raises(ff.BadInput, match=r"start \(--from\).*under the clearance 1 m"):
         ff.plan(arm, START, GOAL, 10.0, obstacles=[BELOW], clearance=1.0)
     # Excluding the only pair checked that involves the obstacle for link 2 leaves link 1's.
     plan = ff.plan(arm, START, GOAL, 10.0, obstacles=[BELOW], no_collide=[("link2", "obstacle1")])
