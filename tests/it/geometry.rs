@@ -222,7 +222,13 @@ fn an_obstacle_on_the_path_is_never_certified() {
     assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
     assert!(stderr(&o).contains("link 4 and obstacle 1"), "{}", stderr(&o));
     // Bad flags are bad input.
-    for bad in [["--obstacle", "circle:1,1"], ["--clearance", "-1"], ["--no-collide", "base,link9"]] {
+    let bad_flags = [
+        ["--obstacle", "circle:1,1"],
+        ["--clearance", "-1"],
+        ["--no-collide", "base,link9"],
+        ["--no-collide", "link2,link2"],
+    ];
+    for bad in bad_flags {
         let o = freefloat(&[&["plan", "--urdf", &f, "--from", FROM, "--to", TO][..], &bad[..]].concat());
         assert_eq!(o.status.code(), Some(2), "{bad:?}: {}", stderr(&o));
     }

@@ -142,6 +142,13 @@ impl Geometry {
             check(format!("geometry.obstacle[{}]", k + 1), s)?;
         }
         for &(a, b) in &self.excluded {
+            if a == b {
+                return Err(InputError::InvalidText {
+                    name: "--no-collide".into(),
+                    text: format!("{a},{b}"),
+                    expected: "two different bodies (a body is never checked against itself)",
+                });
+            }
             for body in [a, b] {
                 let known = match body {
                     Body::Base => true,
