@@ -133,9 +133,10 @@ pub fn parse_numbers(flag: &str, text: &str) -> anyhow::Result<Vec<f64>> {
 /// included; see [`robot()`]), or any other planar serial arm.
 #[allow(clippy::large_enum_variant, reason = "one value per command, moved once")]
 pub enum Robot {
-    /// Two links: every method and command serves it.
+    /// The paper's 2-link model: two links, no limits, no shapes of its own.
     TwoLink,
-    /// Any other number of links (docs/spec.md §1): `plan` with the optimal planner.
+    /// Any other arm (docs/spec.md §1), and a 2-link one with limits or shapes: the arm
+    /// pipeline, where the planners honour them (the NFA's 2-link plan checked against them).
     Arm(Arm),
 }
 
@@ -148,7 +149,10 @@ pub fn any_robot(args: &RobotArgs) -> anyhow::Result<Robot> {
         None => Arm::from_params(&RobotParams::src()),
     };
     let arm = limits::with_flags(arm, &args.limits)?;
-    if arm.as_src().is_some() && arm.limits.is_empty() {
+    // Issue 21 likewise: a 2-link arm with shapes, so that the minimum-effort planner keeps its
+    // clearance (the 2-link pipeline's parameters carry no geometry: it only checks it), as
+    // Python's `plan` does for a `constrained` arm.
+    if arm.as_src().is_some() && arm.limits.is_empty() && arm.geometry.is_empty() {
         return Ok(Robot::TwoLink);
     }
     let mount = match &args.mount {

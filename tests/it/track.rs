@@ -290,8 +290,8 @@ fn track_refuses_what_the_arm_cannot_do() {
 /// `track` reads the robot's shapes and the geometry flags as `plan` does (issue 21 item 6): each
 /// run reports the least clearance of the true motion, in JSON and in the table; on the model
 /// itself (`ct`, no noise) it is the plan certificate's to 1e-6 m (the same motion up to the
-/// tracking error). A clearance the plan cannot keep is refused before any run (exit 3), a bad
-/// obstacle is bad input (exit 2).
+/// tracking error). A clearance the start does not keep and a bad obstacle are bad input, refused
+/// before any run (exit 2).
 #[test]
 fn track_reports_the_clearance_of_each_run() {
     let dir = tempfile::tempdir().unwrap();
@@ -333,8 +333,10 @@ fn track_reports_the_clearance_of_each_run() {
     let svg = std::fs::read_to_string(&picture).unwrap();
     let mm = format!("least clearance {:.1} mm", 1e3 * tracked);
     assert!(svg.matches(&mm).count() >= 2 && svg.contains("link 2 / obstacle 1"), "{mm} in the picture");
+    // 5 m: the start itself is under it, refused as bad input naming the end.
     let o = freefloat(&[&["track"][..], &shapes[..], &["--clearance", "5"][..]].concat());
-    assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("start (--from)"), "{}", stderr(&o));
     let o = freefloat(&["track", "--robot", p, "--obstacle", "circle:-0.3,-0.65"]);
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
 }
