@@ -93,7 +93,8 @@ impl ChainPlanner {
             kept => kept,
         };
         let least = |p: &ChainPlan| p.verification.clearance.map_or(f64::INFINITY, |r| r.min);
-        if !kept.as_ref().is_ok_and(clears)
+        if self.last_resort
+            && !kept.as_ref().is_ok_and(clears)
             && let Ok(Some(plan)) = (ChainPlanner { clearance_pieces: SOFT_PIECES, ..own.clone() })
                 .soft_search(problem, &free, tables, clock)
         {

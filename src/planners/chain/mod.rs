@@ -320,6 +320,10 @@ pub struct ChainPlanner {
     /// Points per knot span at which the rows of the robot's own bodies hold (more in the
     /// clearance search's last resort, `keep_clear.rs`).
     clearance_pieces: usize,
+    /// Whether the clearance search ends with its last resort where no plan cleared
+    /// (`keep_clear.rs`; off for the shortest horizon's final search, which has a plan that
+    /// clears already: `horizon.rs`).
+    last_resort: bool,
 }
 
 impl ChainPlanner {
@@ -333,6 +337,7 @@ impl ChainPlanner {
             clearance_rows: true,
             obstacle_rows: true,
             clearance_pieces: limits::CLEARANCE_PIECES,
+            last_resort: true,
         }
     }
 
