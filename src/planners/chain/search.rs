@@ -395,7 +395,8 @@ impl ChainPlanner {
         Ok(Candidate::new(disc, result, [spans, nodes, c.grading], iterations))
     }
 
-    fn plan_of(&self, c: &Candidate, stats: ChainStats) -> ChainPlan {
+    /// The plan of `c`, with `stats`.
+    pub(super) fn plan_of(&self, c: &Candidate, stats: ChainStats) -> ChainPlan {
         let coefficients = c.disc.coefficients(&c.result.x);
         let (connection, basis) = (self.connection.clone(), c.disc.basis().clone());
         if let Some(phi) = c.phi.get() {
@@ -446,7 +447,7 @@ impl ChainStats {
     }
 
     /// [`Self::default_for`] without the effort (NaN; its quadrature is a pass over the nodes).
-    fn unmeasured(c: &Candidate) -> Self {
+    pub(super) fn unmeasured(c: &Candidate) -> Self {
         Self {
             iterations: c.iterations,
             final_iterations: c.result.iterations,

@@ -23,7 +23,7 @@
 
 use super::super::search::Candidate;
 use super::super::tables::Tables;
-use super::super::{ChainPlanner, ChainProblem};
+use super::super::{ChainPlanner, ChainProblem, ChainStats};
 use crate::error::Error;
 
 /// Graded knots per end of a refinement at its velocity limit in an end layer (`h / 4^3`: on 32
@@ -45,7 +45,8 @@ impl ChainPlanner {
     /// within the first or last uniform span) with fewer than [`END_GRADING`] graded knots per
     /// end, solved again, warm-started from itself, with that many: the solution there where it
     /// converges at no higher cost, else `c`. Unchanged elsewhere, and on given knots
-    /// ([`super::super::ChainOptions::knots`]).
+    /// ([`super::super::ChainOptions::knots`]). The finer solve is kept only inside every limit
+    /// ([`Self::inside_limits`]).
     pub(in super::super) fn sharpen_ends(
         &self,
         problem: &ChainProblem,
@@ -61,7 +62,20 @@ impl ChainPlanner {
         }
         let graded = Candidate { grading: END_GRADING, ..c.clone() };
         let finer = self.resolve(problem, &graded, c.spans, c.nodes, tables)?;
-        Ok(if finer.result.converged() && finer.result.f <= c.result.f { finer } else { c })
+        let better = finer.result.converged() && finer.result.f <= c.result.f;
+        Ok(if better && self.inside_limits(problem, &finer) { finer } else { c })
+    }
+
+    /// Whether `c`'s plan stays inside every declared limit by the certificate's own measure
+    /// ([`crate::plan::limit_use::limit_use`], the limits of the integrated motion between its
+    /// steps): a finer solve is kept over a coarser one only where it does (its torque rows hold
+    /// at points only, and on thin graded spans a torque rose 0.04 % beyond its limit between
+    /// them, the SPART-like arm's `--clearance 0.03` plan of `tests/it/geometry.rs` with its line
+    /// solved on the graded ends from the start). False where the integration fails.
+    fn inside_limits(&self, problem: &ChainProblem, c: &Candidate) -> bool {
+        let plan = self.plan_of(c, ChainStats::unmeasured(c));
+        crate::plan::limit_use::limit_use(&self.arm, &plan, &problem.start, &self.options.ode)
+            .is_ok_and(|report| report.inside)
     }
 
     /// Whether a velocity-limited joint of `c`'s path is at its limit (to [`AT_LIMIT`]) in the
