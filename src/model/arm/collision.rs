@@ -230,7 +230,7 @@ impl Geometry {
         let zero = D::from(0.0);
         let inertial = Pose { x: zero, y: zero, angle: zero };
         let n = arm.joints();
-        // Every body's shapes placed once (base, links 1..n, obstacles), and their real parts.
+        // Every body's shapes placed once (base, links 1..n, obstacles).
         let bodies = std::iter::once(Body::Base)
             .chain((1..=n).map(Body::Link))
             .chain((1..=self.obstacles.len()).map(Body::Obstacle));
@@ -244,10 +244,16 @@ impl Geometry {
                 self.shapes(body).iter().map(|s| s.placed(&pose)).collect()
             })
             .collect();
-        let real: Vec<Vec<Vec<[f64; 2]>>> = placed
-            .iter()
-            .map(|b| b.iter().map(|s| s.iter().map(|p| [p[0].re(), p[1].re()]).collect()).collect())
-            .collect();
+        // Their real parts, once a pair of bodies with more than one shape asks.
+        let real: std::cell::OnceCell<Vec<Vec<Vec<[f64; 2]>>>> = std::cell::OnceCell::new();
+        let real = || {
+            real.get_or_init(|| {
+                placed
+                    .iter()
+                    .map(|b| b.iter().map(|s| s.iter().map(|p| [p[0].re(), p[1].re()]).collect()).collect())
+                    .collect()
+            })
+        };
         let index = |body: Body| match body {
             Body::Base => 0,
             Body::Link(k) => k,
@@ -260,18 +266,25 @@ impl Geometry {
                 let (sa, sb) = (self.shapes(a), self.shapes(b));
                 // The pair of shapes of least distance by the real parts (a union's distance is
                 // its least), then that pair alone in `D`: the same value and derivatives as
-                // every pair in `D`, the first least kept.
-                let mut best: Option<(usize, usize, f64)> = None;
-                for (i, (shape_a, xa)) in sa.iter().zip(&real[ia]).enumerate() {
-                    for (j, (shape_b, xb)) in sb.iter().zip(&real[ib]).enumerate() {
-                        let d = signed_distance(xa, shape_a.radius, xb, shape_b.radius);
-                        if best.is_none_or(|(_, _, x)| d < x) {
-                            best = Some((i, j, d));
+                // every pair in `D`, the first least kept. One shape each: that pair, without
+                // its distance in the real parts first (the same pair, half the work).
+                let best = if sa.len() == 1 && sb.len() == 1 {
+                    Some((0, 0))
+                } else {
+                    let real = real();
+                    let mut best: Option<(usize, usize, f64)> = None;
+                    for (i, (shape_a, xa)) in sa.iter().zip(&real[ia]).enumerate() {
+                        for (j, (shape_b, xb)) in sb.iter().zip(&real[ib]).enumerate() {
+                            let d = signed_distance(xa, shape_a.radius, xb, shape_b.radius);
+                            if best.is_none_or(|(_, _, x)| d < x) {
+                                best = Some((i, j, d));
+                            }
                         }
                     }
-                }
+                    best.map(|(i, j, _)| (i, j))
+                };
                 let distance = match best {
-                    Some((i, j, _)) => signed_distance(&placed[ia][i], sa[i].radius, &placed[ib][j], sb[j].radius),
+                    Some((i, j)) => signed_distance(&placed[ia][i], sa[i].radius, &placed[ib][j], sb[j].radius),
                     None => D::from(f64::INFINITY),
                 };
                 PairClearance { a, b, distance }
