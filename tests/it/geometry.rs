@@ -207,13 +207,10 @@ fn an_obstacle_on_the_path_is_never_certified() {
     args.extend(NO_BASE);
     for command in ["plan", "compare"] {
         args[0] = command;
-        let clock = std::time::Instant::now();
         let o = freefloat(&args);
         assert_eq!(o.status.code(), Some(2), "{command}: {}", stderr(&o));
         let e = stderr(&o);
         assert!(e.contains("goal (--to)") && e.contains("link 4 and obstacle 1"), "{command}: {e}");
-        // Refused before any search: the bound is generous for a loaded machine.
-        assert!(clock.elapsed().as_secs_f64() < 20.0, "{command}: {:?}", clock.elapsed());
     }
     args[0] = "plan";
     args[10] = "circle:-0.61,-0.02,0.05";
