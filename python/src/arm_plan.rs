@@ -61,6 +61,9 @@ fn python_names(e: freefloat::Error) -> freefloat::Error {
             let name = if name == "--method" { "method" } else { "T=\"auto\"" };
             freefloat::Error::Input(InputError::InvalidParameter { name: name.into(), value, expected })
         }
+        freefloat::Error::Input(InputError::InvalidText { name, text, expected }) if name == "--method" => {
+            freefloat::Error::Input(InputError::InvalidText { name: "method".into(), text, expected })
+        }
         e => e,
     }
 }

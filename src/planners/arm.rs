@@ -215,7 +215,7 @@ impl ArmPlanned {
 /// torque level when asked. The ECSA plans from rest (a moving start is bad input).
 pub fn plan_arm(arm: &Arm, method: Method, request: &ArmRequest) -> Result<ArmPlanned, Error> {
     let refuse = |expected: &'static str| {
-        Err(Error::from(InputError::InvalidParameter { name: "--method".into(), value: arm.joints() as f64, expected }))
+        Err(Error::from(InputError::InvalidText { name: "--method".into(), text: "nfa".into(), expected }))
     };
     if method == Method::Nfa {
         return refuse(if arm.joints() == 2 {
