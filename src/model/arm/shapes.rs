@@ -24,18 +24,19 @@ use crate::model::geometry::{MAX_EXTENT, Shape, convex_hull};
 const AXIS_TOLERANCE: f64 = 1e-9;
 
 /// The shapes of one rigid body of a URDF: `parts` are its links with their places `at` in the
-/// body's frame \[m\]; `name` names the body in notes. The `<collision>` elements of every part;
-/// when the body has none, its `<visual>` elements, with a note saying so. Errors are the reason
-/// and the link that gives it.
+/// body's frame \[m\]; `name` names the body. The `<collision>` elements of every part; when the
+/// body has none, its `<visual>` elements, and its name joins `visual_bodies` (one note names
+/// them all, [`visual_note`]). Errors are the reason and the link that gives it.
 pub(super) fn urdf_body_shapes(
     parts: &[(&urdf_rs::Link, [f64; 2])],
     name: &str,
     notes: &mut Vec<String>,
+    visual_bodies: &mut Vec<String>,
 ) -> Result<Vec<Shape>, (String, String)> {
     let collisions = parts.iter().any(|(l, _)| !l.collision.is_empty());
     let visuals = parts.iter().any(|(l, _)| !l.visual.is_empty());
     if !collisions && visuals {
-        notes.push(format!("body `{name}` has no <collision>: its <visual> geometry is used for collisions"));
+        visual_bodies.push(format!("`{name}`"));
     }
     let mut shapes = Vec::new();
     for (link, at) in parts {
@@ -57,6 +58,19 @@ pub(super) fn urdf_body_shapes(
         }
     }
     Ok(shapes)
+}
+
+/// The one note on the bodies whose `<visual>` geometry stands in for a missing `<collision>`
+/// (`None` when there are none).
+pub(super) fn visual_note(visual_bodies: &[String]) -> Option<String> {
+    match visual_bodies {
+        [] => None,
+        [one] => Some(format!("body {one} has no <collision>: its <visual> geometry is used for collisions")),
+        many => Some(format!(
+            "bodies {} have no <collision>: their <visual> geometry is used for collisions",
+            many.join(", ")
+        )),
+    }
 }
 
 /// `R = Rz(yaw) Ry(pitch) Rx(roll)` applied to `v`.

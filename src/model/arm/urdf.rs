@@ -424,13 +424,14 @@ fn tool_frame<'a>(body: &Body<'a>) -> Option<(&'a str, [f64; 2])> {
 /// root link's (joint `k` at the origin, `x` along the link), the base's is moved to its merged
 /// centre of mass. Errors as `(element, reason)`.
 fn geometry(bodies: &[Body]) -> Result<(super::collision::Geometry, Vec<String>), (String, String)> {
-    let mut notes = Vec::new();
+    let (mut notes, mut visual_bodies) = (Vec::new(), Vec::new());
     let mut shapes = Vec::with_capacity(bodies.len());
     for body in bodies {
-        let s = super::shapes::urdf_body_shapes(&body.geometry, &excerpt(body.root), &mut notes)
+        let s = super::shapes::urdf_body_shapes(&body.geometry, &excerpt(body.root), &mut notes, &mut visual_bodies)
             .map_err(|(link, reason)| (link_name(&link), reason))?;
         shapes.push(s);
     }
+    notes.extend(super::shapes::visual_note(&visual_bodies));
     let com = bodies[0].merged().1;
     let mut geometry = super::collision::Geometry { base: shapes.remove(0), ..Default::default() };
     for s in &mut geometry.base {
