@@ -38,24 +38,16 @@ fn two_joint_today() -> Vec<f64> {
     rows
 }
 
-/// The recorded problems where the n-joint planner as recorded (before issue 19's seeds and
-/// finalists) found a cheaper plan than the plan (effort ratio 1.17, 1.04, 1.12, 1.05, 1.06):
-/// it refined an 8-span loop seed of many turns that cannot meet the constraint there, where the
-/// planner now solves a coil on many spans instead.
-const KNOWN_ABOVE_BOTH: [usize; 5] = [22, 31, 75, 256, 262];
-
 /// Issue 19 item 2 at `n = 2`, on all 300 recorded problems (about a minute on two cores): every
-/// plan is certified and costs at most (+1e-6 relative) the recorded 2-joint planner's effort and
-/// today's 2-joint planner's, and at most the better recorded planner's but on
-/// [`KNOWN_ABOVE_BOTH`]. Measured when written: 40 of 300 below both recorded planners.
+/// plan is certified and costs at most (+1e-6 relative) the better of the two recorded planners'
+/// efforts and today's 2-joint planner's. (Until stop 50 five problems were exempt from the
+/// recorded n-joint planner's bound, at 1.04 to 1.17 times it; measured at stop 50 through
+/// `freefloat plan` they stand at 0.56 to 0.90 times it: 22, 31, 75, 256, 262.)
 #[test]
 fn never_worse_than_either_two_link_planner_on_300_problems() {
     let today = two_joint_today();
-    let rows: Vec<(usize, f64, f64, f64)> =
-        fixture().into_par_iter().map(|r| (r.0, chain_effort(&r), r.2.min(today[r.0]), r.3)).collect();
-    let above_two: Vec<_> = rows.iter().filter(|r| !(r.1 <= r.2 * (1.0 + 1e-6))).collect();
-    assert!(above_two.is_empty(), "uncertified or above a 2-joint effort (index, effort, 2-joint): {above_two:?}");
-    let above_both: Vec<_> = rows.iter().filter(|r| !(r.1 <= r.3 * (1.0 + 1e-6))).collect();
-    let unexpected: Vec<_> = above_both.iter().filter(|r| !KNOWN_ABOVE_BOTH.contains(&r.0)).collect();
-    assert!(unexpected.is_empty(), "above both recorded planners (index, effort, _, best): {unexpected:?}");
+    let rows: Vec<(usize, f64, f64)> =
+        fixture().into_par_iter().map(|r| (r.0, chain_effort(&r), r.2.min(r.3).min(today[r.0]))).collect();
+    let above: Vec<_> = rows.iter().filter(|r| !(r.1 <= r.2 * (1.0 + 1e-6))).collect();
+    assert!(above.is_empty(), "uncertified or above a recorded planner's effort (index, effort, best): {above:?}");
 }
