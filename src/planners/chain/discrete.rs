@@ -372,7 +372,7 @@ impl Discretisation {
         let mut hess_c = if second { self.zero_hessian(dim, hb) } else { DMatrix::zeros(0, 0) };
         // Free index of each local coefficient (usize::MAX when fixed).
         let mut idx = [usize::MAX; MAX_DEGREE + 1];
-        let mut row = vec![0.0; n];
+        let (mut row, mut mixed) = (vec![0.0; n], [0.0; MAX_JOINTS]);
         let mut hess_f = match (second, &self.energy) {
             // The effort's Hessian is the table's, not copied ([`Evaluation::hess_f_or`]).
             (true, None) => None,
@@ -447,21 +447,24 @@ impl Discretisation {
                     for ((out, h), m) in row.iter_mut().zip(hessian).zip(local.mixed[j..].iter().step_by(n)) {
                         *out = h * v + m * dr;
                     }
-                    let mixed = &local.mixed[j * n..(j + 1) * n];
+                    // The mixed terms times `v` (as `m * v * rr` multiplies them first).
+                    for (mv, m) in mixed.iter_mut().zip(&local.mixed[j * n..(j + 1) * n]) {
+                        *mv = m * v;
+                    }
                     let col = (il + j) * dim;
                     // The rows on and below the diagonal (`ll >= l`, and `jj >= j` where
                     // `ll = l`); the others are mirrored after the sum. The mixed term of
                     // (l, j) as theta and (ll, jj) as theta'.
                     let (vv, rr) = (node.value[l], node.rate[l]);
                     let out = &mut data[col + il + j..col + il + n];
-                    for ((o, rw), m) in out.iter_mut().zip(&row[j..n]).zip(&mixed[j..n]) {
-                        *o -= rw * vv + m * v * rr;
+                    for ((o, rw), mv) in out.iter_mut().zip(&row[j..n]).zip(&mixed[j..n]) {
+                        *o -= rw * vv + mv * rr;
                     }
                     for &(ll, index) in &free_locals[a + 1..] {
                         let (vv, rr) = (node.value[ll], node.rate[ll]);
                         let out = &mut data[col + index..col + index + n];
-                        for ((o, rw), m) in out.iter_mut().zip(&row[..n]).zip(&mixed[..n]) {
-                            *o -= rw * vv + m * v * rr;
+                        for ((o, rw), mv) in out.iter_mut().zip(&row[..n]).zip(&mixed[..n]) {
+                            *o -= rw * vv + mv * rr;
                         }
                     }
                 }
