@@ -10,8 +10,15 @@ use nalgebra::{DMatrix, DVector};
 
 /// `y = A x` for a symmetric matrix `A` with half-bandwidth `hb` (full storage).
 pub fn matvec(a: &DMatrix<f64>, hb: usize, x: &DVector<f64>) -> DVector<f64> {
+    let mut y = DVector::zeros(x.len());
+    matvec_into(a, hb, x, &mut y);
+    y
+}
+
+/// [`matvec`] into `y` (of the length of `x`; its values are overwritten).
+pub fn matvec_into(a: &DMatrix<f64>, hb: usize, x: &DVector<f64>, y: &mut DVector<f64>) {
     let n = x.len();
-    let mut y = DVector::zeros(n);
+    y.fill(0.0);
     let (data, out) = (a.as_slice(), y.as_mut_slice());
     for (j, &xj) in x.as_slice().iter().enumerate() {
         let (lo, hi) = (j.saturating_sub(hb), (j + hb + 1).min(n));
@@ -19,7 +26,6 @@ pub fn matvec(a: &DMatrix<f64>, hb: usize, x: &DVector<f64>) -> DVector<f64> {
             *yi += aij * xj;
         }
     }
-    y
 }
 
 /// The band Cholesky factor `L` (`A = L L^T`, lower, half-bandwidth `hb`) of a symmetric

@@ -20,7 +20,7 @@
 use nalgebra::{DMatrix, DVector};
 use serde::Serialize;
 
-use super::band::{BandCholesky, matvec};
+use super::band::{BandCholesky, matvec, matvec_into};
 use super::discrete::{Discretisation, Evaluation};
 use crate::error::Error;
 use crate::model::InputError;
@@ -420,9 +420,11 @@ fn steihaug(
     let tol = tol.max(1e-15 * rz.sqrt());
     let mut p = -&z;
     let mut st = DVector::zeros(n);
+    // `W p` and `S p`, written at every iteration.
+    let (mut wp, mut sp) = (DVector::zeros(n), DVector::zeros(n));
     for _ in 0..max {
-        let wp = matvec(w, m.hb, &p);
-        let sp = m.times(&p);
+        matvec_into(w, m.hb, &p, &mut wp);
+        matvec_into(m.s, m.hb, &p, &mut sp);
         let kappa = p.dot(&wp);
         let pp = p.dot(&sp);
         if kappa <= 1e-14 * pp {
