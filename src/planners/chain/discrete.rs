@@ -137,16 +137,18 @@ pub struct Discretisation {
     /// The arm whose kinetic energy is the cost ([`Cost::Energy`](crate::planners::optimal::Cost));
     /// `None`: the effort.
     energy: Option<Arc<Arm>>,
-    /// The links' sines and cosines at the nodes of the last integrals.
+    /// The links' sines and cosines at the nodes of the last integrals, and a spare Hessian.
     kept: KeptAngles,
 }
 
 /// The sines and cosines of the links' angles at every node (`n` per node) at the last `x`
 /// whose integrals were taken: the SQP takes the derivatives of an accepted trial step at the
-/// same `x` (bit for bit), whose sines and cosines are then not taken again. A clone starts
-/// empty (a discretisation per solve).
+/// same `x` (bit for bit), whose sines and cosines are then not taken again. Beside them, a
+/// constraint Hessian the SQP is done with ([`Discretised::recycle`]), zero outside its band,
+/// for the next evaluation with second derivatives. A clone starts empty (a discretisation per
+/// solve).
 #[derive(Debug, Default)]
-struct KeptAngles(Mutex<Option<Kept>>);
+struct KeptAngles(Mutex<Option<Kept>>, Mutex<Option<DMatrix<f64>>>);
 
 /// The `x` of the last integrals and the sines and cosines at its nodes.
 type Kept = (DVector<f64>, Vec<(f64, f64)>);
@@ -344,6 +346,12 @@ impl Discretised for Discretisation {
             p => self.derivatives(x, order >= 2, n, p),
         })
     }
+
+    fn recycle(&self, hess_c: DMatrix<f64>) {
+        if hess_c.nrows() == self.dim() && hess_c.ncols() == self.dim() {
+            *self.kept.1.lock().unwrap_or_else(PoisonError::into_inner) = Some(hess_c);
+        }
+    }
 }
 
 impl Discretisation {
@@ -360,10 +368,11 @@ impl Discretisation {
         let mut local = Local::new(n);
         let (mut f, mut integral) = (0.0, 0.0);
         let (mut grad_f, mut grad_c) = (DVector::zeros(dim), DVector::zeros(dim));
-        let mut hess_c = if second { DMatrix::zeros(dim, dim) } else { DMatrix::zeros(0, 0) };
+        let hb = n * (p + 1) - 1;
+        let mut hess_c = if second { self.zero_hessian(dim, hb) } else { DMatrix::zeros(0, 0) };
         // Free index of each local coefficient (usize::MAX when fixed).
         let mut idx = [usize::MAX; MAX_DEGREE + 1];
-        let mut row = vec![0.0; n];
+        let (mut row, mut mixed) = (vec![0.0; n], [0.0; MAX_JOINTS]);
         let mut hess_f = match (second, &self.energy) {
             // The effort's Hessian is the table's, not copied ([`Evaluation::hess_f_or`]).
             (true, None) => None,
@@ -438,21 +447,24 @@ impl Discretisation {
                     for ((out, h), m) in row.iter_mut().zip(hessian).zip(local.mixed[j..].iter().step_by(n)) {
                         *out = h * v + m * dr;
                     }
-                    let mixed = &local.mixed[j * n..(j + 1) * n];
+                    // The mixed terms times `v` (as `m * v * rr` multiplies them first).
+                    for (mv, m) in mixed.iter_mut().zip(&local.mixed[j * n..(j + 1) * n]) {
+                        *mv = m * v;
+                    }
                     let col = (il + j) * dim;
                     // The rows on and below the diagonal (`ll >= l`, and `jj >= j` where
                     // `ll = l`); the others are mirrored after the sum. The mixed term of
                     // (l, j) as theta and (ll, jj) as theta'.
                     let (vv, rr) = (node.value[l], node.rate[l]);
                     let out = &mut data[col + il + j..col + il + n];
-                    for ((o, rw), m) in out.iter_mut().zip(&row[j..n]).zip(&mixed[j..n]) {
-                        *o -= rw * vv + m * v * rr;
+                    for ((o, rw), mv) in out.iter_mut().zip(&row[j..n]).zip(&mixed[j..n]) {
+                        *o -= rw * vv + mv * rr;
                     }
                     for &(ll, index) in &free_locals[a + 1..] {
                         let (vv, rr) = (node.value[ll], node.rate[ll]);
                         let out = &mut data[col + index..col + index + n];
-                        for ((o, rw), m) in out.iter_mut().zip(&row[..n]).zip(&mixed[..n]) {
-                            *o -= rw * vv + m * v * rr;
+                        for ((o, rw), mv) in out.iter_mut().zip(&row[..n]).zip(&mixed[..n]) {
+                            *o -= rw * vv + mv * rr;
                         }
                     }
                 }
@@ -460,7 +472,6 @@ impl Discretisation {
         }
         if second {
             // The upper band from the lower one (the Hessian is symmetric).
-            let hb = n * (p + 1) - 1;
             let data = hess_c.as_mut_slice();
             for col in 0..dim {
                 for below in col + 1..(col + hb + 1).min(dim) {
@@ -469,6 +480,21 @@ impl Discretisation {
             }
         }
         Evaluation { f, c: residual(integral), grad_f, grad_c, hess_f, hess_c }
+    }
+
+    /// A `dim x dim` zero matrix: the spare one ([`Discretised::recycle`]) with its band of
+    /// half-bandwidth `hb` zeroed (every entry written is inside the band, so the others are
+    /// zero still), else a new one.
+    fn zero_hessian(&self, dim: usize, hb: usize) -> DMatrix<f64> {
+        let spare = self.kept.1.lock().unwrap_or_else(PoisonError::into_inner).take();
+        let Some(mut h) = spare.filter(|h| h.nrows() == dim && h.ncols() == dim) else {
+            return DMatrix::zeros(dim, dim);
+        };
+        let data = h.as_mut_slice();
+        for col in 0..dim {
+            data[col * dim + col.saturating_sub(hb)..col * dim + (col + hb + 1).min(dim)].fill(0.0);
+        }
+        h
     }
 }
 

@@ -2,6 +2,7 @@
 //! straight line, loops beside it, or a coil on a basis fine enough for its turns (the two-joint
 //! planner's seeds, in the joint planes of largest curvature).
 
+use std::cell::RefCell;
 use std::f64::consts::TAU;
 
 use nalgebra::DVector;
@@ -283,8 +284,23 @@ impl ChainPlanner {
         let line = &p.line;
         let mut out = Vec::new();
         let disc = self.discretise(problem, p.targets.clone(), spans, o.quadrature_nodes, tables)?;
-        let project = |seed: Seed| disc.project(line.path_of(seed));
-        let residual = |s: Seed| project(s).map_or(f64::NAN, |x| disc.evaluate(&x, 0).c);
+        // The seeds `fit_radius` projected, with their costs: a start among them (the seed as
+        // estimated, the re-fitted one) is taken from there, not projected again.
+        let fitted_seeds = RefCell::new(Vec::<(Seed, DVector<f64>, f64)>::new());
+        let project = |seed: Seed| match fitted_seeds.borrow().iter().find(|(s, ..)| *s == seed) {
+            Some((_, x, _)) => Ok(x.clone()),
+            None => disc.project(line.path_of(seed)),
+        };
+        let residual = |s: Seed| {
+            let Ok(x) = project(s) else { return f64::NAN };
+            let e = disc.evaluate(&x, 0);
+            fitted_seeds.borrow_mut().push((s, x, e.f));
+            e.c
+        };
+        let cost = |seed: Seed, x: &DVector<f64>| match fitted_seeds.borrow().iter().find(|(s, ..)| *s == seed) {
+            Some((.., f)) => *f,
+            None => disc.evaluate(x, 0).f,
+        };
         let mut starts = Vec::new();
         let reach = |s: Seed| seed == Seed::Line || self.within_speeds(line, s);
         match seed {
@@ -299,7 +315,7 @@ impl ChainPlanner {
                 let fitted = line.fit_radius(seed, self.coil_room(seed, o.max_loop_radius), residual);
                 if reach(fitted) {
                     let x0 = project(fitted)?;
-                    let guess = (p.needed.abs() > 0.0).then(|| -2.0 * disc.evaluate(&x0, 0).f / p.needed);
+                    let guess = (p.needed.abs() > 0.0).then(|| -2.0 * cost(fitted, &x0) / p.needed);
                     starts.push((x0, guess));
                 }
             }

@@ -10,8 +10,15 @@ use nalgebra::{DMatrix, DVector};
 
 /// `y = A x` for a symmetric matrix `A` with half-bandwidth `hb` (full storage).
 pub fn matvec(a: &DMatrix<f64>, hb: usize, x: &DVector<f64>) -> DVector<f64> {
+    let mut y = DVector::zeros(x.len());
+    matvec_into(a, hb, x, &mut y);
+    y
+}
+
+/// [`matvec`] into `y` (of the length of `x`; its values are overwritten).
+pub fn matvec_into(a: &DMatrix<f64>, hb: usize, x: &DVector<f64>, y: &mut DVector<f64>) {
     let n = x.len();
-    let mut y = DVector::zeros(n);
+    y.fill(0.0);
     let (data, out) = (a.as_slice(), y.as_mut_slice());
     for (j, &xj) in x.as_slice().iter().enumerate() {
         let (lo, hi) = (j.saturating_sub(hb), (j + hb + 1).min(n));
@@ -19,7 +26,6 @@ pub fn matvec(a: &DMatrix<f64>, hb: usize, x: &DVector<f64>) -> DVector<f64> {
             *yi += aij * xj;
         }
     }
-    y
 }
 
 /// The band Cholesky factor `L` (`A = L L^T`, lower, half-bandwidth `hb`) of a symmetric
@@ -41,13 +47,15 @@ impl BandCholesky {
         let n = a.nrows();
         let w = hb + 1;
         let mut l = vec![0.0; n * w];
-        // L[i, k] is l[i * w + k + hb - i].
+        // Column-major: A[i, j] is data[j * n + i].
+        let data = a.as_slice();
+        // L[i, k] is l[i * w + k + hb - i]. (The sums run over slices, in the order of k.)
         for j in 0..n {
             let lo = j.saturating_sub(hb);
             let row_j = j * w + hb - j;
-            let mut d = a[(j, j)];
-            for k in lo..j {
-                d -= l[row_j + k] * l[row_j + k];
+            let mut d = data[j * n + j];
+            for x in &l[row_j + lo..row_j + j] {
+                d -= x * x;
             }
             if !(d > 0.0) || !d.is_finite() {
                 return None;
@@ -56,9 +64,10 @@ impl BandCholesky {
             l[row_j + j] = d;
             for i in j + 1..(j + hb + 1).min(n) {
                 let row_i = i * w + hb - i;
-                let mut s = a[(i, j)];
-                for k in i.saturating_sub(hb).max(lo)..j {
-                    s -= l[row_i + k] * l[row_j + k];
+                let from = i.saturating_sub(hb).max(lo);
+                let mut s = data[j * n + i];
+                for (x, y) in l[row_i + from..row_i + j].iter().zip(&l[row_j + from..row_j + j]) {
+                    s -= x * y;
                 }
                 l[row_i + j] = s / d;
             }

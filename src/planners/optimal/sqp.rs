@@ -20,7 +20,7 @@
 use nalgebra::{DMatrix, DVector};
 use serde::Serialize;
 
-use super::band::{BandCholesky, matvec};
+use super::band::{BandCholesky, matvec, matvec_into};
 use super::discrete::{Discretisation, Evaluation};
 use crate::error::Error;
 use crate::model::InputError;
@@ -58,6 +58,10 @@ pub trait Discretised {
     fn inequalities(&self, _x: &DVector<f64>, _order: usize) -> Option<Inequalities> {
         None
     }
+    /// Takes back the constraint's Hessian of an [`Evaluation`] the iteration is done with, for
+    /// the next evaluation to fill instead of allocating and zeroing another (the default drops
+    /// it).
+    fn recycle(&self, _hess_c: DMatrix<f64>) {}
 }
 
 impl Discretised for Discretisation {
@@ -239,6 +243,8 @@ pub fn solve_watched<P: Discretised>(
     let mut lambda_w = guess.unwrap_or(lambda);
     let mut iterations = 0;
     let (mut best_kkt, mut since_best) = (kkt, 0);
+    // The Lagrangian's Hessian, its band written at every iteration (zero outside it).
+    let mut w = DMatrix::zeros(x.len(), x.len());
     let termination = loop {
         if !(e.f.is_finite() && e.c.is_finite() && kkt.is_finite()) {
             return Err(Error::from(InputError::InvalidParameter {
@@ -264,7 +270,7 @@ pub fn solve_watched<P: Discretised>(
         }
         iterations += 1;
         since_best += 1;
-        let w = band_lagrangian(&e, m.s, lambda_w, hb);
+        band_lagrangian(&e, m.s, lambda_w, hb, &mut w);
         let den = e.grad_c.dot(&a_s);
         if !(den > 0.0) && e.c.abs() > options.constraint_tolerance {
             break Termination::DegenerateConstraint;
@@ -331,6 +337,7 @@ pub fn solve_watched<P: Discretised>(
         let step_norm = m.norm(&step);
         if accepted {
             x += &step;
+            problem.recycle(std::mem::replace(&mut e.hess_c, DMatrix::zeros(0, 0)));
             e = problem.evaluate(&x, 2);
             (lambda, kkt, a_s) = multiplier(&m, &e);
             if guess.is_none() || kkt < 0.1 {
@@ -354,17 +361,17 @@ pub fn solve_watched<P: Discretised>(
 /// The Lagrangian's Hessian `hess_f + lambda hess_c` ([`Evaluation::lagrangian_hessian`]) on
 /// its band of half-bandwidth `hb` alone, zero outside: the iteration reads no other entry (by
 /// [`matvec`] and [`BandCholesky::new`]), and the dense products cost `dim^2` per iteration.
-fn band_lagrangian(e: &Evaluation, s: &DMatrix<f64>, lambda: f64, hb: usize) -> DMatrix<f64> {
+/// Written into `w`, whose entries outside the band are zero (one matrix for every iteration of
+/// a solve, not one allocated and zeroed per iteration).
+fn band_lagrangian(e: &Evaluation, s: &DMatrix<f64>, lambda: f64, hb: usize, w: &mut DMatrix<f64>) {
     let h = e.hess_f_or(s);
     let n = h.nrows();
-    let mut w = DMatrix::zeros(n, n);
     let (hc, hf, out) = (e.hess_c.as_slice(), h.as_slice(), w.as_mut_slice());
     for col in 0..n {
         for k in col * n + col.saturating_sub(hb)..col * n + (col + hb + 1).min(n) {
             out[k] = hc[k] * lambda + hf[k];
         }
     }
-    w
 }
 
 /// Projected, `S`-preconditioned Steihaug CG for `min r0^T t + 1/2 t^T W t` subject to
@@ -413,9 +420,11 @@ fn steihaug(
     let tol = tol.max(1e-15 * rz.sqrt());
     let mut p = -&z;
     let mut st = DVector::zeros(n);
+    // `W p` and `S p`, written at every iteration.
+    let (mut wp, mut sp) = (DVector::zeros(n), DVector::zeros(n));
     for _ in 0..max {
-        let wp = matvec(w, m.hb, &p);
-        let sp = m.times(&p);
+        matvec_into(w, m.hb, &p, &mut wp);
+        matvec_into(m.s, m.hb, &p, &mut sp);
         let kappa = p.dot(&wp);
         let pp = p.dot(&sp);
         if kappa <= 1e-14 * pp {
