@@ -43,6 +43,17 @@ pub const TWO_JOINT_TURNS: i32 = 2;
 /// both are solved.
 pub(crate) const LINE_SPANS_PER_TURN: usize = 8;
 
+/// The holonomy residual \[rad\] beyond which a rate-limited line's full coarse solve with
+/// clearance rows (not capped, see `ChainPlanner::solve_seed`) is given up: neither solved again
+/// on the finest basis nor kept as a candidate. On issue 21's SPART-like bench the line to
+/// `phid - 2 pi` ended 4.3 rad off on 8 spans (33 SQP iterations), 4.1 rad off on the finest
+/// basis (33 more), and its refinement as a far finalist stalled 4.2 rad off (79 more): 575
+/// SQP iterations instead of 430, the same plan. A capped line's residual says nothing of the
+/// kind (on the chain tests, lines 4.4 and 4.7 rad off after their 8 iterations came within
+/// 1e-2 and 1e-4 rad on the finest basis; the farthest that met it to 1e-6 was 0.62 rad off), and
+/// without rows the line is capped: those are solved as before.
+const STALLED_FAR: f64 = 1.0;
+
 /// The uniform knot spans of [`LINE_SPANS_PER_TURN`] for `line`.
 fn line_spans(line: &Line) -> usize {
     let travel = line.start.iter().zip(&line.end).map(|(a, b)| (b - a).abs()).fold(0.0, f64::max);
@@ -378,6 +389,11 @@ impl ChainPlanner {
             // the same seed again on finer bases (on issue 20's 3-link bench 75 to 104 of 400
             // ms, to a worse plan or none).
             if seed == Seed::Line && !feasible && self.arm.limits.rate_limited() && o.max_spans > spans {
+                // With clearance rows the coarse line is solved in full (not capped): where it
+                // ended far off the holonomy, the line is given up (`STALLED_FAR`).
+                if super::limits::keeps_clearance(self) && c.result.c.abs() > STALLED_FAR {
+                    continue;
+                }
                 let fine = self.discretise(problem, p.targets.clone(), o.max_spans, o.quadrature_nodes, tables)?;
                 // From the coarse line's solution (nearer the limits' minimum than the line; on
                 // the 3-link bench the plan's iterations 46 -> 18), and from the line where that
