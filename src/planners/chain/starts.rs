@@ -394,7 +394,15 @@ impl ChainPlanner {
                 if super::limits::keeps_clearance(self) && c.result.c.abs() > STALLED_FAR {
                     continue;
                 }
-                let fine = self.discretise(problem, p.targets.clone(), o.max_spans, o.quadrature_nodes, tables)?;
+                // On the end layers' grading where every limit is a control-point row
+                // (`ChainPlanner::graded_line`).
+                let grading = self.graded_line();
+                let fine = self.discretise_graded(
+                    problem,
+                    p.targets.clone(),
+                    [o.max_spans, o.quadrature_nodes, grading],
+                    tables,
+                )?;
                 // From the coarse line's solution (nearer the limits' minimum than the line; on
                 // the 3-link bench the plan's iterations 46 -> 18), and from the line where that
                 // start is not feasible (issue 20's oracle case 6 stalled from it).
@@ -407,7 +415,7 @@ impl ChainPlanner {
                 }
                 if let Some(result) = result {
                     let iterations = result.iterations;
-                    let mut f = Candidate::new(fine, result, [o.max_spans, nodes, self.options.grading], iterations);
+                    let mut f = Candidate::new(fine, result, [o.max_spans, nodes, grading], iterations);
                     // Feasible, it stands for the coarse line (`Candidate::stands_for`).
                     f.stands_for = f.feasible().then_some(c.result.f);
                     if !f.feasible()

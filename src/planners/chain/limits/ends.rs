@@ -19,11 +19,15 @@
 //! points are convex combinations of the old ones): the solve there starts feasible at the same
 //! effort. A refinement at its limit in an end layer is solved once more with the end spans
 //! graded to [`END_GRADING`] levels (one solve of 4 to 7 SQP iterations on the benches, about
-//! as many from one level to the next).
+//! as many from one level to the next), except where a torque limit binds in that end layer:
+//! the torque then sets the ramp, and the thin spans gained only between the torque rows'
+//! points, beyond the limit.
 
 use super::super::search::Candidate;
 use super::super::tables::Tables;
 use super::super::{ChainPlanner, ChainProblem, ChainStats};
+use super::TORQUE_POINTS;
+use crate::dynamics::arm::ArmDynamics;
 use crate::error::Error;
 
 /// Graded knots per end of a refinement at its velocity limit in an end layer (`h / 4^3`: on 32
@@ -44,8 +48,9 @@ impl ChainPlanner {
     /// A converged refinement `c` at its velocity limit in an end layer (a joint at its limit
     /// within the first or last uniform span) with fewer than [`END_GRADING`] graded knots per
     /// end, solved again, warm-started from itself, with that many: the solution there where it
-    /// converges at no higher cost, else `c`. Unchanged elsewhere, and on given knots
-    /// ([`super::super::ChainOptions::knots`]). The finer solve is kept only inside every limit
+    /// converges at no higher cost, else `c`. Unchanged elsewhere, on given knots
+    /// ([`super::super::ChainOptions::knots`]), and where a torque limit binds in an end layer
+    /// ([`Self::torque_held_in_an_end_layer`]). The finer solve is kept only inside every limit
     /// ([`Self::inside_limits`]).
     pub(in super::super) fn sharpen_ends(
         &self,
@@ -57,6 +62,7 @@ impl ChainPlanner {
             || c.grading >= END_GRADING
             || !c.result.converged()
             || !self.at_speed_in_an_end_layer(&c)
+            || self.torque_held_in_an_end_layer(&c)
         {
             return Ok(c);
         }
@@ -64,6 +70,28 @@ impl ChainPlanner {
         let finer = self.resolve(problem, &graded, c.spans, c.nodes, tables)?;
         let better = finer.result.converged() && finer.result.f <= c.result.f;
         Ok(if better && self.inside_limits(problem, &finer) { finer } else { c })
+    }
+
+    /// The end grading of a rate-limited line's solve on the finest basis
+    /// (`ChainPlanner::solve_seed`): [`END_GRADING`] where a velocity limit is declared and
+    /// every declared limit is a row of control points (positions, velocities, accelerations:
+    /// the convex hull holds them on the whole path, between any points), else the options'.
+    /// The graded basis is the uniform one with knots inserted (a richer space, the solve
+    /// starts from the same projection), and the refinement's end-layer solve is then spared
+    /// (`profile_limits`: SQP iterations 3v 25 -> 19, 2v 21 -> 18; callgrind 3v 1054 -> 922 M,
+    /// 2v 430 -> 353 M; the same efforts to 10 digits). A first version for every arm
+    /// (8474d43) was reverted: a torque, bounded at the rows' points only, rose beyond its limit
+    /// between them on thin graded spans.
+    pub(in super::super) fn graded_line(&self) -> usize {
+        let limits = &self.arm.limits;
+        let velocity = limits.joints.iter().any(|l| l.velocity.is_some());
+        let exact =
+            limits.base.is_none() && limits.joints.iter().all(|l| l.torque.is_none()) && !super::keeps_clearance(self);
+        if velocity && exact && self.options.knots.is_none() {
+            END_GRADING.max(self.options.grading)
+        } else {
+            self.options.grading
+        }
     }
 
     /// Whether `c`'s plan stays inside every declared limit by the certificate's own measure
@@ -76,6 +104,39 @@ impl ChainPlanner {
         let plan = self.plan_of(c, ChainStats::unmeasured(c));
         crate::plan::limit_use::limit_use(&self.arm, &plan, &problem.start, &self.options.ode)
             .is_ok_and(|report| report.inside)
+    }
+
+    /// Whether a torque-limited joint of `c`'s path is at its limit (to [`AT_LIMIT`]) at a
+    /// point of the torque rows in the first or last uniform span: there the torque limit, not
+    /// the knots, sets how fast a joint leaves or reaches rest, and a finer grading's thin
+    /// spans gain only by riding the torque limit between the rows' points, which the
+    /// certificate's measure then refuses ([`Self::inside_limits`]). So it did on every such plan
+    /// measured: the 3-link velocity and torque bench (17.9451 -> 17.8252 at points, refused)
+    /// and the limits oracle's cases 2, 10, 14 and 18 (seven finer solves, all refused; each
+    /// plan the unsharpened one): the finer solve is not attempted there.
+    fn torque_held_in_an_end_layer(&self, c: &Candidate) -> bool {
+        let limits: Vec<Option<f64>> = (0..self.arm.joints()).map(|j| self.arm.limits.joint(j).torque).collect();
+        if limits.iter().all(Option::is_none) {
+            return false;
+        }
+        let basis = c.disc.basis();
+        let horizon = basis.horizon();
+        let h = horizon / c.spans as f64;
+        let coefficients = c.disc.coefficients(&c.result.x);
+        let dynamics = ArmDynamics::new(&self.arm);
+        let n = self.arm.joints();
+        let (mut th, mut w, mut a) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+        let ends = |t: f64| t <= h + 1e-12 * horizon || t >= horizon - h - 1e-12 * horizon;
+        basis.breakpoints().windows(2).filter(|s| ends(s[0]) && ends(s[1])).any(|s| {
+            (0..=TORQUE_POINTS).any(|k| {
+                let t = s[0] + (s[1] - s[0]) * k as f64 / TORQUE_POINTS as f64;
+                for (j, cj) in coefficients.iter().enumerate() {
+                    [th[j], w[j], a[j]] = basis.evaluate(cj, t);
+                }
+                let tau = dynamics.inverse(&th, &w, &a).tau;
+                limits.iter().zip(&tau).any(|(l, t)| l.is_some_and(|l| t.abs() >= (1.0 - AT_LIMIT) * l))
+            })
+        })
     }
 
     /// Whether a velocity-limited joint of `c`'s path is at its limit (to [`AT_LIMIT`]) in the
