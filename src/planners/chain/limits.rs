@@ -41,6 +41,7 @@ use crate::model::arm::lumped::SIZE;
 use crate::numerics::quadrature::GaussLegendre;
 use crate::planners::optimal::band::BandCholesky;
 use crate::planners::optimal::discrete::Evaluation;
+use crate::planners::optimal::spline::SplineBasis;
 use crate::planners::optimal::sqp::{self, Discretised, Inequalities, SqpOptions, SqpResult, Termination};
 
 /// Relative margin by which every limit is tightened.
@@ -49,6 +50,17 @@ const MARGIN: f64 = 1e-9;
 /// Points per knot span at which the torque is bounded (the span's start and interior points;
 /// the horizon's end is added).
 const TORQUE_POINTS: usize = 3;
+
+/// The times of the torque rows on `basis`: [`TORQUE_POINTS`] per knot span (its start and
+/// interior points), and the horizon's end.
+fn torque_times(basis: &SplineBasis) -> Vec<f64> {
+    let mut times = Vec::new();
+    for w in basis.breakpoints().windows(2) {
+        times.extend((0..TORQUE_POINTS).map(|k| w[0] + (w[1] - w[0]) * k as f64 / TORQUE_POINTS as f64));
+    }
+    times.push(basis.horizon());
+    times
+}
 
 /// A linear row `sum_k a_k c_k + constant` in all coefficients of one joint.
 #[derive(Debug, Clone)]
@@ -184,12 +196,7 @@ impl<'a> Limited<'a> {
         }
         let basis = self.disc.basis();
         let (p, n) = (basis.degree(), self.arm.joints());
-        let b = basis.breakpoints();
-        let mut times = Vec::new();
-        for w in b.windows(2) {
-            times.extend((0..TORQUE_POINTS).map(|k| w[0] + (w[1] - w[0]) * k as f64 / TORQUE_POINTS as f64));
-        }
-        times.push(basis.horizon());
+        let times = torque_times(basis);
         let (mut th, mut w, mut a) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
         // The arm's constants once for every point (as `inverse_dynamics` builds them per call).
         let dynamics = ArmDynamics::new(self.arm);

@@ -26,7 +26,7 @@
 use super::super::search::Candidate;
 use super::super::tables::Tables;
 use super::super::{ChainPlanner, ChainProblem, ChainStats};
-use super::TORQUE_POINTS;
+use super::torque_times;
 use crate::dynamics::arm::ArmDynamics;
 use crate::error::Error;
 
@@ -126,16 +126,13 @@ impl ChainPlanner {
         let dynamics = ArmDynamics::new(&self.arm);
         let n = self.arm.joints();
         let (mut th, mut w, mut a) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
-        let ends = |t: f64| t <= h + 1e-12 * horizon || t >= horizon - h - 1e-12 * horizon;
-        basis.breakpoints().windows(2).filter(|s| ends(s[0]) && ends(s[1])).any(|s| {
-            (0..=TORQUE_POINTS).any(|k| {
-                let t = s[0] + (s[1] - s[0]) * k as f64 / TORQUE_POINTS as f64;
-                for (j, cj) in coefficients.iter().enumerate() {
-                    [th[j], w[j], a[j]] = basis.evaluate(cj, t);
-                }
-                let tau = dynamics.inverse(&th, &w, &a).tau;
-                limits.iter().zip(&tau).any(|(l, t)| l.is_some_and(|l| t.abs() >= (1.0 - AT_LIMIT) * l))
-            })
+        let ends = |t: &f64| *t <= h + 1e-12 * horizon || *t >= horizon - h - 1e-12 * horizon;
+        torque_times(basis).into_iter().filter(ends).any(|t| {
+            for (j, cj) in coefficients.iter().enumerate() {
+                [th[j], w[j], a[j]] = basis.evaluate(cj, t);
+            }
+            let tau = dynamics.inverse(&th, &w, &a).tau;
+            limits.iter().zip(&tau).any(|(l, t)| l.is_some_and(|l| t.abs() >= (1.0 - AT_LIMIT) * l))
         })
     }
 
