@@ -421,6 +421,9 @@ impl Error {
             E::Input(I::PoseBranch { branch, reaching, tried, residual }) => {
                 json!({"name": "branch", "value": branch, "reaching": reaching, "tried": tried, "residual": residual})
             }
+            E::Input(I::NothingToCheck { obstacles, clearance }) => {
+                json!({"obstacles": obstacles, "clearance": clearance})
+            }
             E::Input(I::ShardFile { path, line, reason }) => {
                 json!({"path": path.display().to_string(), "line": line, "reason": reason})
             }

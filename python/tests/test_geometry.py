@@ -63,3 +63,13 @@ def test_a_clearance_the_motion_cannot_keep_is_refused(arm):
 def test_bad_geometry_is_bad_input(arm, keywords):
     with pytest.raises(ff.BadInput):
         ff.plan(arm, START, GOAL, 10.0, **keywords)
+
+
+@pytest.mark.parametrize("keywords", [{"obstacles": [BELOW]}, {"clearance": 0.01}])
+def test_obstacles_for_a_robot_without_shapes_are_bad_input(tmp_path, keywords):
+    # Nothing would be checked, so a plan through the obstacle would pass as clear.
+    links = LINK.format(0.619, 0.313, 4.5) + LINK.format(0.6, 0.287, 1.5)
+    path = tmp_path / "bare.toml"
+    path.write_text("[robot]\nM = 12.9\nI = 0.208\n" + links.replace("width = 0.04\n", ""))
+    with pytest.raises(ff.BadInput, match="no shapes"):
+        ff.plan(ff.Arm.from_file(path), START, GOAL, 10.0, **keywords)

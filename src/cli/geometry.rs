@@ -76,8 +76,8 @@ pub fn two_link(robot: &RobotArgs, flags: &GeometryArgs) -> anyhow::Result<(Geom
 }
 
 /// What the reader must know about the geometry, each also printed on stderr as a note: the
-/// URDF reader's (a `<visual>` used for a missing `<collision>`, a mesh skipped), and flags that
-/// check nothing because no body has a shape.
+/// URDF reader's (a `<visual>` used for a missing `<collision>`, a mesh skipped), and `--no-collide` where
+/// no body has a shape.
 fn notes(geometry: &Geometry, robot: &RobotArgs, flags: &GeometryArgs) -> anyhow::Result<Vec<String>> {
     let mut notes = Vec::new();
     if let Some(path) = super::robot_file(robot)?
@@ -86,11 +86,11 @@ fn notes(geometry: &Geometry, robot: &RobotArgs, flags: &GeometryArgs) -> anyhow
         let text = std::fs::read_to_string(path).with_context(|| format!("{}", path.display()))?;
         notes.extend(Arm::from_urdf_str_noted(&text, path)?.3);
     }
-    let flagged = !flags.obstacle.is_empty() || flags.clearance != 0.0 || !flags.no_collide.is_empty();
-    if flagged && geometry.is_empty() {
+    // Obstacles and a clearance without shapes are refused ([`Geometry::validate`]); an
+    // exclusion without them is harmless.
+    if !flags.no_collide.is_empty() && geometry.is_empty() {
         notes.push(
-            "--obstacle/--clearance/--no-collide: the robot has no shapes (URDF <collision>, TOML `width`/`shape`), \
-             so nothing is checked"
+            "--no-collide: the robot has no shapes (URDF <collision>, TOML `width`/`shape`), so nothing is checked"
                 .into(),
         );
     }

@@ -142,6 +142,15 @@ pub enum InputError {
         /// The deepest nesting read.
         limit: usize,
     },
+    /// Obstacles or a clearance were given for a robot whose bodies have no shapes: nothing
+    /// would be checked, so a plan through an obstacle would pass as clear.
+    #[error("{}", nothing_to_check_message(*obstacles, *clearance))]
+    NothingToCheck {
+        /// The obstacles given.
+        obstacles: usize,
+        /// The clearance given \[m\].
+        clearance: f64,
+    },
     /// A tool-pose goal inside the reach that no inverse-kinematics branch plans to: either
     /// `branch` was asked for and no branch of that name reaches the pose, or no branch reached
     /// it at all (the pose at the edge of the reach or at a singular configuration).
@@ -156,6 +165,18 @@ pub enum InputError {
         /// The least distance of a branch's tool point from the pose \[m\].
         residual: f64,
     },
+}
+
+fn nothing_to_check_message(obstacles: usize, clearance: f64) -> String {
+    let given = match (obstacles, clearance > 0.0) {
+        (0, _) => format!("a clearance of {} m was given", fmt_value(clearance)),
+        (n, false) => format!("{n} obstacle(s) were given"),
+        (n, true) => format!("{n} obstacle(s) and a clearance of {} m were given", fmt_value(clearance)),
+    };
+    format!(
+        "{given}, but the robot's bodies have no shapes, so nothing would be checked: give them shapes (TOML link \
+         `width` or `shape`, base `shape`; URDF <collision>), or drop the obstacles and the clearance"
+    )
 }
 
 fn pose_branch_message(branch: Option<&str>, reaching: &[String], tried: usize, residual: f64) -> String {

@@ -231,6 +231,30 @@ fn an_obstacle_on_the_path_is_never_certified() {
     }
 }
 
+/// Obstacles or a clearance for a robot without shapes would check nothing, so a plan through
+/// the obstacle would pass as clear: they are refused (exit 2) on the paper's robot and on an
+/// arm without shapes, for every command that takes them; an exclusion alone is a note.
+#[test]
+fn obstacles_for_a_robot_without_shapes_are_refused() {
+    let three = "examples/robots/three_link.toml";
+    let arm = ["--robot", three, "--from", "0,0,0,0", "--to", "30,10,10,10"];
+    let cases: [(&str, &[&str], &[&str]); 5] = [
+        ("plan", &[], &["--obstacle", "circle:0,0,0.1"]),
+        ("plan", &[], &["--clearance", "0.01"]),
+        ("plan", &arm, &["--obstacle", "circle:0,0,0.1"]),
+        ("compare", &arm, &["--clearance", "0.01"]),
+        ("track", &[], &["--obstacle", "circle:0.3,0.3,0.1"]),
+    ];
+    for (command, robot, flags) in cases {
+        let o = freefloat(&[&[command][..], robot, flags].concat());
+        assert_eq!(o.status.code(), Some(2), "{command} {flags:?}: {}", stderr(&o));
+        assert!(stderr(&o).contains("no shapes"), "{command} {flags:?}: {}", stderr(&o));
+    }
+    let o = freefloat(&[&["plan"][..], &arm, &["--no-collide", "base,link2"]].concat());
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert!(stderr(&o).contains("--no-collide: the robot has no shapes"), "{}", stderr(&o));
+}
+
 /// A start or goal closer than `--clearance` to a pair that is checked is refused at once
 /// (exit 2), naming the end and the pair, and the JSON error carries the distance. The SPART-like
 /// arm's start has link 2 within 0.5 m of the base (measured 0.446 m).

@@ -113,7 +113,9 @@ impl Geometry {
 
     /// Checks the geometry for an arm of `n` links: no link shapes or one list per link; every
     /// shape as [`Shape::new`] checks it (finite points within 1e3 m, a radius in `[0, 1e3]` m);
-    /// every excluded body of the arm or an obstacle given; the clearance finite in `[0, 1e3]` m.
+    /// every excluded body of the arm or an obstacle given; the clearance finite in `[0, 1e3]` m;
+    /// no obstacles and no clearance above 0 without a shape on a body
+    /// ([`InputError::NothingToCheck`]: they would check nothing).
     /// Errors name the key: `geometry.link[k].shape[j]`, `geometry.base.shape[j]`,
     /// `geometry.obstacle[k]`, `--no-collide`, `--clearance`.
     pub fn validate(&self, n: usize) -> Result<(), InputError> {
@@ -170,6 +172,9 @@ impl Geometry {
         }
         if !(self.clearance.is_finite() && (0.0..=crate::model::geometry::MAX_EXTENT).contains(&self.clearance)) {
             return Err(bad("--clearance".into(), self.clearance, "a clearance from 0 to 1e3 m"));
+        }
+        if self.is_empty() && (!self.obstacles.is_empty() || self.clearance > 0.0) {
+            return Err(InputError::NothingToCheck { obstacles: self.obstacles.len(), clearance: self.clearance });
         }
         Ok(())
     }
@@ -354,6 +359,24 @@ mod tests {
         assert_eq!(pairs.len(), 6 + 5);
         g.excluded.push((Link(4), Base));
         assert!(!g.pairs(4).contains(&(Base, Link(4))), "an exclusion in either order");
+    }
+
+    #[test]
+    fn obstacles_or_a_clearance_without_shapes_are_refused() {
+        let obstacle = || vec![Shape::circle([2.0, 0.0], 0.3).unwrap()];
+        let bare = [
+            Geometry { obstacles: obstacle(), ..Default::default() },
+            Geometry { clearance: 0.01, ..Default::default() },
+            Geometry { links: vec![vec![]; 3], obstacles: obstacle(), clearance: 0.01, ..Default::default() },
+        ];
+        for g in bare {
+            assert!(matches!(g.validate(3), Err(InputError::NothingToCheck { .. })), "{g:?}");
+        }
+        // A shape on any body, or only exclusions: accepted.
+        let base_only =
+            Geometry { base: capsules(3).base, obstacles: obstacle(), clearance: 0.01, ..Default::default() };
+        base_only.validate(3).unwrap();
+        Geometry { excluded: vec![(Body::Base, Body::Link(2))], ..Default::default() }.validate(3).unwrap();
     }
 
     #[test]
