@@ -16,11 +16,14 @@
 //!   (a dense set, not a bound between the points); the derivatives in `theta''` exactly (the
 //!   torque is affine in it), in `theta` and `theta'` by central differences.
 //! - **Base range** `lo <= phi(t) <= hi` at every breakpoint, `phi(t) = phi(0) - integral_0^t g`
-//!   by 8-node Gauss–Legendre quadrature per span, with the connection's exact gradient.
+//!   by 8-node Gauss–Legendre quadrature per span, with the connection's exact gradient; a
+//!   refined plan that leaves the range between the breakpoints is solved again inside a
+//!   tightened one ([`base`]).
 //!
 //! Every limit is tightened by a relative `1e-9` of itself so that a solution within the SQP's
 //! tolerance is inside the declared one.
 
+mod base;
 mod clearance;
 mod ends;
 mod ranges;

@@ -366,7 +366,7 @@ impl ChainPlanner {
                 break;
             }
         }
-        Ok(c)
+        self.hold_base(problem, c, tables)
     }
 
     /// `|phi(T) - phi_end|` of the candidate with the plan's finer quadrature.
