@@ -375,6 +375,8 @@ mod tests_clearance_oracle;
 #[cfg(test)]
 mod tests_oracle;
 #[cfg(test)]
+mod tests_oracle_base;
+#[cfg(test)]
 mod tests_oracle_solver;
 
 #[cfg(test)]

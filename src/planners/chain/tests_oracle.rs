@@ -98,9 +98,22 @@ impl Transcription<'_> {
         out
     }
 
-    /// Every node's rows, concatenated.
+    /// Every node's rows, concatenated, then the base range's rows ([`Self::base_rows`]).
     fn rows(&self, q: &[Vec<f64>]) -> Vec<f64> {
-        (0..q.len()).flat_map(|k| self.node_rows(q, k)).collect()
+        let mut out: Vec<f64> = (0..q.len()).flat_map(|k| self.node_rows(q, k)).collect();
+        let mut phi = vec![self.start[0]];
+        for w in q.windows(2) {
+            phi.push(phi[phi.len() - 1] + self.base_step(&w[0], &w[1]));
+        }
+        out.extend(self.base_rows(&phi[1..]));
+        out
+    }
+
+    /// The scaled rows of the base range at the base angles `phi` of nodes 1, 2, .. (two each;
+    /// none without a base range).
+    fn base_rows(&self, phi: &[f64]) -> Vec<f64> {
+        let Some([lo, hi]) = self.arm.limits.base else { return Vec::new() };
+        phi.iter().flat_map(|p| [(p - hi) / (hi - lo), (lo - p) / (hi - lo)]).collect()
     }
 
     /// Effort, holonomy residual and the limits' rows at `x`.
@@ -133,6 +146,14 @@ impl Transcription<'_> {
         for k in 0..q.len() {
             offsets.push(offsets[k] + self.node_rows(&q, k).len());
         }
+        // The base angle at every node; moving node `k` shifts it at nodes `k..` alike, so the
+        // base range's rows there (after the nodes' rows, two per node from node 1) all move.
+        let mut phi = vec![self.start[0]];
+        for s in &steps {
+            phi.push(phi[phi.len() - 1] + s);
+        }
+        let base = offsets[q.len()];
+        let per_node = self.base_rows(&phi[..1]).len();
         let mut out = Vec::with_capacity(x.len());
         for k in 1..intervals {
             for j in 0..n {
@@ -142,13 +163,23 @@ impl Transcription<'_> {
                     q[k][j] = v;
                     let mut value = 0.0;
                     let mut cc = c - steps[k - 1] - steps[k];
-                    for i in [k - 1, k] {
+                    let mut moved = [0.0; 2];
+                    for (s, i) in [k - 1, k].into_iter().enumerate() {
                         value += q[i].iter().zip(&q[i + 1]).map(|(a, b)| (b - a) * (b - a)).sum::<f64>() / h;
-                        cc += self.base_step(&q[i], &q[i + 1]);
+                        moved[s] = self.base_step(&q[i], &q[i + 1]);
+                        cc += moved[s];
                     }
                     value += lambda * cc + 0.5 * r * cc * cc;
                     for m in k - 1..=k + 1 {
                         value += penalty(&self.node_rows(&q, m), &z[offsets[m]..offsets[m + 1]], r);
+                    }
+                    if per_node > 0 {
+                        // Node k's base angle moves with the interval before it, the later ones
+                        // with both.
+                        let (first, rest) = (moved[0] - steps[k - 1], cc - c);
+                        let phi: Vec<f64> =
+                            phi[k..].iter().enumerate().map(|(i, p)| p + if i == 0 { first } else { rest }).collect();
+                        value += penalty(&self.base_rows(&phi), &z[base + per_node * (k - 1)..], r);
                     }
                     value
                 };
@@ -172,7 +203,13 @@ fn oracle(arm: &Arm, problem: &ChainProblem, intervals: usize, starts: usize) ->
 /// The oracle's least feasible effort from `starts` random starts and, with `from`, also from
 /// that plan's joint path sampled at the nodes: a local check by an independent method (a plan
 /// at a constrained minimum is not improved by more than the two transcriptions' difference).
-fn oracle_from(arm: &Arm, problem: &ChainProblem, intervals: usize, starts: usize, from: Option<&ChainPlan>) -> f64 {
+pub(super) fn oracle_from(
+    arm: &Arm,
+    problem: &ChainProblem,
+    intervals: usize,
+    starts: usize,
+    from: Option<&ChainPlan>,
+) -> f64 {
     let t = Transcription {
         arm,
         dynamics: ArmDynamics::new(arm),
@@ -223,7 +260,7 @@ fn oracle_from(arm: &Arm, problem: &ChainProblem, intervals: usize, starts: usiz
     best
 }
 
-fn deg(v: &[f64]) -> Vec<f64> {
+pub(super) fn deg(v: &[f64]) -> Vec<f64> {
     v.iter().map(|x| x.to_radians()).collect()
 }
 
