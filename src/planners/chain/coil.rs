@@ -163,6 +163,10 @@ pub fn sites(
         .collect();
     let grid: Vec<([f64; 2], f64)> = rows.into_iter().flatten().collect();
     let literal = ranges.map(|r| r.is_some());
+    // Cumulative signed area over discs of growing radius (rings, midpoint rule), at the same
+    // angles on every ring (their sines and cosines taken once).
+    let (rings, angles) = (20, 24);
+    let directions: Vec<(f64, f64)> = (0..angles).map(|m| (TAU * m as f64 / angles as f64).sin_cos()).collect();
     // The site of one sign: the two signs' rings are independent, computed in parallel.
     let site = |sign: f64| {
         let mut kappa = kappa_from();
@@ -173,18 +177,11 @@ pub fn sites(
                 (top, centre) = (score, point);
             }
         }
-        // Cumulative signed area over discs of growing radius (rings, midpoint rule).
-        let (rings, angles) = (20, 24);
         let dr = room(centre) / rings as f64;
         let (mut area, mut chosen) = (0.0, (f64::NEG_INFINITY, dr, 0.0));
         for ring in 0..rings {
             let r = (ring as f64 + 0.5) * dr;
-            let mean = (0..angles)
-                .map(|m| {
-                    let (s, c) = (TAU * m as f64 / angles as f64).sin_cos();
-                    sign * kappa(centre[0] + r * c, centre[1] + r * s)
-                })
-                .sum::<f64>()
+            let mean = directions.iter().map(|&(s, c)| sign * kappa(centre[0] + r * c, centre[1] + r * s)).sum::<f64>()
                 / angles as f64;
             area += mean * TAU * r * dr;
             let outer = (ring + 1) as f64 * dr;
