@@ -145,3 +145,60 @@ fn the_last_resort_clears_where_the_search_with_rows_stalls() {
     assert!(plan.verification.certified, "not certified");
     assert!(report.holds() && report.min >= 0.02, "least clearance {}", report.min);
 }
+
+/// The curvature the clearance rows of the robot's own bodies add to the SQP's model
+/// (`Discretised::add_row_curvature`) is the positive semi-definite part of theirs, through the
+/// joint angles: positive semi-definite itself, nowhere more negative than the rows' Hessian by
+/// central differences of their gradients (`w - hess` positive semi-definite: what is left out
+/// is the negative part), and not zero.
+#[test]
+fn clearance_rows_curvature_is_the_positive_part_of_their_hessian() {
+    let arm = with_links(three_link(), Vec::new(), 0.0);
+    let planner = ChainPlanner::new(arm, ChainOptions::default());
+    let problem = problem();
+    let targets = Targets {
+        start: problem.start[1..].to_vec(),
+        initial_velocity: vec![0.0; 3],
+        end: problem.goal[1..].to_vec(),
+        phi_start: problem.start[0],
+        phi_end: problem.goal[0],
+    };
+    let disc = planner.discretise(&problem, targets, 8, 8, &Default::default()).expect("discretises");
+    let x = DVector::from_fn(disc.dim(), |i, _| 0.3 * (i as f64 * 0.7).sin());
+    let limited = super::limits::Limited::new(&planner, &disc).expect("clamped basis");
+    let without = ChainPlanner { clearance_rows: false, ..planner.clone() };
+    let before =
+        super::limits::Limited::new(&without, &disc).and_then(|l| l.inequalities(&x, 0)).map_or(0, |g| g.values.len());
+    let rows = limited.inequalities(&x, 1).expect("rows");
+    assert!(rows.values.len() > before, "no clearance rows");
+    // Multipliers of one to three on every clearance row, none on the limits' rows.
+    let z: Vec<f64> = (0..rows.values.len()).map(|i| if i < before { 0.0 } else { 1.0 + (i % 3) as f64 }).collect();
+    let dim = disc.dim();
+    let mut w = nalgebra::DMatrix::zeros(dim, dim);
+    limited.add_row_curvature(&x, &z, &mut w);
+    let gradient = |y: &DVector<f64>| {
+        let g = limited.inequalities(y, 1).expect("rows");
+        let mut out = DVector::zeros(dim);
+        for (row, zi) in g.rows.iter().zip(&z) {
+            for &(k, v) in row {
+                out[k] += zi * v;
+            }
+        }
+        out
+    };
+    let h = 1e-6;
+    let mut hess = nalgebra::DMatrix::zeros(dim, dim);
+    for k in 0..dim {
+        let (mut up, mut down) = (x.clone(), x.clone());
+        up[k] += h;
+        down[k] -= h;
+        hess.set_column(k, &((gradient(&up) - gradient(&down)) / (2.0 * h)));
+    }
+    let hess = (&hess + hess.transpose()) * 0.5;
+    let scale = 1.0 + hess.amax();
+    assert!(w.amax() > 1e-3 * scale, "no curvature added");
+    assert!((&w - w.transpose()).amax() <= 1e-12 * scale, "not symmetric");
+    let least = |m: nalgebra::DMatrix<f64>| m.symmetric_eigen().eigenvalues.min();
+    assert!(least(w.clone()) >= -1e-9 * scale, "not positive semi-definite: {}", least(w.clone()));
+    assert!(least(&w - &hess) >= -1e-5 * scale, "more than the Hessian: {}", least(&w - &hess));
+}
