@@ -390,13 +390,6 @@ impl Discretised for Limited<'_> {
     fn evaluate(&self, x: &DVector<f64>, order: usize) -> Evaluation {
         self.disc.evaluate(x, order)
     }
-    fn add_row_curvature(&self, x: &DVector<f64>, z: &[f64], w: &mut nalgebra::DMatrix<f64>) {
-        if self.clearance.is_none() || z.iter().all(|v| !(*v > 0.0)) {
-            return;
-        }
-        let c = self.disc.coefficients(x);
-        self.clearance_curvature(&c, z, w);
-    }
     fn inequalities(&self, x: &DVector<f64>, order: usize) -> Option<Inequalities> {
         let c = self.disc.coefficients(x);
         let mut out = Inequalities::default();

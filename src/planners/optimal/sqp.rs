@@ -58,10 +58,6 @@ pub trait Discretised {
     fn inequalities(&self, _x: &DVector<f64>, _order: usize) -> Option<Inequalities> {
         None
     }
-    /// Adds to `w` (the model's Hessian, in its band) the positive semi-definite part of the
-    /// inequalities' curvature `sum_i z_i hess g_i` at `x`, `z` their multipliers (the default
-    /// adds nothing: a Gauss–Newton model of the rows).
-    fn add_row_curvature(&self, _x: &DVector<f64>, _z: &[f64], _w: &mut DMatrix<f64>) {}
     /// Takes back the constraint's Hessian of an [`Evaluation`] the iteration is done with, for
     /// the next evaluation to fill instead of allocating and zeroing another (the default drops
     /// it).

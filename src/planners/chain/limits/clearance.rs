@@ -18,8 +18,8 @@
 //! the planner solves a plan under the clearance again, keeping more (`certified_clear`). The
 //! rows at `t = 0` and `t = T` are left out: the start and goal are fixed.
 
-use nalgebra::{Const, DMatrix, U1};
-use num_dual::{Derivative, DualSVec64, HyperDual64};
+use nalgebra::{Const, U1};
+use num_dual::{Derivative, DualSVec64};
 
 use super::{Limited, PathPoint};
 use crate::model::arm::collision::{Body, Geometry, PairClearance};
@@ -191,96 +191,6 @@ impl Limited<'_> {
         } else {
             for p in self.path_points(rows.pieces) {
                 at(PathPoint { t: p.t, span: p.span, phi: p.phi, grad: &p.grad[..] });
-            }
-        }
-    }
-}
-
-impl Limited<'_> {
-    /// The number of rows before the clearance rows in [`Discretised::inequalities`]' order:
-    /// the linear rows, the torque rows (two per joint and time) and the base range's (two per
-    /// knot span).
-    fn rows_before_clearance(&self) -> usize {
-        let basis = self.disc.basis();
-        let torque = if self.torque.is_empty() { 0 } else { 2 * self.torque.len() * super::torque_times(basis).len() };
-        let base = if self.base.is_some() { 2 * (basis.breakpoints().len() - 1) } else { 0 };
-        self.linear.len() + torque + base
-    }
-
-    /// Adds to `w` the positive semi-definite part of `z_i hess g_i` of every clearance row
-    /// with a positive multiplier `z_i`, in the joint angles at its point: `-z_i / L` times
-    /// the distance's Hessian in `theta(t)` (one hyper-dual pass of the pair per entry), its
-    /// negative eigenvalues dropped, through the span's basis values (inside the band). A
-    /// row against an obstacle keeps the Gauss–Newton model: its curvature through `phi(t)` is
-    /// dense, and its part in `theta` alone made the 3-link arm's repair around its obstacle
-    /// (`benches/clearance.rs`) stall at 26 iterations, its plan 0.069 m inside the obstacle.
-    /// Without it the iteration converges linearly where a row of the robot's own bodies binds
-    /// (its curvature is the part of the Lagrangian's Hessian the model misses): on the
-    /// SPART-like bench 430 SQP iterations to effort 5.4668262247, with it 254 to 5.4302188385.
-    pub(super) fn clearance_curvature(&self, c: &[Vec<f64>], z: &[f64], w: &mut DMatrix<f64>) {
-        let Some(rows) = &self.clearance else { return };
-        let z = &z[self.rows_before_clearance().min(z.len())..];
-        let basis = self.disc.basis();
-        let (p, n) = (basis.degree(), self.arm.joints());
-        let (geometry, horizon, count) = (&self.arm.geometry, basis.horizon(), rows.pairs.len());
-        let mut q = vec![0.0; n + 1];
-        let mut point_index = 0;
-        let mut at = |t: f64, span: usize, phi: f64| {
-            if t >= horizon {
-                return;
-            }
-            let zs = z.get(point_index * count..(point_index + 1) * count).unwrap_or(&[]);
-            point_index += 1;
-            if zs.iter().all(|v| !(*v > 0.0)) {
-                return;
-            }
-            let first = span - p;
-            let [value, _] = basis.values_and_rates(span, t);
-            q[0] = phi;
-            for j in 0..n {
-                q[j + 1] = (0..=p).map(|l| value[l] * c[j][first + l]).sum();
-            }
-            for (pair, &zi) in rows.pairs.iter().zip(zs) {
-                if !(zi > 0.0) || matches!(pair.1, Body::Obstacle(_)) {
-                    continue;
-                }
-                let mut h = DMatrix::zeros(n, n);
-                let mut qd: Vec<HyperDual64> = q.iter().map(|&v| HyperDual64::from_re(v)).collect();
-                for j in 0..n {
-                    for k in j..n {
-                        qd[j + 1] = qd[j + 1].derivative1();
-                        qd[k + 1] = qd[k + 1].derivative2();
-                        let d = geometry.clearances_of(self.arm, &qd, std::slice::from_ref(pair))[0].distance;
-                        qd[j + 1] = HyperDual64::from_re(q[j + 1]);
-                        qd[k + 1] = HyperDual64::from_re(q[k + 1]);
-                        let v = -rows.scale * zi * d.eps1eps2;
-                        (h[(j, k)], h[(k, j)]) = (v, v);
-                    }
-                }
-                let eigen = h.symmetric_eigen();
-                if eigen.eigenvalues.iter().all(|l| !(*l > 0.0)) {
-                    continue;
-                }
-                let kept = eigen.eigenvalues.map(|l| l.max(0.0));
-                let plus = &eigen.eigenvectors * DMatrix::from_diagonal(&kept) * eigen.eigenvectors.transpose();
-                for l in 0..=p {
-                    for m in 0..=p {
-                        for j in 0..n {
-                            for k in 0..n {
-                                if let (Some(a), Some(b)) = (self.index(first + l, j), self.index(first + m, k)) {
-                                    w[(a, b)] += value[l] * value[m] * plus[(j, k)];
-                                }
-                            }
-                        }
-                    }
-                }
-            }
-        };
-        if rows.obstacles {
-            self.phi_path_each(c, OBSTACLE_PIECES, 0, |point| at(point.t, point.span, point.phi));
-        } else {
-            for point in self.path_points(rows.pieces) {
-                at(point.t, point.span, point.phi);
             }
         }
     }

@@ -7,8 +7,7 @@
 //! written with elastic variables as a QP and solved by the interior-point solver Clarabel; the
 //! step is accepted on the l1 merit `f + mu (|c| + sum max(0, g))` with the trust-region ratio
 //! test, as the equality-only path in the parent module. `W` is the Lagrangian's Hessian of the
-//! cost and the equality, `hess f + lambda hess c` and the positive semi-definite part of the
-//! inequalities' curvature that the problem gives (`Discretised::add_row_curvature`; none is a
+//! cost and the equality, `hess f + lambda hess c` (the inequalities' curvature left out: a
 //! Gauss–Newton model for them). The QP needs a convex `W`; at a minimum `W` is positive
 //! definite on the equality's tangent space only, so the augmented term `rho (grad c^T d)^2 / 2`
 //! is added first (an extra variable `w = grad c^T d` keeps the QP banded): it does not change
@@ -227,9 +226,7 @@ pub(super) fn solve<P: Discretised>(
         let largest_z = z.iter().fold(0.0_f64, |m, v| m.max(*v));
         let active: Vec<&[(usize, f64)]> =
             (0..z.len()).filter(|&i| z[i] > 1e-6 * largest_z.max(1.0)).map(|i| g.rows[i].as_slice()).collect();
-        let mut w = e.lagrangian_hessian(m.s, lambda);
-        problem.add_row_curvature(&x, &z, &mut w);
-        let (w, rho) = convexify(w, &e.grad_c, &active, m.s, hb);
+        let (w, rho) = convexify(e.lagrangian_hessian(m.s, lambda), &e.grad_c, &active, m.s, hb);
         let model = Model { w, rho, hb, e: &e, rows: &g.rows, working: &working, solver: &solver };
         let left = |d: &DVector<f64>| model.infeasibility(e.c, &g.values, d);
         let Some(mut step) = model.solve(e.c, &g.values, mu, radius) else {
