@@ -107,7 +107,7 @@ fn random(arm: Arm, n: usize) -> Result<(), Box<dyn std::error::Error>> {
                 Ok(plan) => {
                     let least = plan.verification.clearance.map_or(f64::NAN, |r| r.min);
                     let ok = plan.verification.certified && least >= clearance;
-                    format!("{} effort {:.4} least {least:.4}", if ok { "clear" } else { "UNDER" }, plan.stats.effort)
+                    format!("{} effort {:.10} least {least:.5}", if ok { "clear" } else { "UNDER" }, plan.stats.effort)
                 }
                 Err(e) => format!("ERROR {e}"),
             };
