@@ -38,21 +38,16 @@ pub(super) struct Model<'a> {
     /// is sent to the QP (those found beyond it by an earlier QP of this solve; see
     /// [`Model::solve`]).
     pub(super) boxed: &'a RefCell<Vec<bool>>,
-    /// The rows sent with an elastic variable however they stand at the iterate (those whose
-    /// multiplier exceeded the penalty in an earlier QP of this solve; see [`Model::solve`]).
-    pub(super) elastic: &'a RefCell<Vec<bool>>,
-    /// The solve's last QP solver, the rows it was sent, its box and its elastic rows: a QP of
-    /// the same ones (a steering penalty, a second-order correction, often the next iterate's)
-    /// updates `P`, `A`, `q` and `b` in it instead of setting up a solver again (its ordering and
-    /// symbolic factorisation, a fifth of a QP's time), where the matrices' sparsity is the same
-    /// (checked by Clarabel; otherwise a new solver): on issue 20's benches 24 of 46 QPs (3-link
-    /// velocity), 42 of 63 (2-link) and 76 of 106 (SPART-like) reused a solver, to the same
-    /// plans.
-    pub(super) solver: &'a RefCell<Option<Cached>>,
+    /// The solve's last QP solver, the rows it was sent and its box: a QP of the same rows and box (a steering
+    /// penalty, a second-order correction, often the next iterate's) updates `P`, `A`, `q` and
+    /// `b` in it instead of setting up a solver again (its ordering, symbolic factorisation and
+    /// equilibration, a fifth of a QP's time), where the matrices' sparsity is the same (checked
+    /// by Clarabel; otherwise a new solver). The equilibration kept from the first data changes
+    /// a solution only within Clarabel's tolerance: on issue 20's benches 24 of 46 QPs (3-link
+    /// velocity), 42 of 63 (2-link) and 76 of 106 (SPART-like) reuse a solver, to the same
+    /// plans, Clarabel's iterations within 0.6 %.
+    pub(super) solver: &'a RefCell<Option<(Vec<usize>, Vec<bool>, DefaultSolver<f64>)>>,
 }
-
-/// A QP solver with the rows it was sent, its box's components and its rows' elastic variables.
-pub(super) type Cached = (Vec<usize>, Vec<bool>, Vec<bool>, DefaultSolver<f64>);
 
 impl Model<'_> {
     /// Solves the S-l1-QP subproblem with the constraints' values `c` and `values` (those at the
@@ -77,47 +72,25 @@ impl Model<'_> {
     /// to the same plans (efforts equal to 10 digits on the four plan benches). A QP that fails
     /// without the whole box (unbounded in a direction the model does not curve) is solved with
     /// it.
-    ///
-    /// A row that holds at the iterate (`g_i <= 0`, so that `d = 0` meets it) is sent without its
-    /// elastic variable (a hard row) unless [`Model::elastic`] marks it: `d = 0` meets every hard
-    /// row and the box at once, so the QP stays feasible, and its minimiser is the l1 QP's where
-    /// no hard row's multiplier exceeds the elastic variable's unit cost (the l1 QP's optimality
-    /// conditions hold with that elastic variable zero); a row whose multiplier does is marked
-    /// and the QP solved again. The QP loses most of its elastic variables and their rows: on
-    /// issue 20's benches the instructions 851 -> 787 M (3-link velocity and torque), 750 -> 706 M
-    /// (velocity), 262 -> 244 M (2-link), 876 -> 850 M (SPART-like), with the same SQP
-    /// iterations, QPs within 2 and the same plans (efforts equal to 10 digits). A QP that fails
-    /// so is solved with every sent row elastic.
     pub(super) fn solve(&self, c: f64, values: &[f64], mu: f64, radius: f64) -> Option<Step> {
         let reach = |i: usize| self.rows[i].iter().map(|(_, a)| a.abs()).sum::<f64>() * radius;
         let reachable: Vec<bool> = (0..values.len()).map(|i| values[i] + reach(i) >= 0.0).collect();
         let mut working = self.working.borrow_mut();
         working.resize(values.len(), false);
         let mut boxed = self.boxed.borrow_mut();
-        let mut elastic = self.elastic.borrow_mut();
-        elastic.resize(values.len(), false);
         loop {
             let sent: Vec<usize> =
                 (0..values.len()).filter(|&i| reachable[i] && (working[i] || values[i] >= -SCREEN)).collect();
-            let step = match self.solve_rows(c, values, mu, radius, &sent, (&boxed, &elastic)) {
+            let step = match self.solve_rows(c, values, mu, radius, &sent, &boxed) {
                 Some(step) => step,
-                // Unbounded or failed without the whole box or the elastic variables: with them.
-                None if boxed.iter().any(|b| !b) || sent.iter().any(|&i| !elastic[i]) => {
+                // Unbounded or failed without the whole box: with it.
+                None if boxed.iter().any(|b| !b) => {
                     boxed.iter_mut().for_each(|b| *b = true);
-                    sent.iter().for_each(|&i| elastic[i] = true);
                     continue;
                 }
                 None => return None,
             };
             let mut broken = false;
-            // A row without its elastic variable whose multiplier exceeds the penalty: the l1
-            // QP would break it; with its elastic variable.
-            for &i in &sent {
-                if !elastic[i] && values[i] <= 0.0 && step.z[i] > mu {
-                    elastic[i] = true;
-                    broken = true;
-                }
-            }
             for (b, d) in boxed.iter_mut().zip(step.d.iter()) {
                 if !*b && d.abs() > radius {
                     *b = true;
@@ -141,8 +114,7 @@ impl Model<'_> {
     }
 
     /// The S-l1-QP subproblem with the inequality rows `active` only (the others' multipliers
-    /// zero), the box's rows of the components `boxed` and the elastic variables of the rows
-    /// broken at `d = 0` or `elastic` ([`Model::solve`]); `None` when Clarabel fails.
+    /// zero); `None` when Clarabel fails.
     fn solve_rows(
         &self,
         c: f64,
@@ -150,15 +122,13 @@ impl Model<'_> {
         mu: f64,
         radius: f64,
         active: &[usize],
-        (boxed, elastic): (&[bool], &[bool]),
+        boxed: &[bool],
     ) -> Option<Step> {
         let (e, hb) = (self.e, self.hb);
         let dim = e.grad_f.len();
-        // The rows with an elastic variable: those broken at `d = 0` and those marked.
-        let soft: Vec<bool> = active.iter().map(|&i| values[i] > 0.0 || elastic[i]).collect();
-        let me = soft.iter().filter(|s| **s).count();
-        // Variables: d (dim), s+ and s- of the equality, w = grad c^T d, t_k of each elastic row.
-        let nv = dim + 3 + me;
+        let m = active.len();
+        // Variables: d (dim), s+ and s- of the equality, w = grad c^T d, t_k of each active row.
+        let nv = dim + 3 + m;
         let (sp, sm, wv) = (dim, dim + 1, dim + 2);
         // P: W's upper band in the d block, rho on w (all divided by mu: the slacks' weight is 1,
         // the same minimiser, and Clarabel's relative tolerances stay meaningful).
@@ -204,15 +174,11 @@ impl Model<'_> {
             b.push(0.0);
             row += 1;
         }
-        let mut t = dim + 3;
         for (r, &i) in active.iter().enumerate() {
             for &(k, v) in &self.rows[i] {
                 a[k].push((row, v));
             }
-            if soft[r] {
-                a[t].push((row, -1.0));
-                t += 1;
-            }
+            a[dim + 3 + r].push((row, -1.0));
             b.push(-values[i]);
             row += 1;
         }
@@ -252,11 +218,8 @@ impl Model<'_> {
             .ok()?;
         let mut cache = self.solver.borrow_mut();
         let reused = match cache.as_mut() {
-            Some((sent, was, s, solver))
-                if sent.as_slice() == active
-                    && was.as_slice() == boxed
-                    && *s == soft
-                    && solver.is_data_update_allowed() =>
+            Some((sent, was, solver))
+                if sent.as_slice() == active && was.as_slice() == boxed && solver.is_data_update_allowed() =>
             {
                 solver.update_P(&p).is_ok()
                     && solver.update_A(&a).is_ok()
@@ -266,14 +229,10 @@ impl Model<'_> {
             _ => false,
         };
         if !reused {
-            *cache = Some((
-                active.to_vec(),
-                boxed.to_vec(),
-                soft,
-                DefaultSolver::new(&p, &q, &a, &b, &cones, settings).ok()?,
-            ));
+            *cache =
+                Some((active.to_vec(), boxed.to_vec(), DefaultSolver::new(&p, &q, &a, &b, &cones, settings).ok()?));
         }
-        let (_, _, _, solver) = cache.as_mut()?;
+        let (_, _, solver) = cache.as_mut()?;
         solver.solve();
         let sol = &solver.solution;
         if !matches!(sol.status, SolverStatus::Solved | SolverStatus::AlmostSolved) {
@@ -285,7 +244,7 @@ impl Model<'_> {
         }
         let mut z = vec![0.0; values.len()];
         for (r, &i) in active.iter().enumerate() {
-            z[i] = mu * sol.z[4 + me + r].max(0.0);
+            z[i] = mu * sol.z[4 + m + r].max(0.0);
         }
         // The equality's multiplier: its row's and w's (whose row carries rho grad c^T d).
         Some(Step { d, lambda: mu * (sol.z[0] + sol.z[1]), z })
