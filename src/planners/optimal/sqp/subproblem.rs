@@ -46,8 +46,11 @@ pub(super) struct Model<'a> {
     /// a solution only within Clarabel's tolerance: on issue 20's benches 24 of 46 QPs (3-link
     /// velocity), 42 of 63 (2-link) and 76 of 106 (SPART-like) reuse a solver, to the same
     /// plans, Clarabel's iterations within 0.6 %.
-    pub(super) solver: &'a RefCell<Option<(Vec<usize>, Vec<bool>, DefaultSolver<f64>)>>,
+    pub(super) solver: &'a RefCell<Option<Cached>>,
 }
+
+/// A QP solver with the rows it was sent and its box's components.
+pub(super) type Cached = (Vec<usize>, Vec<bool>, DefaultSolver<f64>);
 
 impl Model<'_> {
     /// Solves the S-l1-QP subproblem with the constraints' values `c` and `values` (those at the
