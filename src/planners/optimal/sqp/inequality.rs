@@ -174,6 +174,7 @@ pub(super) fn solve<P: Discretised>(
     let mut lambda = guess.unwrap_or(0.0);
     let mut z = vec![0.0; g.values.len()];
     let working = RefCell::new(vec![false; g.values.len()]);
+    let boxed = RefCell::new(vec![false; x.len()]);
     let solver = RefCell::new(None);
     let mut mu = guess.map_or(1.0, |v| (2.0 * v.abs()).max(1.0));
     let mut radius = (m.norm(&x) * 0.5).max(1.0);
@@ -227,7 +228,7 @@ pub(super) fn solve<P: Discretised>(
         let active: Vec<&[(usize, f64)]> =
             (0..z.len()).filter(|&i| z[i] > 1e-6 * largest_z.max(1.0)).map(|i| g.rows[i].as_slice()).collect();
         let (w, rho) = convexify(e.lagrangian_hessian(m.s, lambda), &e.grad_c, &active, m.s, hb);
-        let model = Model { w, rho, hb, e: &e, rows: &g.rows, working: &working, solver: &solver };
+        let model = Model { w, rho, hb, e: &e, rows: &g.rows, working: &working, boxed: &boxed, solver: &solver };
         let left = |d: &DVector<f64>| model.infeasibility(e.c, &g.values, d);
         let Some(mut step) = model.solve(e.c, &g.values, mu, radius) else {
             radius *= 0.25;
