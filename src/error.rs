@@ -260,11 +260,7 @@ pub enum Error {
     },
     /// The optimal planner (trust-region SQP) found no plan meeting its tolerances: every seed
     /// stopped short of convergence; the numbers are those of the best attempt.
-    #[error(
-        "the optimal planner did not converge ({termination}): {iterations} SQP iterations, constraint \
-         residual |phi(T) - phi_d| = {constraint_residual:.3e} rad, relative KKT residual \
-         {kkt_residual:.3e}, effort {effort:.6e} rad^2/s, {seeds} seeds"
-    )]
+    #[error("{}", optimal_failed_message(*iterations, *constraint_residual, *kkt_residual, *effort, *seeds, termination))]
     OptimalFailed {
         /// SQP iterations of the best attempt.
         iterations: usize,
@@ -366,6 +362,29 @@ pub enum Error {
 
 fn fmt_history(history: &[f64]) -> String {
     history.iter().map(|r| format!("{r:.1e}")).collect::<Vec<_>>().join(", ")
+}
+
+/// [`Error::OptimalFailed`]'s message: the best attempt's numbers, or where there was no attempt
+/// (no goal representative or horizon left to solve, the numbers infinite) that alone.
+fn optimal_failed_message(
+    iterations: usize,
+    constraint_residual: f64,
+    kkt_residual: f64,
+    effort: f64,
+    seeds: usize,
+    termination: &str,
+) -> String {
+    if !effort.is_finite() && !constraint_residual.is_finite() {
+        return format!(
+            "the optimal planner had nothing to solve ({termination}): no goal representative or horizon \
+             within the robot's limits, {iterations} SQP iterations, {seeds} seeds"
+        );
+    }
+    format!(
+        "the optimal planner did not converge ({termination}): {iterations} SQP iterations, constraint residual \
+         |phi(T) - phi_d| = {constraint_residual:.3e} rad, relative KKT residual {kkt_residual:.3e}, effort \
+         {effort:.6e} rad^2/s, {seeds} seeds"
+    )
 }
 
 impl Error {

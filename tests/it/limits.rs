@@ -104,7 +104,15 @@ fn bad_limit_flags_exit_2_naming_the_flag() {
     let o =
         freefloat(&[&["plan", "--robot", THREE, "--limit", "theta2.position=-10:100"][..], &THREE_PROBLEM].concat());
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
-    assert!(stderr(&o).contains("theta2"), "{}", stderr(&o));
+    // Naming the joint, and the value and the range in the flags' degrees.
+    let e = stderr(&o);
+    assert!(e.contains("start theta2 = -30 deg, outside link[2].limit = [-10, 100] deg"), "{e}");
+    // A limit that no horizon up to 1e6 s satisfies is bad input naming the joint, not a
+    // planner failure with infinite numbers.
+    let o = freefloat(&[&["plan", "--robot", THREE, "--limit", "all.velocity=1e-9"][..], &THREE_PROBLEM].concat());
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    let e = stderr(&o);
+    assert!(e.contains("joint ") && e.contains("1e6 s") && !e.contains("inf"), "{e}");
 }
 
 /// Issue 20's SPART case at the command line: theta1 = 170 -> -170 deg inside SPART's own range

@@ -32,6 +32,7 @@ use super::tables::Tables;
 use super::{ChainPlan, ChainPlanner, ChainProblem, WarmStart};
 use crate::dynamics::arm::inverse_dynamics;
 use crate::error::Error;
+use crate::model::InputError;
 use crate::model::wrap_angle;
 use crate::plan::HORIZON_RANGE;
 
@@ -156,7 +157,21 @@ impl ChainPlanner {
             let delta = problem.goal[j + 1] - problem.start[j + 1];
             let delta = if problem.wrap && l.position.is_none() { wrap_angle(delta) } else { delta };
             let at_rest = problem.initial_velocity.iter().all(|w| *w == 0.0);
-            lo = lo.max(super::limits::least_time(delta, l.velocity, l.acceleration, at_rest));
+            let least = super::limits::least_time(delta, l.velocity, l.acceleration, at_rest);
+            // No horizon the planner takes is long enough: the limit is the input to change.
+            if least > HORIZON_RANGE.1 {
+                return Err(Error::from(InputError::InvalidParameter {
+                    name: format!(
+                        "joint {}'s velocity or acceleration limit (the joint needs at least {least:.3e} s to move \
+                         {:.6} rad within it)",
+                        j + 1,
+                        delta.abs()
+                    ),
+                    value: l.velocity.or(l.acceleration).unwrap_or(f64::NAN),
+                    expected: "limits that let every joint reach its goal within the longest horizon, 1e6 s",
+                }));
+            }
+            lo = lo.max(least);
         }
         let mut probes = 0;
         // The bracket: the plan without the rate limits at the first horizon, time-scaled to
@@ -340,6 +355,8 @@ impl ChainPlanner {
         let shortest = match self.shortest_horizon(&ChainProblem { horizon: problem.horizon * 1.5, ..problem.clone() })
         {
             Ok(s) if s.horizon > problem.horizon => s,
+            // A limit no horizon satisfies: that, rather than the planner's failure here.
+            Err(e) if e.is_bad_input() => return Err(e),
             _ => return Err(error),
         };
         Err(Error::HorizonTooShort {

@@ -89,9 +89,16 @@ impl ChainProblem {
     /// with a base range) outside its range is an [`InputError`] naming the joint, the value and
     /// the range (a limited joint is never wrapped).
     pub(crate) fn validate_ranges(&self, arm: &Arm) -> Result<(), Error> {
+        // Degrees as the command line takes them, to a millionth; radians to six digits.
+        let deg = |x: f64| (x.to_degrees() * 1e6).round() / 1e6;
         let check = |name: &str, value: f64, range: Option<[f64; 2]>, key: String| match range {
             Some([lo, hi]) if !(lo..=hi).contains(&value) => Err(Error::from(InputError::InvalidParameter {
-                name: format!("{name} outside {key} = [{lo}, {hi}] rad"),
+                name: format!(
+                    "{name} = {} deg, outside {key} = [{}, {}] deg ([{lo:.6}, {hi:.6}] rad)",
+                    deg(value),
+                    deg(lo),
+                    deg(hi)
+                ),
                 value,
                 expected: "an angle inside the declared range (a limited angle is literal, never wrapped)",
             })),
