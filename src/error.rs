@@ -279,7 +279,8 @@ pub enum Error {
     /// every limit was found in it, and the shortest horizon with one is longer; the limit that
     /// binds there is named (`joint` from 1, 0 for the base angle).
     #[error(
-        "no plan inside the robot's limits in T = {horizon} s: the shortest feasible horizon found is {shortest:.6} s, where joint {joint}'s {quantity} limit {limit} binds; give --time {shortest:.6} or longer (or --time auto)"
+        "no plan inside the robot's limits in T = {horizon} s: the shortest feasible horizon found is {shortest:.6} s, where {} binds; give --time {shortest:.6} or longer (or --time auto)",
+        binding_limit(*joint, quantity, *limit)
     )]
     HorizonTooShort {
         /// The given horizon \[s\].
@@ -296,11 +297,12 @@ pub enum Error {
     /// The verified motion leaves a declared limit of the robot (issue 20; `plan::limit_use`):
     /// the most-used limit, beyond a relative `1e-9`.
     #[error(
-        "not certified: the motion leaves the robot's limits: {} {quantity} reaches {value:.6} {} at t = {time:.4} s, \
-         beyond its limit {limit:.6} {} (docs/spec.md §3)",
+        "not certified: the motion leaves the robot's limits: {} {quantity} reaches {} at t = {time:.4} s, \
+         beyond its limit {} by {} (docs/spec.md §3)",
         if *joint == 0 { "the base angle phi's".to_string() } else { format!("joint theta{joint}'s") },
-        limit_unit(quantity),
-        limit_unit(quantity)
+        limit_value(quantity, *value, 9),
+        limit_value(quantity, *limit, 6),
+        limit_value(quantity, if *quantity == "position" { (value - limit).abs() } else { value.abs() - limit.abs() }, 3)
     )]
     LimitExceeded {
         /// The joint, counted from 1 (0: the base angle).
@@ -499,12 +501,23 @@ impl Error {
     }
 }
 
-/// The SI unit of a limited quantity (issue 20), with degrees for angles in messages.
-fn limit_unit(quantity: &str) -> &'static str {
+/// A limited quantity's value (issue 20) to `digits` significant digits in its SI unit, and an
+/// angle's in degrees too, as the flags give it: `0.174533 rad/s (10 deg/s)`, `0.01 N m`.
+fn limit_value(quantity: &str, x: f64, digits: usize) -> String {
+    let shown = |x: f64| crate::numerics::format::significant(x, digits);
     match quantity {
-        "position" => "rad",
-        "velocity" => "rad/s",
-        "acceleration" => "rad/s^2",
-        _ => "N m",
+        "position" | "base" => format!("{} rad ({} deg)", shown(x), shown(x.to_degrees())),
+        "velocity" => format!("{} rad/s ({} deg/s)", shown(x), shown(x.to_degrees())),
+        "acceleration" => format!("{} rad/s^2 ({} deg/s^2)", shown(x), shown(x.to_degrees())),
+        _ => format!("{} N m", shown(x)),
+    }
+}
+
+/// The limit that binds at the shortest horizon: `joint 2's velocity limit 0.174533 rad/s
+/// (10 deg/s)`, or the base angle's range (`joint` 0).
+fn binding_limit(joint: usize, quantity: &str, limit: f64) -> String {
+    match joint {
+        0 => format!("the base angle phi's range bound {}", limit_value("position", limit, 6)),
+        _ => format!("joint {joint}'s {quantity} limit {}", limit_value(quantity, limit, 6)),
     }
 }

@@ -55,14 +55,13 @@ fn any_arm(arm: &Bound<'_, PyAny>) -> PyResult<Arm> {
 /// (`--method`, `--time auto`); here it is the keyword (`method`, `T="auto"`).
 fn python_names(e: freefloat::Error) -> freefloat::Error {
     match e {
-        freefloat::Error::Input(InputError::InvalidParameter { name, value, expected })
-            if name == "--method" || name == "--time auto" =>
-        {
-            let name = if name == "--method" { "method" } else { "T=\"auto\"" };
-            freefloat::Error::Input(InputError::InvalidParameter { name: name.into(), value, expected })
-        }
         freefloat::Error::Input(InputError::InvalidText { name, text, expected }) if name == "--method" => {
             freefloat::Error::Input(InputError::InvalidText { name: "method".into(), text, expected })
+        }
+        freefloat::Error::Input(InputError::InvalidText { name, text, expected })
+            if name == "horizon" && text == "--time auto" =>
+        {
+            freefloat::Error::Input(InputError::InvalidText { name, text: "T=\"auto\"".into(), expected })
         }
         e => e,
     }

@@ -99,9 +99,9 @@ pub struct EndsArgs {
     /// (unless --no-wrap), the NFA and the ECSA take them literally.
     #[arg(long, value_name = "PHI,TH1,TH2", default_value = "0,180,140", allow_hyphen_values = true)]
     pub to: String,
-    /// Horizon T in s, from 1e-3 to 1e6; `plan` of an arm with velocity, acceleration or torque
-    /// limits also takes `auto`: the shortest horizon (to 1 %) in which the motion fits every
-    /// limit, and the minimum-effort plan at it.
+    /// Horizon T in s, from 1e-3 to 1e6; `plan` and `compare` of an arm with velocity,
+    /// acceleration or torque limits (or `--max-velocity`) also take `auto`: the shortest horizon
+    /// (to 1 %) in which the motion fits every limit, and the minimum-effort plan at it.
     #[arg(long, value_name = "T", default_value = "10", value_parser = super::config::parse_time, allow_hyphen_values = true)]
     pub time: f64,
 }

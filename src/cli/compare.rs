@@ -92,14 +92,17 @@ impl Compared {
 }
 
 /// The first line of the table: the robot (`n-link arm, ` for an arm), the mounting point [m],
-/// the ends (angles in degrees) and the horizon [s].
+/// the ends (angles in degrees) and the horizon [s] (`+inf`: `--time auto`'s, not yet found).
 fn title(robot: &str, mount: freefloat::Mount, start: &[f64], goal: &str, horizon: f64) -> String {
+    let horizon = match horizon.is_infinite() {
+        true => "auto (the shortest inside the limits)".to_string(),
+        false => format!("{} s", number(horizon)),
+    };
     format!(
-        "freefloat compare: {robot}mount (a, b) = ({}, {}) m, {} -> {goal} deg, T = {} s\n",
+        "freefloat compare: {robot}mount (a, b) = ({}, {}) m, {} -> {goal} deg, T = {horizon}\n",
         number(mount.a),
         number(mount.b),
         degrees(start),
-        number(horizon)
     )
 }
 
@@ -127,8 +130,13 @@ fn two_link(args: &CompareArgs) -> anyhow::Result<Compared> {
 /// or with limits): the optimal planner and the ECSA through [`plan_problem`]; the NFA of the
 /// paper's model checked against the arm ([`two_link_nfa`]), else refused with [`plan_arm`]'s
 /// reason.
+///
+/// With `--time auto` the optimal planner (the first column) finds the shortest horizon inside
+/// the limits, and the other methods plan at it; without it they have none and say so.
 fn arm(args: &CompareArgs, arm: &Arm) -> anyhow::Result<Compared> {
-    let p = &args.problem;
+    let mut p = args.problem.clone();
+    let auto = p.ends.time.is_infinite();
+    let p = &mut p;
     refuse_flags(p, arm)?;
     let (arm, geometry_notes) = super::geometry::arm_with_flags(arm, &p.robot, &p.geometry)?;
     let arm = &arm;
@@ -143,6 +151,12 @@ fn arm(args: &CompareArgs, arm: &Arm) -> anyhow::Result<Compared> {
             compared.add(method, nfa);
             continue;
         }
+        if p.ends.time.is_infinite() && method != Method::Optimal {
+            let why = "no horizon: the optimal planner's search of --time auto found none to plan at".to_string();
+            compared.reports.push((method, Err(why)));
+            compared.refused.push(method);
+            continue;
+        }
         let result = match method {
             Method::Nfa => plan_arm(arm, method, &ArmRequest::new(chain.clone())).map(|planned| Planning {
                 planned,
@@ -152,6 +166,12 @@ fn arm(args: &CompareArgs, arm: &Arm) -> anyhow::Result<Compared> {
             }),
             _ => plan_problem(p, arm, method)?,
         };
+        if let (true, Ok(found)) = (auto && method == Method::Optimal, &result) {
+            // The horizon of `--time auto`, for the title and the other methods.
+            p.ends.time = found.problem.horizon;
+            compared.title = title(&robot, arm.mount, &chain.start, &goal, p.ends.time)
+                .replace(" s\n", " s (--time auto: the shortest inside the limits)\n");
+        }
         match result {
             Err(e) if method == Method::Nfa => {
                 compared.reports.push((method, Err(e.to_string())));

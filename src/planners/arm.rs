@@ -235,17 +235,17 @@ pub fn plan_arm(arm: &Arm, method: Method, request: &ArmRequest) -> Result<ArmPl
         }));
     }
     if method == Method::Ecsa && (request.cost != Cost::Effort || request.smooth_ends) {
-        return Err(Error::from(InputError::InvalidParameter {
-            name: if request.smooth_ends { "smooth_ends".into() } else { "cost".into() },
-            value: arm.joints() as f64,
+        return Err(Error::from(InputError::InvalidText {
+            name: "option".into(),
+            text: if request.smooth_ends { "smooth_ends".into() } else { "cost".into() },
             expected: "the optimal method for the energy cost or smooth ends: the ECSA's controls are its \
                        harmonic basis, with neither",
         }));
     }
     if request.shortest_horizon && (method != Method::Optimal || !arm.limits.rate_limited()) {
-        return Err(Error::from(InputError::InvalidParameter {
-            name: "--time auto".into(),
-            value: arm.joints() as f64,
+        return Err(Error::from(InputError::InvalidText {
+            name: "horizon".into(),
+            text: "--time auto".into(),
             expected: "the optimal method and an arm with a velocity, acceleration or torque limit: the shortest \
                        horizon is the one in which the motion fits them",
         }));

@@ -176,3 +176,43 @@ fn time_auto_finds_the_shortest_horizon_and_too_short_names_the_limit() {
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
     assert!(stderr(&o).contains("--time auto"), "{}", stderr(&o));
 }
+
+/// `--max-velocity` with limits (issue 20 item 3: a constraint the user gave is honoured). Where
+/// a velocity limit shaped the plan at the given horizon, the plan at the stretched horizon is not
+/// that plan scaled, and its peak rose over the cap (0.1204 rad/s against 0.1, exit 0); under
+/// `--time auto` the search ended at the robot's own limit (0.1745 rad/s). The cap is now every
+/// joint's velocity limit in both, checked by the certificate.
+#[test]
+fn max_velocity_holds_where_limits_shaped_the_plan_and_under_time_auto() {
+    let ends = ["--from", "0,0,0,0", "--to", "30,10,10,10", "--format", "json", "--max-velocity", "0.1"];
+    let peak = |r: &serde_json::Value| {
+        r["max_abs_u"].as_array().unwrap().iter().map(|u| u.as_f64().unwrap()).fold(0.0, f64::max)
+    };
+    for extra in [&["--time", "34", "--limit", "all.velocity=10"][..], &["--time", "auto"][..]] {
+        let o = freefloat(&[&["plan", "--robot", THREE][..], &ends, extra].concat());
+        assert!(o.status.success(), "{extra:?}: {}", stderr(&o));
+        let r: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+        assert_eq!(r["certified"], true, "{extra:?}");
+        assert!(peak(&r) <= 0.1 * (1.0 + 1e-9), "{extra:?}: peak {} over the cap", peak(&r));
+        assert!(peak(&r) > 0.098, "{extra:?}: the cap binds ({} rad/s)", peak(&r));
+        assert!(r["notes"].to_string().contains("--max-velocity"), "{extra:?}: {}", r["notes"]);
+    }
+}
+
+/// `compare --time auto` (an arm with a rate limit): the optimal planner finds the shortest
+/// horizon and the other methods plan at it; the title names it. The ECSA, which does not plan
+/// with limits, goes over the velocity limit there: exit 3 naming it.
+#[test]
+fn compare_time_auto_plans_every_method_at_the_horizon_found() {
+    let args = ["compare", "--robot", THREE, "--time", "auto", "--limit", "all.velocity=30"];
+    let o = freefloat(&[&args[..], &THREE_PROBLEM].concat());
+    let text = String::from_utf8_lossy(&o.stdout);
+    let title = text.lines().next().unwrap_or_default();
+    assert!(title.contains("(--time auto: the shortest inside the limits)") && !title.contains("inf"), "{title}");
+    assert!(!text.contains("no horizon"), "the ECSA planned at the horizon found: {text}");
+    match o.status.code() {
+        Some(0) => {}
+        Some(3) => assert!(stderr(&o).contains("ecsa") && stderr(&o).contains("velocity"), "{}", stderr(&o)),
+        code => panic!("exit {code:?}: {}", stderr(&o)),
+    }
+}

@@ -156,8 +156,11 @@ pub(in crate::cli) struct Planning {
 /// Plans the flags' problem for `arm` with `method`: the goal of `--to`, or of every branch of
 /// the inverse kinematics of `--to-ee` (the certified plan of least effort kept); then, with
 /// `--max-velocity`, again with the horizon stretched when the plan's peak joint velocity exceeds
-/// the cap (velocities scale as 1/T along the same path, as for the 2-link robot). Bad flags are
-/// the outer error, a problem without a plan the inner one.
+/// the cap (velocities scale as 1/T along the same path, as for the 2-link robot). The re-plan,
+/// and `--time auto`'s search, hold the cap as a velocity limit of every joint
+/// ([`with_velocity_cap`]): where the robot's own limits shaped the first plan the stretched
+/// optimum is not that plan scaled, and the certificate then checks the cap like any limit. Bad
+/// flags are the outer error, a problem without a plan the inner one.
 pub(in crate::cli) fn plan_problem(
     p: &ProblemArgs,
     arm: &Arm,
@@ -165,6 +168,11 @@ pub(in crate::cli) fn plan_problem(
 ) -> anyhow::Result<Result<Planning, freefloat::Error>> {
     let mut problem = arm_problem(p, arm)?;
     let cap = crate::cli::config::max_velocity(p.max_velocity)?;
+    let capped = cap.map(|cap| with_velocity_cap(arm, cap)).transpose()?;
+    let first_arm = match (auto_horizon(p), &capped) {
+        (true, Some(capped)) => capped,
+        _ => arm,
+    };
     let optimal = method == Method::Optimal;
     let request = |problem: &ChainProblem| ArmRequest {
         problem: problem.clone(),
@@ -193,7 +201,7 @@ pub(in crate::cli) fn plan_problem(
         "planning"
     });
     let first = match &p.to_ee {
-        None => plan_arm(arm, method, &request(&problem)),
+        None => plan_arm(first_arm, method, &request(&problem)),
         Some(text) => {
             let [x, y, psi] = crate::cli::parse_list::<3>("--to-ee", text)?;
             let branch = match (p.elbow, arm.joints()) {
@@ -204,7 +212,7 @@ pub(in crate::cli) fn plan_problem(
                      links: drop --elbow (every branch is tried and the certified plan of least effort kept)"
                 ),
             };
-            match plan_arm_to_pose(arm, method, &request(&problem), (x, y, psi.to_radians()), branch) {
+            match plan_arm_to_pose(first_arm, method, &request(&problem), (x, y, psi.to_radians()), branch) {
                 Ok((goal, planned)) => {
                     if let Some(kept) = goal.kept() {
                         problem.goal = kept.solution.q.clone();
@@ -226,8 +234,8 @@ pub(in crate::cli) fn plan_problem(
             }
         }
     };
-    let planned = match (cap, first) {
-        (Some(cap), Ok(first)) if peak_velocity(&first) > cap => {
+    let planned = match (cap, &capped, first) {
+        (Some(cap), Some(capped), Ok(first)) if !auto_horizon(p) && peak_velocity(&first) > cap => {
             let peak = peak_velocity(&first);
             let start = problem.initial_velocity.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
             if start > cap {
@@ -238,10 +246,13 @@ pub(in crate::cli) fn plan_problem(
                     rounded(start, 4)
                 );
             }
-            let stretched = problem.horizon * peak / cap;
+            // A hair beyond the sampled peak's ratio: the continuous peak of a plan that is the
+            // first one scaled (the ECSA's) stays under the cap between the samples.
+            let stretched = problem.horizon * peak / cap * (1.0 + 1e-6);
             freefloat::plan::check_horizon("the horizon stretched by --max-velocity", stretched)?;
             let note = format!(
-                "peak |theta_k'| = {} rad/s exceeds --max-velocity {}: horizon stretched from {} s to {} s",
+                "peak |theta_k'| = {} rad/s exceeds --max-velocity {}: horizon stretched from {} s to {} s, the cap \
+                 held as every joint's velocity limit",
                 rounded(peak, 4),
                 number(cap),
                 number(problem.horizon),
@@ -250,15 +261,29 @@ pub(in crate::cli) fn plan_problem(
             crate::cli::note(&format!("note: {note}\n"));
             notes.push(note);
             problem.horizon = stretched;
-            plan_arm(arm, method, &request(&problem))
+            plan_arm(capped, method, &request(&problem))
         }
-        (_, result) => result,
+        (_, _, result) => result,
     };
+    if let (Some(cap), true) = (cap, auto_horizon(p)) {
+        notes.push(format!("--max-velocity {} rad/s held as every joint's velocity limit", number(cap)));
+    }
     Ok(planned.map(|planned| {
         // The horizon `--time auto` found.
         problem.horizon = planned.plan.horizon();
         Planning { planned, problem, notes, to_ee }
     }))
+}
+
+/// `arm` with `--max-velocity`'s cap \[rad/s\] as every joint's velocity limit (the lower of it
+/// and the robot's own).
+fn with_velocity_cap(arm: &Arm, cap: f64) -> anyhow::Result<Arm> {
+    let mut limits = arm.limits.clone();
+    limits.joints.resize(arm.joints(), Default::default());
+    for joint in &mut limits.joints {
+        joint.velocity = Some(joint.velocity.map_or(cap, |v| v.min(cap)));
+    }
+    Ok(arm.clone().with_limits(limits)?)
 }
 
 /// A refusal of `smooth_ends`/`cost` by the library (e.g. with the ECSA) under the flag's name.
