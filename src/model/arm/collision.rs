@@ -158,15 +158,11 @@ impl Geometry {
                     Body::Obstacle(k) => (1..=self.obstacles.len()).contains(&k),
                 };
                 if !known {
-                    let k = match body {
-                        Body::Link(k) | Body::Obstacle(k) => k,
-                        Body::Base => 0,
-                    };
-                    return Err(bad(
-                        "--no-collide".into(),
-                        k as f64,
-                        "bodies of the arm (base, link1..linkN) or obstacles given",
-                    ));
+                    return Err(InputError::InvalidText {
+                        name: "--no-collide".into(),
+                        text: format!("{body}: the arm has {n} links, {} obstacle(s) given", self.obstacles.len()),
+                        expected: "a body of the arm (base, link1..linkN) or an obstacle given (obstacle1..obstacleM)",
+                    });
                 }
             }
         }
@@ -219,6 +215,44 @@ impl Geometry {
                 && !self.excluded.iter().any(|&(x, y)| (x, y) == (a, b) || (y, x) == (a, b))
         });
         out
+    }
+
+    /// A bound on the distance from the system's centre of mass (the inertial origin) of every
+    /// point of `body`'s shapes, over every configuration \[m\] (infinite for an obstacle). The
+    /// centre of mass stays at the origin, `M r_0 + sum_k m_k c_k = 0` with `M` the total mass,
+    /// so the base's centre `r_0` is within `sum_k m_k |c_k - r_0| / M` of it, where
+    /// `|c_k - r_0| <= |mount| + l_1 + .. + l_(k-1) + |com_k|`; joint `k` (link `k`'s frame) is
+    /// within `|mount| + l_1 + .. + l_(k-1)` of `r_0`; a shape's points are within their largest
+    /// distance from their frame's origin plus the shape's radius.
+    pub fn reach(&self, arm: &Arm, body: Body) -> f64 {
+        let mount = arm.mount.a.hypot(arm.mount.b);
+        let joint = |k: usize| mount + arm.links[..k - 1].iter().map(|l| l.length).sum::<f64>();
+        let moments = arm.links.iter().enumerate().map(|(i, l)| l.mass * (joint(i + 1) + l.com.abs()));
+        let base = moments.sum::<f64>() / arm.total_mass();
+        let origin = match body {
+            Body::Base => base,
+            Body::Link(k) => base + joint(k),
+            Body::Obstacle(_) => return f64::INFINITY,
+        };
+        let extent = |s: &Shape| s.points.iter().map(|p| p[0].hypot(p[1])).fold(0.0, f64::max) + s.radius;
+        origin + self.shapes(body).iter().map(extent).fold(0.0, f64::max)
+    }
+
+    /// The pairs of [`Geometry::pairs`] that can come within `keep` \[m\] of each other: a body
+    /// and an obstacle farther from the system's centre of mass than the body's [`Self::reach`]
+    /// plus `keep` never do, in any configuration (the distance from a point within `R` of the
+    /// origin to a set at distance `d` from it is at least `d - R`), and are left out.
+    pub fn pairs_within(&self, arm: &Arm, keep: f64) -> Vec<(Body, Body)> {
+        let origin = [[0.0, 0.0]];
+        let mut pairs = self.pairs(arm.joints());
+        pairs.retain(|&(a, b)| match b {
+            Body::Obstacle(_) => {
+                let away = self.shapes(b).iter().map(|s| signed_distance(&origin, 0.0, &s.points, s.radius));
+                away.fold(f64::INFINITY, f64::min) - self.reach(arm, a) <= keep
+            }
+            _ => true,
+        });
+        pairs
     }
 
     /// The signed distance of every pair of [`Geometry::pairs`] at `q = (phi, theta_1..theta_n)`,
@@ -340,6 +374,57 @@ mod tests {
             links: (0..n).map(|_| vec![Shape::capsule([0.0, 0.0], [0.5, 0.0], 0.04).unwrap()]).collect(),
             ..Default::default()
         }
+    }
+
+    /// [`Geometry::reach`] bounds every placed point of every body over random arms (masses,
+    /// lengths, centres of mass, mounts) and configurations; an obstacle that
+    /// [`Geometry::pairs_within`] leaves out is farther than `keep` from its body in every one.
+    #[test]
+    fn the_reach_bounds_every_body_and_the_pairs_left_out_never_come_near() {
+        let mut seed = 0x2545_f491_4f6c_dd1d_u64;
+        let mut uniform = |lo: f64, hi: f64| {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            lo + (hi - lo) * (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let mut left_out = 0;
+        for _ in 0..40 {
+            let n = 1 + (uniform(0.0, 4.0) as usize).min(3);
+            let links: Vec<Link> = (0..n)
+                .map(|_| {
+                    let length = uniform(0.1, 1.0);
+                    Link { length, com: uniform(0.0, 1.0) * length, mass: uniform(0.1, 10.0), inertia: 0.1 }
+                })
+                .collect();
+            let mount = Mount::new(uniform(-0.5, 0.5), uniform(-0.5, 0.5)).unwrap();
+            let arm = Arm::new(Base { mass: uniform(1.0, 50.0), inertia: 1.0 }, mount, links).unwrap();
+            let mut geometry = capsules(n);
+            geometry.base.push(Shape::circle([uniform(-0.3, 0.3), uniform(-0.3, 0.3)], 0.05).unwrap());
+            let obstacles = (0..6).map(|_| [uniform(-4.0, 4.0), uniform(-4.0, 4.0), uniform(0.05, 0.5)]);
+            geometry.obstacles = obstacles.map(|[x, y, r]| Shape::circle([x, y], r).unwrap()).collect();
+            let keep = 0.05;
+            let kept = geometry.pairs_within(&arm, keep);
+            let all = geometry.pairs(n);
+            left_out += all.len() - kept.len();
+            for _ in 0..200 {
+                let q: Vec<f64> = (0..=n).map(|_| uniform(-7.0, 7.0)).collect();
+                let poses = body_poses(&arm, &q);
+                for (k, pose) in poses.iter().enumerate() {
+                    let body = if k == 0 { Body::Base } else { Body::Link(k) };
+                    for shape in geometry.shapes(body) {
+                        for p in shape.placed(pose) {
+                            let far = p[0].hypot(p[1]) + shape.radius;
+                            assert!(far <= geometry.reach(&arm, body) + 1e-12, "{body}: {far}");
+                        }
+                    }
+                }
+                for (pair, c) in all.iter().zip(geometry.clearances_of(&arm, &q, &all)) {
+                    assert!(kept.contains(pair) || c.distance > keep, "{pair:?} at {}", c.distance);
+                }
+            }
+        }
+        assert!(left_out > 20, "some obstacles are out of reach: {left_out}");
     }
 
     #[test]

@@ -76,7 +76,7 @@ impl ChainPlanner {
         // (problem 8) the search with the rows finds 0.9 to 2 % less effort (3.8961 against
         // 3.9323 at 0 m, 3.9525 / 4.0296 at 0.02 m, 4.0576 / 4.0896 at 0.04 m). So without
         // obstacles the search with the rows follows at once.
-        let obstacles = !self.arm.geometry.obstacles.is_empty();
+        let obstacles = super::limits::obstacles_within_reach(&self.arm, self.options.clearance_reserve);
         if obstacles && let Ok(Some(repaired)) = self.repair(problem, &free, tables, clock, true) {
             return Ok(repaired);
         }
@@ -84,12 +84,10 @@ impl ChainPlanner {
             return Ok(free);
         }
         let kept = match own.search(problem, tables, clock) {
-            Ok(k) if !clears(&k) && !self.arm.geometry.obstacles.is_empty() => {
-                match self.repair(problem, &k, tables, clock, true) {
-                    Ok(Some(repaired)) => return Ok(repaired),
-                    _ => Ok(k),
-                }
-            }
+            Ok(k) if !clears(&k) && obstacles => match self.repair(problem, &k, tables, clock, true) {
+                Ok(Some(repaired)) => return Ok(repaired),
+                _ => Ok(k),
+            },
             kept => kept,
         };
         let least = |p: &ChainPlan| p.verification.clearance.map_or(f64::INFINITY, |r| r.min);

@@ -25,6 +25,7 @@
 
 mod base;
 mod clearance;
+pub(crate) use clearance::obstacles_within_reach;
 mod ends;
 mod ranges;
 

@@ -65,9 +65,12 @@ impl Clearance {
     /// The rows for the arm's geometry, the obstacles' pairs only with `obstacles`, each keeping
     /// `reserve` \[m\] more ([`crate::planners::chain::ChainOptions::clearance_reserve`]);
     /// `None` when no pair has a row.
+    /// An obstacle out of a body's reach ([`Geometry::pairs_within`]) gets no rows with it: a far
+    /// one would turn on the dense rows through `phi(t)` for nothing (the certificate still
+    /// checks every pair).
     pub(super) fn new(arm: &crate::model::arm::Arm, obstacles: bool, reserve: f64) -> Option<Self> {
         let geometry: &Geometry = &arm.geometry;
-        let pairs = geometry.pairs(arm.joints());
+        let pairs = geometry.pairs_within(arm, geometry.clearance + MARGIN + reserve);
         let against = |&(_, b): &(Body, Body)| matches!(b, Body::Obstacle(_));
         let obstacles = obstacles && pairs.iter().any(against);
         if !obstacles && pairs.iter().all(against) {
@@ -88,6 +91,13 @@ impl Clearance {
     pub(super) fn at(self, pieces: usize) -> Self {
         Self { pieces: pieces.max(1), ..self }
     }
+}
+
+/// True when some body can come within the clearance (and the rows' margin and `reserve`) of
+/// an obstacle: [`Geometry::pairs_within`].
+pub(crate) fn obstacles_within_reach(arm: &crate::model::arm::Arm, reserve: f64) -> bool {
+    let keep = arm.geometry.clearance + MARGIN + reserve;
+    arm.geometry.pairs_within(arm, keep).iter().any(|(_, b)| matches!(b, Body::Obstacle(_)))
 }
 
 /// True for a pair of a body and an obstacle.
