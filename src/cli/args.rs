@@ -537,4 +537,6 @@ pub struct CheckArgs {
     /// point).
     #[arg(long, value_name = "FILE")]
     pub out: Option<PathBuf>,
+    #[command(flatten)]
+    pub geometry: super::geometry::GeometryArgs,
 }

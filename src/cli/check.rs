@@ -42,7 +42,9 @@ fn angles(flag: &str, text: &str) -> anyhow::Result<Vec<f64>> {
 }
 
 /// Runs `check`: exit 0 when the trajectory reaches `--to` within `--tolerance` (or no goal is
-/// given), 3 with the numbers when it does not, 2 for bad input. `--out` is checked before the
+/// given), keeps the clearance (the robot file's shapes, `--obstacle`, `--clearance`) and stays
+/// inside every declared limit (the file's and `--limit`'s), 3 with the numbers when it does
+/// not, 2 for bad input. `--out` is checked before the
 /// work and written before anything is printed.
 pub fn run(args: &CheckArgs) -> anyhow::Result<ExitCode> {
     let out = match &args.out {
@@ -59,6 +61,7 @@ pub fn run(args: &CheckArgs) -> anyhow::Result<ExitCode> {
     };
     let tolerance = super::config::tolerance(args.tolerance)?;
     let (arm, names) = robot(&args.robot)?;
+    let (arm, _notes) = super::geometry::arm_with_flags(&arm, &args.robot, &args.geometry)?;
     let n = arm.joints();
     let input = read_trajectory(&args.trajectory, &names)?;
     let first = &input.samples.positions[0];
@@ -187,7 +190,13 @@ fn table(path: &std::path::Path, arm: &Arm, r: &CheckReport) -> String {
     s += &format!("  max |tau_k| [N m]        {}  (inverse dynamics at the points, Eq. 6)\n", list(&r.max_abs_torque));
     s += &format!("  max |base row of (6)|    {} N m\n", scientific(r.max_abs_base_residual, 2));
     s += &format!("  max |angular momentum|   {} kg m^2/s\n", scientific(r.max_abs_momentum, 2));
-    s += "  limits, clearance        not checked: the robot model has no joint or torque limits or geometry yet\n";
+    if let Some(limits) = &r.limits {
+        s += &super::limits::table_line(limits);
+    }
+    s += &super::geometry::table_line(r.clearance.as_ref());
+    if r.limits.is_none() && r.clearance.is_none() {
+        s += "  limits, clearance        none to check: the robot declares no limits and has no shapes\n";
+    }
     s +=
         &format!("  time                     {} ms ({} integrator steps)\n", number(r.seconds * 1e3), r.stats.accepted);
     s

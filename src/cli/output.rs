@@ -135,6 +135,7 @@ pub fn error_json(err: &anyhow::Error) -> String {
         Some(E::NewtonFailed { .. }) => "newton_failed",
         Some(E::GoalMissed { .. }) => "goal_missed",
         Some(E::Collision { .. }) => "collision",
+        Some(E::LimitExceeded { .. }) => "limit_exceeded",
         Some(e) if e.is_bad_input() => "bad_input",
         Some(_) => "no_certified_plan",
         None => "bad_input",

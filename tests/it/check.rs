@@ -143,11 +143,54 @@ fn check_of_an_exported_plan_equals_its_certificate() {
         assert!((error - plan_error).abs() <= 1e-9, "{file}: check {error}, plan {plan_error}");
         assert_eq!(r["interpolation"], "quintic", "{file}");
         assert_eq!(r["holds"], true);
-        for key in ["base", "max_abs_torque", "reached", "final_errors", "joint_limits", "clearance"] {
+        for key in ["base", "max_abs_torque", "reached", "final_errors", "limits", "clearance"] {
             assert!(r.get(key).is_some(), "{file}: {key}");
         }
-        assert!(r["joint_limits"].is_null() && r["clearance"].is_null());
+        assert!(r["limits"].is_null() && r["clearance"].is_null(), "no limits, no shapes: nothing to check");
     }
+}
+
+/// Another tool's trajectory is checked against the robot's limits and shapes (issues 20, 21:
+/// the certificate's checks). Before, `check --limit all.velocity=5` accepted the flag, printed
+/// "not checked" and exited 0 on a trajectory at 41 deg/s. Now a limit it leaves is exit 3 naming
+/// the joint, the quantity and the numbers; a limit it keeps is in the JSON `limits` block; the
+/// robot file's shapes and `--obstacle` are checked along the same integrated motion.
+#[test]
+fn a_trajectory_is_checked_against_the_limits_and_the_shapes() {
+    let dir = tempfile::tempdir().expect("a temporary directory");
+    let three = example("three_link.toml");
+    let out = dir.path().join("three.csv");
+    let ends = ["--from", "0,0,0,0", "--to", "30,10,10,10"];
+    let o = freefloat(&[&["plan", "--robot", &three, "--out", path_str(&out)][..], &ends].concat());
+    assert!(o.status.success(), "{}", stderr(&o));
+    let check = ["check", "--robot", &three, "--trajectory", path_str(&out), "--to", "30,10,10,10"];
+    let o = freefloat(&[&check[..], &["--limit", "all.velocity=5"]].concat());
+    assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
+    assert!(stderr(&o).contains("theta1's velocity") && stderr(&o).contains("(5 deg/s)"), "{}", stderr(&o));
+    let o = freefloat(&[&check[..], &["--limit", "all.velocity=50", "--format", "json"]].concat());
+    assert!(o.status.success(), "{}", stderr(&o));
+    let r = json(&o);
+    assert_eq!(r["limits"]["inside"], true, "{}", r["limits"]);
+    let used = r["limits"]["uses"].as_array().unwrap().iter().map(|u| u["use"].as_f64().unwrap()).fold(0.0, f64::max);
+    // 41.05 deg/s of 50 at its peak (between the points).
+    assert!(used > 0.8 && used < 1.0, "{used}");
+    // The SPART-like arm's plan that ignored the base: link 4 passes through it.
+    let spart = format!("{}/tests/fixtures/spart_like_4dof_geometry.urdf", env!("CARGO_MANIFEST_DIR"));
+    let through = dir.path().join("spart.csv");
+    let no_base = ["--no-collide", "base,link2", "--no-collide", "base,link3", "--no-collide", "base,link4"];
+    let plan = ["plan", "--urdf", &spart, "--from", "0,30,-60,45,-30", "--to", "30,60,-30,20,-60"];
+    let o = freefloat(&[&plan[..], &no_base, &["--out", path_str(&through)]].concat());
+    assert!(o.status.success(), "{}", stderr(&o));
+    let check = ["check", "--urdf", &spart, "--trajectory", path_str(&through)];
+    let o = freefloat(&check);
+    assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
+    assert!(stderr(&o).contains("base and link 4"), "{}", stderr(&o));
+    let o = freefloat(&[&check[..], &no_base, &["--format", "json"]].concat());
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(json(&o)["clearance"]["holds"], true);
+    let o = freefloat(&[&check[..], &no_base, &["--obstacle", "circle:1,1,0.2"]].concat());
+    assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
+    assert!(stderr(&o).contains("obstacle 1"), "{}", stderr(&o));
 }
 
 /// A goal the trajectory misses is exit 3, with the coordinate and its error on stderr: a joint

@@ -2,7 +2,9 @@
 //! (`freefloat check`, docs/spec.md §3): the base's attitude along it at zero angular momentum
 //! (Eq. 7 for `n` joints, [`Arm::base_rate`]), integrated by the velocity-level certificate's
 //! routine ([`verify_chain_observed`], the adaptive integrator at 1e-12), the base's position,
-//! the final error against an optional goal, and the joint torques by inverse dynamics (Eq. 6).
+//! the final error against an optional goal, the joint torques by inverse dynamics (Eq. 6), and,
+//! on that one integration, the use of every limit the robot declares and the least clearance of
+//! its bodies and the obstacles (issues 20, 21: the certificate's checks).
 //!
 //! The points are joined as a ROS 2 joint_trajectory_controller joins them ([`Interpolation`]);
 //! the trajectory is checked and matched to the robot's joints by name ([`input`]).
@@ -22,7 +24,9 @@ use crate::error::Error;
 use crate::model::arm::Arm;
 use crate::model::{InputError, wrap_angle};
 use crate::numerics::ode::{OdeOptions, OdeStats};
-use crate::plan::certificate::verify_chain_observed;
+use crate::plan::certificate::{collision, verify_chain_observed};
+use crate::plan::clearance::ClearanceReport;
+use crate::plan::limit_use::LimitReport;
 
 /// How to check.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -38,12 +42,6 @@ impl Default for CheckOptions {
         Self { tolerance: 1e-9, ode: OdeOptions::default() }
     }
 }
-
-/// A check that needs what the robot model does not have yet (joint and torque limits,
-/// collision geometry: issues of their own). It has no value: the report's field is always
-/// `None` (`null` in JSON) until the model carries what it needs.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
-pub enum Unchecked {}
 
 /// The base along the trajectory, at every point.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -100,26 +98,27 @@ pub struct CheckReport {
     pub max_abs_momentum: f64,
     /// Integrator work.
     pub stats: OdeStats,
-    /// Joint limits' use: not in the robot model yet.
-    pub joint_limits: Option<Unchecked>,
-    /// Torques against the torque limits: not in the robot model yet.
-    pub torque_limits: Option<Unchecked>,
-    /// Clearance from collisions: no geometry in the robot model yet.
-    pub clearance: Option<Unchecked>,
+    /// The use of every limit the robot declares (its file's and `--limit`'s), along the same
+    /// integrated motion and between its steps ([`crate::plan::limit_use`], the certificate's
+    /// check); `None` for a robot without limits.
+    pub limits: Option<LimitReport>,
+    /// The least clearance between the robot's bodies and the obstacles along that motion
+    /// ([`crate::plan::clearance`]); `None` for a robot without shapes.
+    pub clearance: Option<ClearanceReport>,
     /// Wall time of the check \[s\].
     pub seconds: f64,
 }
 
 impl CheckReport {
-    /// `Ok` when the goal is reached (or none was given), else [`Error::GoalMissed`] naming the
-    /// coordinate farthest off.
+    /// `Ok` when the goal is reached (or none was given), the motion keeps the clearance and
+    /// stays inside every declared limit; else [`Error::GoalMissed`] naming the coordinate
+    /// farthest off, [`Error::Collision`] or [`Error::LimitExceeded`], in that order.
     pub fn holds(&self) -> Result<(), Error> {
-        match (self.holds, self.final_error, &self.worst) {
-            (false, Some(final_error), Some(worst)) => {
-                Err(Error::GoalMissed { element: worst.clone(), final_error, tolerance: self.tolerance })
-            }
-            _ => Ok(()),
+        if let (false, Some(final_error), Some(worst)) = (self.holds, self.final_error, &self.worst) {
+            return Err(Error::GoalMissed { element: worst.clone(), final_error, tolerance: self.tolerance });
         }
+        collision(self.clearance.as_ref())?;
+        self.limits.as_ref().map_or(Ok(()), LimitReport::check)
     }
 }
 
@@ -220,9 +219,8 @@ pub fn check(
         max_abs_base_residual: residual,
         max_abs_momentum: verification.max_abs_momentum,
         stats: verification.stats,
-        joint_limits: None,
-        torque_limits: None,
-        clearance: None,
+        limits: verification.limits.clone(),
+        clearance: verification.clearance,
         seconds: clock.elapsed().as_secs_f64(),
     })
 }
