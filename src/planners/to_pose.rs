@@ -141,6 +141,10 @@ pub fn plan_arm_to_pose(
         } else if !tried.solution.reached {
             tried.error =
                 Some(format!("the inverse kinematics stopped {:.2e} m from the pose", tried.solution.residual));
+        } else if let Err(outside) = within_ranges(arm, &mut tried.solution.q, &request.problem.start) {
+            // Another branch may be inside every range: this one is reported, not fatal.
+            tried.error = Some(outside.to_string());
+            first_error = first_error.or(Some(outside.into()));
         } else {
             let problem = ChainProblem { goal: tried.solution.q.clone(), ..request.problem.clone() };
             match plan_arm(arm, method, &ArmRequest { problem, ..request.clone() }) {
@@ -184,6 +188,35 @@ pub fn plan_arm_to_pose(
             .into())
         }
     }
+}
+
+/// Turns each angle of `q` (`phi, theta_1..n`) that has a range (the base's, a joint's) by
+/// whole turns into it, the turn nearest `start`'s angle (a limited angle is literal: the
+/// planner does not wrap it); the first angle of which no turn is inside its range is
+/// [`InputError::InvalidText`] naming it, the range and the pose's branch.
+fn within_ranges(arm: &Arm, q: &mut [f64], start: &[f64]) -> Result<(), InputError> {
+    use std::f64::consts::TAU;
+    for (i, x) in q.iter_mut().enumerate() {
+        let range = if i == 0 { arm.limits.base } else { arm.limits.joint(i - 1).position };
+        let Some([lo, hi]) = range else { continue };
+        let (first, last) = (((lo - *x) / TAU).ceil(), ((hi - *x) / TAU).floor());
+        if first > last {
+            let name = if i == 0 { "phi".to_string() } else { format!("theta{i}") };
+            return Err(InputError::InvalidText {
+                name: "--to-ee branch".into(),
+                text: format!(
+                    "{name} = {:.6} deg, no turn of it inside [{:.6}, {:.6}] deg",
+                    x.to_degrees(),
+                    lo.to_degrees(),
+                    hi.to_degrees()
+                ),
+                expected: "an inverse-kinematics solution inside every declared range (another branch, or a pose \
+                           inside the robot's ranges)",
+            });
+        }
+        *x += ((start[i] - *x) / TAU).round().clamp(first, last) * TAU;
+    }
+    Ok(())
 }
 
 #[cfg(test)]
@@ -238,6 +271,57 @@ mod tests {
         assert!(e.is_bad_input());
         let text = e.to_string();
         assert!(text.contains("sideways") && text.contains("those that do"), "{text}");
+    }
+
+    /// A limited angle of a branch is turned into its range by whole turns, the turn nearest
+    /// the start; an angle no turn of which is inside is named with the range.
+    #[test]
+    fn a_branch_angle_is_turned_into_its_range_or_named() {
+        use crate::model::arm::{JointLimits, Limits};
+        let deg = |x: f64| x.to_radians();
+        let range = |lo: f64, hi: f64| JointLimits { position: Some([deg(lo), deg(hi)]), ..JointLimits::default() };
+        let limited = |lo, hi| {
+            let joints = vec![JointLimits::default(), range(lo, hi), JointLimits::default()];
+            three_link().with_limits(Limits { joints, base: Some([deg(-400.0), deg(400.0)]) }).expect("limits")
+        };
+        let start = [deg(350.0), 0.0, 0.0, 0.0];
+        let mut q = [deg(-20.0), 0.3, deg(-112.7), 0.1];
+        within_ranges(&limited(200.0, 300.0), &mut q, &start).expect("a turn inside");
+        // theta2 one turn up into its range; phi the turn nearest the start's 350 deg (340, not -20).
+        assert!((q[2] - deg(247.3)).abs() < 1e-12 && (q[0] - deg(340.0)).abs() < 1e-12, "{q:?}");
+        assert_eq!([q[1], q[3]], [0.3, 0.1], "angles without a range untouched");
+        let e = within_ranges(&limited(-10.0, 180.0), &mut [0.0, 0.0, deg(-112.7), 0.0], &start).unwrap_err();
+        let text = e.to_string();
+        assert!(text.contains("theta2 = -112.7") && text.contains("no turn of it inside [-10"), "{text}");
+    }
+
+    /// With a range that one inverse-kinematics branch keeps and another leaves, the pose is
+    /// planned by the branch inside (before, the branch outside was fatal bad input, exit 2).
+    #[test]
+    fn a_branch_outside_a_range_is_reported_and_another_planned() {
+        use crate::model::arm::{JointLimits, Limits};
+        let arm = three_link();
+        let request = request();
+        let end: Vec<f64> = [30.0_f64, 120.0, 40.0, -60.0].iter().map(|x| x.to_radians()).collect();
+        let [x, y, psi] = arm.task_point(&end, &[0.0; 4]).end_effector;
+        let branches = arm.inverse_kinematics((x, y, psi), &request.problem.start).expect("reachable");
+        let reaching: Vec<f64> = branches.iter().filter(|b| b.reached).map(|b| b.q[2]).collect();
+        // A range from the start's theta2 to the first branch's that leaves some other branch's out.
+        let (theta, from) = (reaching[0], request.problem.start[2]);
+        let range = [theta.min(from) - 0.1, theta.max(from) + 0.1];
+        assert!(reaching.iter().any(|t| *t < range[0] || *t > range[1]), "a branch outside: {reaching:?} {range:?}");
+        let joints = vec![
+            JointLimits::default(),
+            JointLimits { position: Some(range), ..JointLimits::default() },
+            JointLimits::default(),
+        ];
+        let limited = arm.with_limits(Limits { joints, base: None }).expect("limits");
+        let (goal, planned) = plan_arm_to_pose(&limited, Method::Optimal, &request, (x, y, psi), None).expect("plans");
+        assert!(planned.certified().is_ok());
+        let kept = goal.kept().expect("a kept branch");
+        assert!((kept.solution.q[2] - theta).abs() < 1e-12, "the branch inside kept");
+        let outside = goal.branches.iter().filter_map(|b| b.error.as_deref()).filter(|e| e.contains("no turn"));
+        assert!(outside.count() >= 1, "{:?}", goal.branches.iter().map(|b| &b.error).collect::<Vec<_>>());
     }
 
     /// A pose beyond the reach is bad input (unreachable), before any planning.
