@@ -15,10 +15,10 @@
 //!   line solved on that grading, commit 8474d43) the torque, held at 20 N m at the points,
 //!   reached 20.0074 N m between two of them in a 14.6 ms span.
 //!
-//! The certificate reads the base angle between its integration steps and refused the first
-//! plan; it reads the torque at its steps' ends and middles only, and certified SPART's example
-//! with +-2 rad, 0.3 rad/s, 50 N m at 13.5 s with joint 1's torque at 50.00217 N m (a use of
-//! 1 + 4.3e-5) in a graded end span: a plan beyond a declared limit, certified.
+//! The certificate reads both between its integration steps and refuses such a plan (the torque
+//! since it reads the peak between a step's points: before, it certified SPART's example with
+//! +-2 rad, 0.3 rad/s, 50 N m at 13.5 s with joint 1's torque at 50.00217 N m, a use of
+//! 1 + 4.3e-5, in a graded end span).
 //!
 //! So a converged refined plan is checked ([`ChainPlanner::hold_between_points`]): every knot
 //! span is sampled at [`SAMPLES`] points (the rows' points among them) and, in a span whose
@@ -34,7 +34,7 @@
 //!
 //! What it guarantees: a plan with no use beyond 1 at the samples and polished peaks is returned
 //! as it is, the same plan as without the check (one pass of inverse dynamics and base angles
-//! over the samples, on each refined plan only, not per solve); otherwise the plan returned is the
+//! over the samples, on each refined plan and sharpened solve only, not per solve); otherwise the plan returned is the
 //! last converged re-solve, inside at the samples and peaks where the rounds sufficed. It is a
 //! sampled check, not a bound: the certificate ([`crate::plan::limit_use`]), which reads the
 //! integrated motion, still judges the plan kept.
