@@ -1,5 +1,7 @@
 //! Runs the limits bench's cases repeatedly (for profiling with perf): `profile_limits CASE N`
-//! with CASE one of `3v`, `3vt`, `2v`, `4s`, `auto` (the cases of `benches/limits.rs`).
+//! with CASE one of `3v`, `3vt`, `2v`, `4s`, `auto` (the cases of `benches/limits.rs`), or `4t`
+//! (SPART's example with tight limits at a horizon `HORIZON`). `USES=1` prints the uses of the
+//! torque and base limits; `GRADING=k` sets the end grading.
 use freefloat::model::arm::{Arm, JointLimits, Limits};
 use freefloat::planners::chain::horizon::uses;
 use freefloat::planners::chain::{ChainOptions, ChainPlanner, ChainProblem};
@@ -44,6 +46,55 @@ fn example(name: &str) -> Arm {
     }
 }
 
+/// Each declared torque and base-range limit's largest use on the plan (`USES=1`): the
+/// certificate's (integrated motion) and the plan's own sampled at 1024 points per knot span.
+fn report_uses(arm: &Arm, plan: &freefloat::planners::chain::ChainPlan) {
+    eprintln!("certified {}", plan.verification.certified);
+    for u in plan.verification.limits.iter().flat_map(|r| &r.uses) {
+        eprintln!(
+            "  certificate {} {}: use - 1 = {:.3e} at t {:.6} (value {:.12})",
+            u.name,
+            u.quantity.name(),
+            u.used - 1.0,
+            u.time,
+            u.value
+        );
+    }
+    let n = arm.joints();
+    let mut peak = vec![(f64::NEG_INFINITY, 0.0); n + 1];
+    for w in plan.basis().breakpoints().windows(2) {
+        for k in 0..=1024 {
+            let t = w[0] + (w[1] - w[0]) * k as f64 / 1024.0;
+            let p = plan.at(t);
+            let tau = freefloat::dynamics::arm::inverse_dynamics(arm, &p.theta, &p.rate, &p.acceleration).tau;
+            for j in 0..n {
+                if let Some(l) = arm.limits.joint(j).torque {
+                    let used = tau[j].abs() / l;
+                    if used > peak[j + 1].0 {
+                        peak[j + 1] = (used, t);
+                    }
+                }
+            }
+            if let Some([lo, hi]) = arm.limits.base {
+                let used = ((p.phi - 0.5 * (lo + hi)) / (0.5 * (hi - lo))).abs();
+                if used > peak[0].0 {
+                    peak[0] = (used, t);
+                }
+            }
+        }
+    }
+    for (j, (used, t)) in peak.iter().enumerate() {
+        if used.is_finite() {
+            eprintln!(
+                "  dense {}: use - 1 = {:.3e} at t {:.6}",
+                if j == 0 { "phi".into() } else { format!("tau{j}") },
+                used - 1.0,
+                t
+            );
+        }
+    }
+}
+
 fn main() {
     let args: Vec<String> = std::env::args().collect();
     let case = args.get(1).map(String::as_str).unwrap_or("3v");
@@ -62,6 +113,27 @@ fn main() {
             let paper = ChainProblem::rest_to_rest(q0.to_array().to_vec(), qd.to_array().to_vec(), horizon);
             (binding(&src, &paper, 0.8, false), paper)
         }
+        "4t" => {
+            // SPART's example with tight limits (+-2 rad, 0.3 rad/s, 50 N m), the horizon
+            // `HORIZON` s (13.5 by default; `--time auto` finds 13.24): the torque binds.
+            let mut spart = example("spart_like_4dof.urdf");
+            spart.geometry = Default::default();
+            let joint = JointLimits {
+                position: Some([-2.0, 2.0]),
+                velocity: Some(0.3),
+                torque: Some(50.0),
+                acceleration: None,
+            };
+            let n = spart.joints();
+            let spart = spart.with_limits(Limits { joints: vec![joint; n], base: None }).expect("valid limits");
+            let horizon = std::env::var("HORIZON").ok().and_then(|h| h.parse().ok()).unwrap_or(13.5);
+            let p = ChainProblem::rest_to_rest(
+                deg(&[0.0, 20.0, -30.0, 40.0, 10.0]),
+                deg(&[30.0, 60.0, 30.0, -20.0, 40.0]),
+                horizon,
+            );
+            (spart, p)
+        }
         _ => {
             let mut spart = example("spart_like_4dof.urdf");
             spart.geometry = Default::default();
@@ -77,7 +149,11 @@ fn main() {
         }
     };
     let arm = if std::env::var_os("FREE").is_some() { arm.with_limits(Limits::default()).expect("none") } else { arm };
-    let planner = ChainPlanner::new(arm, ChainOptions::default());
+    let mut options = ChainOptions::default();
+    if let Some(g) = std::env::var("GRADING").ok().and_then(|g| g.parse().ok()) {
+        options.grading = g;
+    }
+    let planner = ChainPlanner::new(arm, options);
     let clock = Instant::now();
     for _ in 0..n {
         if case == "auto" {
@@ -86,6 +162,9 @@ fn main() {
                 "T {:.4} probes {} effort {:.10} spans {}",
                 s.horizon, s.probes, s.plan.stats.effort, s.plan.stats.spans
             );
+            if std::env::var_os("USES").is_some() {
+                report_uses(planner.arm(), &s.plan);
+            }
         } else {
             let p = planner.plan(&problem).expect("plans");
             let s = &p.stats;
@@ -93,6 +172,9 @@ fn main() {
                 "effort {:.10} seeds {} iterations {} final {} spans {} nodes {}",
                 s.effort, s.seeds, s.iterations, s.final_iterations, s.spans, s.quadrature_nodes
             );
+            if std::env::var_os("USES").is_some() {
+                report_uses(planner.arm(), &p);
+            }
         }
     }
     eprintln!("{:.2} ms per run", clock.elapsed().as_secs_f64() * 1e3 / n as f64);

@@ -12,7 +12,9 @@
 //! drift, interpolated linearly across the step), to the integration's accuracy; the base angle's
 //! stays the cubic's (error `O(h^4)` in the steps of a `1e-12` integration). Accelerations are
 //! read at the steps' ends and middles; torques are the plan's inverse dynamics (the closed form
-//! of the torque level, [`ArmDynamics`]) at the same points.
+//! of the torque level, [`ArmDynamics`]) at the same points and, near the limit, at the vertex of
+//! the parabola through them (a torque at 50.00217 N m between those points, 4.3e-5 beyond the
+//! limit, was certified without it: SPART's example with +-2 rad, 0.3 rad/s, 50 N m at 13.5 s).
 //!
 //! The use of a range `[lo, hi]` is `|q - mid| / half` (1 at either bound), of a velocity,
 //! acceleration or torque limit `L` it is `|x| / L`. A use beyond `1 + 1e-9` is
@@ -32,6 +34,10 @@ use crate::numerics::ode::OdeOptions;
 
 /// Relative slack of the check: a use up to `1 + LIMIT_SLACK` is inside.
 pub const LIMIT_SLACK: f64 = 1e-9;
+
+/// A torque's extremum between a step's three points is read where the parabola through them
+/// puts it within this fraction of the limit.
+const NEAR_PEAK: f64 = 1e-3;
 
 /// The quantity a limit bounds.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -365,13 +371,30 @@ impl<'a, const M: usize> LimitMonitor<'a, M> {
             }
         }
         if let Some(dynamics) = &self.dynamics {
-            let mut tau = [0.0; M];
-            for t in [ea, mid, eb] {
-                torques_into(dynamics, motion, t, &mut tau[..n]);
-                for (k, limit) in self.torque.iter_mut().enumerate() {
-                    if let Some(limit) = limit.as_mut() {
-                        limit.see(tau[k], t);
-                    }
+            let times = [ea, mid, eb];
+            let mut tau = [[0.0; M]; 3];
+            for (t, tau) in times.iter().zip(tau.iter_mut()) {
+                torques_into(dynamics, motion, *t, &mut tau[..n]);
+            }
+            let mut peak = [0.0; M];
+            for (k, limit) in self.torque.iter_mut().enumerate() {
+                let Some(limit) = limit.as_mut() else { continue };
+                for (t, tau) in times.iter().zip(&tau) {
+                    limit.see(tau[k], *t);
+                }
+                // An extremum between the three points (the torque is smooth inside a step): the
+                // vertex of the parabola through them, read where it comes near the limit.
+                let [a, b, c] = [tau[0][k], tau[1][k], tau[2][k]];
+                let curvature = a - 2.0 * b + c;
+                let s = 0.5 * (a - c) / curvature;
+                if !(s.abs() < 1.0) {
+                    continue;
+                }
+                let vertex = b - 0.25 * (a - c) * s;
+                if vertex.abs() >= (1.0 - NEAR_PEAK) * limit.limit[1] {
+                    let t = mid + s * (mid - ea);
+                    torques_into(dynamics, motion, t, &mut peak[..n]);
+                    limit.see(peak[k], t);
                 }
             }
         }
@@ -427,6 +450,30 @@ mod tests {
             .unwrap()
             .with_limits(Limits { joints: vec![limits], base: None })
             .unwrap()
+    }
+
+    /// A torque's peak between the integrator's steps is read (the vertex of the parabola through
+    /// a step's three points): the one joint along `A sin(w t)` with `w = pi / 7` on `[0, 10]`,
+    /// whose torque peaks near the acceleration's peak at 3.5 s. A limit at the peak (sampled at
+    /// 100001 points) is inside; one 1e-7 below it is refused.
+    #[test]
+    fn a_torque_peak_between_steps_is_caught_and_refused() {
+        let (a, horizon) = (1.2, 10.0);
+        let motion = Sine { amplitude: a, w: std::f64::consts::PI / 7.0, breakpoints: vec![0.0, horizon] };
+        let (start, ode) = ([0.0, 0.0], OdeOptions::default());
+        let limited = |l: f64| arm(JointLimits { torque: Some(l), ..JointLimits::default() });
+        let dynamics = ArmDynamics::new(&limited(1.0));
+        let mut tau = [0.0];
+        let peak = (0..=100_000)
+            .map(|i| {
+                torques_into(&dynamics, &motion, horizon * i as f64 / 1e5, &mut tau);
+                tau[0].abs()
+            })
+            .fold(0.0, f64::max);
+        let r = limit_use(&limited(peak), &motion, &start, &ode).unwrap();
+        assert!(r.inside && (r.uses[0].used - 1.0).abs() < 1e-9, "{r:?}");
+        let r = limit_use(&limited(peak * (1.0 - 1e-7)), &motion, &start, &ode).unwrap();
+        assert!(!r.inside, "{r:?}");
     }
 
     #[test]

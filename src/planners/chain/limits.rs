@@ -16,20 +16,22 @@
 //!   (a dense set, not a bound between the points); the derivatives in `theta''` exactly (the
 //!   torque is affine in it), in `theta` and `theta'` by central differences.
 //! - **Base range** `lo <= phi(t) <= hi` at every breakpoint, `phi(t) = phi(0) - integral_0^t g`
-//!   by 8-node Gauss–Legendre quadrature per span, with the connection's exact gradient; a
-//!   refined plan that leaves the range between the breakpoints is solved again inside a
-//!   tightened one ([`base`]).
+//!   by 8-node Gauss–Legendre quadrature per span, with the connection's exact gradient.
+//!
+//! The torque and base-range rows hold at their points only: a refined plan that leaves either
+//! limit between them is solved again with the rows of the spans concerned tightened ([`hold`]).
 //!
 //! Every limit is tightened by a relative `1e-9` of itself so that a solution within the SQP's
 //! tolerance is inside the declared one.
 
-mod base;
 mod clearance;
 pub(crate) use clearance::obstacles_within_reach;
 mod ends;
+mod hold;
 mod ranges;
 
 pub(crate) use clearance::PIECES as CLEARANCE_PIECES;
+pub(crate) use hold::Margins;
 pub(crate) use ranges::{inside_ranges, least_time, within_reach};
 
 use nalgebra::DVector;
@@ -88,6 +90,9 @@ pub(crate) struct Limited<'a> {
     clearance: Option<clearance::Clearance>,
     /// Free index of coefficient `i` of joint `j`: `free[i]` times `n` plus `j`.
     free: Vec<Option<usize>>,
+    /// The margins of the torque and base-range rows by span, where a plan left those limits
+    /// between the rows' points ([`hold`]; none at first).
+    held: Option<std::sync::Arc<Margins>>,
 }
 
 /// The derivative spline's control-point rows: row `k` of the `m`-th derivative as
@@ -168,7 +173,8 @@ impl<'a> Limited<'a> {
                     .map(|c| c.at(planner.clearance_pieces))
             })
             .flatten();
-        Some(Self { disc, arm, connection, linear, torque, base, clearance, free })
+        let held = planner.held.clone().filter(|m| m.fits(b.len() - 1));
+        Some(Self { disc, arm, connection, linear, torque, base, clearance, free, held })
     }
 
     /// `x` with every position-limited joint's free coefficients clipped into its range (a seed
@@ -213,7 +219,7 @@ impl<'a> Limited<'a> {
         // Sensitivities d tau_j / d (theta_k, theta'_k, theta''_k): `sens[which][j][k]`.
         let mut sens = [[[0.0; SIZE]; SIZE]; 3];
         let mut row = Vec::new();
-        for &t in &times {
+        for (i, &t) in times.iter().enumerate() {
             let span = basis.span_of_interval(basis.interval(t));
             let d = basis.ders(span, t);
             let first = span - p;
@@ -254,6 +260,12 @@ impl<'a> Limited<'a> {
                 }
             }
             for &(j, inv) in &self.torque {
+                // A held row at `1 - margin` of the limit ([`hold`]; the horizon's end, point 0 of
+                // span `spans`, the last span's).
+                let inv = match &self.held {
+                    Some(m) => inv / (1.0 - m.at_point(hold::Held::Torque(j), i / TORQUE_POINTS, i % TORQUE_POINTS)),
+                    None => inv,
+                };
                 out.values.push(tau[j] * inv - 1.0);
                 out.values.push(-tau[j] * inv - 1.0);
                 if order >= 1 {
@@ -273,10 +285,12 @@ impl<'a> Limited<'a> {
         }
     }
 
-    /// The base-range rows (two per breakpoint after `t = 0`) into `out`.
+    /// The base-range rows (two per breakpoint after `t = 0`) into `out`, each side tightened by
+    /// its margin ([`hold`]) but never past the start's or the goal's base angle.
     fn base(&self, c: &[Vec<f64>], order: usize, out: &mut Inequalities) {
-        let Some([lo, hi]) = self.base else { return };
-        for point in self.phi_path(c, 1, order) {
+        let Some(range) = self.base else { return };
+        for (i, point) in self.phi_path(c, 1, order).into_iter().enumerate() {
+            let [lo, hi] = self.held_base(range, i + 1);
             out.values.push(point.phi - hi);
             out.values.push(lo - point.phi);
             if order >= 1 {
@@ -349,6 +363,19 @@ impl<'a> Limited<'a> {
 }
 
 impl Limited<'_> {
+    /// The base range `range` of the rows at breakpoint `i`, each side tightened by its margin
+    /// ([`hold`]; in units of the declared range's width) but never past the start's or the
+    /// goal's base angle.
+    fn held_base(&self, [lo, hi]: [f64; 2], i: usize) -> [f64; 2] {
+        let (Some(m), Some([dlo, dhi])) = (&self.held, self.arm.limits.base) else { return [lo, hi] };
+        let targets = self.disc.targets();
+        let ends = [targets.phi_start, targets.phi_end];
+        let (above, below) = (m.at_breakpoint(hold::Held::BaseAbove, i), m.at_breakpoint(hold::Held::BaseBelow, i));
+        let hi = if above > 0.0 { (hi - above * (dhi - dlo)).max(ends[0].max(ends[1])) } else { hi };
+        let lo = if below > 0.0 { (lo + below * (dhi - dlo)).min(ends[0].min(ends[1])) } else { lo };
+        [lo, hi]
+    }
+
     /// The times of [`Limited::phi_path`] without the base angle (`phi` 0, no gradient).
     fn path_points(&self, pieces: usize) -> Vec<PathPoint> {
         let b = self.disc.basis().breakpoints();

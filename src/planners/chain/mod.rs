@@ -324,6 +324,9 @@ pub struct ChainPlanner {
     /// (`keep_clear.rs`; off for the shortest horizon's final search, which has a plan that
     /// clears already: `horizon.rs`).
     last_resort: bool,
+    /// The margins of the torque and base-range rows of a plan solved again because it left those
+    /// limits between the rows' points (`limits/hold.rs`; none otherwise).
+    held: Option<Arc<limits::Margins>>,
 }
 
 impl ChainPlanner {
@@ -338,6 +341,7 @@ impl ChainPlanner {
             obstacle_rows: true,
             clearance_pieces: limits::CLEARANCE_PIECES,
             last_resort: true,
+            held: None,
         }
     }
 

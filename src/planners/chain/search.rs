@@ -366,7 +366,7 @@ impl ChainPlanner {
                 break;
             }
         }
-        self.hold_base(problem, c, tables)
+        self.hold_between_points(problem, c, tables)
     }
 
     /// `|phi(T) - phi_end|` of the candidate with the plan's finer quadrature.

@@ -8,7 +8,7 @@ use crate::dynamics::arm::ArmDynamics;
 use crate::model::arm::Limits;
 
 /// The fifth problem, where the base range binds: the 3-link example (its robot file) turning
-/// its base from 0 to 30 deg in 10 s inside `-30:60` deg (`limits::base`'s case, with literal
+/// its base from 0 to 30 deg in 10 s inside `-30:60` deg (`limits::hold`'s case, with literal
 /// goals as the oracle's); the planner's certified effort is at most 1 % above the oracle's,
 /// whose base angle is held inside the range at every node (and the range binds: the plan
 /// without it leaves the range).
