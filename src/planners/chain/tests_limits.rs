@@ -46,7 +46,7 @@ fn assert_inside(arm: &Arm, plan: &ChainPlan) {
                     assert!(p.rate[j].abs() <= v, "joint {} at {t}: speed {}", j + 1, p.rate[j]);
                 }
                 if let Some(m) = l.torque {
-                    assert!(tau[j].abs() <= m * (1.0 + 1e-2), "joint {} at {t}: torque {}", j + 1, tau[j]);
+                    assert!(tau[j].abs() <= m * (1.0 + 1e-9), "joint {} at {t}: torque {}", j + 1, tau[j]);
                 }
             }
         }
