@@ -31,6 +31,7 @@ use std::f64::consts::TAU;
 use std::time::Instant;
 
 use super::discrete::Targets;
+use super::search::COARSE_SQP;
 use super::tables::Tables;
 use super::{ChainPlan, ChainPlanner, ChainPoint, ChainProblem, WarmStart};
 use crate::dynamics::arm::inverse_dynamics;
@@ -38,6 +39,7 @@ use crate::error::Error;
 use crate::model::InputError;
 use crate::model::wrap_angle;
 use crate::plan::HORIZON_RANGE;
+use crate::planners::optimal::sqp::SqpOptions;
 
 /// The relative accuracy of the shortest horizon.
 pub const HORIZON_ACCURACY: f64 = 0.01;
@@ -169,6 +171,12 @@ fn secant(failures: &[(f64, f64)]) -> Option<f64> {
     let [.., (t1, r1), (t2, r2)] = failures else { return None };
     (r1.is_finite() && r2.is_finite() && *r2 > 0.0 && r1 > r2 && t2 > t1).then(|| t2 + r2 * (t2 - t1) / (r1 - r2))
 }
+
+/// SQP options of a probe's solve: the coarse solves', an infeasible one given up after 6
+/// iterations (not 12) that reduce its infeasibility by under 1 %: the probes that failed on
+/// issue 20's 3-link velocity bench had reached their plateau (8.24e-2 and 4.92e-3 rad off the
+/// holonomy) 12 iterations before they stopped; 3.57 -> 3.08 G instructions there.
+const PROBE_SQP: SqpOptions = SqpOptions { stall_iterations: 3, ..COARSE_SQP };
 
 /// A full search's plan cheaper than the probes' by more than this fraction is another family of
 /// paths (the same one's differ by the refinement's tolerance).
@@ -415,7 +423,7 @@ impl ChainPlanner {
         // none, the 3-link velocity bench's probes first stepped 1.9 rad off it).
         let guess = Some(plan.stats.multiplier * k).filter(|g| g.is_finite() && *g != 0.0);
         Ok(self
-            .solve_from(&scaled, targets, &path, (basis, guess), &tables, Instant::now())?
+            .solve_from(&scaled, targets, &path, (basis, guess, &PROBE_SQP), &tables, Instant::now())?
             .and_then(|p| if fits(&p) { Ok(p) } else { Err(f64::NAN) }))
     }
 
