@@ -15,26 +15,31 @@
 //!
 //! The bracket's top is the plan without the rate limits (ranges kept) time-scaled that way and
 //! re-solved with them; full searches at doubling horizons only when that fails. Each probe of
-//! the bisection starts from the best plan so far, time-scaled to the probe's horizon, and is
-//! solved on its goal representative alone (a failed full search costs every seed of every
-//! representative; a probe about as much as one refinement). The shortest horizon is thus that of
-//! the plan's own family of paths; the full search then runs once at it (without the clearance
-//! search's last resort: a plan that clears is known there) and its plan is kept where it costs
-//! less. Its cost: one unconstrained and one constrained search, and about
-//! `log2(log(hi / lo) / log 1.01)` probes, fewer when the time-scaling bound is tight
-//! ([`ShortestHorizon::probes`]).
+//! the bisection starts from the best plan so far, time-scaled to the probe's horizon (its
+//! holonomy multiplier too), and is solved on its goal representative alone (a failed full
+//! search costs every seed of every representative; a probe about as much as one refinement).
+//! The first probes step down from the top by 10 % until one fails (the bound below is often far
+//! from the shortest horizon, and a probe far below it fails at the cost of a stalled solve).
+//! The shortest horizon is thus that of the plan's own family of paths; the full search then runs
+//! once at it (without the clearance search's last resort: a plan that clears is known there) and
+//! its plan is kept where it costs less; where it is another family's, that family is probed at
+//! the probes' failing horizon, and the bisection goes on from it where it fits there. Its cost:
+//! one unconstrained and one constrained search, and about `log2(log(hi / lo) / log 1.01)`
+//! probes, fewer when the time-scaling bound is tight ([`ShortestHorizon::probes`]).
 
 use std::f64::consts::TAU;
 use std::time::Instant;
 
 use super::discrete::Targets;
+use super::search::COARSE_SQP;
 use super::tables::Tables;
-use super::{ChainPlan, ChainPlanner, ChainProblem, WarmStart};
+use super::{ChainPlan, ChainPlanner, ChainPoint, ChainProblem, WarmStart};
 use crate::dynamics::arm::inverse_dynamics;
 use crate::error::Error;
 use crate::model::InputError;
 use crate::model::wrap_angle;
 use crate::plan::HORIZON_RANGE;
+use crate::planners::optimal::sqp::SqpOptions;
 
 /// The relative accuracy of the shortest horizon.
 pub const HORIZON_ACCURACY: f64 = 0.01;
@@ -87,11 +92,18 @@ pub fn uses(planner: &ChainPlanner, plan: &ChainPlan) -> (Option<Binding>, f64) 
     };
     let mut peak = vec![[0.0_f64; 4]; n];
     let mut range = vec![[f64::INFINITY, f64::NEG_INFINITY]; n + 1];
+    // The inverse dynamics only where a torque is limited (on issue 20's 3-link velocity bench
+    // it was 3.7 % of `--time auto`'s instructions, for torques no limit reads).
+    let torques = (0..n).any(|j| arm.limits.joint(j).torque.is_some());
     for w in b.windows(2) {
         for k in 0..32 {
             let t = w[0] + (w[1] - w[0]) * k as f64 / 32.0;
-            let p = plan.at(t);
-            let tau = inverse_dynamics(arm, &p.theta, &p.rate, &p.acceleration).tau;
+            let p = joints_at(plan, t, arm.limits.base.is_some());
+            let tau = if torques {
+                inverse_dynamics(arm, &p.theta, &p.rate, &p.acceleration).tau
+            } else {
+                nalgebra::DVector::zeros(n)
+            };
             for j in 0..n {
                 peak[j][0] = peak[j][0].max(p.rate[j].abs());
                 peak[j][1] = peak[j][1].max(p.acceleration[j].abs());
@@ -129,6 +141,52 @@ pub fn uses(planner: &ChainPlanner, plan: &ChainPlan) -> (Option<Binding>, f64) 
     }
     (best, scale)
 }
+
+/// `plan`'s joint angles, rates and accelerations at `t` (clamped to `[0, T]`), and its base
+/// angle only `with_phi` (0 otherwise): the holonomy's quadrature from the breakpoint before `t`
+/// was 9 % of `--time auto`'s instructions on issue 20's 3-link velocity bench, in [`uses`] and
+/// the probes' warm starts, which read no base angle without a base range.
+fn joints_at(plan: &ChainPlan, t: f64, with_phi: bool) -> ChainPoint {
+    let t = t.clamp(0.0, plan.horizon());
+    let phi = if with_phi { plan.phi(t) } else { 0.0 };
+    let mut point = ChainPoint { t, phi, theta: Vec::new(), rate: Vec::new(), acceleration: Vec::new() };
+    plan.basis().evaluate_each(plan.coefficients(), t, |_, [v, d, a]| {
+        point.theta.push(v);
+        point.rate.push(d);
+        point.acceleration.push(a);
+    });
+    point
+}
+
+/// The margin above the secant's estimate of the shortest horizon at which it is probed: a
+/// probe that fits there closes the bracket when the estimate is within 0.7 % above the failure.
+const SECANT_MARGIN: f64 = 0.003;
+
+/// The secant estimate of the shortest horizon from the last two failing probes `(t, residual)`
+/// of a family: the residual its solve stopped at falls to 0 at the shortest horizon (about
+/// linearly near it: 8.2e-2 and 4.9e-3 rad at 9.41 and 9.87 s on issue 20's 3-link velocity
+/// bench, whose shortest horizon is in (9.87, 9.93] s). `None` without two finite residuals
+/// falling with the horizon.
+fn secant(failures: &[(f64, f64)]) -> Option<f64> {
+    let [.., (t1, r1), (t2, r2)] = failures else { return None };
+    (r1.is_finite() && r2.is_finite() && *r2 > 0.0 && r1 > r2 && t2 > t1).then(|| t2 + r2 * (t2 - t1) / (r1 - r2))
+}
+
+/// SQP options of a probe's solve: the coarse solves', an infeasible one given up after 6
+/// iterations (not 12) that reduce its infeasibility by under 1 %: the probes that failed on
+/// issue 20's 3-link velocity bench had reached their plateau (8.24e-2 and 4.92e-3 rad off the
+/// holonomy) 12 iterations before they stopped; 3.57 -> 3.08 G instructions there.
+const PROBE_SQP: SqpOptions = SqpOptions { stall_iterations: 3, ..COARSE_SQP };
+
+/// A full search's plan cheaper than the probes' by more than this fraction is another family of
+/// paths (the same one's differ by the refinement's tolerance).
+const OTHER_FAMILY: f64 = 1e-3;
+
+/// The first step down from a plan that fits, before any probe of its family has failed: the
+/// probe at `hi / FIRST_STEP` (a probe far below the shortest horizon fails at the cost of a
+/// stalled solve, 100 to 180 ms against 12 to 50 ms for one that fits on issue 20's 3-link
+/// velocity bench, and the bound below is often far: 1.18 s there, against 9.92 s).
+const FIRST_STEP: f64 = 1.1;
 
 /// A plan's use of a rate limit (the time-scaling factor of [`uses`]) from which a longer horizon
 /// may find what this one did not.
@@ -186,7 +244,7 @@ impl ChainPlanner {
                 let (_, scale) = uses(self, &free);
                 let scaled = t * (scale * 1.002).max(1.0);
                 if scaled <= HORIZON_RANGE.1
-                    && let Some(plan) = self.probe(problem, &free, scaled)?
+                    && let Ok(plan) = self.probe(problem, &free, scaled)?
                 {
                     found = Some((scaled, plan));
                 }
@@ -229,66 +287,84 @@ impl ChainPlanner {
                 termination: "no_horizon",
             }));
         };
-        // Bisection, each probe from the time-scaled plan at `hi` alone; where the probes close
-        // the bracket above a failure of the full search (or the bound), the full search at the
-        // probes' failing horizon decides it: a plan there moves the top down, and the
-        // bisection goes on below it.
-        let mut full = false;
-        loop {
+        // Bisection, each probe from the time-scaled plan at `hi` alone (its family of paths),
+        // then the full search at the horizon found: the minimum-effort plan there. Where that
+        // is another family's, cheaper than the probes' plan, the other family may reach
+        // shorter horizons: probed at the probes' failing horizon, and where it fits there the
+        // bisection goes on below it from that plan (the probes' failures bound the old family
+        // only). The full search runs once at the end, not at the failing horizon (where it
+        // fails at the cost of every seed: on issue 20's 3-link velocity bench 840 of 2090 ms).
+        let failed = loop {
             let mut below = lo;
+            // This round's failing probes with their residuals, and whether the last one failed.
+            let (mut failures, mut failed_last) = (Vec::new(), false);
             while hi > below * (1.0 + HORIZON_ACCURACY) {
-                let (_, scale) = uses(self, &plan);
-                let mid = (below * hi).sqrt();
-                let scaled = hi * scale * 1.002;
-                let t = if scale > 0.0 && scaled > mid && scaled < hi * 0.998 { scaled } else { mid };
+                let secant = if failed_last { secant(&failures) } else { None };
+                let t = self.next_probe(&plan, below, lo, hi, secant);
                 probes += 1;
                 match self.probe(problem, &plan, t)? {
-                    Some(p) => (hi, plan, full) = (t, p, false),
-                    None => below = t,
+                    Ok(p) => (hi, plan, failed_last) = (t, p, false),
+                    Err(residual) => {
+                        (below, failed_last) = (t, true);
+                        failures.push((t, residual));
+                    }
                 }
             }
-            if below <= lo {
-                break;
-            }
-            probes += 1;
-            match self.plan(&ChainProblem { horizon: below, ..problem.clone() }) {
-                Ok(p) if fits(&p) => (hi, plan, full) = (below, p, true),
-                Ok(_) => {
-                    lo = below;
-                    break;
-                }
-                Err(e) if e.is_bad_input() => return Err(e),
-                Err(_) => {
-                    lo = below;
-                    break;
-                }
-            }
-        }
-        // The minimum-effort plan at the horizon found: the full search, where it does better.
-        // Without the clearance search's last resort (`keep_clear`), which only looks for a plan
-        // that clears where the search found none: there is one at `hi` already. On the
-        // SPART-like tight fixture's issue 20/21 case (`docs/spec.md` §2) it found none there,
-        // and the search took 262 s of CPU with it, 196 s without (the same plan).
-        if !full {
+            // The minimum-effort plan at the horizon found: the full search, where it does
+            // better. Without the clearance search's last resort (`keep_clear`), which only looks
+            // for a plan that clears where the search found none: there is one at `hi` already.
+            // On the SPART-like tight fixture's issue 20/21 case (`docs/spec.md` §2) it found
+            // none there, and the search took 262 s of CPU with it, 196 s without (the same
+            // plan).
             probes += 1;
             let last = ChainPlanner { last_resort: false, ..self.clone() };
-            if let Ok(f) = last.plan(&ChainProblem { horizon: hi, ..problem.clone() })
-                && fits(&f)
-                && f.stats.cost < plan.stats.cost
-            {
-                plan = f;
+            let Ok(f) = last.plan(&ChainProblem { horizon: hi, ..problem.clone() }) else { break below };
+            if !(fits(&f) && f.stats.cost < plan.stats.cost) {
+                break below;
             }
-        }
+            let other = f.stats.cost < plan.stats.cost * (1.0 - OTHER_FAMILY);
+            plan = f;
+            if !other || below <= lo {
+                break below;
+            }
+            probes += 1;
+            match self.probe(problem, &plan, below)? {
+                Ok(p) => (hi, plan) = (below, p),
+                Err(_) => break below,
+            }
+        };
         let (binding, _) = uses(self, &plan);
         let binding = binding.unwrap_or(Binding { joint: 0, quantity: "none", limit: f64::NAN, used: 0.0 });
         Ok(ShortestHorizon {
             horizon: hi,
-            infeasible_below: lo,
+            infeasible_below: failed,
             plan,
             probes,
             seconds: clock.elapsed().as_secs_f64(),
             binding,
         })
+    }
+
+    /// The next horizon the bisection probes in `(below, hi)`, `plan` fitting at `hi`: where the
+    /// plan's rate limits are not all used, the horizon it time-scales to (when that is at least
+    /// 2 % shorter: nearer, a probe a round moves the top by under 2 %); else the geometric
+    /// middle, and while no probe has failed (`below` is the bound `lo`) at most
+    /// [`FIRST_STEP`] below `hi`. Right after a failure, the `secant` estimate of the shortest
+    /// horizon where it lies in the bracket, [`SECANT_MARGIN`] above it.
+    fn next_probe(&self, plan: &ChainPlan, below: f64, lo: f64, hi: f64, secant: Option<f64>) -> f64 {
+        let (_, scale) = uses(self, plan);
+        let mid = (below * hi).sqrt();
+        let scaled = hi * scale * 1.002;
+        let secant = secant.map(|t| t * (1.0 + SECANT_MARGIN)).filter(|t| *t > below && *t < hi);
+        if let Some(t) = secant {
+            t
+        } else if scale > 0.0 && scaled > mid && scaled < hi / 1.02 {
+            scaled
+        } else if below <= lo {
+            mid.max(hi / FIRST_STEP)
+        } else {
+            mid
+        }
     }
 
     /// This planner with the arm's velocity, acceleration and torque limits removed (its ranges
@@ -303,15 +379,21 @@ impl ChainPlanner {
     }
 
     /// The plan at horizon `t` from `plan` time-scaled to it (same path, same goal
-    /// representative) alone, inside every limit and clear; `None` when it does not converge,
-    /// certify and fit.
-    pub(super) fn probe(&self, problem: &ChainProblem, plan: &ChainPlan, t: f64) -> Result<Option<ChainPlan>, Error> {
+    /// representative) alone, inside every limit and clear; where it does not converge, certify
+    /// and fit, the residual its coarse solve stopped at (NaN when that one met the constraints;
+    /// see `ChainPlanner::solve_from`).
+    pub(super) fn probe(
+        &self,
+        problem: &ChainProblem,
+        plan: &ChainPlan,
+        t: f64,
+    ) -> Result<Result<ChainPlan, f64>, Error> {
         let horizon = plan.horizon();
         let k = horizon / t;
         let samples = 16 * plan.stats.spans.max(8);
         let (mut times, mut theta, mut rate) = (Vec::new(), Vec::new(), Vec::new());
         for i in 0..=samples {
-            let p = plan.at(horizon * i as f64 / samples as f64);
+            let p = joints_at(plan, horizon * i as f64 / samples as f64, false);
             times.push(t * i as f64 / samples as f64);
             theta.push(p.theta);
             rate.push(p.rate.iter().map(|v| v * k).collect());
@@ -336,10 +418,13 @@ impl ChainPlanner {
         // fits a shorter horizon on finer end spans).
         let basis = (plan.stats.spans.max(self.options.coarse_spans), plan.stats.grading.max(self.options.grading));
         let tables = Tables::default();
-        let Some(p) = self.solve_from(&scaled, targets, &path, basis, &tables, Instant::now())? else {
-            return Ok(None);
-        };
-        Ok(fits(&p).then_some(p))
+        // From the plan's holonomy multiplier, time-scaled as its effort (by `k`): the first
+        // steps keep to the holonomy instead of trading it for effort at a unit penalty (from
+        // none, the 3-link velocity bench's probes first stepped 1.9 rad off it).
+        let guess = Some(plan.stats.multiplier * k).filter(|g| g.is_finite() && *g != 0.0);
+        Ok(self
+            .solve_from(&scaled, targets, &path, (basis, guess, &PROBE_SQP), &tables, Instant::now())?
+            .and_then(|p| if fits(&p) { Ok(p) } else { Err(f64::NAN) }))
     }
 
     /// [`ChainPlanner::plan`], and when the arm has a rate limit (velocity, acceleration or

@@ -11,6 +11,7 @@ use super::starts::Prepared;
 use super::tables::Tables;
 use super::{ChainPlanner, ChainProblem};
 use crate::error::Error;
+use crate::planners::optimal::sqp::SqpOptions;
 
 impl ChainPlanner {
     /// The plan of [`super::ChainOptions::warm_start`] when there is one ([`Self::warm`]);
@@ -49,39 +50,45 @@ impl ChainPlanner {
         let near = |t: &&Targets| t.end.iter().zip(end).all(|(a, b)| (a - b).abs() <= 1e-6);
         let Some(targets) = representatives.iter().find(near) else { return Ok(None) };
         let basis = (self.options.coarse_spans, self.options.grading);
-        self.solve_from(problem, targets.clone(), path, basis, tables, clock)
+        Ok(self.solve_from(problem, targets.clone(), path, (basis, None, &COARSE_SQP), tables, clock)?.ok())
     }
 
     /// The plan from `path` to `targets` alone (no search): its projection on `spans` uniform
-    /// spans with `grading` graded knots per end, solved, refined and certified; `None` when any
-    /// step fails.
+    /// spans with `grading` graded knots per end, solved with `options` (from the holonomy
+    /// multiplier `guess` where one is known, see [`crate::planners::optimal::sqp::solve`]),
+    /// refined and certified;
+    /// where a step fails, the coarse solve's residual ([`SqpResult::c`]'s size: the holonomy's
+    /// or the largest scaled violation of a limit) when that one ended off the constraints, else
+    /// NaN.
+    ///
+    /// [`SqpResult::c`]: crate::planners::optimal::sqp::SqpResult::c
     pub(super) fn solve_from(
         &self,
         problem: &ChainProblem,
         targets: Targets,
         path: &super::WarmStart,
-        (spans, grading): (usize, usize),
+        ((spans, grading), guess, options): ((usize, usize), Option<f64>, &SqpOptions),
         tables: &Tables,
         clock: Instant,
-    ) -> Result<Option<ChainPlan>, Error> {
+    ) -> Result<Result<ChainPlan, f64>, Error> {
         let o = &self.options;
         let disc = self.discretise_graded(problem, targets, [spans, o.quadrature_nodes, grading], tables)?;
-        let Ok(x0) = disc.project(|t, out| path.at(t, out)) else { return Ok(None) };
-        let Ok(result) = super::limits::solve(self, &disc, x0, &COARSE_SQP, None) else { return Ok(None) };
+        let Ok(x0) = disc.project(|t, out| path.at(t, out)) else { return Ok(Err(f64::NAN)) };
+        let Ok(result) = super::limits::solve(self, &disc, x0, options, guess) else { return Ok(Err(f64::NAN)) };
         if !(result.c.abs() <= 1e-6 && result.f.is_finite()) {
-            return Ok(None);
+            return Ok(Err(if result.f.is_finite() { result.c.abs() } else { f64::NAN }));
         }
         let (nodes, iterations) = (o.quadrature_nodes, result.iterations);
         let c = self.refine(problem, Candidate::new(disc, result, [spans, nodes, grading], iterations), tables)?;
         if !c.result.converged() {
-            return Ok(None);
+            return Ok(Err(f64::NAN));
         }
         let iterations = c.iterations;
         // Under the clearance between the rows' points, solved again keeping more (issue 21);
         // a plan that still does not clear is returned for the caller to judge.
         Ok(match self.certified_clear(problem, &c, 1, iterations, clock, tables) {
-            Ok(Ok(plan) | Err(plan)) => Some(plan),
-            Err(_) => None,
+            Ok(Ok(plan) | Err(plan)) => Ok(plan),
+            Err(_) => Err(f64::NAN),
         })
     }
 }
