@@ -23,9 +23,12 @@
 //! The shortest horizon is thus that of the plan's own family of paths; the full search then runs
 //! once at it (without the clearance search's last resort: a plan that clears is known there) and
 //! its plan is kept where it costs less; where it is another family's, that family is probed at
-//! the probes' failing horizon, and the bisection goes on from it where it fits there. Its cost:
-//! one unconstrained and one constrained search, and about `log2(log(hi / lo) / log 1.01)`
-//! probes, fewer when the time-scaling bound is tight ([`ShortestHorizon::probes`]).
+//! the probes' failing horizon, and the bisection goes on from it where it fits there; else the
+//! full search at the failing horizon decides it (a family that is not the cheapest at the
+//! horizon found may fit shorter ones), and the bisection goes on below a plan it finds. Its
+//! cost: one unconstrained search, two constrained ones (one of them failing), and about
+//! `log2(log(hi / lo) / log 1.01)` probes, fewer when the time-scaling bound is tight
+//! ([`ShortestHorizon::probes`]).
 
 use std::f64::consts::TAU;
 use std::time::Instant;
@@ -292,8 +295,7 @@ impl ChainPlanner {
         // is another family's, cheaper than the probes' plan, the other family may reach
         // shorter horizons: probed at the probes' failing horizon, and where it fits there the
         // bisection goes on below it from that plan (the probes' failures bound the old family
-        // only). The full search runs once at the end, not at the failing horizon (where it
-        // fails at the cost of every seed: on issue 20's 3-link velocity bench 840 of 2090 ms).
+        // only); else the full search at the probes' failing horizon decides it (below).
         let failed = loop {
             let mut below = lo;
             // This round's failing probes with their residuals, and whether the last one failed.
@@ -318,19 +320,34 @@ impl ChainPlanner {
             // plan).
             probes += 1;
             let last = ChainPlanner { last_resort: false, ..self.clone() };
-            let Ok(f) = last.plan(&ChainProblem { horizon: hi, ..problem.clone() }) else { break below };
-            if !(fits(&f) && f.stats.cost < plan.stats.cost) {
+            if let Ok(f) = last.plan(&ChainProblem { horizon: hi, ..problem.clone() })
+                && fits(&f)
+                && f.stats.cost < plan.stats.cost
+            {
+                let other = f.stats.cost < plan.stats.cost * (1.0 - OTHER_FAMILY);
+                plan = f;
+                if other && below > lo {
+                    probes += 1;
+                    if let Ok(p) = self.probe(problem, &plan, below)? {
+                        (hi, plan) = (below, p);
+                        continue;
+                    }
+                }
+            }
+            if below <= lo {
                 break below;
             }
-            let other = f.stats.cost < plan.stats.cost * (1.0 - OTHER_FAMILY);
-            plan = f;
-            if !other || below <= lo {
-                break below;
-            }
+            // The probes' failure bounds their family only: the full search at the failing
+            // horizon decides it, and a plan there moves the top down. Another family that is
+            // not the cheapest at the horizon found may fit shorter ones: the 3-link example from
+            // rest at 0 to (30, 10, 10, 10) deg inside 10 deg/s, whose cheapest family at
+            // 37.07 s fits no shorter, fits down to 33.01 s by another (found so, at the cost of
+            // one failed full search: 840 of 2090 ms on issue 20's 3-link velocity bench).
             probes += 1;
-            match self.probe(problem, &plan, below)? {
-                Ok(p) => (hi, plan) = (below, p),
-                Err(_) => break below,
+            match self.plan(&ChainProblem { horizon: below, ..problem.clone() }) {
+                Ok(p) if fits(&p) => (hi, plan) = (below, p),
+                Err(e) if e.is_bad_input() => return Err(e),
+                _ => break below,
             }
         };
         let (binding, _) = uses(self, &plan);
