@@ -409,6 +409,12 @@ impl Discretised for Limited<'_> {
         self.clearance(&c, order, &mut out);
         Some(out)
     }
+    fn curvature(&self, x: &DVector<f64>, z: &[f64]) -> Option<nalgebra::DMatrix<f64>> {
+        self.base_curvature(x, z)
+    }
+    fn curved_rows(&self) -> std::ops::Range<usize> {
+        self.base_rows()
+    }
 }
 
 /// SQP iterations of a rate-limited line's first coarse solve (see `ChainPlanner::solve_seed`).
