@@ -26,6 +26,7 @@
 
 mod clearance;
 pub(crate) use clearance::obstacles_within_reach;
+mod curvature;
 mod ends;
 mod hold;
 mod ranges;
@@ -436,6 +437,12 @@ impl Discretised for Limited<'_> {
         self.base(&c, order, &mut out);
         self.clearance(&c, order, &mut out);
         Some(out)
+    }
+    fn curvature(&self, x: &DVector<f64>, z: &[f64]) -> Option<nalgebra::DMatrix<f64>> {
+        self.base_curvature(x, z)
+    }
+    fn curved_rows(&self) -> std::ops::Range<usize> {
+        self.base_rows()
     }
 }
 

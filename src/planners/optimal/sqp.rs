@@ -62,6 +62,19 @@ pub trait Discretised {
     /// the next evaluation to fill instead of allocating and zeroing another (the default drops
     /// it).
     fn recycle(&self, _hess_c: DMatrix<f64>) {}
+    /// The inequalities' curvature `sum_i z_i hess g_i(x)` weighted by the multipliers `z` (one
+    /// per row of [`Discretised::inequalities`]), in the band of half-bandwidth
+    /// [`Discretised::half_bandwidth`], for the rows whose second derivatives the problem
+    /// models; `None` (the default) where it models none: the QP's model leaves them linear.
+    fn curvature(&self, _x: &DVector<f64>, _z: &[f64]) -> Option<DMatrix<f64>> {
+        None
+    }
+    /// The rows whose curvature [`Discretised::curvature`] models (empty by default): where
+    /// one of them is active outside the band, the QP's convex model takes its term
+    /// `rho (b_i^T d)^2` too (see the `inequality` module's `convexify`).
+    fn curved_rows(&self) -> std::ops::Range<usize> {
+        0..0
+    }
 }
 
 impl Discretised for Discretisation {

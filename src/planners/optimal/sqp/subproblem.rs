@@ -28,6 +28,9 @@ pub(super) struct Step {
 pub(super) struct Model<'a> {
     pub(super) w: DMatrix<f64>,
     pub(super) rho: f64,
+    /// Active rows outside the band with their weights `rho_i`: the model's terms
+    /// `rho_i (b_i^T d)^2 / 2` (each an extra variable `v_i = b_i^T d`, as the equality's).
+    pub(super) dense: Vec<(usize, f64)>,
     pub(super) hb: usize,
     pub(super) e: &'a Evaluation,
     pub(super) rows: &'a [Vec<(usize, f64)>],
@@ -50,7 +53,7 @@ pub(super) struct Model<'a> {
 }
 
 /// A QP solver with the rows it was sent and its box's components.
-pub(super) type Cached = (Vec<usize>, Vec<bool>, DefaultSolver<f64>);
+pub(super) type Cached = (Vec<usize>, Vec<bool>, DefaultSolver<f64>, Vec<usize>);
 
 impl Model<'_> {
     /// Solves the S-l1-QP subproblem with the constraints' values `c` and `values` (those at the
@@ -130,9 +133,12 @@ impl Model<'_> {
         let (e, hb) = (self.e, self.hb);
         let dim = e.grad_f.len();
         let m = active.len();
-        // Variables: d (dim), s+ and s- of the equality, w = grad c^T d, t_k of each active row.
-        let nv = dim + 3 + m;
+        // Variables: d (dim), s+ and s- of the equality, w = grad c^T d, t_k of each active row,
+        // v_i = b_i^T d of each dense term.
+        let nd = self.dense.len();
+        let nv = dim + 3 + m + nd;
         let (sp, sm, wv) = (dim, dim + 1, dim + 2);
+        let vv = dim + 3 + m;
         // P: W's upper band in the d block, rho on w (all divided by mu: the slacks' weight is 1,
         // the same minimiser, and Clarabel's relative tolerances stay meaningful).
         let mut cols: Vec<Vec<(usize, f64)>> = vec![Vec::new(); nv];
@@ -147,6 +153,9 @@ impl Model<'_> {
         if self.rho > 0.0 {
             cols[wv].push((wv, self.rho / mu));
         }
+        for (r, &(_, weight)) in self.dense.iter().enumerate() {
+            cols[vv + r].push((vv + r, weight / mu));
+        }
         let p = csc(nv, nv, &cols);
         let mut q = vec![0.0; nv];
         for (qk, gk) in q.iter_mut().zip(e.grad_f.iter()) {
@@ -154,7 +163,7 @@ impl Model<'_> {
         }
         q[sp] = 1.0;
         q[sm] = 1.0;
-        for qk in &mut q[dim + 3..] {
+        for qk in &mut q[dim + 3..vv] {
             *qk = 1.0;
         }
         // Rows of A x + s = b: the equality and w's definition (zero cone), then s+- >= 0,
@@ -171,8 +180,16 @@ impl Model<'_> {
         a[sm].push((0, 1.0));
         a[wv].push((1, -1.0));
         b.extend([-c, 0.0]);
-        let mut row = 2;
-        for k in [sp, sm].into_iter().chain(dim + 3..nv) {
+        // The dense terms' definitions `b_i^T d - v_i = 0`.
+        for (r, &(i, _)) in self.dense.iter().enumerate() {
+            for &(k, v) in &self.rows[i] {
+                a[k].push((2 + r, v));
+            }
+            a[vv + r].push((2 + r, -1.0));
+            b.push(0.0);
+        }
+        let mut row = 2 + nd;
+        for k in [sp, sm].into_iter().chain(dim + 3..vv) {
             a[k].push((row, -1.0));
             b.push(0.0);
             row += 1;
@@ -192,7 +209,7 @@ impl Model<'_> {
             row += 2;
         }
         let a = csc(row, nv, &a);
-        let cones: [SupportedConeT<f64>; 2] = [ZeroConeT(2), NonnegativeConeT(row - 2)];
+        let cones: [SupportedConeT<f64>; 2] = [ZeroConeT(2 + nd), NonnegativeConeT(row - 2 - nd)];
         let settings = DefaultSettingsBuilder::default()
             .verbose(false)
             .max_iter(100)
@@ -221,8 +238,11 @@ impl Model<'_> {
             .ok()?;
         let mut cache = self.solver.borrow_mut();
         let reused = match cache.as_mut() {
-            Some((sent, was, solver))
-                if sent.as_slice() == active && was.as_slice() == boxed && solver.is_data_update_allowed() =>
+            Some((sent, was, solver, terms))
+                if sent.as_slice() == active
+                    && was.as_slice() == boxed
+                    && terms.iter().eq(self.dense.iter().map(|(i, _)| i))
+                    && solver.is_data_update_allowed() =>
             {
                 solver.update_P(&p).is_ok()
                     && solver.update_A(&a).is_ok()
@@ -232,10 +252,15 @@ impl Model<'_> {
             _ => false,
         };
         if !reused {
-            *cache =
-                Some((active.to_vec(), boxed.to_vec(), DefaultSolver::new(&p, &q, &a, &b, &cones, settings).ok()?));
+            let terms = self.dense.iter().map(|(i, _)| *i).collect();
+            *cache = Some((
+                active.to_vec(),
+                boxed.to_vec(),
+                DefaultSolver::new(&p, &q, &a, &b, &cones, settings).ok()?,
+                terms,
+            ));
         }
-        let (_, _, solver) = cache.as_mut()?;
+        let (_, _, solver, _) = cache.as_mut()?;
         solver.solve();
         let sol = &solver.solution;
         if !matches!(sol.status, SolverStatus::Solved | SolverStatus::AlmostSolved) {
@@ -247,7 +272,7 @@ impl Model<'_> {
         }
         let mut z = vec![0.0; values.len()];
         for (r, &i) in active.iter().enumerate() {
-            z[i] = mu * sol.z[4 + m + r].max(0.0);
+            z[i] = mu * sol.z[4 + nd + m + r].max(0.0);
         }
         // The equality's multiplier: its row's and w's (whose row carries rho grad c^T d).
         Some(Step { d, lambda: mu * (sol.z[0] + sol.z[1]), z })
@@ -272,11 +297,16 @@ impl Model<'_> {
             + values.iter().zip(self.rows).map(|(v, row)| if *v > 0.0 { v.min(reach(row)) } else { 0.0 }).sum::<f64>()
     }
 
-    /// `grad f^T d + 1/2 d^T (W + rho grad c grad c^T) d`.
+    /// `grad f^T d + 1/2 d^T (W + rho grad c grad c^T + sum_i rho_i b_i b_i^T) d`.
     pub(super) fn quadratic(&self, d: &DVector<f64>) -> f64 {
         let wd = matvec(&self.w, self.hb, d);
         let ad = self.e.grad_c.dot(d);
-        self.e.grad_f.dot(d) + 0.5 * (d.dot(&wd) + self.rho * ad * ad)
+        let dense: f64 = self
+            .dense
+            .iter()
+            .map(|&(i, weight)| weight * self.rows[i].iter().map(|&(k, v)| v * d[k]).sum::<f64>().powi(2))
+            .sum();
+        self.e.grad_f.dot(d) + 0.5 * (d.dot(&wd) + self.rho * ad * ad + dense)
     }
 }
 
