@@ -197,6 +197,13 @@ fn max_velocity_holds_where_limits_shaped_the_plan_and_under_time_auto() {
         assert!(peak(&r) > 0.098, "{extra:?}: the cap binds ({} rad/s)", peak(&r));
         assert!(r["notes"].to_string().contains("--max-velocity"), "{extra:?}: {}", r["notes"]);
     }
+    // The ECSA's stretched plan is its first one scaled: certified under the cap between its
+    // samples too (at a stretch of exactly the sampled peak's ratio, 3.5e-6 over it, exit 3).
+    let o = freefloat(&[&["plan", "--robot", THREE, "--method", "ecsa"][..], &ends].concat());
+    assert!(o.status.success(), "{}", stderr(&o));
+    let r: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(r["certified"], true);
+    assert!(peak(&r) <= 0.1 * (1.0 + 1e-9), "the ECSA's peak {} over the cap", peak(&r));
 }
 
 /// `compare --time auto` (an arm with a rate limit): the optimal planner finds the shortest

@@ -246,9 +246,11 @@ pub(in crate::cli) fn plan_problem(
                     rounded(start, 4)
                 );
             }
-            // A hair beyond the sampled peak's ratio: the continuous peak of a plan that is the
-            // first one scaled (the ECSA's) stays under the cap between the samples.
-            let stretched = problem.horizon * peak / cap * (1.0 + 1e-6);
+            // 0.01 % beyond the sampled peak's ratio: the continuous peak of a plan that is the
+            // first one scaled (the ECSA's, which does not plan with limits) stays under the cap
+            // between the samples (1001 samples of the 3-link example's ECSA plan miss its peak
+            // by 3.5e-6 relative, and its certificate then refused it at 1e-6).
+            let stretched = problem.horizon * peak / cap * (1.0 + 1e-4);
             freefloat::plan::check_horizon("the horizon stretched by --max-velocity", stretched)?;
             let note = format!(
                 "peak |theta_k'| = {} rad/s exceeds --max-velocity {}: horizon stretched from {} s to {} s, the cap \
