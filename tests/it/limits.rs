@@ -240,3 +240,25 @@ fn time_auto_is_within_one_percent_of_a_horizon_known_to_fit() {
     let t = r["time"].as_f64().unwrap();
     assert!(t <= 33.2 * 1.01, "the shortest horizon {t} s, above 33.2 s where a plan fits");
 }
+
+/// A torque limit that the plan rides over most of its horizon: at every row point the torque is
+/// at its limit, and between two of them it rose beyond it beside a row that was not the span's
+/// largest sample (1 + 4.8e-8 of 0.01 N m at t = 79.789 s, exit 3 at stop 52). The plan is
+/// certified, the certificate's measure of the integrated motion inside the limit.
+#[test]
+fn a_torque_ridden_at_its_limit_is_held_between_the_rows() {
+    let args = ["plan", "--robot", THREE, "--from", "0,0,0,0", "--to", "30,10,10,10", "--time", "80"];
+    let o = freefloat(&[&args[..], &["--limit", "all.torque=0.01", "--format", "json"]].concat());
+    assert!(o.status.success(), "{}", stderr(&o));
+    let r: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(r["certified"], true);
+    assert_eq!(r["limits"]["inside"], true);
+    for joint in ["theta1", "theta2", "theta3"] {
+        let used = use_of(&r, joint, "torque")["use"].as_f64().unwrap();
+        assert!(used <= 1.0 + 1e-9, "{joint}: {used}");
+    }
+    // The limit binds: the plan without it uses more torque.
+    let free = freefloat(&[&args[..], &["--format", "json"]].concat());
+    let free: serde_json::Value = serde_json::from_slice(&free.stdout).unwrap();
+    assert!(r["effort"].as_f64().unwrap() > free["effort"].as_f64().unwrap() * (1.0 + 1e-6));
+}

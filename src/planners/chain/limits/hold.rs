@@ -22,8 +22,8 @@
 //!
 //! So a converged refined plan is checked ([`ChainPlanner::hold_between_points`]): every knot
 //! span is sampled at [`SAMPLES`] points (the rows' points among them) and, in a span whose
-//! samples come within [`NEAR`] of a limit, each such limit's largest use is polished by
-//! successive parabolas. Where a use goes beyond 1 (the declared limit), the margin of that
+//! samples come within [`NEAR`] of a limit, each such limit's uses are polished by successive
+//! parabolas about every local maximum of the samples (not only the largest). Where a use goes beyond 1 (the declared limit), the margin of that
 //! limit's rows in that span ([`Margins`], rows at a breakpoint take the larger of their two
 //! spans') becomes twice its rise above the span's points (at least twice the excess), and the
 //! plan is solved again from itself with the margins fixed for the whole solve (the rows as
@@ -242,29 +242,46 @@ impl ChainPlanner {
                 uses(win[0] + step * i as f64, out);
             }
             for (m, &h) in held.iter().enumerate() {
-                let best = (0..=SAMPLES).max_by(|&x, &y| samples[x][m].total_cmp(&samples[y][m])).unwrap_or(0);
-                let mut peak = (samples[best][m], win[0] + step * best as f64);
+                // Every local maximum of the samples near the limit is polished, not only the
+                // largest: where a torque rides its limit the samples at the rows' points are all
+                // at it, and the peak between two of them lay beside another sample than the
+                // largest (the 3-link example at 80 s inside `all.torque=0.01`: the largest
+                // sample 1 - 1e-9 at the span's end, the peak 1 + 4.8e-8 at 79.789 s beside the
+                // row at 79.792 s, refused by the certificate).
+                let near = |i: usize| samples[i][m] >= 1.0 - NEAR;
+                let local = |i: usize| {
+                    (i == 0 || samples[i][m] >= samples[i - 1][m])
+                        && (i == SAMPLES || samples[i][m] >= samples[i + 1][m])
+                };
+                let mut peak = (f64::NEG_INFINITY, win[0]);
+                for best in (0..=SAMPLES).filter(|&i| near(i) && local(i)) {
+                    let mut top = (samples[best][m], win[0] + step * best as f64);
+                    // Successive parabolas through three points about the sample (inside the
+                    // span, so that a peak next to a breakpoint is found too), each a quarter as
+                    // wide.
+                    let mut width = step;
+                    for _ in 0..POLISH {
+                        let mid = top.1.clamp(win[0] + width, win[1] - width);
+                        let [x, y, z] = [mid - width, mid, mid + width].map(|t| {
+                            uses(t, &mut probe);
+                            probe[m]
+                        });
+                        let curvature = x - 2.0 * y + z;
+                        if curvature < 0.0 {
+                            let t = (mid + width * 0.5 * (x - z) / curvature).clamp(win[0], win[1]);
+                            uses(t, &mut probe);
+                            if probe[m] > top.0 {
+                                top = (probe[m], t);
+                            }
+                        }
+                        width *= 0.25;
+                    }
+                    if top.0 > peak.0 {
+                        peak = top;
+                    }
+                }
                 if peak.0 < 1.0 - NEAR {
                     continue;
-                }
-                // Successive parabolas through three points about the best (inside the span, so
-                // that a peak next to a breakpoint is found too), each a quarter as wide.
-                let mut width = step;
-                for _ in 0..POLISH {
-                    let mid = peak.1.clamp(win[0] + width, win[1] - width);
-                    let [x, y, z] = [mid - width, mid, mid + width].map(|t| {
-                        uses(t, &mut probe);
-                        probe[m]
-                    });
-                    let curvature = x - 2.0 * y + z;
-                    if curvature < 0.0 {
-                        let t = (mid + width * 0.5 * (x - z) / curvature).clamp(win[0], win[1]);
-                        uses(t, &mut probe);
-                        if probe[m] > peak.0 {
-                            peak = (probe[m], t);
-                        }
-                    }
-                    width *= 0.25;
                 }
                 let points = h.points();
                 let at_points =
