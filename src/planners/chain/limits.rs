@@ -29,7 +29,9 @@ pub(crate) use clearance::obstacles_within_reach;
 mod curvature;
 mod ends;
 mod hold;
+mod phi_path;
 mod ranges;
+use phi_path::PathPoint;
 
 pub(crate) use clearance::PIECES as CLEARANCE_PIECES;
 pub(crate) use hold::Margins;
@@ -38,14 +40,13 @@ pub(crate) use ranges::{inside_ranges, least_time, within_reach};
 use nalgebra::DVector;
 
 use super::ChainPlanner;
-use super::connection::{Connection, Local};
+use super::connection::Connection;
 use super::discrete::Discretisation;
 use crate::dynamics::arm::ArmDynamics;
 use crate::error::Error;
 use crate::model::InputError;
 use crate::model::arm::Arm;
 use crate::model::arm::lumped::SIZE;
-use crate::numerics::quadrature::GaussLegendre;
 use crate::planners::optimal::band::BandCholesky;
 use crate::planners::optimal::discrete::Evaluation;
 use crate::planners::optimal::spline::SplineBasis;
@@ -302,65 +303,6 @@ impl<'a> Limited<'a> {
             }
         }
     }
-
-    /// The base angle `phi(t) = phi(0) - integral_0^t g` (Eq. 7 at zero momentum) at the ends of
-    /// the `pieces` equal parts of every knot span (`t = T` last), by 8-node Gauss–Legendre
-    /// quadrature per part, with its exact gradient in the free coefficients for `order >= 1`
-    /// (empty otherwise).
-    fn phi_path(&self, c: &[Vec<f64>], pieces: usize, order: usize) -> Vec<PathPoint> {
-        let mut out = Vec::new();
-        self.phi_path_each(c, pieces, order, |p| {
-            out.push(PathPoint { t: p.t, span: p.span, phi: p.phi, grad: p.grad.to_vec() });
-        });
-        out
-    }
-
-    /// [`Limited::phi_path`]'s points handed to `each` in order, the gradient borrowed (not
-    /// copied for every point: the obstacles' rows read it only near an obstacle).
-    fn phi_path_each(&self, c: &[Vec<f64>], pieces: usize, order: usize, mut each: impl FnMut(PathPoint<&[f64]>)) {
-        let basis = self.disc.basis();
-        let (p, n) = (basis.degree(), self.arm.joints());
-        let connection = self.connection;
-        let rule = GaussLegendre::new(8);
-        let b = basis.breakpoints();
-        let mut phi = self.disc.targets().phi_start;
-        let mut grad = vec![0.0; if order >= 1 { self.disc.dim() } else { 0 }];
-        let mut local = Local::new(n);
-        let (mut th, mut w) = (vec![0.0; n], vec![0.0; n]);
-        for (s, win) in b.windows(2).enumerate() {
-            let span = basis.span_of_interval(s);
-            let first = span - p;
-            let width = (win[1] - win[0]) / pieces as f64;
-            for k in 0..pieces {
-                let (from, to) =
-                    (win[0] + width * k as f64, if k + 1 == pieces { win[1] } else { win[0] + width * (k + 1) as f64 });
-                let (mid, half) = ((from + to) / 2.0, (to - from) / 2.0);
-                for (xi, wi) in rule.nodes.iter().zip(&rule.weights) {
-                    let t = mid + half * xi;
-                    let [value, rate] = basis.values_and_rates(span, t);
-                    for j in 0..n {
-                        th[j] = (0..=p).map(|l| value[l] * c[j][first + l]).sum();
-                        w[j] = (0..=p).map(|l| rate[l] * c[j][first + l]).sum();
-                    }
-                    let weight = half * wi;
-                    if order >= 1 {
-                        connection.local(&th, &w, &mut local);
-                        phi -= weight * local.value;
-                        for l in 0..=p {
-                            for j in 0..n {
-                                if let Some(idx) = self.index(first + l, j) {
-                                    grad[idx] -= weight * (local.gradient[j] * value[l] + local.a[j] * rate[l]);
-                                }
-                            }
-                        }
-                    } else {
-                        phi -= weight * connection.value(&th, &w);
-                    }
-                }
-                each(PathPoint { t: to, span, phi, grad: &grad });
-            }
-        }
-    }
 }
 
 impl Limited<'_> {
@@ -376,34 +318,6 @@ impl Limited<'_> {
         let lo = if below > 0.0 { (lo + below * (dhi - dlo)).min(ends[0].min(ends[1])) } else { lo };
         [lo, hi]
     }
-
-    /// The times of [`Limited::phi_path`] without the base angle (`phi` 0, no gradient).
-    fn path_points(&self, pieces: usize) -> Vec<PathPoint> {
-        let b = self.disc.basis().breakpoints();
-        let p = self.disc.basis().degree();
-        let mut out = Vec::with_capacity(pieces * (b.len() - 1));
-        for (s, win) in b.windows(2).enumerate() {
-            let width = (win[1] - win[0]) / pieces as f64;
-            for k in 1..=pieces {
-                let t = if k == pieces { win[1] } else { win[0] + width * k as f64 };
-                out.push(PathPoint { t, span: s + p, phi: 0.0, grad: Vec::new() });
-            }
-        }
-        out
-    }
-}
-
-/// The base angle at one time of [`Limited::phi_path`] (its gradient owned, or borrowed by
-/// [`Limited::phi_path_each`]).
-struct PathPoint<G = Vec<f64>> {
-    /// The time \[s\].
-    t: f64,
-    /// The knot span (of the basis' numbering) the point closes.
-    span: usize,
-    /// `phi(t)` \[rad\].
-    phi: f64,
-    /// `d phi(t) / dx` in the free coefficients (empty for order 0).
-    grad: G,
 }
 
 impl Discretised for Limited<'_> {

@@ -68,11 +68,7 @@ impl Limited<'_> {
             let (mid, half) = ((win[0] + win[1]) / 2.0, (win[1] - win[0]) / 2.0);
             for (xi, wi) in rule.nodes.iter().zip(&rule.weights) {
                 let t = mid + half * xi;
-                let [value, rate] = basis.values_and_rates(span, t);
-                for j in 0..n {
-                    th[j] = (0..=p).map(|l| value[l] * c[j][first + l]).sum();
-                    w[j] = (0..=p).map(|l| rate[l] * c[j][first + l]).sum();
-                }
+                let [value, rate] = self.path_at(&c, span, t, &mut th, &mut w);
                 self.connection.local(&th, &w, &mut local);
                 let scale = -half * wi * weight[s];
                 for l in 0..=p {

@@ -1,0 +1,121 @@
+//! The base angle along a path (Eq. 7 at zero momentum, `phi(t) = phi(0) - integral_0^t g`),
+//! with its exact gradient in the free coefficients: the base-range rows' quantity, read at the
+//! ends of equal parts of every knot span ([`super::Limited::phi_path`]), and the joint path at a
+//! time that the rows and their curvature ([`super::curvature`]) share.
+
+use super::super::connection::Local;
+use super::Limited;
+use crate::numerics::quadrature::GaussLegendre;
+use crate::planners::optimal::spline::MAX_DEGREE;
+use crate::planners::optimal::sqp::Discretised;
+
+impl Limited<'_> {
+    /// The base angle `phi(t) = phi(0) - integral_0^t g` (Eq. 7 at zero momentum) at the ends of
+    /// the `pieces` equal parts of every knot span (`t = T` last), by 8-node Gauss–Legendre
+    /// quadrature per part, with its exact gradient in the free coefficients for `order >= 1`
+    /// (empty otherwise).
+    pub(super) fn phi_path(&self, c: &[Vec<f64>], pieces: usize, order: usize) -> Vec<PathPoint> {
+        let mut out = Vec::new();
+        self.phi_path_each(c, pieces, order, |p| {
+            out.push(PathPoint { t: p.t, span: p.span, phi: p.phi, grad: p.grad.to_vec() });
+        });
+        out
+    }
+
+    /// The joint angles (into `th`) and rates (into `w`) of the path with coefficients `c` at
+    /// `t` in the basis' knot span `span`, and the basis' values and rates there.
+    pub(super) fn path_at(
+        &self,
+        c: &[Vec<f64>],
+        span: usize,
+        t: f64,
+        th: &mut [f64],
+        w: &mut [f64],
+    ) -> [[f64; MAX_DEGREE + 1]; 2] {
+        let basis = self.disc.basis();
+        let (p, first) = (basis.degree(), span - basis.degree());
+        let [value, rate] = basis.values_and_rates(span, t);
+        for j in 0..th.len() {
+            th[j] = (0..=p).map(|l| value[l] * c[j][first + l]).sum();
+            w[j] = (0..=p).map(|l| rate[l] * c[j][first + l]).sum();
+        }
+        [value, rate]
+    }
+
+    /// [`Limited::phi_path`]'s points handed to `each` in order, the gradient borrowed (not
+    /// copied for every point: the obstacles' rows read it only near an obstacle).
+    pub(super) fn phi_path_each(
+        &self,
+        c: &[Vec<f64>],
+        pieces: usize,
+        order: usize,
+        mut each: impl FnMut(PathPoint<&[f64]>),
+    ) {
+        let basis = self.disc.basis();
+        let (p, n) = (basis.degree(), self.arm.joints());
+        let connection = self.connection;
+        let rule = GaussLegendre::new(8);
+        let b = basis.breakpoints();
+        let mut phi = self.disc.targets().phi_start;
+        let mut grad = vec![0.0; if order >= 1 { self.disc.dim() } else { 0 }];
+        let mut local = Local::new(n);
+        let (mut th, mut w) = (vec![0.0; n], vec![0.0; n]);
+        for (s, win) in b.windows(2).enumerate() {
+            let span = basis.span_of_interval(s);
+            let first = span - p;
+            let width = (win[1] - win[0]) / pieces as f64;
+            for k in 0..pieces {
+                let (from, to) =
+                    (win[0] + width * k as f64, if k + 1 == pieces { win[1] } else { win[0] + width * (k + 1) as f64 });
+                let (mid, half) = ((from + to) / 2.0, (to - from) / 2.0);
+                for (xi, wi) in rule.nodes.iter().zip(&rule.weights) {
+                    let t = mid + half * xi;
+                    let [value, rate] = self.path_at(c, span, t, &mut th, &mut w);
+                    let weight = half * wi;
+                    if order >= 1 {
+                        connection.local(&th, &w, &mut local);
+                        phi -= weight * local.value;
+                        for l in 0..=p {
+                            for j in 0..n {
+                                if let Some(idx) = self.index(first + l, j) {
+                                    grad[idx] -= weight * (local.gradient[j] * value[l] + local.a[j] * rate[l]);
+                                }
+                            }
+                        }
+                    } else {
+                        phi -= weight * connection.value(&th, &w);
+                    }
+                }
+                each(PathPoint { t: to, span, phi, grad: &grad });
+            }
+        }
+    }
+
+    /// The times of [`Limited::phi_path`] without the base angle (`phi` 0, no gradient).
+    pub(super) fn path_points(&self, pieces: usize) -> Vec<PathPoint> {
+        let b = self.disc.basis().breakpoints();
+        let p = self.disc.basis().degree();
+        let mut out = Vec::with_capacity(pieces * (b.len() - 1));
+        for (s, win) in b.windows(2).enumerate() {
+            let width = (win[1] - win[0]) / pieces as f64;
+            for k in 1..=pieces {
+                let t = if k == pieces { win[1] } else { win[0] + width * k as f64 };
+                out.push(PathPoint { t, span: s + p, phi: 0.0, grad: Vec::new() });
+            }
+        }
+        out
+    }
+}
+
+/// The base angle at one time of [`Limited::phi_path`] (its gradient owned, or borrowed by
+/// [`Limited::phi_path_each`]).
+pub(super) struct PathPoint<G = Vec<f64>> {
+    /// The time \[s\].
+    pub(super) t: f64,
+    /// The knot span (of the basis' numbering) the point closes.
+    pub(super) span: usize,
+    /// `phi(t)` \[rad\].
+    pub(super) phi: f64,
+    /// `d phi(t) / dx` in the free coefficients (empty for order 0).
+    pub(super) grad: G,
+}
