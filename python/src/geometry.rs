@@ -11,6 +11,7 @@
 //! Every form is the command line's spec (`circle:X,Y,R`, `capsule:X1,Y1,X2,Y2,R`,
 //! `box:X,Y,W,H`, `polygon:X1,Y1,...`), so the shapes are checked by the library's one reader.
 
+use freefloat::model::InputError;
 use freefloat::model::arm::collision::{Body, Geometry};
 use freefloat::model::geometry::Shape;
 use pyo3::prelude::*;
@@ -67,11 +68,30 @@ pub fn apply(
         out.obstacles.push(Shape::from_spec(&name, &text)?);
     }
     for (a, b) in no_collide.unwrap_or_default() {
-        out.excluded.push((a.parse::<Body>()?, b.parse::<Body>()?));
+        let body = |text: &str| text.parse::<Body>().map_err(|e| keyword(e, "no_collide"));
+        out.excluded.push((body(&a)?, body(&b)?));
     }
     if let Some(c) = clearance {
         out.clearance = c;
     }
-    out.validate(n)?;
+    out.validate(n).map_err(|e| match &e {
+        InputError::InvalidParameter { name, .. } | InputError::InvalidText { name, .. } => match name.as_str() {
+            "--clearance" => keyword(e, "clearance"),
+            "--no-collide" => keyword(e, "no_collide"),
+            _ => e,
+        },
+        _ => e,
+    })?;
     Ok(out)
+}
+
+/// `e` naming the keyword `name` (the library names the command line's flag, or the body).
+fn keyword(e: InputError, name: &str) -> InputError {
+    match e {
+        InputError::InvalidParameter { value, expected, .. } => {
+            InputError::InvalidParameter { name: name.into(), value, expected }
+        }
+        InputError::InvalidText { text, expected, .. } => InputError::InvalidText { name: name.into(), text, expected },
+        other => other,
+    }
 }

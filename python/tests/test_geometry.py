@@ -51,18 +51,21 @@ def test_a_clearance_the_motion_cannot_keep_is_refused(arm):
 
 
 @pytest.mark.parametrize(
-    "keywords",
+    ("keywords", "named"),
     [
-        {"obstacles": [("circle", 1.0, 1.0)]},
-        {"obstacles": [("triangle", 0.0, 0.0, 1.0)]},
-        {"obstacles": [42]},
-        {"obstacles": [BELOW], "clearance": -1.0},
-        {"obstacles": [BELOW], "no_collide": [("base", "link9")]},
+        ({"obstacles": [("circle", 1.0, 1.0)]}, "obstacles"),
+        ({"obstacles": [("triangle", 0.0, 0.0, 1.0)]}, "obstacles"),
+        ({"obstacles": [42]}, "obstacles"),
+        ({"obstacles": [BELOW], "clearance": -1.0}, "clearance"),
+        ({"obstacles": [BELOW], "no_collide": [("base", "link9")]}, "no_collide"),
+        ({"obstacles": [BELOW], "no_collide": [("base", "wing")]}, "no_collide"),
     ],
 )
-def test_bad_geometry_is_bad_input(arm, keywords):
-    with pytest.raises(ff.BadInput):
+def test_bad_geometry_is_bad_input_naming_the_keyword(arm, keywords, named):
+    # The keyword is named, not the command line's flag.
+    with pytest.raises(ff.BadInput, match=named) as error:
         ff.plan(arm, START, GOAL, 10.0, **keywords)
+    assert "--" not in str(error.value), str(error.value)
 
 
 @pytest.mark.parametrize("keywords", [{"obstacles": [BELOW]}, {"clearance": 0.01}])
