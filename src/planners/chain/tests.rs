@@ -344,3 +344,30 @@ fn chain_warm_start_from_the_plan_returns_it() {
     let bad = ChainOptions { warm_start: Some(broken), ..ChainOptions::default() };
     assert!(matches!(ChainPlanner::new(arm, bad).plan(&problem), Err(Error::Input(_))));
 }
+
+/// [`ChainPlan::sample`] carries the base angle from sample to sample: at every sample it is
+/// [`ChainPlan::phi`] (the holonomy integral from the breakpoint before it) to 1e-12 rad, and
+/// the joints are [`ChainPlan::at`]'s exactly, at sample counts that put several samples in a
+/// span, about one, and fewer than one (2 and 7), on the 3-link and 7-link arms.
+#[test]
+fn sampled_base_angles_agree_with_phi() {
+    let three = ChainProblem::rest_to_rest(vec![0.3, 0.5, -0.4, 0.8], vec![-0.2, 1.4, 0.3, -0.6], 10.0);
+    let seven = ChainProblem::rest_to_rest(
+        vec![0.0, 0.3, -0.2, 0.5, 0.1, -0.4, 0.2, 0.6],
+        vec![0.4, -0.3, 0.5, 0.1, 0.7, 0.2, -0.5, 0.0],
+        10.0,
+    );
+    for (arm, problem) in [(three_link(), three), (seven_link(), seven)] {
+        let plan = ChainPlanner::new(arm, ChainOptions::default()).plan(&problem).expect("a plan");
+        for samples in [2, 7, 33, 1001] {
+            let points = plan.sample(samples);
+            assert_eq!(points.len(), samples);
+            assert_eq!(points[samples - 1].t, plan.horizon());
+            for p in &points {
+                let exact = plan.at(p.t);
+                assert!((p.phi - exact.phi).abs() <= 1e-12, "{samples} samples, t {}: {} vs {}", p.t, p.phi, exact.phi);
+                assert_eq!((&p.theta, &p.rate, &p.acceleration), (&exact.theta, &exact.rate, &exact.acceleration));
+            }
+        }
+    }
+}
