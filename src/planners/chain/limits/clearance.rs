@@ -137,9 +137,9 @@ impl Limited<'_> {
             }
             // The distances in `f64` first where obstacles have rows: a body's row against an
             // obstacle carries its gradient only within NEAR (below), and most are farther, so
-            // the dual pass takes only the pairs whose gradient a row carries (on the 3-link
-            // bench one pair in ten); the robot's own pairs alone all carry theirs, and their
-            // values come with the dual pass.
+            // the dual pass takes only the pairs whose gradient a row carries (3-link obstacle
+            // bench: 7.35 -> 7.15 G instructions, the same plan); the robot's own pairs alone
+            // all carry theirs, and their values come with the dual pass.
             let (values, against_obstacle, wanted) = if rows.obstacles {
                 let real = geometry.clearances_of(self.arm, &q, &rows.pairs);
                 let values: Vec<f64> = real.iter().map(|x| x.distance).collect();
