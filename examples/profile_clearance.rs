@@ -54,10 +54,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let plan = planner.plan(&problem)?;
         let r_min = plan.verification.clearance.map_or(f64::NAN, |r| r.min);
         println!(
-            "effort {:.10} clearance {:.5} certified {} seeds {} iterations {} spans {} in {:.1} ms",
+            "effort {:.10} clearance {:.5} certified {} collision-free {} seeds {} iterations {} spans {} in {:.1} ms",
             plan.stats.effort,
             r_min,
             plan.verification.certified,
+            plan.verification.collision().is_ok(),
             plan.stats.seeds,
             plan.stats.iterations,
             plan.stats.spans,

@@ -341,7 +341,7 @@ impl Geometry {
 /// mass): the base's (at its centre of mass, angle `phi`), then link `k`'s (at joint `k`, angle
 /// `psi_k`), `n + 1` poses. The joints are placed as in [`Arm::joint_positions`].
 pub fn body_poses<D: Scalar>(arm: &Arm, q: &[D]) -> Vec<Pose<D>> {
-    let base = arm.bodies(q).base;
+    let base = arm.base_position(q);
     let (sp, cp) = q[0].sin_cos();
     let (a, b) = (arm.mount.a, arm.mount.b);
     let mut joint = [base[0] + cp * a - sp * b, base[1] + sp * a + cp * b];

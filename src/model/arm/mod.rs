@@ -287,6 +287,28 @@ impl Arm {
         BodyFrames { base, links, base_jacobian, link_jacobians }
     }
 
+    /// The base's centre of mass relative to the system's at `q` (`n + 1` values): the
+    /// [`BodyFrames::base`] of [`Arm::bodies`] by the same arithmetic, without the links'
+    /// Jacobians (the collision model places every body from it at every point of every row).
+    pub fn base_position<D: Scalar>(&self, q: &[D]) -> [D; 2] {
+        let total = self.total_mass();
+        let (sp, cp) = q[0].sin_cos();
+        let (a, b) = (self.mount.a, self.mount.b);
+        let mut joint = [cp * a - sp * b, sp * a + cp * b];
+        let mut psi = q[0];
+        let zero = D::from(0.0);
+        let mut base = [zero, zero];
+        for (link, &theta) in self.links.iter().zip(&q[1..]) {
+            psi += theta;
+            let (s, c) = psi.sin_cos();
+            let rel = [joint[0] + c * link.com, joint[1] + s * link.com];
+            let w = -link.mass / total;
+            base = [base[0] + rel[0] * w, base[1] + rel[1] * w];
+            joint = [joint[0] + c * link.length, joint[1] + s * link.length];
+        }
+        base
+    }
+
     /// The points of the arm at `q` (`n + 1` values) relative to the system's centre of mass
     /// \[m\], for drawing it: the base's centre of mass, then joint 1 (the mounting point), joints
     /// `2..n` and the tip of link `n` (`n + 2` points). The same formulas as [`Arm::bodies`]:

@@ -140,6 +140,8 @@ fn energy_and_momentum_identities_for_one_to_seven_links() {
             let p0 = (&m * nalgebra::DVector::from_column_slice(&at_rest))[0];
             assert!(p0.abs() <= 1e-12 * scale_p, "n = {n}: momentum at Eq. (7) rate {p0}");
             let frames = arm.bodies(&q);
+            let base = arm.base_position(&q);
+            assert!(base.iter().zip(&frames.base).all(|(x, y)| x.to_bits() == y.to_bits()), "n = {n}: base");
             for (k, jac) in std::iter::once(&frames.base_jacobian).chain(&frames.link_jacobians).enumerate() {
                 for i in 0..2 {
                     let v: f64 = jac.iter().zip(&dq).map(|(c, w)| c[i] * w).sum();

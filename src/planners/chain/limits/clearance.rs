@@ -135,13 +135,30 @@ impl Limited<'_> {
                 }
                 return;
             }
+            // The distances in `f64` first where obstacles have rows: a body's row against an
+            // obstacle carries its gradient only within NEAR (below), and most are farther, so
+            // the dual pass takes only the pairs whose gradient a row carries (3-link obstacle
+            // bench: 7.35 -> 7.15 G instructions, the same plan); the robot's own pairs alone
+            // all carry theirs, and their values come with the dual pass.
+            let (values, against_obstacle, wanted) = if rows.obstacles {
+                let real = geometry.clearances_of(self.arm, &q, &rows.pairs);
+                let values: Vec<f64> = real.iter().map(|x| x.distance).collect();
+                let against: Vec<bool> = real.iter().map(obstacle).collect();
+                let wanted = (0..real.len()).filter(|&k| !against[k] || values[k] <= rows.keep + NEAR).collect();
+                (values, against, wanted)
+            } else {
+                (Vec::new(), Vec::new(), (0..rows.pairs.len()).collect::<Vec<usize>>())
+            };
+            let (mut values, mut against_obstacle) = (values, against_obstacle);
+            let subset: Vec<(Body, Body)> = wanted.iter().map(|&k| rows.pairs[k]).collect();
             // d d_ab / d q_i, one vector-dual pass per CHUNK coordinates (phi's only with
             // obstacles): the same exact derivatives as one pass per coordinate, with the poses'
             // sines and cosines computed once per pass.
-            let mut slopes: Vec<Vec<f64>> = Vec::new();
-            let mut values = Vec::new();
-            let mut against_obstacle = Vec::new();
+            let mut slopes: Vec<Vec<f64>> = vec![vec![0.0; n + 1]; rows.pairs.len()];
             for start in (from..=n).step_by(CHUNK) {
+                if subset.is_empty() {
+                    break;
+                }
                 let dq: Vec<Multi> = q
                     .iter()
                     .enumerate()
@@ -150,15 +167,14 @@ impl Limited<'_> {
                         None => Multi::from(v),
                     })
                     .collect();
-                let pairs = geometry.clearances_of(self.arm, &dq, &rows.pairs);
-                if slopes.is_empty() {
+                let pairs = geometry.clearances_of(self.arm, &dq, &subset);
+                if values.is_empty() {
                     values = pairs.iter().map(|x| x.distance.re).collect();
                     against_obstacle = pairs.iter().map(obstacle).collect();
-                    slopes = vec![vec![0.0; n + 1]; pairs.len()];
                 }
-                for (s, x) in slopes.iter_mut().zip(&pairs) {
+                for (&k, x) in wanted.iter().zip(&pairs) {
                     let eps = x.distance.eps.unwrap_generic(Const::<CHUNK>, U1);
-                    for (r, slot) in s.iter_mut().skip(start).take(CHUNK).enumerate() {
+                    for (r, slot) in slopes[k].iter_mut().skip(start).take(CHUNK).enumerate() {
                         *slot = eps[r];
                     }
                 }

@@ -125,12 +125,24 @@ fn convexify(
     }
     let r = w.diagonal().amax().max(1e-300);
     let outer = if aa > 0.0 { a * a.transpose() / aa } else { DMatrix::zeros(dim, dim) };
+    // Each trial `(w + rho R) + rho A + rho D` formed in one buffer, element by element in the
+    // order of the matrices' sums (the same values, without a temporary per term and trial; the
+    // Cholesky factor is computed in place).
+    let mut trial = DMatrix::zeros(dim, dim);
     for k in 0..=8 {
         let rho = r * 10f64.powi(k);
-        let banded = &w + &rows_outer * rho;
-        if (&banded + &outer * rho + &dense_outer * rho).cholesky().is_some() {
-            let dense = dense.into_iter().map(|(i, inv)| (i, rho * inv)).collect();
-            return (banded, if aa > 0.0 { rho / aa } else { 0.0 }, dense);
+        let (t, wv, ro, o, d) =
+            (trial.as_mut_slice(), w.as_slice(), rows_outer.as_slice(), outer.as_slice(), dense_outer.as_slice());
+        for i in 0..t.len() {
+            t[i] = (wv[i] + ro[i] * rho) + o[i] * rho + d[i] * rho;
+        }
+        match trial.cholesky() {
+            Some(_) => {
+                let banded = &w + &rows_outer * rho;
+                let dense = dense.into_iter().map(|(i, inv)| (i, rho * inv)).collect();
+                return (banded, if aa > 0.0 { rho / aa } else { 0.0 }, dense);
+            }
+            None => trial = DMatrix::zeros(dim, dim),
         }
     }
     let mut tau = 1e-4;
