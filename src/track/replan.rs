@@ -263,7 +263,8 @@ impl Replanner {
     /// search follows where that start does not converge): `None` when the planner fails, its
     /// plan is not accepted (see [`ReplanOptions::accept`]) or its certificate finds it closer
     /// than the model's clearance to a body or an obstacle. The plan keeps the limit margin
-    /// ([`ReplanOptions::limit_margin`]) except where the measured state is already beyond it.
+    /// ([`ReplanOptions::limit_margin`]) except where the measured state is already beyond it,
+    /// or where no plan keeps it: then it is made inside the limits themselves.
     pub fn replan(
         &mut self,
         model: &Arm,
@@ -272,6 +273,21 @@ impl Replanner {
         horizon: f64,
         current: &Reference,
     ) -> Option<ChainPlan> {
+        self.replan_inside(model, measured, t, horizon, current, self.options.limit_margin)
+    }
+
+    /// [`Replanner::replan`] keeping `limit_margin` inside the limits; where the planner fails
+    /// with it, once more without it (the limits themselves, widened to the measured state).
+    fn replan_inside(
+        &mut self,
+        model_in: &Arm,
+        measured: &State,
+        t: f64,
+        horizon: f64,
+        current: &Reference,
+        limit_margin: f64,
+    ) -> Option<ChainPlan> {
+        let model = model_in;
         let problem = ChainProblem {
             start: measured.q.clone(),
             goal: self.goal.clone(),
@@ -291,7 +307,7 @@ impl Replanner {
         let model = if geometry.is_empty() && model.limits.is_empty() {
             model
         } else {
-            widened = ReplanOptions::model_for(model, margin, self.options.limit_margin, &problem);
+            widened = ReplanOptions::model_for(model, margin, limit_margin, &problem);
             &widened
         };
         if self.planner.as_ref().is_none_or(|p| p.arm() != model) {
@@ -315,7 +331,13 @@ impl Replanner {
         // The rows keep what the last re-plan's certificate needed beyond them (at most the
         // margin), so that this one does not dip under the clearance between them and solve again.
         planner.options.clearance_reserve = self.reserve.min(margin);
-        let plan = planner.plan(&problem).ok()?;
+        let plan = match planner.plan(&problem) {
+            Ok(plan) => plan,
+            // The robot may lag its plan by more than the margin leaves time for: the limits
+            // themselves, as a re-plan without the margin.
+            Err(_) if limit_margin > 0.0 => return self.replan_inside(model_in, measured, t, horizon, current, 0.0),
+            Err(_) => return None,
+        };
         // A plan whose verified motion comes closer than the model's clearance is refused (issue
         // 21): the last plan stays, as for any refused re-plan.
         plan.verification.collision().ok()?;
