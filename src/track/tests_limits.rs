@@ -146,7 +146,7 @@ fn the_limit_margin_keeps_trials_inside_the_true_limits() {
         options.replan.limit_margin = limit_margin;
         let planned = options.replan.first_plan(&robot, &problem).unwrap();
         planned.certified().unwrap();
-        assert_eq!(options.replan.limit_margin, limit_margin, "T = 21 s fits the whole margin");
+        assert_eq!(options.replan.limit_margin.to_bits(), limit_margin.to_bits(), "T = 21 s fits the whole margin");
         // The plan keeps the margin: its verified speed inside (1 - margin) of the limit.
         let planning = options.replan.planning_model(&robot, &problem);
         for (j, l) in planning.limits.joints.iter().enumerate() {
@@ -155,7 +155,7 @@ fn the_limit_margin_keeps_trials_inside_the_true_limits() {
             );
         }
         let (_, summaries) = monte_carlo(&robot, &problem, &planned.plan, &options, &mc, &|| {}).unwrap();
-        summaries[0].clone()
+        summaries[0]
     };
     let (bare, kept) = (run(0.0), run(ReplanOptions::default().limit_margin));
     assert!(bare.limit_failures > 0, "at the limits a perturbed robot breaks them: {bare:?}");
