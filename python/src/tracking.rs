@@ -1,10 +1,9 @@
 //! `freefloat.track`: a plan executed in closed loop on a robot that may differ from the model
 //! (the library's `track` module, one code path for every arm), results as a dict.
 
-use freefloat::planners::arm::{ArmRequest, plan_arm};
+use freefloat::Arm;
 use freefloat::planners::chain::ChainProblem;
 use freefloat::track::{Controller, Disturbances, Perturbation, ReplanOptions, TrackOptions, track as run_track};
-use freefloat::{Arm, Method};
 use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
