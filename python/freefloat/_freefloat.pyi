@@ -436,6 +436,7 @@ def track(
     rate: float = 1000.0,
     replan_rate: float = 5.0,
     margin: Optional[float] = None,
+    limit_margin: Optional[float] = None,
     seed: int = 0,
 ) -> dict[str, Any]:
     """Plans ``start -> goal`` [rad] (``n + 1`` angles each) in ``T`` [s] with the minimum-effort
@@ -449,7 +450,12 @@ def track(
     ``rate``: control rate [Hz] with zero-order hold. For an arm with shapes or obstacles the plan
     and every re-plan keep ``margin`` [m] (default 0.02) beyond the arm's clearance, and the run
     fails (``failure`` ``collision``) only under the clearance itself; a ``margin`` for a robot
-    without shapes or obstacles is :class:`BadInput`. Returns a dict: ``final_error`` [rad],
+    without shapes or obstacles is :class:`BadInput`. For an arm with limits the plan and every
+    re-plan keep ``limit_margin`` (default 0.05, in ``[0, 1)``) of every limit as headroom
+    (velocity, acceleration, torque limits times ``1 - limit_margin``, ranges shrunk about their
+    centre; less where ``T`` is too short for it), and the run fails only outside the limits
+    themselves; a ``limit_margin`` for a robot without limits is :class:`BadInput`. Returns a
+    dict: ``final_error`` [rad],
     ``final_errors`` per coordinate, ``peak_torque`` [N m], ``replans``, ``replan_failures``,
     ``saturated_fraction``, ``seconds``, ``identification`` (adaptive), and
     ``hold_correction`` (the feedforward's correction for the zero-order hold, or None). The GIL is

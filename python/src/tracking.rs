@@ -1,10 +1,9 @@
 //! `freefloat.track`: a plan executed in closed loop on a robot that may differ from the model
 //! (the library's `track` module, one code path for every arm), results as a dict.
 
-use freefloat::planners::arm::{ArmRequest, plan_arm};
+use freefloat::Arm;
 use freefloat::planners::chain::ChainProblem;
 use freefloat::track::{Controller, Disturbances, Perturbation, ReplanOptions, TrackOptions, track as run_track};
-use freefloat::{Arm, Method};
 use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -50,7 +49,7 @@ fn controller(name: &str) -> Result<Controller, BindingError> {
 #[pyo3(signature = (
     robot, start, goal, T, *, controller = "adaptive", true_robot = None, perturb = 0.0,
     perturb_mount = 0.0, torque_noise = 0.0, q_noise = 0.0, dq_noise = 0.0, rate = 1000.0,
-    replan_rate = 5.0, margin = None, seed = 0
+    replan_rate = 5.0, margin = None, limit_margin = None, seed = 0
 ))]
 #[allow(non_snake_case, clippy::too_many_arguments)]
 pub fn track<'py>(
@@ -69,6 +68,7 @@ pub fn track<'py>(
     rate: f64,
     replan_rate: f64,
     margin: Option<f64>,
+    limit_margin: Option<f64>,
     seed: u64,
 ) -> PyResult<Bound<'py, PyDict>> {
     let model = arm_of("robot", &robot)?;
@@ -78,7 +78,9 @@ pub fn track<'py>(
     let mut options = TrackOptions { controller, rate, ..Default::default() };
     options.replan.rate = replan_rate;
     options.replan.margin = margin.unwrap_or(options.replan.margin);
+    options.replan.limit_margin = limit_margin.unwrap_or(options.replan.limit_margin);
     ReplanOptions::check_margin(&model, margin).py_result(py)?;
+    ReplanOptions::check_limit_margin(&model, limit_margin).py_result(py)?;
     options.disturbances = Disturbances { torque_noise, q_noise, dq_noise, ..Default::default() };
     // Every option and budget before planning (the library's checks, as the command line's).
     options.validate().py_result(py)?;
@@ -91,9 +93,10 @@ pub fn track<'py>(
                 Some(t) => t,
                 None => perturbation.apply(&model, seed)?,
             };
-            // The plan keeps the margin beyond the clearance; the run is judged at the clearance.
-            let planning = ReplanOptions::planning_model(&model, options.replan.margin);
-            let planned = plan_arm(&planning, Method::Optimal, &ArmRequest::new(problem.clone()))?;
+            // The plan keeps the margins beyond the clearance and inside the limits; the run is
+            // judged at the clearance and the limits.
+            let mut options = options;
+            let planned = options.replan.first_plan(&model, &problem)?;
             planned.certified()?;
             Ok(run_track(&model, &problem, &planned.plan, &truth, &options, seed)?)
         })

@@ -63,3 +63,16 @@ def test_a_margin_without_shapes_is_refused():
     robot = ff.Robot.src().with_mount(0.1, 0.1)
     with pytest.raises(ff.BadInput, match="margin"):
         ff.track(robot, Q0, QD, 10.0, controller="ct", margin=0.05)
+
+
+def test_a_limit_margin_is_a_fraction_for_a_robot_with_limits():
+    """The limit margin (issue 20 item 6) leaves a fraction of every limit as headroom: outside
+    [0, 1), or given for a robot without limits (where it would be ignored), it is BadInput
+    naming it, before any planning."""
+    robot = ff.Robot.src().with_mount(0.1, 0.1)
+    with pytest.raises(ff.BadInput, match="limit-margin"):
+        ff.track(robot, Q0, QD, 10.0, controller="ct", limit_margin=0.05)
+    tight = ff.Arm.from_file(Path(__file__).resolve().parents[2] / "tests" / "fixtures" / "spart_like_4dof_tight.urdf")
+    for bad in [-0.1, 1.0, float("nan")]:
+        with pytest.raises(ff.BadInput, match="limit-margin"):
+            ff.track(tight, [0.0] * 5, [0.1] * 5, 30.0, controller="ct", limit_margin=bad)

@@ -10,7 +10,6 @@ use freefloat::Method;
 use freefloat::analysis::shards::Shard;
 use freefloat::model::arm::Arm;
 use freefloat::plan::clearance::ClearanceReport;
-use freefloat::planners::arm::{ArmRequest, plan_arm};
 use freefloat::planners::chain::ChainProblem;
 use freefloat::report::arm_figure::least_clearance_mark;
 use freefloat::report::arm_limit_bounds;
@@ -77,6 +76,7 @@ fn options(args: &TrackArgs, n: usize) -> anyhow::Result<TrackOptions> {
             rate: args.replan_rate,
             final_window: args.final_window,
             margin: args.margin.unwrap_or(ReplanOptions::default().margin),
+            limit_margin: args.limit_margin.unwrap_or(ReplanOptions::default().limit_margin),
             ..Default::default()
         },
         identify: IdentifyOptions { forgetting_time: args.forgetting, ..Default::default() },
@@ -141,6 +141,7 @@ pub fn run(args: &TrackArgs) -> anyhow::Result<ExitCode> {
     problem.validate(&robot)?;
     let options = options(args, n)?;
     ReplanOptions::check_margin(&robot, args.margin)?;
+    ReplanOptions::check_limit_margin(&robot, args.limit_margin)?;
     let perturbation = Perturbation { relative: args.perturb, mount: args.perturb_mount };
     perturbation.validate()?;
     let truth = args.true_robot.as_deref().map(Arm::load).transpose()?;
@@ -161,10 +162,20 @@ pub fn run(args: &TrackArgs) -> anyhow::Result<ExitCode> {
         TrackOptions { controller, record: options.record && args.trials.is_none(), ..options.clone() }
             .check_budget(problem.horizon)?;
     }
-    // The plan keeps the margin beyond the clearance; the runs are judged at the clearance.
-    let planning = ReplanOptions::planning_model(&robot, options.replan.margin);
-    let planned = plan_arm(&planning, Method::Optimal, &ArmRequest::new(problem.clone()))?;
+    // The plan keeps the margins beyond the clearance and inside the limits; the runs are
+    // judged at the clearance and the limits.
+    let mut options = options;
+    let planned = options.replan.first_plan(&robot, &problem)?;
     planned.certified()?;
+    let given = args.limit_margin.unwrap_or(ReplanOptions::default().limit_margin);
+    if options.replan.limit_margin < given {
+        super::note(&format!(
+            "note: T = {} s leaves the plan {:.2} % of every limit as headroom, not the --limit-margin {}: a longer --time leaves more\n",
+            number(problem.horizon),
+            100.0 * options.replan.limit_margin,
+            number(given)
+        ));
+    }
     let plan = &planned.plan;
     if let Some(trials) = args.trials {
         let mc = MonteCarloOptions {

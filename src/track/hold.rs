@@ -70,8 +70,9 @@ struct Loop<'a> {
 impl HoldCorrection {
     /// The correction of `plan` (for `problem`, on its nominal arm `model`) at `rate` \[Hz\] with
     /// `substeps` plant steps per tick and the joint loop `gains`. `None` when the nominal loop
-    /// diverges or Newton's method does not reduce its final error (the run then uses the plan
-    /// as it is).
+    /// diverges or leaves a declared limit of `model` (issue 20), or Newton's method does not
+    /// reduce its final error (the run then uses the plan as it is); a Newton step whose loop
+    /// leaves a limit is not taken.
     pub fn new(
         model: &Arm,
         problem: &ChainProblem,
@@ -173,8 +174,11 @@ impl Loop<'_> {
             let centre = correction.corrected(centre.clone(), i as f64 * self.dt + 0.5 * self.dt);
             let command = computed_torque(self.model, &measured, &centre, 0.5 * self.dt, &self.gains);
             states.push(measured);
-            plant.step(&command, self.dt, self.substeps);
-            if !plant.is_finite() {
+            // A correction that takes the nominal robot beyond a declared limit is no
+            // correction (a plan at a velocity limit with an impulsive start asked for 853
+            // rad/s^2 and broke the limit in the first tick): as a diverged loop.
+            let broken = plant.step(&command, self.dt, self.substeps).broken.is_some();
+            if broken || !plant.is_finite() {
                 return (vec![f64::INFINITY; self.end.len()], states);
             }
         }

@@ -5,10 +5,12 @@
 
 use super::motion::{ArmMotion, JointPoint};
 use super::plant::State;
+use crate::Method;
 use crate::error::Error;
 use crate::model::InputError;
 use crate::model::arm::Arm;
 use crate::numerics::ode::OdeOptions;
+use crate::planners::arm::{ArmPlanned, ArmRequest, plan_arm};
 use crate::planners::chain::{ChainOptions, ChainPlan, ChainPlanner, ChainProblem, WarmStart};
 
 /// The most spans of a re-plan's basis ([`Replanner`]): a motion of 25 joint turns, the
@@ -45,6 +47,17 @@ pub struct ReplanOptions {
     /// `track`). A re-plan from a state already inside the margin keeps half of what is left
     /// ([`Replanner::replan`]). Nothing changes on a robot without shapes.
     pub margin: f64,
+    /// The headroom the plans leave inside the robot's declared limits, a fraction in `[0, 1)`
+    /// (issue 20 item 6): the first plan and every re-plan are made inside
+    /// [`crate::model::arm::Limits::with_headroom`] of it (velocity, acceleration and torque
+    /// limits times `1 - limit_margin`, position ranges shrunk to `1 - limit_margin` of their
+    /// width about their centre), the run fails only outside the limits themselves and the plant
+    /// saturates at the true torque limits: a plan that rides on a limit leaves the feedback of
+    /// a perturbed robot no room. A re-plan from a measured state already beyond the tightened
+    /// limits has them widened to admit it ([`ReplanOptions::planning_model`]); a horizon too
+    /// short for the whole margin lowers it ([`ReplanOptions::first_plan`]). Default 0.05
+    /// (docs/spec.md §3, `track`); nothing changes on a robot without limits.
+    pub limit_margin: f64,
     /// The planner's options: a coarse basis, one target, one finalist, the goal taken
     /// literally (the representative of the first plan, `ChainProblem::wrap = false`). Each
     /// re-plan starts from the measured joint velocity (`ChainProblem::initial_velocity`) and
@@ -60,6 +73,7 @@ impl Default for ReplanOptions {
             accept: 1e-6,
             threshold: 1e-7,
             margin: 0.02,
+            limit_margin: 0.05,
             planner: ChainOptions {
                 coarse_spans: 6,
                 max_spans: 6,
@@ -96,6 +110,9 @@ impl ReplanOptions {
         if !(self.margin.is_finite() && (0.0..=1.0).contains(&self.margin)) {
             return bad("margin", self.margin, "a clearance margin in [0, 1] m");
         }
+        if !(self.limit_margin.is_finite() && (0.0..1.0).contains(&self.limit_margin)) {
+            return bad("limit-margin", self.limit_margin, "a fraction of every limit in [0, 1)");
+        }
         if !(self.accept > 0.0) {
             return bad("replan accept tolerance", self.accept, "a positive number [rad]");
         }
@@ -117,13 +134,70 @@ impl ReplanOptions {
         }
     }
 
-    /// The model the plans are made on: `model` keeping its clearance plus `margin` \[m\]
-    /// ([`ReplanOptions::margin`]); `model` itself without shapes or obstacles.
-    pub fn planning_model(model: &Arm, margin: f64) -> Arm {
+    /// Refuses a limit margin the user gave (`given`) for a model without limits, naming
+    /// `limit-margin`: there are no limits to keep it inside, and it would be accepted and
+    /// ignored.
+    pub fn check_limit_margin(model: &Arm, given: Option<f64>) -> Result<(), Error> {
+        match given {
+            Some(value) if model.limits.is_empty() => Err(InputError::InvalidParameter {
+                name: "limit-margin".into(),
+                value,
+                expected: "no limit margin: the robot has no limits to keep it inside \
+                           (give the robot file limits, or --limit)",
+            }
+            .into()),
+            _ => Ok(()),
+        }
+    }
+
+    /// The model the plans of `problem` are made on: `model` keeping its clearance plus
+    /// [`ReplanOptions::margin`] \[m\] and inside its limits less [`ReplanOptions::limit_margin`]
+    /// ([`crate::model::arm::Limits::with_headroom`], which admits the problem's start, goal and
+    /// initial velocity); `model` itself without shapes, obstacles or limits.
+    pub fn planning_model(&self, model: &Arm, problem: &ChainProblem) -> Arm {
+        Self::model_for(model, self.margin, self.limit_margin, problem)
+    }
+
+    /// The first plan of a run of `problem` on `model`: the minimum-effort plan on the planning
+    /// model ([`ReplanOptions::planning_model`]). Where the horizon is too short for the whole
+    /// limit margin ([`Error::HorizonTooShort`] at it, with the shortest horizon `T*` that fits
+    /// it), the margin is lowered to the one a time-scaling of that plan would leave at the
+    /// horizon `T`: `1 - (1 - margin) (T* / T)^k`, `k = 2` where an acceleration or torque limit
+    /// binds at `T*` (they scale with the square of the speed), else 1; to 0 (the limits
+    /// themselves, the error of a plan without margin) where that is not positive or does not
+    /// fit either (the planner's own search decides: the time-scaling is only a guess where
+    /// another quantity than the binding one, or a range, limits too). The margin
+    /// the plan keeps is left in [`ReplanOptions::limit_margin`], for the re-plans.
+    pub fn first_plan(&mut self, model: &Arm, problem: &ChainProblem) -> Result<ArmPlanned, Error> {
+        let request = ArmRequest::new(problem.clone());
+        let plan = |options: &Self| plan_arm(&options.planning_model(model, problem), Method::Optimal, &request);
+        let (shortest, quantity) = match plan(self) {
+            Err(Error::HorizonTooShort { shortest, quantity, .. }) if self.limit_margin > 0.0 => (shortest, quantity),
+            other => return other,
+        };
+        let squared = matches!(quantity, "acceleration" | "torque");
+        let ratio = (shortest / problem.horizon).max(1.0).powi(if squared { 2 } else { 1 });
+        let fits = 1.0 - (1.0 - self.limit_margin) * ratio;
+        if fits > 0.0 {
+            self.limit_margin = fits;
+            match plan(self) {
+                Err(Error::HorizonTooShort { .. }) => {}
+                other => return other,
+            }
+        }
+        self.limit_margin = 0.0;
+        plan(self)
+    }
+
+    /// [`ReplanOptions::planning_model`] with the clearance margin `margin` \[m\] and the limit
+    /// margin `limit_margin`.
+    fn model_for(model: &Arm, margin: f64, limit_margin: f64, problem: &ChainProblem) -> Arm {
         let mut arm = model.clone();
         if !arm.geometry.is_empty() {
             arm.geometry.clearance += margin;
         }
+        let ends = [problem.start.as_slice(), problem.goal.as_slice()];
+        arm.limits = model.limits.with_headroom(limit_margin, &ends, &problem.initial_velocity);
         arm
     }
 }
@@ -188,7 +262,9 @@ impl Replanner {
     /// warm-started by the rest of `current`, the reference being followed (the planner's full
     /// search follows where that start does not converge): `None` when the planner fails, its
     /// plan is not accepted (see [`ReplanOptions::accept`]) or its certificate finds it closer
-    /// than the model's clearance to a body or an obstacle.
+    /// than the model's clearance to a body or an obstacle. The plan keeps the limit margin
+    /// ([`ReplanOptions::limit_margin`]) except where the measured state is already beyond it,
+    /// or where no plan keeps it: then it is made inside the limits themselves.
     pub fn replan(
         &mut self,
         model: &Arm,
@@ -197,6 +273,21 @@ impl Replanner {
         horizon: f64,
         current: &Reference,
     ) -> Option<ChainPlan> {
+        self.replan_inside(model, measured, t, horizon, current, self.options.limit_margin)
+    }
+
+    /// [`Replanner::replan`] keeping `limit_margin` inside the limits; where the planner fails
+    /// with it, once more without it (the limits themselves, widened to the measured state).
+    fn replan_inside(
+        &mut self,
+        model_in: &Arm,
+        measured: &State,
+        t: f64,
+        horizon: f64,
+        current: &Reference,
+        limit_margin: f64,
+    ) -> Option<ChainPlan> {
+        let model = model_in;
         let problem = ChainProblem {
             start: measured.q.clone(),
             goal: self.goal.clone(),
@@ -211,11 +302,12 @@ impl Replanner {
             Some(d) => self.options.margin.min(0.5 * (d.distance - geometry.clearance)).max(0.0),
             None => 0.0,
         };
+        // The limits less their margin, widened where the measured state is already beyond it.
         let widened;
-        let model = if geometry.is_empty() {
+        let model = if geometry.is_empty() && model.limits.is_empty() {
             model
         } else {
-            widened = ReplanOptions::planning_model(model, margin);
+            widened = ReplanOptions::model_for(model, margin, limit_margin, &problem);
             &widened
         };
         if self.planner.as_ref().is_none_or(|p| p.arm() != model) {
@@ -239,7 +331,13 @@ impl Replanner {
         // The rows keep what the last re-plan's certificate needed beyond them (at most the
         // margin), so that this one does not dip under the clearance between them and solve again.
         planner.options.clearance_reserve = self.reserve.min(margin);
-        let plan = planner.plan(&problem).ok()?;
+        let plan = match planner.plan(&problem) {
+            Ok(plan) => plan,
+            // The robot may lag its plan by more than the margin leaves time for: the limits
+            // themselves, as a re-plan without the margin.
+            Err(_) if limit_margin > 0.0 => return self.replan_inside(model_in, measured, t, horizon, current, 0.0),
+            Err(_) => return None,
+        };
         // A plan whose verified motion comes closer than the model's clearance is refused (issue
         // 21): the last plan stays, as for any refused re-plan.
         plan.verification.collision().ok()?;

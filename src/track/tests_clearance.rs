@@ -134,7 +134,7 @@ fn a_model_without_shapes_reports_no_clearance() {
 #[test]
 fn the_plans_keep_the_margin_and_the_run_is_judged_at_the_clearance() {
     let (arm, problem) = paper();
-    assert_eq!(ReplanOptions::planning_model(&arm, 0.02), arm, "no shapes, no margin");
+    assert_eq!(TrackOptions::default().replan.planning_model(&arm, &problem), arm, "no shapes, no margin");
     let free = plan_arm(&arm, Method::Optimal, &ArmRequest::new(problem.clone())).unwrap();
     // An obstacle 6 cm beyond the tool at mid-motion: the unconstrained plan's last link, a
     // capsule of 2 cm, reaches 1 cm into it.
@@ -143,7 +143,7 @@ fn the_plans_keep_the_margin_and_the_run_is_judged_at_the_clearance() {
     let model = shaped(&arm, &[(p[0] * scale, p[1] * scale, 0.05)], 0.0);
     let options = TrackOptions::default();
     let margin = options.replan.margin;
-    let planning = ReplanOptions::planning_model(&model, margin);
+    let planning = options.replan.planning_model(&model, &problem);
     assert!((planning.geometry.clearance - margin).abs() < 1e-15, "{}", planning.geometry.clearance);
     let planned = plan_arm(&planning, Method::Optimal, &ArmRequest::new(problem.clone())).unwrap();
     planned.certified().unwrap();

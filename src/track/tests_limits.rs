@@ -122,3 +122,80 @@ fn limits_never_reached_change_nothing() {
     let words = trials_file::run_description(&arm, &problem, &options, &mc, "optimal");
     assert!(!words.contains("limits"), "{words}");
 }
+
+/// The 3-link example at its velocity limit (20 deg/s on every joint) in T = 21 s, its plan at
+/// that limit over most of the motion, run on 5 % perturbed robots: with the limit margin the
+/// plan and the re-plans keep headroom inside the limits, the plant still saturates at the true
+/// ones, and the trials are judged at the true limits. More trials stay inside them and more
+/// reach the goal than with the plan at the limits (margin 0), whose trials break them.
+#[test]
+fn the_limit_margin_keeps_trials_inside_the_true_limits() {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/robots/three_link.toml");
+    let velocity = JointLimits { velocity: Some(20f64.to_radians()), ..Default::default() };
+    let robot = with_joints(&Arm::load(std::path::Path::new(path)).unwrap(), vec![velocity; 3]);
+    let goal = [30.0_f64, 60.0, -30.0, 20.0].map(f64::to_radians).to_vec();
+    let problem = ChainProblem::rest_to_rest(vec![0.0; 4], goal, 21.0);
+    let mc = MonteCarloOptions {
+        trials: 8,
+        perturbation: Perturbation { relative: 0.05, mount: 0.0 },
+        controllers: vec![Controller::Adaptive],
+        ..Default::default()
+    };
+    let run = |limit_margin: f64| {
+        let mut options = TrackOptions::default();
+        options.replan.limit_margin = limit_margin;
+        let planned = options.replan.first_plan(&robot, &problem).unwrap();
+        planned.certified().unwrap();
+        assert_eq!(options.replan.limit_margin.to_bits(), limit_margin.to_bits(), "T = 21 s fits the whole margin");
+        // The plan keeps the margin: its verified speed inside (1 - margin) of the limit.
+        let planning = options.replan.planning_model(&robot, &problem);
+        for (j, l) in planning.limits.joints.iter().enumerate() {
+            assert!(
+                (l.velocity.unwrap() - (1.0 - limit_margin) * robot.limits.joint(j).velocity.unwrap()).abs() < 1e-15
+            );
+        }
+        let (_, summaries) = monte_carlo(&robot, &problem, &planned.plan, &options, &mc, &|| {}).unwrap();
+        summaries[0]
+    };
+    let (bare, kept) = (run(0.0), run(ReplanOptions::default().limit_margin));
+    assert!(bare.limit_failures > 0, "at the limits a perturbed robot breaks them: {bare:?}");
+    assert!(kept.limit_failures < bare.limit_failures, "{kept:?} against {bare:?}");
+    assert!(kept.successes > bare.successes, "{kept:?} against {bare:?}");
+}
+
+/// The limits of a plan with headroom ([`Limits::with_headroom`]): rates times `1 - F`, ranges
+/// shrunk about their centre, widened to hold the ends and a measured speed but never beyond the
+/// limits themselves; nothing changes at `F = 0` or without limits; a bad margin is refused.
+#[test]
+fn headroom_tightens_every_limit_and_admits_the_measured_state() {
+    let joint =
+        JointLimits { position: Some([-1.0, 3.0]), velocity: Some(2.0), torque: Some(10.0), acceleration: Some(4.0) };
+    let limits = Limits { joints: vec![joint; 2], base: Some([-0.5, 0.5]) };
+    assert_eq!(limits.with_headroom(0.0, &[], &[]), limits);
+    assert_eq!(Limits::default().with_headroom(0.1, &[], &[]), Limits::default());
+    let tight = limits.with_headroom(0.1, &[], &[]);
+    let j = tight.joint(0);
+    assert_eq!((j.velocity, j.torque, j.acceleration), (Some(1.8), Some(9.0), Some(3.6)));
+    let [lo, hi] = j.position.unwrap();
+    assert!((lo + 0.8).abs() < 1e-15 && (hi - 2.8).abs() < 1e-15, "{lo} {hi}");
+    let [blo, bhi] = tight.base.unwrap();
+    assert!((blo + 0.45).abs() < 1e-15 && (bhi - 0.45).abs() < 1e-15);
+    // A measured state beyond the tightened limits (joint 1 at 2.9 rad moving at 1.9 rad/s, the
+    // base at -0.49 rad), and one beyond the limits themselves (joint 2 at 2.5 rad/s).
+    let admitted = limits.with_headroom(0.1, &[&[-0.49, 2.9, 0.0]], &[1.9, 2.5]);
+    let (a, b) = (admitted.joint(0), admitted.joint(1));
+    assert!(a.position.unwrap()[1] > 2.9 && a.position.unwrap()[1] <= 3.0);
+    assert!(a.velocity.unwrap() > 1.9 && a.velocity.unwrap() <= 2.0);
+    assert_eq!(b.velocity, Some(2.0), "never beyond the limit itself");
+    assert!(admitted.base.unwrap()[0] < -0.49 && admitted.base.unwrap()[0] >= -0.5);
+    assert_eq!(a.torque, Some(9.0));
+    for bad in [-0.01, 1.0, f64::NAN, f64::INFINITY] {
+        let o =
+            TrackOptions { replan: ReplanOptions { limit_margin: bad, ..Default::default() }, ..Default::default() };
+        assert!(o.validate().unwrap_err().to_string().contains("limit-margin"), "{bad}");
+    }
+    let (arm, _, _) = paper();
+    let e = ReplanOptions::check_limit_margin(&arm, Some(0.05)).unwrap_err().to_string();
+    assert!(e.contains("limit-margin") && e.contains("no limits"), "{e}");
+    assert!(ReplanOptions::check_limit_margin(&arm, None).is_ok());
+}

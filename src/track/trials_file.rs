@@ -260,7 +260,11 @@ pub fn run_description(
     let bias = if d.torque_bias.is_empty() { "none".into() } else { list(&d.torque_bias) };
     let (replan, identify) = (&options.replan, &options.identify);
     // The plans' margin beyond the clearance changes the plans only where there are shapes.
-    let margin = if model.geometry.is_empty() { String::new() } else { format!(" margin={:?}", replan.margin) };
+    let mut margin = if model.geometry.is_empty() { String::new() } else { format!(" margin={:?}", replan.margin) };
+    // The headroom inside the limits changes them only where there are limits.
+    if !model.limits.is_empty() {
+        margin += &format!(" limit_margin={:?}", replan.limit_margin);
+    }
     format!(
         "trials={} seed={} controllers={} success_tolerance={:?} truth={truth} links={} robot={} start={} goal={} \
          horizon={:?} start_velocity={} wrap={} planner={planner} rate={:?} substeps={} kp={:?} kd={:?} \

@@ -65,6 +65,12 @@ fn invalid_options_exit_2_with_the_flag_named() {
         (vec!["--margin", "nan"], "margin"),
         // No shapes or obstacles: no clearance for a margin to extend (not accepted and ignored).
         (vec!["--margin", "0.05"], "margin"),
+        // The limit margin: a fraction in [0, 1), and only for a robot with limits.
+        (vec!["--limit", "all.velocity=30", "--limit-margin", "-0.1"], "limit-margin"),
+        (vec!["--limit", "all.velocity=30", "--limit-margin", "1"], "limit-margin"),
+        (vec!["--limit", "all.velocity=30", "--limit-margin", "nan"], "limit-margin"),
+        (vec!["--limit", "all.velocity=30", "--limit-margin", "inf"], "limit-margin"),
+        (vec!["--limit-margin", "0.05"], "limit-margin"),
         (vec!["--kp", "-1"], "kp"),
         (vec!["--kd", "nan"], "kd"),
         (vec!["--torque-noise", "-0.1"], "torque-noise"),

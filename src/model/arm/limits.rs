@@ -7,6 +7,10 @@ use serde::{Deserialize, Serialize};
 
 use super::InputError;
 
+/// The room a tightened limit ([`Limits::with_headroom`]) leaves beyond a state it admits,
+/// relative to the limit (to the range's width): far above the planner's own `1e-9`.
+pub const HEADROOM_ADMIT: f64 = 1e-6;
+
 /// The limits of one joint; `None` is "unlimited" for that quantity.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -60,6 +64,48 @@ impl Limits {
     /// The limits of joint `i` (0-based); unlimited where none are declared.
     pub fn joint(&self, i: usize) -> JointLimits {
         self.joints.get(i).copied().unwrap_or_default()
+    }
+
+    /// The limits a closed loop plans inside, leaving `fraction` (in `[0, 1)`) of each limit as
+    /// headroom for its feedback (docs/spec.md §3, `track --limit-margin`): every velocity,
+    /// acceleration and torque limit `(1 - fraction)` of this one, every position range (the
+    /// joints' and the base's) `(1 - fraction)` of its width about its centre (`fraction / 2` of
+    /// the width off each end). A tightened limit that would exclude a state the plan must start
+    /// or end at is widened just enough to hold it, never beyond this limit: each range holds
+    /// the angles of every `q = (phi, theta_1, .., theta_n)` of `ends` (the start, the goal, a
+    /// re-plan's measured state) and each velocity limit the joint speed `|rate_j|` (a re-plan's
+    /// measured velocity; empty at rest), with [`HEADROOM_ADMIT`] of room, so that a re-plan from
+    /// a measured state already beyond the tightened limit stays feasible. A state beyond this
+    /// limit itself is not admitted (its plan is infeasible). `fraction = 0` gives these limits.
+    pub fn with_headroom(&self, fraction: f64, ends: &[&[f64]], rate: &[f64]) -> Limits {
+        if fraction == 0.0 || self.is_empty() {
+            return self.clone();
+        }
+        let keep = 1.0 - fraction;
+        // A range `[lo, hi]` shrunk about its centre, widened to the values of `axis` in `ends`.
+        let range = |[lo, hi]: [f64; 2], axis: usize| {
+            let (pad, room) = (0.5 * fraction * (hi - lo), HEADROOM_ADMIT * (hi - lo));
+            let (mut a, mut b) = (lo + pad, hi - pad);
+            for q in ends.iter().filter_map(|q| q.get(axis)) {
+                (a, b) = (a.min(q - room).max(lo), b.max(q + room).min(hi));
+            }
+            [a, b]
+        };
+        let joints = self
+            .joints
+            .iter()
+            .enumerate()
+            .map(|(j, l)| JointLimits {
+                position: l.position.map(|r| range(r, j + 1)),
+                velocity: l.velocity.map(|v| {
+                    let speed = rate.get(j).map_or(0.0, |u| u.abs() * (1.0 + HEADROOM_ADMIT));
+                    (keep * v).max(speed).min(v)
+                }),
+                torque: l.torque.map(|t| keep * t),
+                acceleration: l.acceleration.map(|a| keep * a),
+            })
+            .collect();
+        Limits { joints, base: self.base.map(|r| range(r, 0)) }
     }
 
     /// Checks the limits for an arm of `n` joints: no entries or exactly `n`; every range
