@@ -454,7 +454,7 @@ def track(
     re-plan keep ``limit_margin`` (default 0.05, in ``[0, 1)``) of every limit as headroom
     (velocity, acceleration, torque limits times ``1 - limit_margin``, ranges shrunk about their
     centre; less where ``T`` is too short for it), and the run fails only outside the limits
-    themselves; a ``limit_margin`` for a robot without limits is :class:`BadInput`. Returns a
+    themselves; a ``limit_margin`` above 0 for a robot without limits is :class:`BadInput`. Returns a
     dict: ``final_error`` [rad],
     ``final_errors`` per coordinate, ``peak_torque`` [N m], ``replans``, ``replan_failures``,
     ``saturated_fraction``, ``seconds``, ``identification`` (adaptive), and

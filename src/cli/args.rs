@@ -461,10 +461,10 @@ pub struct TrackArgs {
     /// No re-plan starts in the last S seconds; the last one, the final correction, starts S seconds before the end.
     #[arg(long, value_name = "S", default_value_t = 0.25, allow_hyphen_values = true)]
     pub final_window: f64,
-    /// Clearance in m that the plan and every re-plan keep beyond --clearance; a run fails only under --clearance [default: 0.02; refused for a robot without shapes or obstacles].
+    /// Clearance in m that the plan and every re-plan keep beyond --clearance; a run fails only under --clearance [default: 0.02; above 0, refused for a robot without shapes or obstacles].
     #[arg(long, value_name = "M", allow_hyphen_values = true)]
     pub margin: Option<f64>,
-    /// Fraction of every limit that the plan and every re-plan leave as headroom: velocity, acceleration, torque limits times 1 - F, ranges shrunk to 1 - F of their width about their centre; a run fails only outside the limits [default: 0.05; refused for a robot without limits].
+    /// Fraction of every limit that the plan and every re-plan leave as headroom: velocity, acceleration, torque limits times 1 - F, ranges shrunk to 1 - F of their width about their centre; a run fails only outside the limits [default: 0.05; above 0, refused for a robot without limits].
     #[arg(long, value_name = "F", allow_hyphen_values = true)]
     pub limit_margin: Option<f64>,
     /// Joint-loop gains in 1/s^2 and 1/s [default: critically damped at min(200, rate/5) rad/s].

@@ -123,7 +123,7 @@ impl ReplanOptions {
     /// `margin`: there is no clearance for it to extend, and it would be accepted and ignored.
     pub fn check_margin(model: &Arm, given: Option<f64>) -> Result<(), Error> {
         match given {
-            Some(value) if model.geometry.is_empty() => Err(InputError::InvalidParameter {
+            Some(value) if value != 0.0 && model.geometry.is_empty() => Err(InputError::InvalidParameter {
                 name: "margin".into(),
                 value,
                 expected: "no margin: the robot has no shapes or obstacles, so no clearance to keep it beyond \
@@ -136,10 +136,10 @@ impl ReplanOptions {
 
     /// Refuses a limit margin the user gave (`given`) for a model without limits, naming
     /// `limit-margin`: there are no limits to keep it inside, and it would be accepted and
-    /// ignored.
+    /// ignored. A margin of 0 (none) is accepted for any robot.
     pub fn check_limit_margin(model: &Arm, given: Option<f64>) -> Result<(), Error> {
         match given {
-            Some(value) if model.limits.is_empty() => Err(InputError::InvalidParameter {
+            Some(value) if value != 0.0 && model.limits.is_empty() => Err(InputError::InvalidParameter {
                 name: "limit-margin".into(),
                 value,
                 expected: "no limit margin: the robot has no limits to keep it inside \

@@ -162,6 +162,7 @@ fn the_plans_keep_the_margin_and_the_run_is_judged_at_the_clearance() {
     );
 
     assert!(ReplanOptions::check_margin(&model, Some(0.05)).is_ok() && ReplanOptions::check_margin(&arm, None).is_ok());
+    assert!(ReplanOptions::check_margin(&arm, Some(0.0)).is_ok(), "a margin of 0 is none, for any robot");
     let e = ReplanOptions::check_margin(&arm, Some(0.05)).unwrap_err().to_string();
     assert!(e.contains("margin") && e.contains("no shapes"), "a margin without shapes is refused: {e}");
     let bad = TrackOptions { replan: ReplanOptions { margin: -0.01, ..Default::default() }, ..Default::default() };

@@ -198,4 +198,6 @@ fn headroom_tightens_every_limit_and_admits_the_measured_state() {
     let e = ReplanOptions::check_limit_margin(&arm, Some(0.05)).unwrap_err().to_string();
     assert!(e.contains("limit-margin") && e.contains("no limits"), "{e}");
     assert!(ReplanOptions::check_limit_margin(&arm, None).is_ok());
+    // A margin of 0 is none: accepted for any robot (a script may pass it to every run).
+    assert!(ReplanOptions::check_limit_margin(&arm, Some(0.0)).is_ok());
 }

@@ -350,6 +350,7 @@ fn chain_warm_start_from_the_plan_returns_it() {
 /// the joints are [`ChainPlan::at`]'s exactly, at sample counts that put several samples in a
 /// span, about one, and fewer than one (2 and 7), on the 3-link and 7-link arms.
 #[test]
+#[allow(clippy::float_cmp)] // exactness is the property tested: the last sample at T, the joints at()'s
 fn sampled_base_angles_agree_with_phi() {
     let three = ChainProblem::rest_to_rest(vec![0.3, 0.5, -0.4, 0.8], vec![-0.2, 1.4, 0.3, -0.6], 10.0);
     let seven = ChainProblem::rest_to_rest(
