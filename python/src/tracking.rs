@@ -2,6 +2,7 @@
 //! (the library's `track` module, one code path for every arm), results as a dict.
 
 use freefloat::Arm;
+use freefloat::model::InputError;
 use freefloat::planners::chain::ChainProblem;
 use freefloat::track::{Controller, Disturbances, Perturbation, ReplanOptions, TrackOptions, track as run_track};
 use pyo3::exceptions::PyTypeError;
@@ -80,10 +81,10 @@ pub fn track<'py>(
     options.replan.margin = margin.unwrap_or(options.replan.margin);
     options.replan.limit_margin = limit_margin.unwrap_or(options.replan.limit_margin);
     ReplanOptions::check_margin(&model, margin).py_result(py)?;
-    ReplanOptions::check_limit_margin(&model, limit_margin).py_result(py)?;
+    ReplanOptions::check_limit_margin(&model, limit_margin).map_err(limit_margin_keyword).py_result(py)?;
     options.disturbances = Disturbances { torque_noise, q_noise, dq_noise, ..Default::default() };
     // Every option and budget before planning (the library's checks, as the command line's).
-    options.validate().py_result(py)?;
+    options.validate().map_err(limit_margin_keyword).py_result(py)?;
     options.check_budget(problem.horizon).py_result(py)?;
     let truth = true_robot.map(|r| arm_of("true_robot", &r)).transpose()?;
     let perturbation = Perturbation { relative: perturb, mount: perturb_mount };
@@ -105,4 +106,15 @@ pub fn track<'py>(
         pyo3::exceptions::PyRuntimeError::new_err(format!("invariant: the tracking result serialises: {e}"))
     })?;
     json_dict(py, &value.as_object().cloned().unwrap_or_default())
+}
+
+/// `e` naming the keyword `limit_margin` where the library names the command line's
+/// `limit-margin`.
+fn limit_margin_keyword(e: freefloat::Error) -> freefloat::Error {
+    match e {
+        freefloat::Error::Input(InputError::InvalidParameter { name, value, expected }) if name == "limit-margin" => {
+            InputError::InvalidParameter { name: "limit_margin".into(), value, expected }.into()
+        }
+        other => other,
+    }
 }

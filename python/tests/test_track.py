@@ -70,9 +70,9 @@ def test_a_limit_margin_is_a_fraction_for_a_robot_with_limits():
     [0, 1), or given for a robot without limits (where it would be ignored), it is BadInput
     naming it, before any planning."""
     robot = ff.Robot.src().with_mount(0.1, 0.1)
-    with pytest.raises(ff.BadInput, match="limit-margin"):
+    with pytest.raises(ff.BadInput, match="limit_margin"):
         ff.track(robot, Q0, QD, 10.0, controller="ct", limit_margin=0.05)
     tight = ff.Arm.from_file(Path(__file__).resolve().parents[2] / "tests" / "fixtures" / "spart_like_4dof_tight.urdf")
     for bad in [-0.1, 1.0, float("nan")]:
-        with pytest.raises(ff.BadInput, match="limit-margin"):
+        with pytest.raises(ff.BadInput, match="limit_margin"):
             ff.track(tight, [0.0] * 5, [0.1] * 5, 30.0, controller="ct", limit_margin=bad)
