@@ -202,8 +202,13 @@ impl ChainPlan {
     /// `(phi, theta, theta', theta'')` at `t` \[s\] (clamped to `[0, T]`).
     pub fn at(&self, t: f64) -> ChainPoint {
         let t = t.clamp(0.0, self.horizon());
-        let mut point =
-            ChainPoint { t, phi: self.phi(t), theta: Vec::new(), rate: Vec::new(), acceleration: Vec::new() };
+        self.point(t, self.phi(t))
+    }
+
+    /// The point at `t` in `[0, T]` with the base angle `phi` there: the joints' angles, rates
+    /// and accelerations from the splines.
+    fn point(&self, t: f64, phi: f64) -> ChainPoint {
+        let mut point = ChainPoint { t, phi, theta: Vec::new(), rate: Vec::new(), acceleration: Vec::new() };
         self.basis.evaluate_each(&self.coefficients, t, |_, [v, d, a]| {
             point.theta.push(v);
             point.rate.push(d);
@@ -237,13 +242,7 @@ impl ChainPlan {
                 phi -= self.holonomy(rule, previous, t);
                 previous = t;
             }
-            let mut point = ChainPoint { t, phi, theta: Vec::new(), rate: Vec::new(), acceleration: Vec::new() };
-            self.basis.evaluate_each(&self.coefficients, t, |_, [v, d, a]| {
-                point.theta.push(v);
-                point.rate.push(d);
-                point.acceleration.push(a);
-            });
-            out.push(point);
+            out.push(self.point(t, phi));
         }
         out
     }
