@@ -235,15 +235,20 @@ mod tests {
         ArmRequest::new(ChainProblem::rest_to_rest(start.clone(), start, 10.0))
     }
 
+    /// The tool pose of the arm at (30, 120, 40, -60) deg: reachable by construction.
+    fn reachable_pose(arm: &Arm) -> (f64, f64, f64) {
+        let end: Vec<f64> = [30.0_f64, 120.0, 40.0, -60.0].iter().map(|x| x.to_radians()).collect();
+        let [x, y, psi] = arm.task_point(&end, &[0.0; 4]).end_effector;
+        (x, y, psi)
+    }
+
     /// The kept plan ends at the pose (by the arm's own forward kinematics), it is the least
     /// effort of the certified branches, and every reaching branch was planned.
     #[test]
     fn the_kept_branch_ends_on_the_pose_with_the_least_effort() {
         let arm = three_link();
         let request = request();
-        let end: Vec<f64> = [30.0_f64, 120.0, 40.0, -60.0].iter().map(|x| x.to_radians()).collect();
-        let [x, y, psi] = arm.task_point(&end, &[0.0; 4]).end_effector;
-        let pose = (x, y, psi);
+        let pose = reachable_pose(&arm);
         let (goal, planned) = plan_arm_to_pose(&arm, Method::Optimal, &request, pose, None).expect("plans");
         let kept = goal.kept().expect("a kept branch");
         assert!(planned.certified().is_ok());
@@ -264,9 +269,7 @@ mod tests {
     fn an_unknown_branch_is_bad_input_naming_the_reaching_ones() {
         let arm = three_link();
         let request = request();
-        let end: Vec<f64> = [30.0_f64, 120.0, 40.0, -60.0].iter().map(|x| x.to_radians()).collect();
-        let [x, y, psi] = arm.task_point(&end, &[0.0; 4]).end_effector;
-        let e = plan_arm_to_pose(&arm, Method::Optimal, &request, (x, y, psi), Some("sideways"))
+        let e = plan_arm_to_pose(&arm, Method::Optimal, &request, reachable_pose(&arm), Some("sideways"))
             .expect_err("no such branch");
         assert!(e.is_bad_input());
         let text = e.to_string();
@@ -305,9 +308,8 @@ mod tests {
         use crate::model::arm::{JointLimits, Limits};
         let arm = three_link();
         let request = request();
-        let end: Vec<f64> = [30.0_f64, 120.0, 40.0, -60.0].iter().map(|x| x.to_radians()).collect();
-        let [x, y, psi] = arm.task_point(&end, &[0.0; 4]).end_effector;
-        let branches = arm.inverse_kinematics((x, y, psi), &request.problem.start).expect("reachable");
+        let pose = reachable_pose(&arm);
+        let branches = arm.inverse_kinematics(pose, &request.problem.start).expect("reachable");
         let reaching: Vec<f64> = branches.iter().filter(|b| b.reached).map(|b| b.q[2]).collect();
         // A range from the start's theta2 to the first branch's that leaves some other branch's out.
         let (theta, from) = (reaching[0], request.problem.start[2]);
@@ -319,7 +321,7 @@ mod tests {
             JointLimits::default(),
         ];
         let limited = arm.with_limits(Limits { joints, base: None }).expect("limits");
-        let (goal, planned) = plan_arm_to_pose(&limited, Method::Optimal, &request, (x, y, psi), None).expect("plans");
+        let (goal, planned) = plan_arm_to_pose(&limited, Method::Optimal, &request, pose, None).expect("plans");
         assert!(planned.certified().is_ok());
         let kept = goal.kept().expect("a kept branch");
         assert!((kept.solution.q[2] - theta).abs() < 1e-12, "the branch inside kept");
