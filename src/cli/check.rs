@@ -55,6 +55,7 @@ pub fn run(args: &CheckArgs) -> anyhow::Result<ExitCode> {
                 _ => bail!("--out {}: the file name must end in .json or .csv", path.display()),
             };
             freefloat::report::io::check_writable(path)?;
+            super::config::outputs_apart_from_inputs(&[("--out", Some(path))], &[("--trajectory", &args.trajectory)])?;
             Some((path, json))
         }
         None => None,

@@ -167,6 +167,29 @@ pub fn distinct_outputs(outputs: &[(&str, Option<&std::path::Path>)]) -> anyhow:
     Ok(())
 }
 
+/// The output files of one command, `(flag, path)`, apart from its input files `(what, path)`
+/// (after resolving `.`, `..` and symbolic links): writing an output onto an input would replace
+/// a file freefloat did not write, e.g. the trajectory `check` reads or a shard `merge` reads
+/// (exit 2, before any work).
+pub fn outputs_apart_from_inputs(
+    outputs: &[(&str, Option<&std::path::Path>)],
+    inputs: &[(&str, &std::path::Path)],
+) -> anyhow::Result<()> {
+    let inputs: Vec<(&str, std::path::PathBuf)> = inputs.iter().map(|(what, p)| (*what, resolved(p))).collect();
+    for (flag, path) in outputs.iter().filter_map(|(flag, p)| p.map(|p| (*flag, p))) {
+        let r = resolved(path);
+        if let Some((what, _)) = inputs.iter().find(|(_, q)| *q == r) {
+            return Err(anyhow::Error::from(freefloat::Error::from(InputError::InvalidText {
+                name: flag.into(),
+                text: path.display().to_string(),
+                expected: "a file other than the command's inputs (writing it would replace an input; choose another name)",
+            }))
+            .context(format!("{flag} names an input of the command ({what})")));
+        }
+    }
+    Ok(())
+}
+
 /// A CSV output `--out FILE.csv` (any case) of `command`, else bad input naming it.
 pub fn csv_out(command: &str, path: &std::path::Path) -> anyhow::Result<()> {
     if path.extension().and_then(|e| e.to_str()).is_some_and(|e| e.eq_ignore_ascii_case("csv")) {

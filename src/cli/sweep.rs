@@ -193,10 +193,17 @@ pub(super) fn read_shard_files<R>(
     Ok(files)
 }
 
+/// The shard files of a merge as inputs that no output may replace (`FILES`).
+pub(super) fn shard_inputs(files: &[std::path::PathBuf]) -> Vec<(&str, &std::path::Path)> {
+    files.iter().map(|f| ("FILES, a shard", f.as_path())).collect()
+}
+
 fn merge(args: &MergeArgs) -> anyhow::Result<ExitCode> {
     let picture = args.plot.as_deref().map(PictureFormat::from_path).transpose()?;
     super::check_outputs(&[Some(&args.out), args.plot.as_ref()])?;
-    super::config::distinct_outputs(&[("--out", Some(args.out.as_path())), ("--plot", args.plot.as_deref())])?;
+    let outputs = [("--out", Some(args.out.as_path())), ("--plot", args.plot.as_deref())];
+    super::config::distinct_outputs(&outputs)?;
+    super::config::outputs_apart_from_inputs(&outputs, &shard_inputs(&args.files))?;
     super::config::csv_out("mount-sweep merge", &args.out)?;
     let merged = file::merge_files(read_shard_files(&args.files, file::read)?)?;
     write_atomic(&args.out, &file::write(&merged.run, merged.shard, &merged.rows)?)?;

@@ -322,6 +322,8 @@ fn print_summaries(
 fn merge(args: &TrackMergeArgs) -> anyhow::Result<ExitCode> {
     if let Some(path) = &args.out {
         trials_out(path)?;
+        let inputs = super::sweep::shard_inputs(&args.files);
+        super::config::outputs_apart_from_inputs(&[("--out", Some(path.as_path()))], &inputs)?;
     }
     let files = super::sweep::read_shard_files(&args.files, trials_file::read)?;
     let (merged, run) = trials_file::merge_files(files)?;

@@ -444,6 +444,64 @@ fn outputs_are_checked_before_the_run() {
     }
 }
 
+/// An output onto one of the command's inputs replaced a file freefloat did not write: `check
+/// --out` onto the trajectory it checks (another tool's plan), `merge --out` onto one of its
+/// shards. Each is exit 2 naming the input, directly or through a symbolic link, and the input
+/// is left byte for byte.
+#[test]
+fn outputs_never_replace_the_inputs() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let path = |name: &str| dir.path().join(name);
+    let o = run(&["plan", "--quiet", "--out", s(&path("traj.csv"))]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    for k in ["1/2", "2/2"] {
+        let out = path(&format!("t{}.csv", &k[..1]));
+        let o = run(&["track", "--trials", "2", "--controller", "ct", "--shard", k, "--quiet", "--out", s(&out)]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let out = path(&format!("s{}.csv", &k[..1]));
+        let sweep = ["mount-sweep", "--steps", "2,1", "--a", "0,0.1", "--b", "0,0", "--grid", "16", "--trials", "1"];
+        let o = bin().args(sweep).args(["--quiet", "--shard", k, "--out", s(&out)]).output().expect("runs");
+        assert!(o.status.success(), "{}", stderr(&o));
+    }
+    #[cfg(unix)]
+    std::os::unix::fs::symlink(path("t1.csv"), path("alias.csv")).expect("symlink");
+    let p = |name: &str| path(name).to_string_lossy().into_owned();
+    let mut cases: Vec<([String; 6], &str, &str)> = vec![
+        (
+            ["check", "--trajectory", &p("traj.csv"), "--out", &p("traj.csv"), "-q"].map(String::from),
+            "traj.csv",
+            "--trajectory",
+        ),
+        (
+            ["check", "--trajectory", &p("traj.csv"), "--out", "../x/../traj.csv", "-q"].map(String::from),
+            "traj.csv",
+            "--trajectory",
+        ),
+        (["track", "merge", &p("t1.csv"), &p("t2.csv"), "--out", &p("t2.csv")].map(String::from), "t2.csv", "shard"),
+        (
+            ["mount-sweep", "merge", &p("s1.csv"), &p("s2.csv"), "--out", &p("s1.csv")].map(String::from),
+            "s1.csv",
+            "shard",
+        ),
+    ];
+    if cfg!(unix) {
+        cases.push((
+            ["track", "merge", &p("t1.csv"), &p("t2.csv"), "--out", &p("alias.csv")].map(String::from),
+            "t1.csv",
+            "shard",
+        ));
+    }
+    for (args, input, what) in cases {
+        let before = std::fs::read(path(input)).expect("the input");
+        // `../x/../traj.csv` from inside the directory `x` is the input by another name.
+        std::fs::create_dir_all(path("x")).expect("x");
+        let o = bin().args(&args).current_dir(path("x")).output().expect("runs");
+        let e = refused(&o, &format!("{args:?}"));
+        assert!(e.contains("--out names an input") && e.contains(what), "{e}");
+        assert_eq!(std::fs::read(path(input)).expect("the input"), before, "{args:?} changed {input}");
+    }
+}
+
 /// A valid 254-character file name works: the temporary name stays within NAME_MAX = 255.
 #[test]
 fn long_output_names_work() {
