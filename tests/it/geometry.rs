@@ -164,6 +164,24 @@ fn the_spart_like_plan_keeps_its_clearance_from_the_base() {
     assert!(kept > free, "kept clear {kept} against {free} ignoring the base");
 }
 
+/// The example SPART-like robot (its torque limits of 20 N m, its visual shapes) with
+/// `--smooth-ends`: the plan rides the base's edge, its clearance re-solve was not held between
+/// the torque rows' points, and the plan was refused (exit 3) with joint 1's torque at 103 % of
+/// its limit. The re-solve is held as the refined plan is: certified, clear, inside every limit
+/// (the certificate reads the integrated motion between its steps).
+#[test]
+fn smooth_ends_clear_of_the_base_hold_the_torque_limits() {
+    let f = format!("{}/examples/robots/spart_like_4dof.urdf", env!("CARGO_MANIFEST_DIR"));
+    let r = planned(&["plan", "--urdf", &f, "--from", FROM, "--to", TO, "--smooth-ends", "--format", "json"]);
+    assert_eq!(r["certified"], true);
+    assert_eq!(
+        (&r["clearance"]["holds"], &r["limits"]["inside"]),
+        (&serde_json::json!(true), &serde_json::json!(true))
+    );
+    let uses = r["limits"]["uses"].as_array().unwrap();
+    assert!(uses.iter().all(|u| u["use"].as_f64().unwrap() <= 1.0), "{uses:?}");
+}
+
 /// An obstacle out of every body's reach (`Geometry::pairs_within`) changes nothing of the plan:
 /// the same effort to the last digit, and the certificate still measures it (before, its pairs'
 /// dense rows through `phi(t)` doubled the time of this plan, 3.4 to 7.0 s, for the same plan).

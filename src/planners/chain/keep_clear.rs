@@ -242,6 +242,10 @@ impl ChainPlanner {
             if !again.result.converged() {
                 break;
             }
+            // The re-solve's torques and base angle held between the rows' points as the
+            // refined plan's were (`hold`): without, the SPART-like example with --smooth-ends
+            // cleared the base at 0.0017 m with joint 1's torque at 103 % of its limit.
+            let again = stricter.hold_between_points(problem, again, tables)?;
             match self.certified(problem, &again, seeds, iterations + again.iterations, clock) {
                 Ok(p) => {
                     plan = p;

@@ -238,7 +238,7 @@ impl ChainPlanner {
         // not on the finest basis yet (issue 21's SPART-like arm at 0.03 and 0.035 m: the coarse
         // finalists stalled or came under the clearance, and the line's solution on the finest
         // basis, converged at 7.53 and 7.57 rad^2/s, had been set aside as 20 % above them).
-        let mut closest: Option<ChainPlan> = None;
+        let (mut closest, mut outside): (Option<ChainPlan>, Option<ChainPlan>) = (None, None);
         let mut refined = Vec::new();
         for (c, later) in done.into_iter().map(|c| (c, false)).chain(set_aside.into_iter().map(|c| (c, true))) {
             let c = if !later || (c.result.converged() && c.spans == o.max_spans) {
@@ -253,7 +253,11 @@ impl ChainPlanner {
                 }
             };
             match self.certified_clear(problem, &c, seeds, iterations, clock, tables) {
-                Ok(Ok(plan)) => return Ok(plan),
+                Ok(Ok(plan)) if plan.verification.limits.as_ref().is_none_or(|l| l.inside) => return Ok(plan),
+                // Clear but beyond a limit between the rows' points, where the hold's rounds
+                // did not suffice: the next candidate may be inside; else this one is returned
+                // for its certificate to report.
+                Ok(Ok(plan)) => outside = outside.or(Some(plan)),
                 Ok(Err(plan)) => {
                     let min = |p: &ChainPlan| p.verification.clearance.map_or(f64::NEG_INFINITY, |r| r.min);
                     if closest.as_ref().is_none_or(|b| min(&plan) > min(b)) {
@@ -263,7 +267,7 @@ impl ChainPlanner {
                 Err(e) => not_certified = not_certified.or(Some(e)),
             }
         }
-        if let Some(plan) = closest {
+        if let Some(plan) = outside.or(closest) {
             return Ok(plan);
         }
         // No refinement converged, e.g. the SQP stalled on binding position ranges (issue 20's
