@@ -77,7 +77,23 @@ pub fn run_description(arm: &Arm, options: &SweepOptions) -> String {
         arm.base.mass,
         arm.base.inertia,
         links.join(";"),
-    )
+    ) + &constraints(arm)
+}
+
+/// The arm's declared limits and shapes in the run's description, where it has any (JSON;
+/// nothing for an arm without, so that its description is as before): shards of one robot with
+/// other limits or shapes plan other problems.
+fn constraints(arm: &Arm) -> String {
+    // Serialising plain numbers, vectors and enums does not fail.
+    let json = |v: Result<String, serde_json::Error>| v.unwrap_or_default();
+    let mut text = String::new();
+    if !arm.limits.is_empty() {
+        text += &format!(" limits={}", json(serde_json::to_string(&arm.limits)));
+    }
+    if !arm.geometry.is_empty() {
+        text += &format!(" geometry={}", json(serde_json::to_string(&arm.geometry)));
+    }
+    text
 }
 
 /// The sweep file's kind: [`MAGIC`] and [`COLUMNS`].

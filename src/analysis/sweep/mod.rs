@@ -312,10 +312,14 @@ fn successes(robot: &RobotParams, transform: Transform, options: &SweepOptions) 
         .count()
 }
 
-/// Computes one point of the sweep for `arm` (its mount replaced by the point's).
+/// Computes one point of the sweep for `arm` (its mount replaced by the point's; its declared
+/// limits and shapes kept: the effort is that of a plan inside them, clear of the robot's own
+/// bodies, as `plan` would make it).
 pub fn run_point(arm: &Arm, options: &SweepOptions, index: usize) -> Result<SweepRow, Error> {
     let (a, b) = options.mount(index);
-    let arm = Arm::new(arm.base, Mount::new(a, b)?, arm.links.clone())?;
+    let arm = Arm::new(arm.base, Mount::new(a, b)?, arm.links.clone())?
+        .with_limits(arm.limits.clone())?
+        .with_geometry(arm.geometry.clone())?;
     let mut row = SweepRow {
         index,
         points: options.points(),
@@ -341,20 +345,32 @@ pub fn run_point(arm: &Arm, options: &SweepOptions, index: usize) -> Result<Swee
     if options.nfa {
         nfa_metrics(&nfa_robot(&arm)?, options, &mut row)?;
     }
-    if options.effort {
-        let problem = ChainProblem::rest_to_rest(options.start.clone(), options.goal.clone(), options.horizon);
+    // An end under the clearance at this mount: no motion can be certified, so not planned.
+    let g = &arm.geometry;
+    let ends_clear = [&options.start, &options.goal]
+        .iter()
+        .all(|q| g.min_clearance(&arm, q).is_none_or(|d| d.distance >= g.clearance));
+    if options.effort && !ends_clear {
+        row.planned = Some(false);
+    } else if options.effort {
+        let problem = effort_problem(options);
         let request = ArmRequest { samples: 2, tolerance: options.tolerance, ..ArmRequest::new(problem) };
         match plan_arm(&arm, Method::Optimal, &request) {
             Ok(planned) if planned.certified().is_ok() => {
                 (row.planned, row.effort) = (Some(true), Some(planned.effort()))
             }
-            Ok(_) | Err(Error::NotCertified { .. } | Error::OptimalFailed { .. } | Error::HolonomyFixed { .. }) => {
-                row.planned = Some(false)
-            }
+            // No certified plan at this mount (e.g. the horizon too short for a limit here).
+            Ok(_) | Err(Error::HolonomyFixed { .. }) => row.planned = Some(false),
+            Err(e) if !e.is_bad_input() => row.planned = Some(false),
             Err(e) => return Err(e),
         }
     }
     Ok(row)
+}
+
+/// The effort metric's problem: rest to rest from `start` to `goal` in `horizon`.
+fn effort_problem(options: &SweepOptions) -> ChainProblem {
+    ChainProblem::rest_to_rest(options.start.clone(), options.goal.clone(), options.horizon)
 }
 
 /// The paper's 2-link model of `arm`, for the NFA's metric; another arm is bad input naming the
@@ -427,6 +443,10 @@ pub fn run(
             value: options.start.len() as f64,
             expected: "n + 1 angles (phi, theta_1..theta_n) for this arm",
         }));
+    }
+    if options.effort {
+        // Angles, ranges, horizon at once; the ends' clearance depends on the mount (`run_point`).
+        effort_problem(options).validate(&Arm { geometry: Default::default(), ..arm.clone() })?;
     }
     let indices: Vec<usize> = shard.indices(options.points()).collect();
     let work = || {

@@ -208,3 +208,58 @@ fn the_effort_metric_leaves_the_nfa_columns_alone() {
         assert!(y.effort.unwrap() > 0.0);
     }
 }
+
+/// The sweep plans the robot it is given: before, each point's arm was rebuilt from its masses
+/// and lengths only, so a declared velocity limit and the bodies' shapes were dropped without a
+/// word. At every point the effort is now that of the plan inside the limit (the arm mounted
+/// there planned alone; not the free plan's, which breaks the limit); a mount where an end
+/// brings a link into the base is a point without a plan, not a failed sweep; and the run's
+/// description names the limits and the shapes (another robot, another run), unchanged without.
+#[test]
+fn the_effort_metric_keeps_the_robots_limits_and_shapes() {
+    use crate::model::arm::collision::Geometry;
+    use crate::model::arm::{JointLimits, Limits};
+    use crate::model::geometry::Shape;
+    use crate::planners::arm::ArmPlanned;
+    let (free, options) = (three_link(), effort_options());
+    let problem = ChainProblem::rest_to_rest(options.start.clone(), options.goal.clone(), options.horizon);
+    let mounted = |arm: &Arm, a: f64, b: f64| Arm { mount: Mount::new(a, b).unwrap(), ..arm.clone() };
+    let alone = |arm: &Arm| plan_arm(arm, Method::Optimal, &ArmRequest::new(problem.clone()));
+    let points: Vec<(f64, f64)> = (0..options.points()).map(|i| options.mount(i)).collect();
+    // 90 % of the least peak joint speed of the free plans: every free plan breaks it.
+    let peak = |p: &ArmPlanned| p.trajectory.iter().flat_map(|q| q.rate.iter().map(|u| u.abs())).fold(0.0, f64::max);
+    let free_plans: Vec<ArmPlanned> = points.iter().map(|&(a, b)| alone(&mounted(&free, a, b)).unwrap()).collect();
+    let v = 0.9 * free_plans.iter().map(peak).fold(f64::INFINITY, f64::min);
+    let joint = JointLimits { velocity: Some(v), ..JointLimits::default() };
+    let limited = free.clone().with_limits(Limits { joints: vec![joint; 3], base: None }).unwrap();
+    let rows = run(&limited, &options, Shard::ALL, &|| {}).unwrap();
+    let mut planned = 0;
+    for ((r, &(a, b)), f) in rows.iter().zip(&points).zip(&free_plans) {
+        match alone(&mounted(&limited, a, b)) {
+            Ok(inside) => {
+                assert!(inside.certified().is_ok() && peak(&inside) <= v * (1.0 + 1e-9), "{r:?}");
+                let e = inside.effort();
+                assert!((r.effort.unwrap() - e).abs() <= 1e-9 * e, "{r:?} vs {e}");
+                // Not the free plan's effort: that plan breaks the limit (its peak is above v).
+                assert!(peak(f) > v && (r.effort.unwrap() - f.effort()).abs() > 1e-9 * f.effort(), "{r:?}");
+                planned += 1;
+            }
+            // E.g. the horizon too short for the limit at this mount: no plan, a row all the same.
+            Err(e) => assert!(!e.is_bad_input() && r.planned == Some(false) && r.effort.is_none(), "{r:?}: {e}"),
+        }
+    }
+    assert!(planned >= 1, "{rows:?}");
+    // A base disc of 1 m about the base's centre holds link 2 at the start at every mount.
+    let capsule = |l: f64| vec![Shape::new(vec![[0.0, 0.0], [l, 0.0]], 0.02).unwrap()];
+    let geometry = Geometry {
+        base: vec![Shape::circle([0.0, 0.0], 1.0).unwrap()],
+        links: free.links.iter().map(|l| capsule(l.length)).collect(),
+        ..Geometry::default()
+    };
+    let shaped = free.clone().with_geometry(geometry).unwrap();
+    let rows = run(&shaped, &options, Shard::ALL, &|| {}).unwrap();
+    assert!(rows.iter().all(|r| r.planned == Some(false) && r.effort.is_none()), "{rows:?}");
+    let described = |arm: &Arm| file::run_description(arm, &options);
+    assert!(!described(&free).contains("limits=") && !described(&free).contains("geometry="));
+    assert!(described(&limited).contains(" limits=") && described(&shaped).contains(" geometry="));
+}
