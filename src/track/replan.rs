@@ -285,7 +285,8 @@ impl Replanner {
         let ladder = [full, 0.5 * full, 0.0];
         let last = if full > 0.0 { ladder.len() - 1 } else { 0 };
         for (step, margin) in ladder[..=last].iter().enumerate() {
-            if let Ok(plan) = self.replan_inside(model, measured, t, horizon, current, *margin, step == last) {
+            let search = step == last && !model.geometry.is_empty();
+            if let Ok(plan) = self.replan_inside(model, measured, t, horizon, current, (*margin, search)) {
                 return plan;
             }
         }
@@ -293,10 +294,10 @@ impl Replanner {
     }
 
     /// [`Replanner::replan`] keeping `limit_margin` inside the limits: `Err` where the planner
-    /// fails (the next step of the ladder follows), `Ok(None)` where its plan is refused. On an
-    /// arm with shapes the `last` step searches where the warm start fails (the SPART-like
-    /// arm's re-plans from its first plan found their plans so, in 8 to 47 s), the others and
-    /// an arm without shapes follow [`ChainOptions::warm_start_only`].
+    /// fails (the next step of the ladder follows), `Ok(None)` where its plan is refused. With
+    /// `search` the planner's search follows a warm start that fails (the ladder's last step on
+    /// an arm with shapes: the SPART-like arm's re-plans from its first plan found their plans
+    /// so, in 8 to 47 s), else [`ChainOptions::warm_start_only`] holds.
     fn replan_inside(
         &mut self,
         model: &Arm,
@@ -304,8 +305,7 @@ impl Replanner {
         t: f64,
         horizon: f64,
         current: &Reference,
-        limit_margin: f64,
-        last: bool,
+        (limit_margin, search): (f64, bool),
     ) -> Result<Option<ChainPlan>, ()> {
         let problem = ChainProblem {
             start: measured.q.clone(),
@@ -347,7 +347,7 @@ impl Replanner {
         (planner.options.coarse_spans, planner.options.max_spans) = (spans, spans);
         planner.options.knots = knots;
         planner.options.warm_start = Self::rest_of(current, t, &times);
-        planner.options.warm_start_only = self.options.planner.warm_start_only && !(last && !geometry.is_empty());
+        planner.options.warm_start_only = self.options.planner.warm_start_only && !search;
         // The rows keep what the last re-plan's certificate needed beyond them (at most the
         // margin), so that this one does not dip under the clearance between them and solve again.
         planner.options.clearance_reserve = self.reserve.min(margin);
