@@ -376,6 +376,12 @@ fn optimal_failed_message(
     seeds: usize,
     termination: &str,
 ) -> String {
+    if termination == "warm_start" {
+        return format!(
+            "the optimal planner's warm start gave no certified plan and no search follows ({termination}): \
+             {iterations} SQP iterations, {seeds} seeds"
+        );
+    }
     if !effort.is_finite() && !constraint_residual.is_finite() {
         return format!(
             "the optimal planner had nothing to solve ({termination}): no goal representative or horizon \

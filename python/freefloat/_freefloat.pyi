@@ -457,8 +457,11 @@ def track(
     themselves; a ``limit_margin`` above 0 for a robot without limits is :class:`BadInput`. Returns a
     dict: ``final_error`` [rad],
     ``final_errors`` per coordinate, ``peak_torque`` [N m], ``replans``, ``replan_failures``,
-    ``saturated_fraction``, ``seconds``, ``identification`` (adaptive), and
-    ``hold_correction`` (the feedforward's correction for the zero-order hold, or None). The GIL is
+    ``saturated_fraction``, ``seconds``, ``identification`` (adaptive),
+    ``hold_correction`` (the feedforward's correction for the zero-order hold, or None), and
+    ``limit_margin_used``: the limit margin the plan and the re-plans kept (``limit_margin``, or
+    less where ``T`` is too short for it, as the command line's note says; 0 for a robot without
+    limits). The GIL is
     released. Raises :class:`BadInput` for bad options, :class:`NoPlan`/:class:`NotCertified`
     when the plan itself fails."""
 

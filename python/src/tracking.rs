@@ -88,7 +88,8 @@ pub fn track<'py>(
     options.check_budget(problem.horizon).py_result(py)?;
     let truth = true_robot.map(|r| arm_of("true_robot", &r)).transpose()?;
     let perturbation = Perturbation { relative: perturb, mount: perturb_mount };
-    let tracked = py
+    let limited = !model.limits.is_empty();
+    let (tracked, limit_margin_used) = py
         .detach(|| -> Result<_, BindingError> {
             let truth = match truth {
                 Some(t) => t,
@@ -99,13 +100,18 @@ pub fn track<'py>(
             let mut options = options;
             let planned = options.replan.first_plan(&model, &problem)?;
             planned.certified()?;
-            Ok(run_track(&model, &problem, &planned.plan, &truth, &options, seed)?)
+            // The margin the plans kept: `first_plan` lowers it where the horizon is too short
+            // for the whole of it; none for a robot without limits.
+            let used = if limited { options.replan.limit_margin } else { 0.0 };
+            Ok((run_track(&model, &problem, &planned.plan, &truth, &options, seed)?, used))
         })
         .py_result(py)?;
     let value = serde_json::to_value(&tracked).map_err(|e| {
         pyo3::exceptions::PyRuntimeError::new_err(format!("invariant: the tracking result serialises: {e}"))
     })?;
-    json_dict(py, &value.as_object().cloned().unwrap_or_default())
+    let result = json_dict(py, &value.as_object().cloned().unwrap_or_default())?;
+    result.set_item("limit_margin_used", limit_margin_used)?;
+    Ok(result)
 }
 
 /// `e` naming the keyword `limit_margin` where the library names the command line's

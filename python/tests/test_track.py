@@ -9,6 +9,7 @@ import freefloat as ff
 
 Q0 = np.radians([45.0, 120.0, 80.0])
 QD = np.radians([0.0, 180.0, 140.0])
+ROBOTS = Path(__file__).resolve().parents[2] / "examples" / "robots"
 
 
 def test_feedback_on_the_model_reaches_the_goal():
@@ -76,3 +77,30 @@ def test_a_limit_margin_is_a_fraction_for_a_robot_with_limits():
     for bad in [-0.1, 1.0, float("nan")]:
         with pytest.raises(ff.BadInput, match="limit_margin"):
             ff.track(tight, [0.0] * 5, [0.1] * 5, 30.0, controller="ct", limit_margin=bad)
+
+
+def _three_link_at(tmp_path, velocity_deg):
+    """The 3-link example arm with a velocity limit [deg/s] on every joint, as a robot file."""
+    text = (ROBOTS / "three_link.toml").read_text()
+    limit = f"limit = {{ velocity = {float(np.radians(velocity_deg))!r} }}\n"
+    text = text.replace("[[link]]\n", "[[link]]\n" + limit)
+    path = tmp_path / "three_link_limited.toml"
+    path.write_text(text)
+    return ff.Arm.from_file(path)
+
+
+def test_the_result_reports_the_limit_margin_used(tmp_path):
+    """The plans keep limit_margin inside the limits, less where the horizon is too short for
+    the whole of it (the command line says so in a note): the result says which margin was
+    kept. The 3-link example at 20 deg/s reaches (30, 60, -30, 20) deg from rest in 19.6 s at
+    its limits, so 20 s is too short for 5 % (about 20.6 s) and 25 s is not."""
+    arm = _three_link_at(tmp_path, 20.0)
+    start, goal = np.zeros(4), np.radians([30.0, 60.0, -30.0, 20.0])
+    short = ff.track(arm, start, goal, 20.0, controller="ct")
+    assert 0.0 < short["limit_margin_used"] < 0.05
+    roomy = ff.track(arm, start, goal, 25.0, controller="ct")
+    assert roomy["limit_margin_used"] == 0.05
+    asked = ff.track(arm, start, goal, 25.0, controller="ct", limit_margin=0.02)
+    assert asked["limit_margin_used"] == 0.02
+    unlimited = ff.track(ff.Robot.src().with_mount(0.1, 0.1), Q0, QD, 10.0, controller="ct")
+    assert unlimited["limit_margin_used"] == 0.0

@@ -61,7 +61,8 @@ pub struct ReplanOptions {
     /// The planner's options: a coarse basis, one target, one finalist, the goal taken
     /// literally (the representative of the first plan, `ChainProblem::wrap = false`). Each
     /// re-plan starts from the measured joint velocity (`ChainProblem::initial_velocity`) and
-    /// from the rest of the current reference ([`ChainOptions::warm_start`], set per re-plan).
+    /// from the rest of the current reference ([`ChainOptions::warm_start`], set per re-plan),
+    /// and is that start's solution or none ([`ChainOptions::warm_start_only`]: no search).
     pub planner: ChainOptions,
 }
 
@@ -81,8 +82,11 @@ impl Default for ReplanOptions {
                 grading: 0,
                 targets_solved: 1,
                 finalists: 1,
-                // A re-plan starts from the plan it corrects; its search is the fallback.
                 far_finalists: 0,
+                // A re-plan starts from the plan it corrects, and is that plan's correction or
+                // none: the search after a failed warm start found no plan in 157 of 157 re-plans
+                // of the 3-link example at its velocity limit (stop 54).
+                warm_start_only: true,
                 loop_planes: 1,
                 tolerance: 1e-6,
                 ode: OdeOptions { rtol: 1e-9, atol: 1e-9, max_steps: 100_000 },
@@ -259,12 +263,16 @@ impl Replanner {
     }
 
     /// A plan on `model` from the measured state at time `t` to the goal at `horizon` \[s\],
-    /// warm-started by the rest of `current`, the reference being followed (the planner's full
-    /// search follows where that start does not converge): `None` when the planner fails, its
+    /// warm-started by the rest of `current`, the reference being followed (no search where
+    /// that start does not converge, but on an arm with shapes at the ladder's last step, see
+    /// below): `None` when the planner fails, its
     /// plan is not accepted (see [`ReplanOptions::accept`]) or its certificate finds it closer
     /// than the model's clearance to a body or an obstacle. The plan keeps the limit margin
-    /// ([`ReplanOptions::limit_margin`]) except where the measured state is already beyond it,
-    /// or where no plan keeps it: then it is made inside the limits themselves.
+    /// ([`ReplanOptions::limit_margin`]) except where the measured state is already beyond it
+    /// (widened to it), or where no plan keeps it: then half of it, then none (the limits
+    /// themselves). Every re-plan starts with the whole margin: starting where the last one
+    /// ended (at none, soon) left the 3-link example at its velocity limit riding the limit, and
+    /// 4 of 4 trials broke it (3 of 4 succeeded starting with the whole margin).
     pub fn replan(
         &mut self,
         model: &Arm,
@@ -273,21 +281,32 @@ impl Replanner {
         horizon: f64,
         current: &Reference,
     ) -> Option<ChainPlan> {
-        self.replan_inside(model, measured, t, horizon, current, self.options.limit_margin)
+        let full = self.options.limit_margin;
+        let ladder = [full, 0.5 * full, 0.0];
+        let last = if full > 0.0 { ladder.len() - 1 } else { 0 };
+        for (step, margin) in ladder[..=last].iter().enumerate() {
+            let search = step == last && !model.geometry.is_empty();
+            if let Ok(plan) = self.replan_inside(model, measured, t, horizon, current, (*margin, search)) {
+                return plan;
+            }
+        }
+        None
     }
 
-    /// [`Replanner::replan`] keeping `limit_margin` inside the limits; where the planner fails
-    /// with it, once more without it (the limits themselves, widened to the measured state).
+    /// [`Replanner::replan`] keeping `limit_margin` inside the limits: `Err` where the planner
+    /// fails (the next step of the ladder follows), `Ok(None)` where its plan is refused. With
+    /// `search` the planner's search follows a warm start that fails (the ladder's last step on
+    /// an arm with shapes: the SPART-like arm's re-plans from its first plan found their plans
+    /// so, in 8 to 47 s), else [`ChainOptions::warm_start_only`] holds.
     fn replan_inside(
         &mut self,
-        model_in: &Arm,
+        model: &Arm,
         measured: &State,
         t: f64,
         horizon: f64,
         current: &Reference,
-        limit_margin: f64,
-    ) -> Option<ChainPlan> {
-        let model = model_in;
+        (limit_margin, search): (f64, bool),
+    ) -> Result<Option<ChainPlan>, ()> {
         let problem = ChainProblem {
             start: measured.q.clone(),
             goal: self.goal.clone(),
@@ -313,7 +332,7 @@ impl Replanner {
         if self.planner.as_ref().is_none_or(|p| p.arm() != model) {
             self.planner = Some(ChainPlanner::new(model.clone(), self.options.planner.clone()));
         }
-        let planner = self.planner.as_mut()?;
+        let Some(planner) = self.planner.as_mut() else { return Ok(None) };
         let knots = Self::knots_for(current, t, horizon);
         let times: Vec<f64> = match &knots {
             // Cubic Hermite samples at every breakpoint and midpoint reproduce the rest of a
@@ -328,25 +347,22 @@ impl Replanner {
         (planner.options.coarse_spans, planner.options.max_spans) = (spans, spans);
         planner.options.knots = knots;
         planner.options.warm_start = Self::rest_of(current, t, &times);
+        planner.options.warm_start_only = self.options.planner.warm_start_only && !search;
         // The rows keep what the last re-plan's certificate needed beyond them (at most the
         // margin), so that this one does not dip under the clearance between them and solve again.
         planner.options.clearance_reserve = self.reserve.min(margin);
-        let plan = match planner.plan(&problem) {
-            Ok(plan) => plan,
-            // The robot may lag its plan by more than the margin leaves time for: the limits
-            // themselves, as a re-plan without the margin.
-            Err(_) if limit_margin > 0.0 => return self.replan_inside(model_in, measured, t, horizon, current, 0.0),
-            Err(_) => return None,
-        };
+        let Ok(plan) = planner.plan(&problem) else { return Err(()) };
         // A plan whose verified motion comes closer than the model's clearance is refused (issue
         // 21): the last plan stays, as for any refused re-plan.
-        plan.verification.collision().ok()?;
+        if plan.verification.collision().is_err() {
+            return Ok(None);
+        }
         let e = plan.verification.final_error;
         let accepted = e.is_finite() && e <= self.options.accept;
         if accepted {
             self.reserve = plan.stats.clearance_reserve;
         }
-        accepted.then_some(plan)
+        Ok(accepted.then_some(plan))
     }
 
     /// The spans of a re-plan's basis from `t` to `horizon`: enough for the rest of `current` to

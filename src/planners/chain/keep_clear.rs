@@ -56,7 +56,12 @@ impl ChainPlanner {
         // A re-plan: the rest of a plan that clears, solved with every row from itself first
         // (without the rows it slides into the unconstrained basin, e.g. 0.27 m inside the base
         // on the SPART-like arm's track, and no repair pulls it back out in time).
-        if let Some(plan) = self.warm_start(problem, &mut None, tables, clock)?.filter(clears) {
+        let warm = self.warm_start(problem, &mut None, tables, clock)?;
+        if self.options.warm_start_only && self.options.warm_start.is_some() {
+            // The warm start's plan whether it clears or not: its certificate reports it.
+            return warm.ok_or_else(Self::warm_start_failed);
+        }
+        if let Some(plan) = warm.filter(clears) {
             return Ok(plan);
         }
         let own = ChainPlanner { obstacle_rows: false, ..self.clone() };

@@ -101,6 +101,9 @@ impl ChainPlanner {
         if let Some(plan) = self.warm_start(problem, &mut prepared, tables, clock)? {
             return Ok(plan);
         }
+        if self.options.warm_start_only && self.options.warm_start.is_some() {
+            return Err(Self::warm_start_failed());
+        }
         let mut queue = match prepared {
             Some(p) => Representatives::prepared(p),
             None => Representatives::lazy(self, problem),

@@ -315,8 +315,8 @@ fn chain_torques_reproduce_the_plan() {
 
 /// A warm start from a certified plan's own path returns that plan (the same minimum, a
 /// fraction of the search's work), whatever representative search would have tried first; a
-/// warm start ending at no representative falls back to the full search; a malformed one is bad
-/// input.
+/// warm start ending at no representative falls back to the full search, or fails where no
+/// search may follow ([`ChainOptions::warm_start_only`]); a malformed one is bad input.
 #[test]
 fn chain_warm_start_from_the_plan_returns_it() {
     let arm = three_link();
@@ -337,9 +337,16 @@ fn chain_warm_start_from_the_plan_returns_it() {
     for row in elsewhere.theta.iter_mut() {
         row[0] += 1.0;
     }
-    let fallback = ChainOptions { warm_start: Some(elsewhere), ..ChainOptions::default() };
+    let fallback = ChainOptions { warm_start: Some(elsewhere.clone()), ..ChainOptions::default() };
     let searched = ChainPlanner::new(arm.clone(), fallback).plan(&problem).unwrap();
     assert!((searched.effort() - cold.effort()).abs() <= 1e-9 * cold.effort());
+    // Without the search (a re-plan's), the own path still gives the plan, the other none.
+    let only =
+        |path: WarmStart| ChainOptions { warm_start: Some(path), warm_start_only: true, ..ChainOptions::default() };
+    let alone = ChainPlanner::new(arm.clone(), only(path.clone())).plan(&problem).unwrap();
+    assert!((alone.effort() - warm.effort()).abs() <= 1e-12 * warm.effort());
+    let failed = ChainPlanner::new(arm.clone(), only(elsewhere)).plan(&problem);
+    assert!(matches!(failed, Err(Error::OptimalFailed { termination: "warm_start", .. })), "{failed:?}");
     let broken = WarmStart { t: vec![0.0], theta: vec![vec![f64::NAN; 3]], rate: vec![vec![0.0; 3]] };
     let bad = ChainOptions { warm_start: Some(broken), ..ChainOptions::default() };
     assert!(matches!(ChainPlanner::new(arm, bad).plan(&problem), Err(Error::Input(_))));

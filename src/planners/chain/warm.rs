@@ -53,6 +53,19 @@ impl ChainPlanner {
         Ok(self.solve_from(problem, targets.clone(), path, (basis, None, &COARSE_SQP), tables, clock)?.ok())
     }
 
+    /// The error of a warm start that gave no plan where no search follows
+    /// ([`super::ChainOptions::warm_start_only`]).
+    pub(super) fn warm_start_failed() -> Error {
+        Error::OptimalFailed {
+            iterations: 0,
+            constraint_residual: f64::INFINITY,
+            kkt_residual: f64::INFINITY,
+            effort: f64::INFINITY,
+            seeds: 1,
+            termination: "warm_start",
+        }
+    }
+
     /// The plan from `path` to `targets` alone (no search): its projection on `spans` uniform
     /// spans with `grading` graded knots per end, solved with `options` (from the holonomy
     /// multiplier `guess` where one is known, see [`crate::planners::optimal::sqp::solve`]),
