@@ -8,7 +8,7 @@ use nalgebra::DVector;
 
 use super::{InverseDynamics, SingularInertia};
 use crate::model::arm::Arm;
-use crate::model::arm::lumped::{ArmLumped, SIZE, Square};
+use crate::model::arm::lumped::{ArmLumped, LumpedTerms, SIZE, Square};
 
 /// The capacity of the stack arrays for arms of fewer than `SMALL` joints (the paper's robot and
 /// the 3-link example): cheaper to fill and copy than [`SIZE`].
@@ -121,24 +121,22 @@ impl ArmDynamics {
         ddq: &mut [f64],
     ) -> f64 {
         let n = self.joints();
-        assert!(
-            theta.len() == n && dtheta.len() == n && ddtheta.len() == n,
-            "theta, dtheta and ddtheta have n = {n} values"
-        );
+        assert!(theta.len() == n, "theta has n = {n} values");
         let terms = self.table.terms_in::<C>(theta);
         let mut m = [[0.0; C]; C];
         terms.inertia_matrix(&mut m);
-        dq[0] = -(1..=n).map(|j| m[0][j] * dtheta[j - 1]).sum::<f64>() / m[0][0];
-        dq[1..=n].copy_from_slice(dtheta);
-        let mut c = [0.0; C];
-        terms.coriolis(dq, &mut c);
-        ddq[0] = -((1..=n).map(|j| m[0][j] * ddtheta[j - 1]).sum::<f64>() + c[0]) / m[0][0];
-        ddq[1..=n].copy_from_slice(ddtheta);
-        let force = |i: usize| (0..=n).map(|j| m[i][j] * ddq[j]).sum::<f64>() + c[i];
-        for (i, t) in tau.iter_mut().enumerate().take(n) {
-            *t = force(i + 1);
-        }
-        force(0)
+        inverse_with(&terms, &m, dtheta, ddtheta, tau, dq, ddq)
+    }
+
+    /// The angles' part of the inverse dynamics at `theta` (`n` values) \[rad\]: their sines,
+    /// cosines and inertia matrix once, for the inverse dynamics at several rates and
+    /// accelerations ([`InverseAt::inverse_into`], the same values as
+    /// [`ArmDynamics::inverse_into`] at `theta`).
+    pub fn at_angles(&self, theta: &[f64]) -> InverseAt {
+        let terms = self.table.terms_in::<SIZE>(theta);
+        let mut m = [[0.0; SIZE]; SIZE];
+        terms.inertia_matrix(&mut m);
+        InverseAt { terms, m }
     }
 
     /// [`ArmDynamics::inverse_into`] as an [`InverseDynamics`].
@@ -208,4 +206,59 @@ impl ArmDynamics {
         ddq[..n1].copy_from_slice(&rhs[..n1]);
         if ddq[..n1].iter().all(|x| x.is_finite()) { Ok(()) } else { Err(singular()) }
     }
+}
+
+/// The inverse dynamics at fixed joint angles ([`ArmDynamics::at_angles`]): the angles' lumped
+/// terms and inertia matrix, computed once.
+#[derive(Debug, Clone)]
+pub struct InverseAt {
+    terms: LumpedTerms<SIZE>,
+    m: Square,
+}
+
+impl InverseAt {
+    /// [`ArmDynamics::inverse_into`] at these angles, the rates `dtheta` and the accelerations
+    /// `ddtheta` (`n` values each): the same values, without the angles' sines, cosines and
+    /// inertia matrix again.
+    pub fn inverse_into(
+        &self,
+        dtheta: &[f64],
+        ddtheta: &[f64],
+        tau: &mut [f64],
+        dq: &mut [f64],
+        ddq: &mut [f64],
+    ) -> f64 {
+        inverse_with(&self.terms, &self.m, dtheta, ddtheta, tau, dq, ddq)
+    }
+
+    /// `M_ij` [kg m^2] at these angles, `i, j` in `0..=n`.
+    pub fn inertia(&self, i: usize, j: usize) -> f64 {
+        self.m[i][j]
+    }
+}
+
+/// The inverse dynamics at zero angular momentum from the angles' `terms` and inertia matrix
+/// `m` ([`ArmDynamics::inverse_into`]).
+fn inverse_with<const C: usize>(
+    terms: &LumpedTerms<C>,
+    m: &[[f64; C]; C],
+    dtheta: &[f64],
+    ddtheta: &[f64],
+    tau: &mut [f64],
+    dq: &mut [f64],
+    ddq: &mut [f64],
+) -> f64 {
+    let n = terms.size() - 1;
+    assert!(dtheta.len() == n && ddtheta.len() == n, "dtheta and ddtheta have n = {n} values");
+    dq[0] = -(1..=n).map(|j| m[0][j] * dtheta[j - 1]).sum::<f64>() / m[0][0];
+    dq[1..=n].copy_from_slice(dtheta);
+    let mut c = [0.0; C];
+    terms.coriolis(dq, &mut c);
+    ddq[0] = -((1..=n).map(|j| m[0][j] * ddtheta[j - 1]).sum::<f64>() + c[0]) / m[0][0];
+    ddq[1..=n].copy_from_slice(ddtheta);
+    let force = |i: usize| (0..=n).map(|j| m[i][j] * ddq[j]).sum::<f64>() + c[i];
+    for (i, t) in tau.iter_mut().enumerate().take(n) {
+        *t = force(i + 1);
+    }
+    force(0)
 }
