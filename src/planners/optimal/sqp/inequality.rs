@@ -4,11 +4,9 @@
 //! `min_d grad f^T d + 1/2 d^T W d + mu (|c + grad c^T d| + sum_i max(0, g_i + grad g_i^T d))`,
 //! `|d|_inf <= radius`,
 //!
-//! written with elastic variables as a QP (without them where the iterate keeps the rows and the
-//! rows' multipliers stay within the penalty, the same minimiser; see `Model::solve_rows`) and
-//! solved by the interior-point solver Clarabel; the step is accepted on the l1 merit
-//! `f + mu (|c| + sum max(0, g))` with the trust-region ratio test, as the equality-only path in
-//! the parent module. `W` is the Lagrangian's Hessian of the
+//! written with elastic variables as a QP and solved by the interior-point solver Clarabel; the
+//! step is accepted on the l1 merit `f + mu (|c| + sum max(0, g))` with the trust-region ratio
+//! test, as the equality-only path in the parent module. `W` is the Lagrangian's Hessian of the
 //! cost and the equality, `hess f + lambda hess c`, with the multiplier-weighted curvature of the
 //! rows the problem models ([`Discretised::curvature`]: the base-range rows, whose `phi(t)` is
 //! curved as the equality's `phi(T)` is); the other rows' curvature is left out (a Gauss–Newton
