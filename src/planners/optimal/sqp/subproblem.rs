@@ -52,9 +52,8 @@ pub(super) struct Model<'a> {
     pub(super) solver: &'a RefCell<Option<Cached>>,
 }
 
-/// A QP solver with the rows it was sent, its box's components, its dense terms' rows and
-/// whether its rows are elastic.
-pub(super) type Cached = (Vec<usize>, Vec<bool>, DefaultSolver<f64>, Vec<usize>, bool);
+/// A QP solver with the rows it was sent and its box's components.
+pub(super) type Cached = (Vec<usize>, Vec<bool>, DefaultSolver<f64>, Vec<usize>);
 
 impl Model<'_> {
     /// Solves the S-l1-QP subproblem with the constraints' values `c` and `values` (those at the
@@ -122,14 +121,6 @@ impl Model<'_> {
 
     /// The S-l1-QP subproblem with the inequality rows `active` only (the others' multipliers
     /// zero); `None` when Clarabel fails.
-    ///
-    /// Where the iterate keeps every row sent (up to [`HARD_VIOLATION`]: the QPs of a feasible
-    /// iterate, and of one at its limits up to rounding), the rows are first sent hard, without
-    /// their elastic variables `t_i` (a third fewer variables and rows in the KKT system). That
-    /// QP's minimiser is the elastic one's when each row's (scaled) multiplier is at most 1, the
-    /// weight of its `t_i`: with `t = 0` and the bounds `t >= 0` carrying `1 - z_i >= 0`, it
-    /// satisfies the elastic QP's optimality conditions, and that QP is convex. Otherwise (a
-    /// multiplier above 1, or Clarabel failing) the elastic QP is solved.
     fn solve_rows(
         &self,
         c: f64,
@@ -139,31 +130,9 @@ impl Model<'_> {
         active: &[usize],
         boxed: &[bool],
     ) -> Option<Step> {
-        if active.iter().all(|&i| values[i] <= HARD_VIOLATION)
-            && let Some((step, true)) = self.solve_form(c, values, mu, radius, active, boxed, true)
-        {
-            return Some(step);
-        }
-        self.solve_form(c, values, mu, radius, active, boxed, false).map(|(step, _)| step)
-    }
-
-    /// [`Model::solve_rows`]'s QP with the rows elastic, or with `hard` without their elastic
-    /// variables; the step and whether every row's scaled multiplier is at most 1.
-    #[allow(clippy::too_many_arguments)]
-    fn solve_form(
-        &self,
-        c: f64,
-        values: &[f64],
-        mu: f64,
-        radius: f64,
-        active: &[usize],
-        boxed: &[bool],
-        hard: bool,
-    ) -> Option<(Step, bool)> {
         let (e, hb) = (self.e, self.hb);
         let dim = e.grad_f.len();
-        // The elastic variables: one for each active row, none when `hard`.
-        let m = if hard { 0 } else { active.len() };
+        let m = active.len();
         // Variables: d (dim), s+ and s- of the equality, w = grad c^T d, t_k of each active row,
         // v_i = b_i^T d of each dense term.
         let nd = self.dense.len();
@@ -229,9 +198,7 @@ impl Model<'_> {
             for &(k, v) in &self.rows[i] {
                 a[k].push((row, v));
             }
-            if !hard {
-                a[dim + 3 + r].push((row, -1.0));
-            }
+            a[dim + 3 + r].push((row, -1.0));
             b.push(-values[i]);
             row += 1;
         }
@@ -271,9 +238,8 @@ impl Model<'_> {
             .ok()?;
         let mut cache = self.solver.borrow_mut();
         let reused = match cache.as_mut() {
-            Some((sent, was, solver, terms, elastic))
+            Some((sent, was, solver, terms))
                 if sent.as_slice() == active
-                    && *elastic == !hard
                     && was.as_slice() == boxed
                     && terms.iter().eq(self.dense.iter().map(|(i, _)| i))
                     && solver.is_data_update_allowed() =>
@@ -292,10 +258,9 @@ impl Model<'_> {
                 boxed.to_vec(),
                 DefaultSolver::new(&p, &q, &a, &b, &cones, settings).ok()?,
                 terms,
-                !hard,
             ));
         }
-        let (_, _, solver, _, _) = cache.as_mut()?;
+        let (_, _, solver, _) = cache.as_mut()?;
         solver.solve();
         let sol = &solver.solution;
         if !matches!(sol.status, SolverStatus::Solved | SolverStatus::AlmostSolved) {
@@ -306,14 +271,11 @@ impl Model<'_> {
             return None;
         }
         let mut z = vec![0.0; values.len()];
-        let mut bounded = true;
         for (r, &i) in active.iter().enumerate() {
-            let zr = sol.z[4 + nd + m + r];
-            bounded &= zr <= 1.0;
-            z[i] = mu * zr.max(0.0);
+            z[i] = mu * sol.z[4 + nd + m + r].max(0.0);
         }
         // The equality's multiplier: its row's and w's (whose row carries rho grad c^T d).
-        Some((Step { d, lambda: mu * (sol.z[0] + sol.z[1]), z }, bounded))
+        Some(Step { d, lambda: mu * (sol.z[0] + sol.z[1]), z })
     }
 
     /// The linearised infeasibility `|c + grad c^T d| + sum max(0, g_i + grad g_i^T d)`.
@@ -347,12 +309,6 @@ impl Model<'_> {
         self.e.grad_f.dot(d) + 0.5 * (d.dot(&wd) + self.rho * ad * ad + dense)
     }
 }
-
-/// The largest (scaled) value of a row sent to a QP for which the rows are first sent hard
-/// ([`Model::solve_rows`]): a millionth of a limit, a step's rounding beyond it. Above it the
-/// linearised rows may not hold anywhere in the trust region, and the hard QP would only find
-/// that out; below it they almost always do. The QP's minimiser does not depend on it.
-const HARD_VIOLATION: f64 = 1e-6;
 
 /// Rows within this (scaled) distance of their limit are sent to every QP (see
 /// [`Model::solve`]); farther ones only once a step comes within half of it.
