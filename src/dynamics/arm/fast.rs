@@ -8,7 +8,7 @@ use nalgebra::DVector;
 
 use super::{InverseDynamics, SingularInertia};
 use crate::model::arm::Arm;
-use crate::model::arm::lumped::{ArmLumped, SIZE, Square};
+use crate::model::arm::lumped::{ArmLumped, LumpedTerms, SIZE, Square};
 
 /// The capacity of the stack arrays for arms of fewer than `SMALL` joints (the paper's robot and
 /// the 3-link example): cheaper to fill and copy than [`SIZE`].
@@ -121,24 +121,22 @@ impl ArmDynamics {
         ddq: &mut [f64],
     ) -> f64 {
         let n = self.joints();
-        assert!(
-            theta.len() == n && dtheta.len() == n && ddtheta.len() == n,
-            "theta, dtheta and ddtheta have n = {n} values"
-        );
+        assert!(theta.len() == n, "theta has n = {n} values");
         let terms = self.table.terms_in::<C>(theta);
         let mut m = [[0.0; C]; C];
         terms.inertia_matrix(&mut m);
-        dq[0] = -(1..=n).map(|j| m[0][j] * dtheta[j - 1]).sum::<f64>() / m[0][0];
-        dq[1..=n].copy_from_slice(dtheta);
-        let mut c = [0.0; C];
-        terms.coriolis(dq, &mut c);
-        ddq[0] = -((1..=n).map(|j| m[0][j] * ddtheta[j - 1]).sum::<f64>() + c[0]) / m[0][0];
-        ddq[1..=n].copy_from_slice(ddtheta);
-        let force = |i: usize| (0..=n).map(|j| m[i][j] * ddq[j]).sum::<f64>() + c[i];
-        for (i, t) in tau.iter_mut().enumerate().take(n) {
-            *t = force(i + 1);
-        }
-        force(0)
+        inverse_with(&terms, &m, dtheta, ddtheta, tau, dq, ddq)
+    }
+
+    /// The angles' part of the inverse dynamics at `theta` (`n` values) \[rad\]: their sines,
+    /// cosines and inertia matrix once, for the inverse dynamics at several rates and
+    /// accelerations ([`InverseAt::inverse_into`], the same values as
+    /// [`ArmDynamics::inverse_into`] at `theta`).
+    pub fn at_angles(&self, theta: &[f64]) -> InverseAt {
+        let terms = self.table.terms_in::<SIZE>(theta);
+        let mut m = [[0.0; SIZE]; SIZE];
+        terms.inertia_matrix(&mut m);
+        InverseAt { terms, m }
     }
 
     /// [`ArmDynamics::inverse_into`] as an [`InverseDynamics`].
@@ -208,4 +206,130 @@ impl ArmDynamics {
         ddq[..n1].copy_from_slice(&rhs[..n1]);
         if ddq[..n1].iter().all(|x| x.is_finite()) { Ok(()) } else { Err(singular()) }
     }
+}
+
+/// The inverse dynamics at fixed joint angles ([`ArmDynamics::at_angles`]): the angles' lumped
+/// terms and inertia matrix, computed once.
+#[derive(Debug, Clone)]
+pub struct InverseAt {
+    terms: LumpedTerms<SIZE>,
+    m: Square,
+}
+
+impl InverseAt {
+    /// [`ArmDynamics::inverse_into`] at these angles, the rates `dtheta` and the accelerations
+    /// `ddtheta` (`n` values each): the same values, without the angles' sines, cosines and
+    /// inertia matrix again.
+    pub fn inverse_into(
+        &self,
+        dtheta: &[f64],
+        ddtheta: &[f64],
+        tau: &mut [f64],
+        dq: &mut [f64],
+        ddq: &mut [f64],
+    ) -> f64 {
+        inverse_with(&self.terms, &self.m, dtheta, ddtheta, tau, dq, ddq)
+    }
+
+    /// `M_ij` [kg m^2] at these angles, `i, j` in `0..=n`.
+    pub fn inertia(&self, i: usize, j: usize) -> f64 {
+        self.m[i][j]
+    }
+
+    /// The torques' partial derivatives at these angles, the rates `dtheta` and the
+    /// accelerations `ddtheta` (`n` values each), in closed form: `d tau_j / d theta_k` into
+    /// `angles[j][k]` [N m/rad] and `d tau_j / d theta'_k` into `rates[j][k]` [N m s/rad]
+    /// (`j, k` in `0..n`), the base's `phi'` and `phi''` following from the zero momentum.
+    ///
+    /// With the absolute link angles `alpha_i` (`alpha_i` grows with `theta_k` for `i >= k`),
+    /// `d (K X)_ij / d theta_k = N_ij ([k <= j] - [k <= i])` and `dM/dtheta_k` from
+    /// [`LumpedTerms::inertia_derivative`]; `c` is `S^T` of `-sum_j K_ij X_ij w_j^2`, `w = S q'`,
+    /// so its derivatives follow from those of `K X` and of `w_j^2`; `phi' = -(G . theta') / F`
+    /// and `phi'' = -(G . theta'' + c_0) / F` by the quotient rule.
+    // The indices are the formulas': rows `i`, columns `j`, the joint `k` differentiated.
+    #[allow(clippy::needless_range_loop)]
+    pub fn sensitivities(&self, dtheta: &[f64], ddtheta: &[f64], angles: &mut Square, rates: &mut Square) {
+        let n1 = self.terms.size();
+        let n = n1 - 1;
+        let (m, kx, nn) = (&self.m, &self.terms.kx, &self.terms.n);
+        let f = m[0][0];
+        let (mut tau, mut dq, mut ddq) = ([0.0; SIZE], [0.0; SIZE], [0.0; SIZE]);
+        inverse_with(&self.terms, m, dtheta, ddtheta, &mut tau[..n], &mut dq[..n1], &mut ddq[..n1]);
+        // `w = S q'` (prefix sums of the velocity) and its squares.
+        let (mut w, mut w2) = ([0.0; SIZE], [0.0; SIZE]);
+        let mut acc = 0.0;
+        for j in 0..n1 {
+            acc += dq[j];
+            w[j] = acc;
+            w2[j] = acc * acc;
+        }
+        // `dc_i = -sum_{i' >= i} de_i'` from the rows' derivatives `de`.
+        let suffix = |de: &[f64; SIZE], dc: &mut [f64; SIZE]| {
+            let mut acc = 0.0;
+            for i in (0..n1).rev() {
+                acc -= de[i];
+                dc[i] = acc;
+            }
+        };
+        let (mut de, mut dc) = ([0.0; SIZE], [0.0; SIZE]);
+        for k in 1..=n {
+            // In theta'_k: `d phi' = -G_k / F`, `d w_j = d phi' + [j >= k]`.
+            let d0 = -m[0][k] / f;
+            for i in 0..n1 {
+                de[i] = (0..n1).map(|j| kx[i][j] * 2.0 * w[j] * (d0 + if j >= k { 1.0 } else { 0.0 })).sum();
+            }
+            suffix(&de, &mut dc);
+            let dddq0 = -dc[0] / f;
+            for i in 1..=n {
+                rates[i - 1][k - 1] = m[i][0] * dddq0 + dc[i];
+            }
+        }
+        let mut dm = [[0.0; SIZE]; SIZE];
+        for k in 1..=n {
+            // In theta_k: `M` through `dM/dtheta_k`, `K X` as above, `phi'` by the quotient rule.
+            self.terms.inertia_derivative(k, &mut dm);
+            let dgw: f64 = (1..=n).map(|j| dm[0][j] * dq[j]).sum();
+            let d0 = -(dgw + dq[0] * dm[0][0]) / f;
+            for i in 0..n1 {
+                de[i] = (0..n1)
+                    .map(|j| {
+                        let s = f64::from(u8::from(k <= j)) - f64::from(u8::from(k <= i));
+                        nn[i][j] * s * w2[j] + kx[i][j] * 2.0 * w[j] * d0
+                    })
+                    .sum();
+            }
+            suffix(&de, &mut dc);
+            let dga: f64 = (1..=n).map(|j| dm[0][j] * ddq[j]).sum();
+            let dddq0 = -(dga + dc[0] + ddq[0] * dm[0][0]) / f;
+            for i in 1..=n {
+                angles[i - 1][k - 1] = (0..n1).map(|j| dm[i][j] * ddq[j]).sum::<f64>() + m[i][0] * dddq0 + dc[i];
+            }
+        }
+    }
+}
+
+/// The inverse dynamics at zero angular momentum from the angles' `terms` and inertia matrix
+/// `m` ([`ArmDynamics::inverse_into`]).
+fn inverse_with<const C: usize>(
+    terms: &LumpedTerms<C>,
+    m: &[[f64; C]; C],
+    dtheta: &[f64],
+    ddtheta: &[f64],
+    tau: &mut [f64],
+    dq: &mut [f64],
+    ddq: &mut [f64],
+) -> f64 {
+    let n = terms.size() - 1;
+    assert!(dtheta.len() == n && ddtheta.len() == n, "dtheta and ddtheta have n = {n} values");
+    dq[0] = -(1..=n).map(|j| m[0][j] * dtheta[j - 1]).sum::<f64>() / m[0][0];
+    dq[1..=n].copy_from_slice(dtheta);
+    let mut c = [0.0; C];
+    terms.coriolis(dq, &mut c);
+    ddq[0] = -((1..=n).map(|j| m[0][j] * ddtheta[j - 1]).sum::<f64>() + c[0]) / m[0][0];
+    ddq[1..=n].copy_from_slice(ddtheta);
+    let force = |i: usize| (0..=n).map(|j| m[i][j] * ddq[j]).sum::<f64>() + c[i];
+    for (i, t) in tau.iter_mut().enumerate().take(n) {
+        *t = force(i + 1);
+    }
+    force(0)
 }

@@ -24,7 +24,7 @@ use crate::model::arm::lumped::{ArmLumped, SIZE};
 
 mod fast;
 
-pub use fast::{ArmDynamics, ModelTerms};
+pub use fast::{ArmDynamics, InverseAt, ModelTerms};
 
 /// The inertia matrix is not positive definite at `theta`: impossible for a validated [`Arm`]
 /// at finite angles, so it means non-finite input.

@@ -265,3 +265,42 @@ fn fast_path_equals_the_generic_one_for_n_1_to_8() {
         }
     }
 }
+
+/// The torques' closed-form sensitivities ([`InverseAt::sensitivities`]) against central
+/// differences of the inverse dynamics in the angles and the rates, for n = 1..8 (the torque is
+/// quadratic in the rates, so there the differences are exact up to rounding).
+#[test]
+fn torque_sensitivities_equal_central_differences() {
+    let mut rng = Rng::new(20);
+    for n in 1..=8 {
+        for _ in 0..6 {
+            let arm = random_arm(n, &mut rng);
+            let fast = ArmDynamics::new(&arm);
+            let theta = rng.vec(n, -7.0, 7.0);
+            let dtheta = rng.vec(n, -3.0, 3.0);
+            let ddtheta = rng.vec(n, -3.0, 3.0);
+            let (mut angles, mut rates) = ([[0.0; SIZE]; SIZE], [[0.0; SIZE]; SIZE]);
+            fast.at_angles(&theta).sensitivities(&dtheta, &ddtheta, &mut angles, &mut rates);
+            let tau = |th: &[f64], w: &[f64]| fast.inverse(th, w, &ddtheta).tau;
+            let scale = tau(&theta, &dtheta).amax().max(1.0);
+            for k in 0..n {
+                for (which, exact) in [(0, &angles), (1, &rates)] {
+                    let h = 1e-5;
+                    let (mut up, mut down) = ([theta.clone(), dtheta.clone()], [theta.clone(), dtheta.clone()]);
+                    up[which][k] += h;
+                    down[which][k] -= h;
+                    let diff = (tau(&up[0], &up[1]) - tau(&down[0], &down[1])) / (2.0 * h);
+                    for j in 0..n {
+                        assert!(
+                            (exact[j][k] - diff[j]).abs() <= 1e-6 * scale,
+                            "n = {n}, d tau_{j} / d {}_{k}: {} vs {}",
+                            ["theta", "theta'"][which],
+                            exact[j][k],
+                            diff[j]
+                        );
+                    }
+                }
+            }
+        }
+    }
+}

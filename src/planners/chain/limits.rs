@@ -213,11 +213,8 @@ impl<'a> Limited<'a> {
         // The arm's constants once for every point (as `inverse_dynamics` builds them per call).
         let dynamics = ArmDynamics::new(self.arm);
         // Work arrays of the inverse dynamics (no allocation per call).
-        let (mut tau, mut up, mut down) = ([0.0; SIZE], [0.0; SIZE], [0.0; SIZE]);
+        let mut tau = [0.0; SIZE];
         let mut spare = ([0.0; SIZE], [0.0; SIZE]);
-        let mut inverse = |th: &[f64], w: &[f64], a: &[f64], out: &mut [f64; SIZE]| {
-            dynamics.inverse_into(th, w, a, &mut out[..n], &mut spare.0[..=n], &mut spare.1[..=n]);
-        };
         // Sensitivities d tau_j / d (theta_k, theta'_k, theta''_k): `sens[which][j][k]`.
         let mut sens = [[[0.0; SIZE]; SIZE]; 3];
         let mut row = Vec::new();
@@ -231,33 +228,20 @@ impl<'a> Limited<'a> {
                 w[j] = (0..=p).map(|l| d[1][l] * cj[l]).sum();
                 a[j] = (0..=p).map(|l| d[2][l] * cj[l]).sum();
             }
-            inverse(&th, &w, &a, &mut tau);
+            // The angles' terms once for the torque, its differences in theta' and its
+            // derivative in theta'' (the same values as the inverse dynamics at `th`).
+            let at = dynamics.at_angles(&th);
+            at.inverse_into(&w, &a, &mut tau[..n], &mut spare.0[..=n], &mut spare.1[..=n]);
             if order >= 1 {
-                // In theta and theta' by central differences (exact up to rounding in theta',
-                // in which the torque is quadratic); in theta'' exactly, the reduced inertia
-                // `M_jk - M_j0 M_0k / M_00` (the torque is affine in it, the base's `phi''`
-                // eliminated by the momentum row).
-                for k in 0..n {
-                    for which in 0..2 {
-                        let x = if which == 0 { &mut th } else { &mut w };
-                        let (x0, h) = (x[k], 1e-6 * (1.0 + x[k].abs()));
-                        x[k] = x0 + h;
-                        inverse(&th, &w, &a, &mut up);
-                        let x = if which == 0 { &mut th } else { &mut w };
-                        x[k] = x0 - h;
-                        inverse(&th, &w, &a, &mut down);
-                        let x = if which == 0 { &mut th } else { &mut w };
-                        x[k] = x0;
-                        for jj in 0..n {
-                            sens[which][jj][k] = (up[jj] - down[jj]) / (2.0 * h);
-                        }
-                    }
-                }
-                let m = dynamics.model_terms(&th, &[0.0; SIZE][..=n]);
+                // In theta and theta' in closed form ([`InverseAt::sensitivities`]); in theta''
+                // the reduced inertia `M_jk - M_j0 M_0k / M_00` (the torque is affine in it, the
+                // base's `phi''` eliminated by the momentum row).
+                let [angles, rates, accelerations] = &mut sens;
+                at.sensitivities(&w, &a, angles, rates);
                 for jj in 0..n {
                     for k in 0..n {
-                        sens[2][jj][k] =
-                            m.inertia(jj + 1, k + 1) - m.inertia(jj + 1, 0) * m.inertia(0, k + 1) / m.inertia(0, 0);
+                        accelerations[jj][k] =
+                            at.inertia(jj + 1, k + 1) - at.inertia(jj + 1, 0) * at.inertia(0, k + 1) / at.inertia(0, 0);
                     }
                 }
             }
