@@ -1,6 +1,7 @@
 //! Runs the limits bench's cases repeatedly (for profiling with perf): `profile_limits CASE N`
 //! with CASE one of `3v`, `3vt`, `2v`, `4s`, `auto` (the cases of `benches/limits.rs`), or `4t`
-//! (SPART's example with tight limits at a horizon `HORIZON`). `USES=1` prints the uses of the
+//! (SPART's example with tight limits at a horizon `HORIZON`), or `random COUNT` (problems the
+//! benches do not tune on, see [`random`]). `USES=1` prints the uses of the
 //! torque and base limits; `GRADING=k` sets the end grading.
 use freefloat::model::arm::{Arm, JointLimits, Limits};
 use freefloat::planners::chain::horizon::uses;
@@ -12,8 +13,10 @@ fn deg(v: &[f64]) -> Vec<f64> {
     v.iter().map(|x| x.to_radians()).collect()
 }
 
-fn binding(arm: &Arm, problem: &ChainProblem, fraction: f64, torque: bool) -> Arm {
-    let free = ChainPlanner::new(arm.clone(), ChainOptions::default()).plan(problem).expect("the free plan");
+/// The arm with velocity (and with `torque`, torque) limits at `fraction` of its free plan's
+/// peaks; `None` without a free plan.
+fn binding(arm: &Arm, problem: &ChainProblem, fraction: f64, torque: bool) -> Option<Arm> {
+    let free = ChainPlanner::new(arm.clone(), ChainOptions::default()).plan(problem).ok()?;
     let n = arm.joints();
     let mut peak = vec![[0.0_f64; 2]; n];
     for p in free.sample(2001) {
@@ -33,7 +36,39 @@ fn binding(arm: &Arm, problem: &ChainProblem, fraction: f64, torque: bool) -> Ar
     let limited = arm.clone().with_limits(Limits { joints, base: None }).expect("valid limits");
     let (most, _) = uses(&ChainPlanner::new(limited.clone(), ChainOptions::default()), &free);
     assert!(most.expect("limits").used > 1.0, "the free plan breaks a limit");
-    limited
+    Some(limited)
+}
+
+/// `random COUNT`: problems the benches do not tune on, for before/after comparisons: `COUNT`
+/// random 3-link rest-to-rest problems with velocity limits at 0.8 of the free plan's peak rates
+/// (then with torque limits too), each effort printed to 16 digits with its certificate's
+/// verdict and the SQP iterations.
+fn random(three: &Arm, count: usize) {
+    // A linear congruential generator (Knuth's MMIX constants): the same problems every run.
+    let mut state: u64 = 20;
+    let mut uniform = move |lo: f64, hi: f64| {
+        state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        lo + (hi - lo) * ((state >> 11) as f64 / (1u64 << 53) as f64)
+    };
+    for k in 0..count {
+        let start: Vec<f64> = (0..4).map(|_| uniform(-60.0, 60.0).to_radians()).collect();
+        let goal: Vec<f64> = (0..4).map(|_| uniform(-60.0, 60.0).to_radians()).collect();
+        let problem = ChainProblem { wrap: false, ..ChainProblem::rest_to_rest(start, goal, uniform(6.0, 14.0)) };
+        for torque in [false, true] {
+            let label = format!("random {k} {}", if torque { "vt" } else { "v" });
+            let Some(arm) = binding(three, &problem, 0.8, torque) else {
+                println!("{label}: no free plan");
+                continue;
+            };
+            match ChainPlanner::new(arm, ChainOptions::default()).plan(&problem) {
+                Ok(p) => println!(
+                    "{label}: effort {:.16e} certified {} iterations {}",
+                    p.stats.effort, p.verification.certified, p.stats.iterations
+                ),
+                Err(e) => println!("{label}: error {e}"),
+            }
+        }
+    }
 }
 
 fn example(name: &str) -> Arm {
@@ -100,18 +135,21 @@ fn main() {
     let case = args.get(1).map(String::as_str).unwrap_or("3v");
     let n: usize = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(20);
     let three = example("three_link.toml").with_limits(Limits::default()).expect("no limits");
+    if case == "random" {
+        return random(&three, args.get(2).and_then(|s| s.parse().ok()).unwrap_or(10));
+    }
     let problem = ChainProblem {
         wrap: false,
         ..ChainProblem::rest_to_rest(deg(&[0.0, 60.0, -30.0, -30.0]), deg(&[30.0, 120.0, 40.0, -60.0]), 10.0)
     };
     let (arm, problem) = match case {
-        "3v" | "auto" => (binding(&three, &problem, 0.8, false), problem),
-        "3vt" => (binding(&three, &problem, 0.8, true), problem),
+        "3v" | "auto" => (binding(&three, &problem, 0.8, false).expect("the free plan"), problem),
+        "3vt" => (binding(&three, &problem, 0.8, true).expect("the free plan"), problem),
         "2v" => {
             let src = Arm::from_params(&freefloat::RobotParams::src());
             let (q0, qd, horizon) = freefloat::model::paper_problem();
             let paper = ChainProblem::rest_to_rest(q0.to_array().to_vec(), qd.to_array().to_vec(), horizon);
-            (binding(&src, &paper, 0.8, false), paper)
+            (binding(&src, &paper, 0.8, false).expect("the free plan"), paper)
         }
         "4t" => {
             // SPART's example with tight limits (+-2 rad, 0.3 rad/s, 50 N m), the horizon
