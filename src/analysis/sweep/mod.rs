@@ -15,6 +15,7 @@
 //! every mounting point (drawn from a counter-based generator keyed by `(seed, k)`), so that
 //! differences between mounting points are not sampling noise between different pairs.
 
+mod effort;
 pub mod file;
 mod pairs;
 
@@ -31,10 +32,8 @@ use crate::analysis::domain::DomainMap;
 use crate::error::Error;
 use crate::model::arm::Arm;
 use crate::model::{Configuration, Mount, RobotParams, paper_problem};
-use crate::plan::{Method, PlanningProblem};
+use crate::plan::PlanningProblem;
 use crate::planners::Planner;
-use crate::planners::arm::{ArmRequest, plan_arm};
-use crate::planners::chain::ChainProblem;
 use crate::planners::nfa::normal_form::Transform;
 use crate::planners::nfa::{NfaOptions, NormalFormPlanner};
 
@@ -345,32 +344,10 @@ pub fn run_point(arm: &Arm, options: &SweepOptions, index: usize) -> Result<Swee
     if options.nfa {
         nfa_metrics(&nfa_robot(&arm)?, options, &mut row)?;
     }
-    // An end under the clearance at this mount: no motion can be certified, so not planned.
-    let g = &arm.geometry;
-    let ends_clear = [&options.start, &options.goal]
-        .iter()
-        .all(|q| g.min_clearance(&arm, q).is_none_or(|d| d.distance >= g.clearance));
-    if options.effort && !ends_clear {
-        row.planned = Some(false);
-    } else if options.effort {
-        let problem = effort_problem(options);
-        let request = ArmRequest { samples: 2, tolerance: options.tolerance, ..ArmRequest::new(problem) };
-        match plan_arm(&arm, Method::Optimal, &request) {
-            Ok(planned) if planned.certified().is_ok() => {
-                (row.planned, row.effort) = (Some(true), Some(planned.effort()))
-            }
-            // No certified plan at this mount (e.g. the horizon too short for a limit here).
-            Ok(_) | Err(Error::HolonomyFixed { .. }) => row.planned = Some(false),
-            Err(e) if !e.is_bad_input() => row.planned = Some(false),
-            Err(e) => return Err(e),
-        }
+    if options.effort {
+        (row.planned, row.effort) = effort::metric(&arm, options)?;
     }
     Ok(row)
-}
-
-/// The effort metric's problem: rest to rest from `start` to `goal` in `horizon`.
-fn effort_problem(options: &SweepOptions) -> ChainProblem {
-    ChainProblem::rest_to_rest(options.start.clone(), options.goal.clone(), options.horizon)
 }
 
 /// The paper's 2-link model of `arm`, for the NFA's metric; another arm is bad input naming the
@@ -446,7 +423,7 @@ pub fn run(
     }
     if options.effort {
         // Angles, ranges, horizon at once; the ends' clearance depends on the mount (`run_point`).
-        effort_problem(options).validate(&Arm { geometry: Default::default(), ..arm.clone() })?;
+        effort::problem(options).validate(&Arm { geometry: Default::default(), ..arm.clone() })?;
     }
     let indices: Vec<usize> = shard.indices(options.points()).collect();
     let work = || {

@@ -2,6 +2,9 @@
 //! rate's column, common random numbers, spans.
 
 use super::*;
+use crate::plan::Method;
+use crate::planners::arm::{ArmRequest, plan_arm};
+use crate::planners::chain::ChainProblem;
 
 fn small() -> SweepOptions {
     SweepOptions {
