@@ -115,6 +115,9 @@ impl ChainPlanner {
         // the least feasible cost seen (branch and bound) or, once a plan is refined, whose
         // estimate is far above it; every converged refinement is kept.
         let mut best = f64::INFINITY;
+        // The least cost of a converged feasible coarse solve: its refinement starts there (on a
+        // basis holding the coarse one), so a coarse cost 20 % above it is no finalist either.
+        let mut converged_best = f64::INFINITY;
         let mut done: Vec<Candidate> = Vec::new();
         let mut set_aside: Vec<Candidate> = Vec::new();
         while !queue.is_empty() {
@@ -148,7 +151,7 @@ impl ChainPlanner {
                 }
                 // A coarse cost 20 % above the best refined one is no finalist (below): a solve that
                 // cannot end under it is given up (`super::hopeless`).
-                let ceiling = 1.2 * refined_best;
+                let ceiling = 1.2 * refined_best.min(converged_best);
                 let solved: Vec<_> = group.par_iter().map(|p| self.solve_seeds(problem, p, ceiling, tables)).collect();
                 for (p, solved) in group.iter().zip(solved) {
                     if p.bound > best {
@@ -166,6 +169,9 @@ impl ChainPlanner {
                         // a line of 0.46).
                         if (!extra || c.spans == o.max_spans) && c.feasible() {
                             best = best.min(c.result.f);
+                        }
+                        if c.feasible() && c.result.converged() {
+                            converged_best = converged_best.min(c.result.f);
                         }
                         stood_for.extend(c.stands_for);
                         if extra { extras.push(c) } else { coarse.push(c) }
