@@ -86,8 +86,11 @@ impl Model<'_> {
     /// term and the dense rows' on their own variables is so only where `w` is: where it is not
     /// (convex only with those terms, `convexify`'s `rho`), the interior point's factorisation
     /// meets negative pivots and fails (Clarabel's `NumericalError` or `InsufficientProgress`).
-    /// A QP that fails so is solved again with the model whole in `P`'s `d` block (dense, the
-    /// same QP), for the rest of the iterate's QPs. Each failure had cost a quarter of the trust
+    /// A QP with dense rows' terms (active base-range rows) that fails so is solved again with
+    /// the model whole in `P`'s `d` block (dense, the same QP), for the rest of the iterate's
+    /// QPs. Not without them: on issue 20's twenty problems, cases 5 and 6 (velocity limits, the
+    /// equality's term only) then failed, where a quarter of the radius after the failure had
+    /// led to their plans. Each failure had cost a quarter of the trust
     /// region: on the tests' 3-link arm inside a base range (issue 20) Clarabel failed 276 times
     /// in the plan, the refined solves crept at radii of 1e-3 .. 1e-5 and stalled, and the plan
     /// kept was the 8-span one, of effort 9.3217 against the oracle's 8.1154; with the model
@@ -108,8 +111,9 @@ impl Model<'_> {
                     boxed.iter_mut().for_each(|b| *b = true);
                     continue;
                 }
-                // Failed where the band alone is indefinite: with the model whole.
-                None if !self.full.get() && self.rho > 0.0 && BandCholesky::new(&self.w, self.hb).is_none() => {
+                // Failed with dense rows' terms where the band alone is indefinite: with the
+                // model whole.
+                None if !self.full.get() && !self.dense.is_empty() && BandCholesky::new(&self.w, self.hb).is_none() => {
                     self.full.set(true);
                     continue;
                 }
