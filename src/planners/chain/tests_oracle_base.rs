@@ -20,14 +20,14 @@ fn a_binding_base_range_matches_an_independent_oracle() {
     assert!(effort.is_finite());
 }
 
-/// The same on the tests' 3-link arm: known to fail (issue 20). With the base rows' curvature
-/// and their convex terms in the SQP's model the planner returns a certified plan (it stopped at
-/// its iteration limit before, 240 SQP iterations at a KKT residual of 6.9e-5 and an effort of
-/// 10.033): of effort 8.349 with the base range's margins of stop 51 (2.9 % above the oracle's
-/// 8.115), 9.3217 with `limits::hold`'s per-span margins (14.9 %): its solves on this arm still
-/// creep in a trust region of 1e-3 .. 1e-5, and the search keeps another minimum.
+/// The same on the tests' 3-link arm. It failed (issue 20): of effort 9.3217 (14.9 % above the
+/// oracle's 8.1154), certified on 8 spans, because its solves on 16 and 32 spans crept in a
+/// trust region of 1e-3 .. 1e-5 and stalled: the QP's `P`, the band of the Lagrangian's Hessian
+/// with the base rows' curvature, was indefinite (convex only with the equality's and the base
+/// rows' terms on their own variables), and Clarabel failed on it 276 times in the plan, each
+/// failure a quarter of the trust region. With the model whole in `P` there (the `subproblem`
+/// module's `Model::solve`) the refined solves converge on 32 spans.
 #[test]
-#[ignore = "known failure, issue 20: a minimum 14.9 % above the oracle's on this arm"]
 fn a_binding_base_range_on_the_tests_arm_matches_the_oracle() {
     base_range_against_the_oracle(three_link()).expect("a plan");
 }

@@ -37,7 +37,7 @@
 //! Methods Softw. 23 (2008) 197–213, doi:10.1080/10556780701394169; P. J. Goulart, Y. Chen, *Clarabel: An
 //! interior-point solver for conic programs with quadratic objectives*, arXiv:2405.12762 (2024).
 
-use std::cell::RefCell;
+use std::cell::{Cell, RefCell};
 
 use nalgebra::{DMatrix, DVector};
 
@@ -269,8 +269,18 @@ pub(super) fn solve<P: Discretised>(
             hessian += curvature;
         }
         let (w, rho, dense) = convexify(hessian, &e.grad_c, &active, &g.rows, problem.curved_rows(), m.s, hb);
-        let model =
-            Model { w, rho, dense, hb, e: &e, rows: &g.rows, working: &working, boxed: &boxed, solver: &solver };
+        let model = Model {
+            w,
+            rho,
+            dense,
+            full: Cell::new(false),
+            hb,
+            e: &e,
+            rows: &g.rows,
+            working: &working,
+            boxed: &boxed,
+            solver: &solver,
+        };
         let left = |d: &DVector<f64>| model.infeasibility(e.c, &g.values, d);
         let Some(mut step) = model.solve(e.c, &g.values, mu, radius) else {
             radius *= 0.25;

@@ -3,7 +3,7 @@
 //! screening of the inequality rows far from their limit and of the trust region's box (an
 //! active-set loop around the QP that keeps its minimiser exact).
 
-use std::cell::RefCell;
+use std::cell::{Cell, RefCell};
 
 use clarabel::algebra::CscMatrix;
 use clarabel::solver::{
@@ -11,7 +11,7 @@ use clarabel::solver::{
 };
 use nalgebra::{DMatrix, DVector};
 
-use crate::planners::optimal::band::matvec;
+use crate::planners::optimal::band::{BandCholesky, matvec};
 use crate::planners::optimal::discrete::Evaluation;
 
 /// The solution of one QP subproblem.
@@ -31,6 +31,9 @@ pub(super) struct Model<'a> {
     /// Active rows outside the band with their weights `rho_i`: the model's terms
     /// `rho_i (b_i^T d)^2 / 2` (each an extra variable `v_i = b_i^T d`, as the equality's).
     pub(super) dense: Vec<(usize, f64)>,
+    /// Whether the QP's `P` takes the model whole, every term in its `d` block (see
+    /// [`Model::solve`]); at first the band `w` and the terms on their own variables.
+    pub(super) full: Cell<bool>,
     pub(super) hb: usize,
     pub(super) e: &'a Evaluation,
     pub(super) rows: &'a [Vec<(usize, f64)>],
@@ -78,6 +81,20 @@ impl Model<'_> {
     /// to the same plans (efforts equal to 10 digits on the four plan benches). A QP that fails
     /// without the whole box (unbounded in a direction the model does not curve) is solved with
     /// it.
+    ///
+    /// `P` must be positive semi-definite for Clarabel, and the band `w` with the equality's
+    /// term and the dense rows' on their own variables is so only where `w` is: where it is not
+    /// (convex only with those terms, `convexify`'s `rho`), the interior point's factorisation
+    /// meets negative pivots and fails (Clarabel's `NumericalError` or `InsufficientProgress`).
+    /// A QP with dense rows' terms (active base-range rows) that fails so is solved again with
+    /// the model whole in `P`'s `d` block (dense, the same QP), for the rest of the iterate's
+    /// QPs. Not without them: on issue 20's twenty problems, cases 5 and 6 (velocity limits, the
+    /// equality's term only) then failed, where a quarter of the radius after the failure had
+    /// led to their plans. Each failure had cost a quarter of the trust
+    /// region: on the tests' 3-link arm inside a base range (issue 20) Clarabel failed 276 times
+    /// in the plan, the refined solves crept at radii of 1e-3 .. 1e-5 and stalled, and the plan
+    /// kept was the 8-span one, of effort 9.3217 against the oracle's 8.1154; with the model
+    /// whole none fails and the plan is the 32-span one, of effort 8.1459.
     pub(super) fn solve(&self, c: f64, values: &[f64], mu: f64, radius: f64) -> Option<Step> {
         let reach = |i: usize| self.rows[i].iter().map(|(_, a)| a.abs()).sum::<f64>() * radius;
         let reachable: Vec<bool> = (0..values.len()).map(|i| values[i] + reach(i) >= 0.0).collect();
@@ -92,6 +109,12 @@ impl Model<'_> {
                 // Unbounded or failed without the whole box: with it.
                 None if boxed.iter().any(|b| !b) => {
                     boxed.iter_mut().for_each(|b| *b = true);
+                    continue;
+                }
+                // Failed with dense rows' terms where the band alone is indefinite: with the
+                // model whole.
+                None if !self.full.get() && !self.dense.is_empty() && BandCholesky::new(&self.w, self.hb).is_none() => {
+                    self.full.set(true);
                     continue;
                 }
                 None => return None,
@@ -130,7 +153,7 @@ impl Model<'_> {
         active: &[usize],
         boxed: &[bool],
     ) -> Option<Step> {
-        let (e, hb) = (self.e, self.hb);
+        let e = self.e;
         let dim = e.grad_f.len();
         let m = active.len();
         // Variables: d (dim), s+ and s- of the equality, w = grad c^T d, t_k of each active row,
@@ -140,22 +163,9 @@ impl Model<'_> {
         let (sp, sm, wv) = (dim, dim + 1, dim + 2);
         let vv = dim + 3 + m;
         // P: W's upper band in the d block, rho on w (all divided by mu: the slacks' weight is 1,
-        // the same minimiser, and Clarabel's relative tolerances stay meaningful).
-        let mut cols: Vec<Vec<(usize, f64)>> = vec![Vec::new(); nv];
-        for (j, col) in cols.iter_mut().enumerate().take(dim) {
-            for i in j.saturating_sub(hb)..=j {
-                let v = self.w[(i, j)] / mu;
-                if v != 0.0 {
-                    col.push((i, v));
-                }
-            }
-        }
-        if self.rho > 0.0 {
-            cols[wv].push((wv, self.rho / mu));
-        }
-        for (r, &(_, weight)) in self.dense.iter().enumerate() {
-            cols[vv + r].push((vv + r, weight / mu));
-        }
+        // the same minimiser, and Clarabel's relative tolerances stay meaningful); or the model
+        // whole in the d block ([`Model::solve`]).
+        let cols = if self.full.get() { self.whole_columns(mu, nv) } else { self.band_columns(mu, nv, wv, vv) };
         let p = csc(nv, nv, &cols);
         let mut q = vec![0.0; nv];
         for (qk, gk) in q.iter_mut().zip(e.grad_f.iter()) {
@@ -276,6 +286,69 @@ impl Model<'_> {
         }
         // The equality's multiplier: its row's and w's (whose row carries rho grad c^T d).
         Some(Step { d, lambda: mu * (sol.z[0] + sol.z[1]), z })
+    }
+
+    /// `P`'s upper columns (see [`Model::solve_rows`]): `W`'s band in the `d` block, `rho` on
+    /// `w` and each dense term's weight on its `v_i`, all divided by `mu`.
+    fn band_columns(&self, mu: f64, nv: usize, wv: usize, vv: usize) -> Vec<Vec<(usize, f64)>> {
+        let (dim, hb) = (self.w.nrows(), self.hb);
+        let mut cols: Vec<Vec<(usize, f64)>> = vec![Vec::new(); nv];
+        for (j, col) in cols.iter_mut().enumerate().take(dim) {
+            for i in j.saturating_sub(hb)..=j {
+                let v = self.w[(i, j)] / mu;
+                if v != 0.0 {
+                    col.push((i, v));
+                }
+            }
+        }
+        if self.rho > 0.0 {
+            cols[wv].push((wv, self.rho / mu));
+        }
+        for (r, &(_, weight)) in self.dense.iter().enumerate() {
+            cols[vv + r].push((vv + r, weight / mu));
+        }
+        cols
+    }
+
+    /// `P`'s upper columns with the model whole ([`Model::whole`], divided by `mu`) in the `d`
+    /// block and nothing on `w` and the `v_i`: positive semi-definite where the band alone is not
+    /// (Clarabel's interior point needs it; with the band alone its factorisation met negative
+    /// pivots and it failed, see [`Model::solve`]).
+    #[cold]
+    #[inline(never)]
+    fn whole_columns(&self, mu: f64, nv: usize) -> Vec<Vec<(usize, f64)>> {
+        let whole = self.whole();
+        let mut cols: Vec<Vec<(usize, f64)>> = vec![Vec::new(); nv];
+        for (j, col) in cols.iter_mut().enumerate().take(whole.nrows()) {
+            for i in 0..=j {
+                let v = whole[(i, j)] / mu;
+                if v != 0.0 {
+                    col.push((i, v));
+                }
+            }
+        }
+        cols
+    }
+
+    /// The model's whole Hessian `W + rho grad c grad c^T + sum_i rho_i b_i b_i^T` (dense).
+    fn whole(&self) -> DMatrix<f64> {
+        let dim = self.w.nrows();
+        let mut whole = DMatrix::zeros(dim, dim);
+        for j in 0..dim {
+            for i in j.saturating_sub(self.hb)..(j + self.hb + 1).min(dim) {
+                whole[(i, j)] = self.w[(i, j)];
+            }
+        }
+        let a = &self.e.grad_c;
+        whole.ger(self.rho, a, a, 1.0);
+        for &(i, weight) in &self.dense {
+            let mut b = DVector::zeros(dim);
+            for &(k, v) in &self.rows[i] {
+                b[k] += v;
+            }
+            whole.ger(weight, &b, &b, 1.0);
+        }
+        whole
     }
 
     /// The linearised infeasibility `|c + grad c^T d| + sum max(0, g_i + grad g_i^T d)`.
