@@ -102,8 +102,15 @@ impl Shape {
     /// The shape's points moved by the rigid motion `(x, y, angle)` (rotation first), in any
     /// [`Scalar`] so that a placement by dual numbers carries its derivatives.
     pub fn placed<D: Scalar>(&self, pose: &Pose<D>) -> Vec<[D; 2]> {
-        let (s, c) = pose.angle.sin_cos();
-        self.points.iter().map(|p| [pose.x + c * p[0] - s * p[1], pose.y + s * p[0] + c * p[1]]).collect()
+        let mut out = Vec::with_capacity(self.points.len());
+        self.placed_into(pose, pose.angle.sin_cos(), &mut out);
+        out
+    }
+
+    /// [`Shape::placed`] appended to `out`, with the pose's angle's sine and cosine `(s, c)`
+    /// given (one body's shapes share them): the same points, bit for bit.
+    pub fn placed_into<D: Scalar>(&self, pose: &Pose<D>, (s, c): (D, D), out: &mut Vec<[D; 2]>) {
+        out.extend(self.points.iter().map(|p| [pose.x + c * p[0] - s * p[1], pose.y + s * p[0] + c * p[1]]));
     }
 }
 
