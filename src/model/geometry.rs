@@ -13,6 +13,8 @@
 //! the distance carries its exact derivatives (one-sided where the nearest feature changes, as any
 //! distance does).
 
+mod small;
+
 use serde::{Deserialize, Serialize};
 
 use super::InputError;
@@ -177,6 +179,9 @@ pub fn signed_distance<D: Scalar>(a: &[[D; 2]], ra: f64, b: &[[D; 2]], rb: f64) 
     // Two discs (a point each): the hull of their difference is that one point.
     if let ([p], [q]) = (a, b) {
         return origin_signed_distance(&[[p[0] - q[0], p[1] - q[1]]]) - D::from(ra + rb);
+    }
+    if a.len() * b.len() <= small::SMALL {
+        return small::signed_distance(a, b) - D::from(ra + rb);
     }
     let mut diff = Vec::with_capacity(a.len() * b.len());
     for p in a {
