@@ -13,6 +13,8 @@
 //! the distance carries its exact derivatives (one-sided where the nearest feature changes, as any
 //! distance does).
 
+mod small;
+
 use serde::{Deserialize, Serialize};
 
 use super::InputError;
@@ -102,8 +104,15 @@ impl Shape {
     /// The shape's points moved by the rigid motion `(x, y, angle)` (rotation first), in any
     /// [`Scalar`] so that a placement by dual numbers carries its derivatives.
     pub fn placed<D: Scalar>(&self, pose: &Pose<D>) -> Vec<[D; 2]> {
-        let (s, c) = pose.angle.sin_cos();
-        self.points.iter().map(|p| [pose.x + c * p[0] - s * p[1], pose.y + s * p[0] + c * p[1]]).collect()
+        let mut out = Vec::with_capacity(self.points.len());
+        self.placed_into(pose, pose.angle.sin_cos(), &mut out);
+        out
+    }
+
+    /// [`Shape::placed`] appended to `out`, with the pose's angle's sine and cosine `(s, c)`
+    /// given (one body's shapes share them): the same points, bit for bit.
+    pub fn placed_into<D: Scalar>(&self, pose: &Pose<D>, (s, c): (D, D), out: &mut Vec<[D; 2]>) {
+        out.extend(self.points.iter().map(|p| [pose.x + c * p[0] - s * p[1], pose.y + s * p[0] + c * p[1]]));
     }
 }
 
@@ -170,6 +179,9 @@ pub fn signed_distance<D: Scalar>(a: &[[D; 2]], ra: f64, b: &[[D; 2]], rb: f64) 
     // Two discs (a point each): the hull of their difference is that one point.
     if let ([p], [q]) = (a, b) {
         return origin_signed_distance(&[[p[0] - q[0], p[1] - q[1]]]) - D::from(ra + rb);
+    }
+    if a.len() * b.len() <= small::SMALL {
+        return small::signed_distance(a, b) - D::from(ra + rb);
     }
     let mut diff = Vec::with_capacity(a.len() * b.len());
     for p in a {

@@ -269,30 +269,41 @@ impl Geometry {
         let zero = D::from(0.0);
         let inertial = Pose { x: zero, y: zero, angle: zero };
         let n = arm.joints();
-        // Every body's shapes placed once (base, links 1..n, obstacles).
+        // Every body's shapes placed once (base, links 1..n, obstacles), into one buffer: shape
+        // `k` of the placed ones is `points[ranges[k].0..ranges[k].1]`, body `i`'s first shape is
+        // `first[i]`; the pose's sine and cosine once per body (the same points, bit for bit, as
+        // [`Shape::placed`] of each shape).
         let bodies = std::iter::once(Body::Base)
             .chain((1..=n).map(Body::Link))
             .chain((1..=self.obstacles.len()).map(Body::Obstacle));
-        let placed: Vec<Vec<Vec<[D; 2]>>> = bodies
-            .map(|body| {
-                let pose = match body {
-                    Body::Base => poses[0],
-                    Body::Link(k) => poses[k],
-                    Body::Obstacle(_) => inertial,
-                };
-                self.shapes(body).iter().map(|s| s.placed(&pose)).collect()
-            })
-            .collect();
-        // Their real parts, once a pair of bodies with more than one shape asks.
-        let real: std::cell::OnceCell<Vec<Vec<Vec<[f64; 2]>>>> = std::cell::OnceCell::new();
-        let real = || {
-            real.get_or_init(|| {
-                placed
-                    .iter()
-                    .map(|b| b.iter().map(|s| s.iter().map(|p| [p[0].re(), p[1].re()]).collect()).collect())
-                    .collect()
-            })
+        let mut points: Vec<[D; 2]> = Vec::new();
+        let mut ranges: Vec<(usize, usize)> = Vec::new();
+        let mut first: Vec<usize> = Vec::with_capacity(n + 2 + self.obstacles.len());
+        for body in bodies {
+            first.push(ranges.len());
+            let shapes = self.shapes(body);
+            if shapes.is_empty() {
+                continue;
+            }
+            let pose = match body {
+                Body::Base => poses[0],
+                Body::Link(k) => poses[k],
+                Body::Obstacle(_) => inertial,
+            };
+            let sin_cos = pose.angle.sin_cos();
+            for shape in shapes {
+                let from = points.len();
+                shape.placed_into(&pose, sin_cos, &mut points);
+                ranges.push((from, points.len()));
+            }
+        }
+        let placed = |body: usize, shape: usize| {
+            let (from, to) = ranges[first[body] + shape];
+            &points[from..to]
         };
+        // Their real parts, once a pair of bodies with more than one shape asks.
+        let real: std::cell::OnceCell<Vec<[f64; 2]>> = std::cell::OnceCell::new();
+        let real = || real.get_or_init(|| points.iter().map(|p| [p[0].re(), p[1].re()]).collect());
         let index = |body: Body| match body {
             Body::Base => 0,
             Body::Link(k) => k,
@@ -311,10 +322,14 @@ impl Geometry {
                     Some((0, 0))
                 } else {
                     let real = real();
+                    let re = |body: usize, shape: usize| {
+                        let (from, to) = ranges[first[body] + shape];
+                        &real[from..to]
+                    };
                     let mut best: Option<(usize, usize, f64)> = None;
-                    for (i, (shape_a, xa)) in sa.iter().zip(&real[ia]).enumerate() {
-                        for (j, (shape_b, xb)) in sb.iter().zip(&real[ib]).enumerate() {
-                            let d = signed_distance(xa, shape_a.radius, xb, shape_b.radius);
+                    for (i, shape_a) in sa.iter().enumerate() {
+                        for (j, shape_b) in sb.iter().enumerate() {
+                            let d = signed_distance(re(ia, i), shape_a.radius, re(ib, j), shape_b.radius);
                             if best.is_none_or(|(_, _, x)| d < x) {
                                 best = Some((i, j, d));
                             }
@@ -323,7 +338,7 @@ impl Geometry {
                     best.map(|(i, j, _)| (i, j))
                 };
                 let distance = match best {
-                    Some((i, j)) => signed_distance(&placed[ia][i], sa[i].radius, &placed[ib][j], sb[j].radius),
+                    Some((i, j)) => signed_distance(placed(ia, i), sa[i].radius, placed(ib, j), sb[j].radius),
                     None => D::from(f64::INFINITY),
                 };
                 PairClearance { a, b, distance }

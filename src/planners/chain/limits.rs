@@ -95,6 +95,9 @@ pub(crate) struct Limited<'a> {
     /// The margins of the torque and base-range rows by span, where a plan left those limits
     /// between the rows' points ([`hold`]; none at first).
     held: Option<std::sync::Arc<Margins>>,
+    /// The basis' values at [`Limited::phi_path_each`]'s quadrature nodes, by parts per span
+    /// (found at its first call).
+    nodes: std::cell::RefCell<Vec<(usize, std::rc::Rc<[phi_path::Values]>)>>,
 }
 
 /// The derivative spline's control-point rows: row `k` of the `m`-th derivative as
@@ -176,7 +179,7 @@ impl<'a> Limited<'a> {
             })
             .flatten();
         let held = planner.held.clone().filter(|m| m.fits(b.len() - 1));
-        Some(Self { disc, arm, connection, linear, torque, base, clearance, free, held })
+        Some(Self { disc, arm, connection, linear, torque, base, clearance, free, held, nodes: Default::default() })
     }
 
     /// `x` with every position-limited joint's free coefficients clipped into its range (a seed

@@ -128,22 +128,34 @@ fn convexify(
     // Each trial `(w + rho R) + rho A + rho D` formed in one buffer, element by element in the
     // order of the matrices' sums (the same values, without a temporary per term and trial; the
     // Cholesky factor is computed in place).
-    let mut trial = DMatrix::zeros(dim, dim);
-    for k in 0..=8 {
+    let positive_definite = |k: i32| {
         let rho = r * 10f64.powi(k);
+        let mut trial = DMatrix::zeros(dim, dim);
         let (t, wv, ro, o, d) =
             (trial.as_mut_slice(), w.as_slice(), rows_outer.as_slice(), outer.as_slice(), dense_outer.as_slice());
         for i in 0..t.len() {
             t[i] = (wv[i] + ro[i] * rho) + o[i] * rho + d[i] * rho;
         }
-        match trial.cholesky() {
-            Some(_) => {
-                let banded = &w + &rows_outer * rho;
-                let dense = dense.into_iter().map(|(i, inv)| (i, rho * inv)).collect();
-                return (banded, if aa > 0.0 { rho / aa } else { 0.0 }, dense);
-            }
-            None => trial = DMatrix::zeros(dim, dim),
-        }
+        trial.cholesky().is_some()
+    };
+    // Every term added is positive semi-definite, so a `rho` that fails fails for every smaller
+    // one: after the least, the largest is tried, and where it fails (the obstacles' rows
+    // outside the band and not curved take no term, and the equality's alone seldom
+    // convexifies: 103 of the 109 iterations of the 3-link obstacle bench, 223 of 418 on the
+    // SPART-like one) the shift follows after two dense Cholesky factorisations instead of
+    // nine. Else the least that succeeds, in increasing order as before.
+    let least = if positive_definite(0) {
+        Some(0)
+    } else if positive_definite(8) {
+        (1..=8).find(|&k| k == 8 || positive_definite(k))
+    } else {
+        None
+    };
+    if let Some(k) = least {
+        let rho = r * 10f64.powi(k);
+        let banded = &w + &rows_outer * rho;
+        let dense = dense.into_iter().map(|(i, inv)| (i, rho * inv)).collect();
+        return (banded, if aa > 0.0 { rho / aa } else { 0.0 }, dense);
     }
     let mut tau = 1e-4;
     for _ in 0..12 {
