@@ -96,10 +96,14 @@ impl ChainPlanner {
             kept => kept,
         };
         let least = |p: &ChainPlan| p.verification.clearance.map_or(f64::INFINITY, |r| r.min);
+        // The last resort also where the plan kept is a stalled re-solve's (not proven a
+        // minimum): the lower effort of the two.
+        let proven = |k: &ChainPlan| clears(k) && k.stats.converged;
         if self.last_resort
-            && !kept.as_ref().is_ok_and(clears)
+            && !kept.as_ref().is_ok_and(proven)
             && let Ok(Some(plan)) = (ChainPlanner { clearance_pieces: SOFT_PIECES, ..own.clone() })
                 .soft_search(problem, &free, tables, clock)
+            && !kept.as_ref().is_ok_and(|k| clears(k) && k.effort() <= plan.effort())
         {
             return Ok(plan);
         }
@@ -195,11 +199,12 @@ impl ChainPlanner {
         let disc = self.discretise(problem, targets, spans, nodes, tables)?;
         let x0 = disc.project(line.path_of(Seed::Line))?;
         let Some((x, lambda)) = super::limits::soft_start(self, &disc, x0, 1e-6) else { return Ok(None) };
-        let Ok(result) = super::limits::solve_restarting(self, &disc, x, &self.options.sqp, Some(lambda)) else {
+        let Ok(mut result) = super::limits::solve_restarting(self, &disc, x, &self.options.sqp, Some(lambda)) else {
             return Ok(None);
         };
         let iterations = result.iterations;
         let grading = self.options.grading;
+        super::limits::onto_holonomy(self, &disc, &mut result);
         let c = Candidate::new(disc, result, [spans, nodes, grading], iterations);
         if !c.feasible() {
             return Ok(None);
@@ -219,9 +224,13 @@ impl ChainPlanner {
     }
 
     /// [`Self::certified`], and where the certified plan comes under the clearance (the rows
-    /// hold at their points only, see [`super::limits`]), the candidate solved again with the
-    /// rows keeping the deficit twice over, up to [`CLEARANCE_RETRIES`] times; `Ok(Err(plan))`
-    /// with the closest plan when none clears.
+    /// hold at their points only, see [`super::limits`]), the candidate solved again on rows
+    /// [`SOFT_PIECES`] to a span keeping the clearance asked, and on its rows keeping the deficit
+    /// twice over, up to [`CLEARANCE_RETRIES`] times: the converged plan of least effort that
+    /// clears inside every limit. `Ok(Err(plan))` with the closest plan when none clears, or
+    /// with a clear plan whose re-solve stalled (moved onto the holonomy,
+    /// [`super::limits::onto_holonomy`]): not proven a minimum, the search keeps it for the end
+    /// (a later candidate may clear converged).
     pub(super) fn certified_clear(
         &self,
         problem: &ChainProblem,
@@ -232,33 +241,63 @@ impl ChainPlanner {
         tables: &Tables,
     ) -> Result<Result<ChainPlan, ChainPlan>, Error> {
         let mut plan = self.certified(problem, c, seeds, iterations, clock)?;
-        if !super::limits::keeps_clearance(self) {
-            return Ok(if plan.verification.clearance.is_none_or(|r| r.holds()) { Ok(plan) } else { Err(plan) });
+        let clears = |p: &ChainPlan| p.verification.clearance.is_none_or(|r| r.holds());
+        if !super::limits::keeps_clearance(self) || clears(&plan) {
+            return Ok(if clears(&plan) { Ok(plan) } else { Err(plan) });
         }
         let required = self.arm.geometry.clearance;
-        let mut keep = required;
-        for _ in 0..CLEARANCE_RETRIES {
-            let Some(report) = plan.verification.clearance.filter(|r| !r.holds()) else { return Ok(Ok(plan)) };
-            keep += 2.0 * (required - report.min);
+        // `c` solved again keeping `keep` at `pieces` points per span, held and certified; a
+        // solve that stalled on the holonomy only where `stalled` (moved onto it first).
+        let again = |keep: f64, pieces: usize, stalled: bool| -> Result<Option<(bool, ChainPlan)>, Error> {
             let mut arm = (*self.arm).clone();
             arm.geometry.clearance = keep;
-            let stricter = ChainPlanner { arm: Arc::new(arm), ..self.clone() };
-            let again = stricter.resolve(problem, c, c.spans, c.nodes, tables)?;
-            if !again.result.converged() {
-                break;
+            let stricter = ChainPlanner { arm: Arc::new(arm), clearance_pieces: pieces, ..self.clone() };
+            let mut again = stricter.resolve(problem, c, c.spans, c.nodes, tables)?;
+            if stalled {
+                super::limits::onto_holonomy(&stricter, &again.disc, &mut again.result);
+            }
+            let converged = again.result.converged();
+            let usable = stalled && again.feasible() && again.result.termination != Termination::Abandoned;
+            if !(converged || usable) {
+                return Ok(None);
             }
             // The re-solve's torques and base angle held between the rows' points as the
             // refined plan's were (`hold`): without, the SPART-like example with --smooth-ends
             // cleared the base at 0.0017 m with joint 1's torque at 103 % of its limit.
             let again = stricter.hold_between_points(problem, again, tables)?;
-            match self.certified(problem, &again, seeds, iterations + again.iterations, clock) {
-                Ok(p) => {
-                    plan = p;
-                    plan.stats.clearance_reserve += keep - required;
-                }
-                Err(_) => break,
+            let Ok(mut plan) = self.certified(problem, &again, seeds, iterations + again.iterations, clock) else {
+                return Ok(None);
+            };
+            plan.stats.clearance_reserve += keep - required;
+            Ok(Some((!converged, plan)))
+        };
+        // The dip is between the rows' points: solved again with denser rows keeping what was
+        // asked (a solve that stalls is moved onto the holonomy and kept: on the SPART-like tight
+        // fixture the dip's re-solves keeping more stalled, and the run ended in exit 3), and
+        // solved again keeping the deficit twice over, at most `CLEARANCE_RETRIES` times; of the
+        // plans that clear inside every limit, a converged one of least effort, else a stalled one.
+        let mut found: Vec<(bool, ChainPlan)> =
+            again(required, SOFT_PIECES.max(self.clearance_pieces), true)?.into_iter().collect();
+        let mut keep = required;
+        for _ in 0..CLEARANCE_RETRIES {
+            let Some(report) = plan.verification.clearance.filter(|r| !r.holds()) else { break };
+            keep += 2.0 * (required - report.min);
+            match again(keep, self.clearance_pieces, false)? {
+                Some((_, p)) => plan = p,
+                None => break,
             }
         }
-        if plan.verification.clearance.is_none_or(|r| r.holds()) { Ok(Ok(plan)) } else { Ok(Err(plan)) }
+        found.push((false, plan.clone()));
+        let inside = |p: &ChainPlan| p.verification.limits.as_ref().is_none_or(|l| l.inside);
+        let best = found.into_iter().filter(|(_, p)| clears(p) && inside(p)).min_by(|(sa, a), (sb, b)| {
+            (sa, a.effort()).partial_cmp(&(sb, b.effort())).unwrap_or(std::cmp::Ordering::Equal)
+        });
+        match best {
+            Some((false, best)) => Ok(Ok(best)),
+            // Not proven a minimum: a later candidate may clear converged.
+            Some((true, best)) => Ok(Err(best)),
+            None if clears(&plan) => Ok(Ok(plan)),
+            None => Ok(Err(plan)),
+        }
     }
 }

@@ -31,11 +31,13 @@ mod ends;
 mod hold;
 mod phi_path;
 mod ranges;
+mod restore;
 use phi_path::PathPoint;
 
 pub(crate) use clearance::PIECES as CLEARANCE_PIECES;
 pub(crate) use hold::Margins;
 pub(crate) use ranges::{inside_ranges, least_time, within_reach};
+pub(crate) use restore::onto_holonomy;
 
 use nalgebra::DVector;
 

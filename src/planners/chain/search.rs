@@ -276,7 +276,11 @@ impl ChainPlanner {
                 Err(e) => not_certified = not_certified.or(Some(e)),
             }
         }
-        if let Some(plan) = outside.or(closest) {
+        // A plan that clears inside every limit from a re-solve that stalled first, then one
+        // beyond a limit, then the closest to clearing.
+        let inside = |p: &ChainPlan| p.verification.limits.as_ref().is_none_or(|l| l.inside);
+        let stalled = closest.take_if(|p| p.verification.clearance.is_none_or(|r| r.holds()) && inside(p));
+        if let Some(plan) = stalled.or(outside).or(closest) {
             return Ok(plan);
         }
         // No refinement converged, e.g. the SQP stalled on binding position ranges (issue 20's
