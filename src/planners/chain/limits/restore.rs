@@ -29,8 +29,9 @@ pub(crate) fn onto_holonomy(planner: &ChainPlanner, disc: &Discretisation, resul
         return;
     }
     let Some(limited) = Limited::new(planner, disc) else { return };
-    let worst =
-        |x: &DVector<f64>| limited.inequalities(x, 0).map_or(0.0, |g| g.values.iter().fold(0.0_f64, |m, v| m.max(*v)));
+    // The largest violation `max(0, g_i)` of the rows.
+    let largest = |values: &[f64]| values.iter().fold(0.0_f64, |m, v| m.max(*v));
+    let worst = |x: &DVector<f64>| limited.inequalities(x, 0).map_or(0.0, |g| largest(&g.values));
     for _ in 0..3 {
         let x = &result.x;
         let e = disc.evaluate(x, 1);
@@ -38,6 +39,7 @@ pub(crate) fn onto_holonomy(planner: &ChainPlanner, disc: &Discretisation, resul
             break;
         }
         let g = limited.inequalities(x, 1);
+        let before = g.as_ref().map_or(0.0, |g| largest(&g.values));
         let active: Vec<&Vec<(usize, f64)>> = g
             .as_ref()
             .map(|g| g.values.iter().zip(&g.rows).filter(|(v, _)| **v > -ACTIVE).map(|(_, r)| r).collect())
@@ -54,7 +56,6 @@ pub(crate) fn onto_holonomy(planner: &ChainPlanner, disc: &Discretisation, resul
         let Ok(d) = a.svd(true, true).solve(&rhs, 1e-14) else { break };
         let next_x = x + d;
         let next = disc.evaluate(&next_x, 0);
-        let before = worst(x).max(0.0);
         if !(next.c.abs() < e.c.abs() && next.f.is_finite() && worst(&next_x) <= before + 1e-12) {
             break;
         }
