@@ -648,3 +648,17 @@ fn every_arm_and_method_reports_the_same_keys() {
         assert!(r["notes"][0].as_str().is_some_and(|s| s.starts_with("end effector:")), "{}", r["notes"]);
     }
 }
+
+/// `--torques` gives every arm the closed-loop certificate (issue 19, item 4: what the 2-link
+/// robot has, every arm has): the nominal 3-link arm tracking its plan with computed torque at
+/// 1 kHz reaches the goal within the certificate's 1e-6 rad; without `--torques` there is none.
+#[test]
+fn an_arms_torques_report_the_closed_loop_certificate() {
+    let three = example("three_link.toml");
+    let base = ["plan", "--robot", &three, "--from", FROM, "--to", TO, "--format", "json"];
+    let v = json(&freefloat(&[&base[..], &["--torques"]].concat()));
+    let c = &v["closed_loop"];
+    assert_eq!(c["controller"], "ct", "{c}");
+    assert!(c["final_error"].as_f64().expect("number") <= 1e-6 && c["certified"] == true, "{c}");
+    assert!(json(&freefloat(&base)).get("closed_loop").is_none(), "only with --torques");
+}

@@ -75,7 +75,13 @@ enum Obtained {
         tool: String,
     },
     /// Any other arm (the `n`-joint planners).
-    Arm { planning: Planning, plot: Option<(PathBuf, PictureFormat)>, file: String },
+    Arm {
+        planning: Planning,
+        plot: Option<(PathBuf, PictureFormat)>,
+        file: String,
+        /// With `--torques`: executable with feedback?
+        closed_loop: Option<ClosedLoopCertificate>,
+    },
 }
 
 impl Obtained {
@@ -94,11 +100,14 @@ impl Obtained {
                     None => r,
                 }
             }
-            Self::Arm { planning: Planning { planned, problem, notes, to_ee }, .. } => {
+            Self::Arm { planning: Planning { planned, problem, notes, to_ee }, closed_loop, .. } => {
                 let mut r = PlanReport::from_arm(planned, &problem.start, &problem.goal, with_trajectory);
                 r.notes = notes.clone();
                 r.to_ee = to_ee.clone();
-                r
+                match closed_loop {
+                    Some(c) => r.with_closed_loop(c.clone()),
+                    None => r,
+                }
             }
         }
     }
@@ -142,7 +151,7 @@ impl Obtained {
 
     /// The `--plot` picture (an arm's plan only: the 2-link pipeline refuses `--plot`).
     fn write_plot(&self) -> anyhow::Result<()> {
-        if let Self::Arm { planning, plot: Some((path, format)), file } = self {
+        if let Self::Arm { planning, plot: Some((path, format)), file, .. } = self {
             let figure = arm_plan_figure(&planning.planned, arm_title(planning), file);
             write_atomic(path, &plan_picture(&figure, *format, path)?)?;
         }

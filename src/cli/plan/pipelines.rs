@@ -18,7 +18,7 @@ use freefloat::planners::{Planned, PlannerOptions, plan_to_pose, planner};
 use freefloat::report::arm::PoseGoal;
 use freefloat::report::numbers::{number, rounded};
 use freefloat::report::plot::{GifOptions, PictureFormat};
-use freefloat::track::closed_loop_certificate;
+use freefloat::track::{arm_closed_loop_certificate, closed_loop_certificate};
 
 use super::Obtained;
 use crate::cli::args::{CostArg, ElbowArg, PlanArgs, ProblemArgs, RobotArgs, TransformArg};
@@ -139,7 +139,13 @@ pub(super) fn arm<'a>(args: &'a PlanArgs, arm: &Arm) -> anyhow::Result<(Obtained
     let mut planning = plan_problem(p, arm, method)?.map_err(|e| name_flag(e, p))?;
     planning.notes.extend(geometry_notes);
     let file = p.robot.robot.as_ref().or(p.robot.urdf.as_ref()).map_or("the robot".into(), |f| f.display().to_string());
-    Ok((Obtained::Arm { planning, plot, file }, gif))
+    // With torques, the closed-loop certificate too, as for the 2-link robot: the plan tracked on
+    // the nominal arm with computed torque at 1 kHz.
+    let closed_loop = match p.torques {
+        true => Some(arm_closed_loop_certificate(&planning.planned.arm, &planning.problem, &planning.planned.plan)?),
+        false => None,
+    };
+    Ok((Obtained::Arm { planning, plot, file, closed_loop }, gif))
 }
 
 /// An arm's plan with what the report says about it.
