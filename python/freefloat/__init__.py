@@ -18,7 +18,7 @@ the same arrays (``t, q, dq, ddq, tau, base, end_effector, end_effector_velocity
 
     arm = ff.Arm.from_file("examples/robots/three_link.toml")
     a = ff.plan(arm, [0, 0.3, -0.4, 0.2], [0.5, 0.8, 0.2, -0.3], 10.0, torques=True)
-    a.q.shape, a.tau.shape, a.end_effector[-1], a.certificate["torque_certificate"]["certified"]
+    a.q.shape, a.tau.shape, a.end_effector[-1], a.certificate["torque_certificate"]["certificate"]["certified"]
 
 ``plan_arm`` is kept as a deprecated alias of :func:`plan` for arms, ``ArmPlan`` as another name
 of :class:`Plan`.

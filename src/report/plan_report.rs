@@ -84,8 +84,20 @@ pub enum OptimalAccount {
 pub enum TorqueAccount {
     /// A 2-link plan's (the base row of Eq. 6 beside the forward dynamics).
     TwoLink(crate::plan::TorqueReport),
-    /// An arm's plan's forward-dynamics certificate.
-    Arm(ChainTorqueCertificate),
+    /// An arm's plan's (the same keys: the peaks, the base row, the nested certificate).
+    Arm(ArmTorqueAccount),
+}
+
+/// The torque level of an arm's plan in the report: the keys of the 2-link robot's
+/// [`crate::plan::TorqueReport`] (issue 19 item 5: one report for every arm), `n` peaks.
+#[derive(Debug, Clone, Serialize)]
+pub struct ArmTorqueAccount {
+    /// `max |tau_k|` over the samples, per joint [N m].
+    pub max_abs_torque: Vec<f64>,
+    /// Largest `|base row of (6)|` over the samples [N m]: zero for a motion at zero momentum.
+    pub max_abs_base_residual: f64,
+    /// The forward-dynamics certificate.
+    pub certificate: ChainTorqueCertificate,
 }
 
 impl TorqueAccount {
@@ -93,7 +105,7 @@ impl TorqueAccount {
     pub fn certified(&self) -> bool {
         match self {
             Self::TwoLink(t) => t.certificate.certified,
-            Self::Arm(c) => c.certified,
+            Self::Arm(a) => a.certificate.certified,
         }
     }
 }
@@ -322,7 +334,13 @@ impl PlanReport {
             min_abs_p: margins.map(|m| m.1),
             max_abs_torque: torques.map(|t| t.max_abs_torque.clone()),
             torque_final_error: torques.map(|t| t.certificate.final_error),
-            torque_certificate: torques.map(|t| TorqueAccount::Arm(t.certificate.clone())),
+            torque_certificate: torques.map(|t| {
+                TorqueAccount::Arm(ArmTorqueAccount {
+                    max_abs_torque: t.max_abs_torque.clone(),
+                    max_abs_base_residual: t.max_abs_base_residual,
+                    certificate: t.certificate.clone(),
+                })
+            }),
             seconds: ReportSeconds { plan: planned.seconds, torques: torques.map(|t| t.seconds), verify: None },
             iterations: optimal.map(|o| o.iterations).or(ecsa.as_ref().map(|e| e.iteration.iterations)),
             steering: None,

@@ -42,7 +42,7 @@ fn three_link_arm_plans_from_toml_and_urdf() {
     assert_eq!(r["certified"], true);
     assert!(r["final_error"].as_f64().unwrap() <= 1e-9, "{r}");
     assert!(r["verification"]["max_abs_momentum"].as_f64().unwrap() <= 1e-12, "{r}");
-    assert_eq!(r["torque_certificate"]["certified"], true, "{r}");
+    assert_eq!(r["torque_certificate"]["certificate"]["certified"], true, "{r}");
     assert_eq!(r["max_abs_torque"].as_array().unwrap().len(), 3);
     let urdf = example("three_link.urdf");
     let u = json(&freefloat(&["plan", "--urdf", &urdf, "--from", FROM, "--to", TO, "--format", "json"]));
@@ -68,7 +68,7 @@ fn three_link_arm_plans_with_the_ecsa() {
     assert_eq!(r["certified"], true);
     assert!(r["final_error"].as_f64().unwrap() <= 1e-9, "{r}");
     assert!(r["optimal"].is_null(), "{r}");
-    assert_eq!(r["torque_certificate"]["certified"], true, "{r}");
+    assert_eq!(r["torque_certificate"]["certificate"]["certified"], true, "{r}");
     let e = &r["ecsa"];
     assert_eq!(e["solver"], "minimum_norm", "{r}");
     assert!(e["continuation_steps"].as_u64().unwrap() >= 1, "{r}");
@@ -340,7 +340,7 @@ fn arm_compare_lists_every_method() {
         let r = json(&freefloat(&[&base[..], &["--format", "json"]].concat()));
         for method in ["optimal", "ecsa"] {
             assert_eq!(r[method]["certified"], true, "{method}: {r}");
-            assert_eq!(r[method]["torque_certificate"]["certified"], true, "{method}: {r}");
+            assert_eq!(r[method]["torque_certificate"]["certificate"]["certified"], true, "{method}: {r}");
         }
         assert!(r["nfa"].is_null() && r["errors"]["nfa"].as_str().unwrap().contains("chained form"), "{r}");
         // The minimum-effort plan's effort is at most the ECSA's (same problem, same goal).
@@ -661,4 +661,27 @@ fn an_arms_torques_report_the_closed_loop_certificate() {
     assert_eq!(c["controller"], "ct", "{c}");
     assert!(c["final_error"].as_f64().expect("number") <= 1e-6 && c["certified"] == true, "{c}");
     assert!(json(&freefloat(&base)).get("closed_loop").is_none(), "only with --torques");
+}
+
+/// The torque level is reported with the same keys for every arm (issue 19, item 5): the 2-link
+/// robot's `torque_certificate` (peaks, base row of Eq. 6, the nested forward-dynamics
+/// certificate) and a 3-link arm's have the same keys, and the certificate's own keys too (but
+/// the path deviation, which a motion that cannot evaluate its configuration leaves out).
+#[test]
+fn the_torque_level_has_the_same_keys_for_every_arm() {
+    let keys = |v: &serde_json::Value| {
+        let mut k: Vec<String> = v.as_object().expect("an object").keys().cloned().collect();
+        k.retain(|k| k != "seconds" && k != "max_path_deviation");
+        k.sort();
+        k
+    };
+    let three = example("three_link.toml");
+    let two = json(&freefloat(&["plan", "--torques", "--format", "json"]));
+    let arm =
+        json(&freefloat(&["plan", "--robot", &three, "--from", FROM, "--to", TO, "--torques", "--format", "json"]));
+    let (t2, t3) = (&two["torque_certificate"], &arm["torque_certificate"]);
+    assert_eq!(keys(t2), keys(t3), "{t2}\n{t3}");
+    assert_eq!(keys(&t2["certificate"]), keys(&t3["certificate"]), "{t2}\n{t3}");
+    assert_eq!(t3["max_abs_torque"].as_array().map(Vec::len), Some(3), "{t3}");
+    assert_eq!(t3["certificate"]["certified"], true, "{t3}");
 }

@@ -233,7 +233,8 @@ fn torque_lines(r: &PlanReport, base_residual: Option<f64>) -> String {
             let c = &t.certificate;
             (c.final_error, c.tolerance, c.certified, Some(c.max_path_deviation), c.stats.accepted, c.max_abs_momentum)
         }
-        TorqueAccount::Arm(c) => {
+        TorqueAccount::Arm(a) => {
+            let c = &a.certificate;
             (c.final_error, c.tolerance, c.certified, c.max_path_deviation, c.stats.accepted, c.max_abs_momentum)
         }
     };
