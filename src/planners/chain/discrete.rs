@@ -241,18 +241,18 @@ impl Discretisation {
     #[inline(always)]
     fn integrals_of(&self, x: &DVector<f64>, n: usize, p: usize) -> (f64, f64) {
         let c = self.coefficients(x);
-        let (mut theta, mut rate) = (vec![0.0; n], vec![0.0; n]);
+        let ([mut theta, mut rate], m) = ([[0.0; MAX_JOINTS]; 2], n);
+        let (theta, rate) = (&mut theta[..m], &mut rate[..m]);
         let (mut holonomy, mut effort) = (0.0, 0.0);
         let mut memo = self.kept.0.lock().unwrap_or_else(PoisonError::into_inner);
-        // The buffers of the last integrals reused.
+        // The buffers of the last integrals reused, the nodes' sines and cosines written in
+        // place.
         let (mut at, mut kept) = memo.take().unwrap_or_else(|| (DVector::zeros(0), Vec::new()));
-        kept.clear();
-        let mut keep = [(0.0, 0.0); MAX_JOINTS];
-        for node in &self.table.nodes {
-            point_of(p, &c, node, &mut theta, &mut rate);
-            holonomy += node.weight * self.connection.value_of(n, &theta, &rate, Some(&mut keep[..n]));
+        kept.resize(self.table.nodes.len() * n, (0.0, 0.0));
+        for (node, keep) in self.table.nodes.iter().zip(kept.chunks_exact_mut(n)) {
+            point_of(p, &c, node, theta, rate);
+            holonomy += node.weight * self.connection.value_of(n, theta, rate, Some(keep));
             effort += node.weight * rate.iter().map(|w| w * w).sum::<f64>();
-            kept.extend_from_slice(&keep[..n]);
         }
         if at.len() == x.len() {
             at.copy_from(x);
