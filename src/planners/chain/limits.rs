@@ -100,6 +100,11 @@ pub(crate) struct Limited<'a> {
     /// The basis' values at [`Limited::phi_path_each`]'s quadrature nodes, by parts per span
     /// (found at its first call).
     nodes: std::cell::RefCell<Vec<(usize, std::rc::Rc<[phi_path::Values]>)>>,
+    /// The obstacles' rows that carry a gradient at the last evaluation with gradients, as
+    /// `(row, point, d g / d phi)`: the row's index, its point's among the path's, and its
+    /// slope in the base angle there (their curvature through `phi(t)`,
+    /// [`Limited::obstacle_curvature`]).
+    phi_slopes: std::cell::RefCell<Vec<(usize, usize, f64)>>,
 }
 
 /// The derivative spline's control-point rows: row `k` of the `m`-th derivative as
@@ -181,7 +186,19 @@ impl<'a> Limited<'a> {
             })
             .flatten();
         let held = planner.held.clone().filter(|m| m.fits(b.len() - 1));
-        Some(Self { disc, arm, connection, linear, torque, base, clearance, free, held, nodes: Default::default() })
+        Some(Self {
+            disc,
+            arm,
+            connection,
+            linear,
+            torque,
+            base,
+            clearance,
+            free,
+            held,
+            nodes: Default::default(),
+            phi_slopes: Default::default(),
+        })
     }
 
     /// `x` with every position-limited joint's free coefficients clipped into its range (a seed
@@ -342,7 +359,11 @@ impl Discretised for Limited<'_> {
         Some(out)
     }
     fn curvature(&self, x: &DVector<f64>, z: &[f64]) -> Option<nalgebra::DMatrix<f64>> {
-        self.base_curvature(x, z)
+        let base = self.base_curvature(x, z);
+        match (base, self.obstacle_curvature(x, z)) {
+            (Some(a), Some(b)) => Some(a + b),
+            (a, b) => a.or(b),
+        }
     }
     fn curved_rows(&self) -> std::ops::Range<usize> {
         self.base_rows()

@@ -119,7 +119,14 @@ impl Limited<'_> {
         // the base angle is not needed, and the rows are local in the coefficients.
         let from = if rows.obstacles { 0 } else { 1 };
         let dim = self.disc.dim();
+        let mut slopes_of_phi = self.phi_slopes.borrow_mut();
+        if order >= 1 {
+            slopes_of_phi.clear();
+        }
+        let mut index = 0;
         let mut at = |point: PathPoint<&[f64]>| {
+            let this = index;
+            index += 1;
             if point.t >= horizon {
                 return;
             }
@@ -189,6 +196,9 @@ impl Limited<'_> {
                 if *far && *d > rows.keep + NEAR {
                     out.rows.push(Vec::new());
                     continue;
+                }
+                if *far {
+                    slopes_of_phi.push((out.values.len() - 1, this, -rows.scale * s[0]));
                 }
                 let mut dense = vec![0.0; if *far { dim } else { 0 }];
                 for (k, g) in dense.iter_mut().zip(point.grad) {

@@ -44,7 +44,7 @@ impl Limited<'_> {
     }
 
     /// [`Limited::path_at`] with the basis' values and rates at the time given.
-    fn path_with(&self, c: &[Vec<f64>], span: usize, [value, rate]: &Values, th: &mut [f64], w: &mut [f64]) {
+    pub(super) fn path_with(&self, c: &[Vec<f64>], span: usize, [value, rate]: &Values, th: &mut [f64], w: &mut [f64]) {
         let basis = self.disc.basis();
         let (p, first) = (basis.degree(), span - basis.degree());
         for j in 0..th.len() {
@@ -57,7 +57,7 @@ impl Limited<'_> {
     /// `pieces` parts per knot span, in its order: the nodes do not move while the basis is
     /// the same, so they are found once per [`Limited`] (and `pieces`), not at every
     /// evaluation (on the 3-link obstacle bench 4096 nodes at each of its ~215 evaluations).
-    fn node_values(&self, pieces: usize) -> std::rc::Rc<[Values]> {
+    pub(super) fn node_values(&self, pieces: usize) -> std::rc::Rc<[Values]> {
         let mut cache = self.nodes.borrow_mut();
         if let Some((_, v)) = cache.iter().find(|(k, _)| *k == pieces) {
             return v.clone();
