@@ -394,6 +394,3 @@ mod tests_oracle_solver;
 
 #[cfg(test)]
 mod tests_recorded;
-
-#[cfg(test)]
-mod tests_spin;
