@@ -80,21 +80,13 @@ impl Limited<'_> {
                 let [value, rate] = self.path_at(&c, span, t, &mut th, &mut w);
                 self.connection.local(&th, &w, &mut local);
                 let scale = -half * wi * weight[s];
-                for l in 0..=p {
-                    for j in 0..n {
-                        let Some(row) = self.index(first + l, j) else { continue };
-                        for ll in 0..=p {
-                            for jj in 0..n {
-                                let Some(col) = self.index(first + ll, jj) else { continue };
-                                // d^2 g / dc_lj dc_ll,jj: theta-theta, theta-theta' both ways.
-                                let v = local.hessian[j * n + jj] * value[l] * value[ll]
-                                    + local.mixed[j * n + jj] * value[l] * rate[ll]
-                                    + local.mixed[jj * n + j] * rate[l] * value[ll];
-                                h[(row, col)] += scale * v;
-                            }
-                        }
-                    }
-                }
+                self.add_to_span(&mut h, first, (p, n), |l, j, ll, jj| {
+                    // d^2 g / dc_lj dc_ll,jj: theta-theta, theta-theta' both ways.
+                    let v = local.hessian[j * n + jj] * value[l] * value[ll]
+                        + local.mixed[j * n + jj] * value[l] * rate[ll]
+                        + local.mixed[jj * n + j] * rate[l] * value[ll];
+                    scale * v
+                });
             }
         }
         Some(h)
@@ -182,18 +174,31 @@ impl Limited<'_> {
             if !touched {
                 continue;
             }
-            for l in 0..=p {
-                for j in 0..n {
-                    let Some(row) = self.index(first + l, j) else { continue };
-                    for ll in 0..=p {
-                        for jj in 0..n {
-                            let Some(col) = self.index(first + ll, jj) else { continue };
-                            h[(row, col)] += block[(l * n + j) * size + ll * n + jj];
-                        }
+            self.add_to_span(&mut h, first, (p, n), |l, j, ll, jj| block[(l * n + j) * size + ll * n + jj]);
+        }
+        Some(h)
+    }
+
+    /// Adds `entry(l, j, ll, jj)` to `h` at the free coefficients of basis function `first + l`
+    /// of joint `j` and `first + ll` of joint `jj`: a knot span's `(p + 1) n` coefficients,
+    /// `p` the degree and `n` the joints.
+    fn add_to_span(
+        &self,
+        h: &mut DMatrix<f64>,
+        first: usize,
+        (p, n): (usize, usize),
+        mut entry: impl FnMut(usize, usize, usize, usize) -> f64,
+    ) {
+        for l in 0..=p {
+            for j in 0..n {
+                let Some(row) = self.index(first + l, j) else { continue };
+                for ll in 0..=p {
+                    for jj in 0..n {
+                        let Some(col) = self.index(first + ll, jj) else { continue };
+                        h[(row, col)] += entry(l, j, ll, jj);
                     }
                 }
             }
         }
-        Some(h)
     }
 }
