@@ -1,7 +1,7 @@
 //! `freefloat compare`: the optimal planner, the NFA and the ECSA on the same problem, side by side
-//! (docs/spec.md §3), for every robot. Only how each method's plan is obtained depends on the
-//! robot ([`two_link`]: the paper's model, [`arm`]: any other arm, the NFA refused unless it is
-//! the paper's model); the table, the JSON, the exit codes and the messages are written once.
+//! (docs/spec.md §3), for every robot: every arm, the paper's robot as its 2-link arm, through
+//! one pipeline ([`arm`]); the NFA is the paper's model's, refused for another arm. The table,
+//! the JSON, the exit codes and the messages are written once.
 
 use std::process::ExitCode;
 
@@ -21,7 +21,9 @@ use super::plan::{Planning, degrees, plan_problem, plan_with, problem, refuse_fl
 pub fn compare(args: &CompareArgs) -> anyhow::Result<ExitCode> {
     let compared = match super::any_robot(&args.problem.robot)? {
         super::Robot::Arm(robot) => arm(args, &robot)?,
-        super::Robot::TwoLink => two_link(args)?,
+        // The paper's robot is the 2-link arm of every method's one pipeline (issue 19), its NFA
+        // the paper's model's ([`two_link_nfa`]).
+        super::Robot::TwoLink => arm(args, &Arm::from_params(&super::robot(&args.problem.robot)?))?,
     };
     if args.format == CompareFormat::Json {
         super::emit(&format!("{}\n", serde_json::to_string_pretty(&compare_json(&compared.reports)?)?))?;
@@ -33,7 +35,7 @@ pub fn compare(args: &CompareArgs) -> anyhow::Result<ExitCode> {
     };
     // The ECSA's plain series moves at t = 0: its torques cannot start from rest.
     let hint = match (failure.method, args.problem.window) {
-        (Method::Ecsa, WindowArg::None) if args.problem.torques && compared.torques_from_rest => {
+        (Method::Ecsa, WindowArg::None) if args.problem.torques => {
             "; its plain series does not start at rest, --window sin2 does"
         }
         _ => "",
@@ -59,9 +61,6 @@ struct Compared {
     refused: Vec<Method>,
     /// The methods without a certified plan, in the columns' order: the first one is the exit's.
     failures: Vec<Failure>,
-    /// Whether an ECSA without a certified plan under `--torques` and the plain series hints at
-    /// `--window sin2` (the 2-link robot's: its torque level starts at rest, the series does not).
-    torques_from_rest: bool,
 }
 
 /// A method without a certified plan.
@@ -75,7 +74,7 @@ struct Failure {
 impl Compared {
     /// An empty comparison under `title`.
     fn new(title: String) -> Self {
-        Self { title, reports: Vec::new(), refused: Vec::new(), failures: Vec::new(), torques_from_rest: false }
+        Self { title, reports: Vec::new(), refused: Vec::new(), failures: Vec::new() }
     }
 
     /// Adds `method`'s plan (its report and certificate) or why it has none.
@@ -106,30 +105,9 @@ fn title(robot: &str, mount: freefloat::Mount, start: &[f64], goal: &str, horizo
     )
 }
 
-/// The paper's 2-link robot: each method through [`plan_with`], the clearance checked.
-fn two_link(args: &CompareArgs) -> anyhow::Result<Compared> {
-    let problem = super::problem(&args.problem)?;
-    let (geometry, _) = super::geometry::two_link(&args.problem.robot, &args.problem.geometry)?;
-    let goal = degrees(&problem.goal.to_array());
-    let mut compared = Compared::new(title("", problem.robot.mount, &problem.start.to_array(), &goal, problem.horizon));
-    compared.torques_from_rest = true;
-    for method in COMPARED {
-        let result = plan_with(method, &args.problem, &problem)?.and_then(|mut planned| {
-            planned.check_clearance(&geometry)?;
-            Ok(planned)
-        });
-        match result {
-            Err(e) if e.is_bad_input() => return Err(e.into()),
-            result => compared.add(method, result.map(|p| (PlanReport::new(&p, false), p.certified()))),
-        }
-    }
-    Ok(compared)
-}
-
-/// An arm of another number of links than the paper's two (or a 2-link arm off the paper's model,
-/// or with limits): the optimal planner and the ECSA through [`plan_problem`]; the NFA of the
-/// paper's model checked against the arm ([`two_link_nfa`]), else refused with [`plan_arm`]'s
-/// reason.
+/// Every arm, the paper's robot too (issue 19): the optimal planner and the ECSA through
+/// [`plan_problem`]; the NFA of the paper's model checked against the arm ([`two_link_nfa`]),
+/// else refused with [`plan_arm`]'s reason.
 ///
 /// With `--time auto` the optimal planner (the first column) finds the shortest horizon inside
 /// the limits, and the other methods plan at it; without it they have none and say so.

@@ -300,12 +300,6 @@ impl PlanReport {
         let v = planned.verification();
         let n = planned.arm.joints();
         let rows = &planned.trajectory;
-        let mut max_abs_u = vec![0.0_f64; n];
-        for p in rows {
-            for (m, r) in max_abs_u.iter_mut().zip(&p.rate) {
-                *m = m.max(r.abs());
-            }
-        }
         let margins = two_link_margins(&planned.arm, rows);
         let torques = planned.torques.as_ref();
         let optimal = planned.stats().copied();
@@ -329,7 +323,7 @@ impl PlanReport {
             verification: v.clone(),
             max_path_deviation: v.max_path_deviation,
             clearance: v.clearance,
-            max_abs_u,
+            max_abs_u: planned.peak_rates.clone(),
             min_abs_sigma: margins.map(|m| m.0),
             min_abs_p: margins.map(|m| m.1),
             max_abs_torque: torques.map(|t| t.max_abs_torque.clone()),

@@ -50,17 +50,18 @@ fn three_link_arm_plans_from_toml_and_urdf() {
     assert!((a - b).abs() <= 1e-8 * a, "TOML {a}, URDF {b}");
 }
 
-/// `--method ecsa` plans the 3-link example arm (issue 14), certified at both levels (the
-/// minimum-norm solution's torques: the pseudo-inverse iteration's large harmonics failed the
-/// torque level), with the ECSA's account (solver, iterations, residual) in place of the optimal
+/// `--method ecsa` plans the 3-link example arm (issue 14), with the sin^2 window certified at
+/// both levels (the minimum-norm solution's torques: the pseudo-inverse iteration's large
+/// harmonics failed the torque level; the plain series, which moves at t = 0, fails it from
+/// rest), with the ECSA's account (solver, iterations, residual) in place of the optimal
 /// planner's; the table names the iteration; a moving start is bad input (the ECSA plans from
 /// rest).
 #[test]
 fn three_link_arm_plans_with_the_ecsa() {
     let toml = example("three_link.toml");
-    let args =
-        ["plan", "--robot", &toml, "--from", FROM, "--to", TO, "--method", "ecsa", "--torques", "--format", "json"];
-    let o = freefloat(&args);
+    // The sin^2 window starts and ends at rest, so its torques can be followed from rest.
+    let args = ["plan", "--robot", &toml, "--from", FROM, "--to", TO, "--method", "ecsa", "--torques"];
+    let o = freefloat(&[&args[..], &["--window", "sin2", "--format", "json"]].concat());
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     let r = json(&o);
     assert_eq!(r["method"], "ecsa");
@@ -78,6 +79,11 @@ fn three_link_arm_plans_with_the_ecsa() {
     assert_eq!(e["coefficients"].as_array().unwrap().len(), 9);
     let optimal = json(&freefloat(&["plan", "--robot", &toml, "--from", FROM, "--to", TO, "--format", "json"]));
     assert!(optimal["ecsa"].is_null() && optimal["optimal"]["iterations"].is_u64(), "{optimal}");
+    // The plain series moves at t = 0: its torque level, started from the problem's state (at
+    // rest), is not certified (exit 3, the level named), as the 2-link robot's.
+    let plain = freefloat(&args);
+    assert_eq!(plain.status.code(), Some(3), "{}", stderr(&plain));
+    assert!(stderr(&plain).contains("torque level"), "{}", stderr(&plain));
     let table = freefloat(&["plan", "--robot", &toml, "--from", FROM, "--to", TO, "--method", "ecsa"]);
     assert_eq!(table.status.code(), Some(0), "{}", stderr(&table));
     let text = String::from_utf8_lossy(&table.stdout);
@@ -336,7 +342,8 @@ fn arm_plan_takes_max_velocity_from_velocity_and_joint_trajectory() {
 #[test]
 fn arm_compare_lists_every_method() {
     for (robot, from, to) in arms() {
-        let base = ["compare", &robot[0], &robot[1], "--from", from, "--to", to, "--torques"];
+        // The ECSA with the sin^2 window starts at rest: its torque level holds from rest.
+        let base = ["compare", &robot[0], &robot[1], "--from", from, "--to", to, "--torques", "--window", "sin2"];
         let r = json(&freefloat(&[&base[..], &["--format", "json"]].concat()));
         for method in ["optimal", "ecsa"] {
             assert_eq!(r[method]["certified"], true, "{method}: {r}");
@@ -601,11 +608,17 @@ fn three_link_arm_plot_draws_its_limits() {
     let pdf = bad.path().join("arm.pdf");
     let o = freefloat(&[&base[..], &["--plot", pdf.to_str().unwrap()]].concat());
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    // The NFA's 2-link plan has no arm figure: refused, nothing written. The paper's robot's
+    // minimum-effort plan goes through the one pipeline of every arm, and draws (issue 19).
     let two = bad.path().join("two.svg");
-    let o = freefloat(&["plan", "--quiet", "--plot", two.to_str().unwrap()]);
+    let o = freefloat(&["plan", "--quiet", "--method", "nfa", "--plot", two.to_str().unwrap()]);
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
     assert!(stderr(&o).contains("--plot"), "{}", stderr(&o));
     assert_eq!(std::fs::read_dir(bad.path()).unwrap().count(), 0, "a refused run wrote a file");
+    let o = freefloat(&["plan", "--quiet", "--plot", two.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let text = std::fs::read_to_string(&two).expect("the SVG is written");
+    assert!(text.contains("2-link arm"), "the 2-link robot's figure");
 }
 
 /// One report for every arm and method (issue 19, item 5): the JSON of the 2-link robot's three

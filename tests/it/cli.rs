@@ -170,6 +170,17 @@ fn failed_certificate_exits_3_but_writes_the_report_when_asked() {
     assert!(stderr(&o).contains("not certified"));
     let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&out).expect("written")).expect("json");
     assert_eq!(v["certified"], false);
+    assert!(v["final_error"].as_f64().is_some_and(|e| e > 1e-18 && e <= 1e-9), "{}", v["final_error"]);
+    // Any arm alike: the plan at the default tolerance, judged at the one asked for.
+    let arm = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/robots/three_link.toml");
+    let out = dir.path().join("arm.json");
+    let args = ["plan", "--robot", arm, "--from", "0,0,30,30", "--to", "20,90,30,-30", "--samples", "101"];
+    let o = freefloat(&[&args[..], &["--tolerance", "1e-18", "--out", out.to_str().expect("utf-8")]].concat());
+    assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
+    assert!(stderr(&o).contains("not certified"), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&out).expect("written")).expect("json");
+    assert_eq!((v["certified"].clone(), v["joints"].clone()), (false.into(), 3.into()));
+    assert_eq!(v["tolerance"], 1e-18);
 }
 
 /// `--max-velocity` stretches the horizon so that the peak joint velocity stays under the cap,
@@ -332,4 +343,21 @@ fn a_moving_start_is_certified_at_the_torque_level() {
     assert_eq!(report["closed_loop"]["certified"], serde_json::Value::Bool(true), "{report}");
     let o = freefloat(&["plan", "--from-velocity", "5,-5", "--method", "nfa"]);
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+}
+
+/// The paper's ECSA through the command line's one pipeline (issue 19): `plan --method ecsa` on
+/// the paper's robot is the 2-link arm's ECSA with the paper's damped pseudo-inverse iteration,
+/// and takes the paper reproduction's iterations at a = b = 0, 0.1, 0.2, 0.3: 4, 2, 5, 4 (the
+/// library's `paper_reproduction_is_unchanged`, from the 2-joint ECSA before the merge).
+#[test]
+fn the_paper_ecsa_through_the_command_line() {
+    for (a, iterations) in [("0", 4), ("0.1", 2), ("0.2", 5), ("0.3", 4)] {
+        let mount = format!("{a},{a}");
+        let o = freefloat(&["plan", "--method", "ecsa", "--mount", &mount, "--samples", "101", "--format", "json"]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("json");
+        assert_eq!(v["ecsa"]["solver"], "pseudo_inverse", "a = b = {a}");
+        assert_eq!(v["ecsa"]["iteration"]["iterations"], iterations, "a = b = {a}: {}", v["ecsa"]);
+        assert_eq!(v["certified"], true);
+    }
 }

@@ -208,6 +208,9 @@ pub fn run(args: &PlanArgs) -> anyhow::Result<ExitCode> {
             pipelines::arm(args, &arm)?
         }
         super::Robot::Arm(arm) => pipelines::two_link(args, Some(arm))?,
+        super::Robot::TwoLink if method(args, None)? != Method::Nfa => {
+            pipelines::arm(args, &Arm::from_params(&super::robot(&args.problem.robot)?))?
+        }
         super::Robot::TwoLink => pipelines::two_link(args, None)?,
     };
     let r = obtained.report(false);

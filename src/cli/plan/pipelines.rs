@@ -102,7 +102,10 @@ const ELBOW_WITHOUT_POSE: &str =
 /// certificate; with the checked `--gif`. `--plot` is refused (it draws an arm's plan).
 pub(super) fn two_link(args: &PlanArgs, limited: Option<Arm>) -> anyhow::Result<(Obtained, Gif<'_>)> {
     if args.plot.is_some() {
-        bail!("--plot draws an arm's plan (--robot or --urdf, not --method nfa): not the 2-link NFA's");
+        bail!(
+            "--plot draws a minimum-effort or ECSA plan (--method optimal or ecsa): the NFA's plan of the paper's \
+             2-link model has no such figure; drop --plot, or see its pictures with --gif"
+        );
     }
     let gif = crate::cli::checked_gif(args)?;
     let problem = crate::cli::problem(&args.problem)?;

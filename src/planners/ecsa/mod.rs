@@ -8,8 +8,10 @@
 //! J^{\#} = J^\top (J J^\top + \lambda^2 I)^{-1},$$
 //! from the straight line ([`ChainSolver::PseudoInverse`], the 2-link [`EcsaPlanner`]'s, the
 //! paper's reproduction), or the least-norm solution (`min_norm.rs`,
-//! [`ChainSolver::MinimumNorm`], the default for other arms: the pseudo-inverse's first step
-//! overshoots into large harmonics when the base must turn by loops).
+//! [`ChainSolver::MinimumNorm`], the default for arms of more joints: the pseudo-inverse's first
+//! step overshoots into large harmonics when the base must turn by loops). Every 2-link arm, the
+//! paper's robot through any pipeline, takes the paper's iteration
+//! ([`crate::planners::arm::plan_arm`]).
 //!
 //! **Initial guess**: all harmonics zero and the constant terms that move each joint from
 //! `theta_i0` to `theta_id` ([`Basis::initial_guess`]): a linear joint motion (or its
