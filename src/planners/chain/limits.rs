@@ -373,6 +373,10 @@ impl Discretised for Limited<'_> {
 /// SQP iterations of a rate-limited line's first coarse solve (see `ChainPlanner::solve_seed`).
 pub(crate) const CAPPED_LINE: usize = 8;
 
+/// The stall iterations of a deciding search's solves (`ChainPlanner::deciding`), the probes'
+/// (`horizon.rs`).
+const DECIDING_STALL: usize = 3;
+
 /// Restarts of a constrained solve that stalled short of its KKT tolerance ([`solve`]).
 const STALL_RESTARTS: usize = 4;
 
@@ -389,6 +393,8 @@ pub(crate) fn solve(
     if !constrained(planner) {
         return sqp::solve(disc, x0, options, guess);
     }
+    let deciding = SqpOptions { stall_iterations: options.stall_iterations.min(DECIDING_STALL), ..*options };
+    let options = if planner.deciding { &deciding } else { options };
     match Limited::new(planner, disc) {
         Some(limited) => {
             let x0 = limited.clip(x0);
@@ -427,7 +433,8 @@ pub(crate) fn soft_start(
 /// descends; restarted from there (a fresh radius, the holonomy multiplier kept) both converged
 /// (case 7 to 0.2 % of the oracle). Up to [`STALL_RESTARTS`] times, while the KKT residual at
 /// least halves at no loss of feasibility. Not for the coarse solves: restarting those changed
-/// which candidates the search refines, and lost case 19's minimum.
+/// which candidates the search refines, and lost case 19's minimum. Nor in a deciding search
+/// (`ChainPlanner::deciding`) off the constraint: it asks whether a plan fits, not its minimum.
 pub(crate) fn solve_restarting(
     planner: &ChainPlanner,
     disc: &Discretisation,
@@ -436,7 +443,7 @@ pub(crate) fn solve_restarting(
     guess: Option<f64>,
 ) -> Result<SqpResult, Error> {
     let mut result = solve(planner, disc, x0, options, guess)?;
-    if !constrained(planner) {
+    if !constrained(planner) || (planner.deciding && result.c.abs() > options.constraint_tolerance) {
         return Ok(result);
     }
     for _ in 0..STALL_RESTARTS {

@@ -333,6 +333,10 @@ pub struct ChainPlanner {
     /// (`keep_clear.rs`; off for the shortest horizon's final search, which has a plan that
     /// clears already: `horizon.rs`).
     last_resort: bool,
+    /// Whether the search only decides whether its horizon fits (the shortest horizon's full
+    /// search at the probes' failing horizon, `horizon.rs`): its solves give up an infeasible
+    /// crawl and are not restarted off the constraint (`limits::solve`).
+    deciding: bool,
     /// The margins of the torque and base-range rows of a plan solved again because it left those
     /// limits between the rows' points (`limits/hold.rs`; none otherwise).
     held: Option<Arc<limits::Margins>>,
@@ -350,6 +354,7 @@ impl ChainPlanner {
             obstacle_rows: true,
             clearance_pieces: limits::CLEARANCE_PIECES,
             last_resort: true,
+            deciding: false,
             held: None,
         }
     }
