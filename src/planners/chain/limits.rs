@@ -390,15 +390,29 @@ pub(crate) fn solve(
     options: &SqpOptions,
     guess: Option<f64>,
 ) -> Result<SqpResult, Error> {
+    solve_watched(planner, disc, x0, options, guess, &mut |_, _, _| false)
+}
+
+/// [`solve`] with `abandon(iterations, f, c)` asked at every iterate
+/// ([`sqp::solve_watched`]): where it answers `true` the solve stops there as
+/// [`Termination::Abandoned`].
+pub(crate) fn solve_watched(
+    planner: &ChainPlanner,
+    disc: &Discretisation,
+    x0: DVector<f64>,
+    options: &SqpOptions,
+    guess: Option<f64>,
+    abandon: &mut dyn FnMut(usize, f64, f64) -> bool,
+) -> Result<SqpResult, Error> {
     if !constrained(planner) {
-        return sqp::solve(disc, x0, options, guess);
+        return sqp::solve_watched(disc, x0, options, guess, abandon);
     }
     let deciding = SqpOptions { stall_iterations: options.stall_iterations.min(DECIDING_STALL), ..*options };
     let options = if planner.deciding { &deciding } else { options };
     match Limited::new(planner, disc) {
         Some(limited) => {
             let x0 = limited.clip(x0);
-            sqp::solve(&limited, x0, options, guess)
+            sqp::solve_watched(&limited, x0, options, guess, abandon)
         }
         None => Err(Error::from(InputError::InvalidParameter {
             name: "spans".into(),

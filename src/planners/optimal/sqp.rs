@@ -226,9 +226,10 @@ pub fn solve<P: Discretised>(
     solve_watched(problem, x0, options, guess, &mut |_, _, _| false)
 }
 
-/// [`solve`], with `abandon(iterations, f, c)` asked at every iterate of the equality-only
-/// iteration (not the S-l1-QP one): where it answers `true` the solve stops there as
-/// [`Termination::Abandoned`]. Where it never does, the iterates are exactly [`solve`]'s.
+/// [`solve`], with `abandon(iterations, f, c)` asked at every iterate (of the equality-only
+/// iteration and of the S-l1-QP one with inequalities, `c` the equality's value): where it
+/// answers `true` the solve stops there as [`Termination::Abandoned`]. Where it never does, the
+/// iterates are exactly [`solve`]'s.
 pub fn solve_watched<P: Discretised>(
     problem: &P,
     x0: DVector<f64>,
@@ -245,7 +246,7 @@ pub fn solve_watched<P: Discretised>(
     }))?;
     let m = Metric { s, chol, hb };
     if problem.inequalities(&x0, 0).is_some() {
-        return inequality::solve(problem, x0, options, guess, &m);
+        return inequality::solve(problem, x0, options, guess, &m, abandon);
     }
     let mut x = x0;
     let mut e = problem.evaluate(&x, 2);

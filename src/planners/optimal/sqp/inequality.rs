@@ -201,13 +201,15 @@ const STATIONARY_STEPS: usize = 2;
 /// Solves `min f` subject to `c = 0`, `g <= 0` from `x0` (see the module docs). Converged means
 /// `|c| <= constraint_tolerance`, `max g <= constraint_tolerance` (the rows are scaled to the
 /// limits, so this is relative) and the KKT residual, the least of the QPs' at the iterate,
-/// below `kkt_tolerance`.
+/// below `kkt_tolerance`. Where `abandon(iterations, f, c)` answers `true` at an iterate the
+/// solve stops there as [`Termination::Abandoned`] (see [`super::solve_watched`]).
 pub(super) fn solve<P: Discretised>(
     problem: &P,
     x0: DVector<f64>,
     options: &SqpOptions,
     guess: Option<f64>,
     m: &Metric,
+    abandon: &mut dyn FnMut(usize, f64, f64) -> bool,
 ) -> Result<SqpResult, Error> {
     let hb = m.hb;
     let mut x = x0;
@@ -253,6 +255,9 @@ pub(super) fn solve<P: Discretised>(
         }
         if iterations >= options.max_iterations {
             break Termination::MaxIterations;
+        }
+        if abandon(iterations, e.f, e.c) {
+            break Termination::Abandoned;
         }
         if radius < 1e-15 * (1.0 + m.norm(&x)) {
             break Termination::RadiusCollapsed;
