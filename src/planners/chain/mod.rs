@@ -336,6 +336,9 @@ pub struct ChainPlanner {
     /// The margins of the torque and base-range rows of a plan solved again because it left those
     /// limits between the rows' points (`limits/hold.rs`; none otherwise).
     held: Option<Arc<limits::Margins>>,
+    /// The coil sites found by its calls ([`coil::Sites`]: they depend on the connection, the
+    /// ranges and the loops' largest radius, and at three joints or more on the line).
+    sites: coil::Sites,
 }
 
 impl ChainPlanner {
@@ -351,6 +354,7 @@ impl ChainPlanner {
             clearance_pieces: limits::CLEARANCE_PIECES,
             last_resort: true,
             held: None,
+            sites: coil::Sites::default(),
         }
     }
 
