@@ -339,6 +339,8 @@ pub struct ChainPlanner {
     /// The coil sites found by its calls ([`coil::Sites`]: they depend on the connection, the
     /// ranges and the loops' largest radius, and at three joints or more on the line).
     sites: coil::Sites,
+    /// The tables built by its calls ([`tables::KeptTables`]).
+    tables: tables::KeptTables,
 }
 
 impl ChainPlanner {
@@ -355,6 +357,7 @@ impl ChainPlanner {
             last_resort: true,
             held: None,
             sites: coil::Sites::default(),
+            tables: tables::KeptTables::default(),
         }
     }
 
