@@ -340,6 +340,11 @@ pub struct ChainPlanner {
     /// The margins of the torque and base-range rows of a plan solved again because it left those
     /// limits between the rows' points (`limits/hold.rs`; none otherwise).
     held: Option<Arc<limits::Margins>>,
+    /// The coil sites found by its calls ([`coil::Sites`]: they depend on the connection, the
+    /// ranges and the loops' largest radius, and at three joints or more on the line).
+    sites: coil::Sites,
+    /// The tables built by its calls ([`tables::KeptTables`]).
+    tables: tables::KeptTables,
 }
 
 impl ChainPlanner {
@@ -356,6 +361,8 @@ impl ChainPlanner {
             last_resort: true,
             deciding: false,
             held: None,
+            sites: coil::Sites::default(),
+            tables: tables::KeptTables::default(),
         }
     }
 

@@ -498,7 +498,7 @@ fn peak_velocity(plan: &ChainPlan) -> f64 {
     for w in b.windows(2) {
         for k in 0..=16 {
             let t = w[0] + (w[1] - w[0]) * k as f64 / 16.0;
-            plan.basis().evaluate_each(plan.coefficients(), t, |_, [_, rate, _]| peak = peak.max(rate.abs()));
+            plan.basis().rates_each(plan.coefficients(), t, |_, rate| peak = peak.max(rate.abs()));
         }
     }
     peak

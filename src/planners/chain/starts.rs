@@ -145,7 +145,7 @@ impl ChainPlanner {
     /// What the seeds of every representative share: the curvature's comass bound, the coil
     /// sites found so far, the bound's scale.
     pub(super) fn seed_context(&self) -> SeedContext {
-        let sites = Sites::within((0..self.arm.joints()).map(|j| self.arm.limits.joint(j).position).collect());
+        let sites = self.sites.with_ranges((0..self.arm.joints()).map(|j| self.arm.limits.joint(j).position).collect());
         // The bound is in the cost's units: the energy's is the effort's times a floor of R.
         let scale = match self.options.cost {
             Cost::Effort => 1.0,

@@ -131,7 +131,17 @@ impl SplineBasis {
     /// The triangular table `ndu` of Piegl–Tiller A2.3 at `t` in knot span `span`: the basis
     /// functions of every degree up to `p` (upper triangle) and the knot differences (lower).
     fn triangle(&self, span: usize, t: f64) -> [[f64; MAX_DEGREE + 1]; MAX_DEGREE + 1] {
-        let p = self.degree;
+        // Cubic (every basis of the minimum-effort planner but the smooth ends') with `p` a
+        // constant: the loops unroll, the same operations in the same order (the same bits).
+        match self.degree {
+            3 => self.triangle_of(3, span, t),
+            p => self.triangle_of(p, span, t),
+        }
+    }
+
+    /// [`Self::triangle`] for degree `p` (the basis'; inlined where it is a constant).
+    #[inline(always)]
+    fn triangle_of(&self, p: usize, span: usize, t: f64) -> [[f64; MAX_DEGREE + 1]; MAX_DEGREE + 1] {
         let u = &self.knots;
         let mut ndu = [[0.0; MAX_DEGREE + 1]; MAX_DEGREE + 1];
         let mut left = [0.0; MAX_DEGREE + 1];
@@ -155,8 +165,16 @@ impl SplineBasis {
     /// Values, first and second derivatives of the basis functions of knot span `span` at `t`
     /// (Piegl–Tiller A2.3, up to the second derivative).
     pub fn ders(&self, span: usize, t: f64) -> Ders {
-        let p = self.degree;
-        let ndu = self.triangle(span, t);
+        match self.degree {
+            3 => self.ders_of(3, span, t),
+            p => self.ders_of(p, span, t),
+        }
+    }
+
+    /// [`Self::ders`] for degree `p` (the basis'; inlined where it is a constant: the same bits).
+    #[inline(always)]
+    fn ders_of(&self, p: usize, span: usize, t: f64) -> Ders {
+        let ndu = self.triangle_of(p, span, t);
         let mut ders: Ders = [[0.0; MAX_DEGREE + 1]; 3];
         for (j, d) in ders[0].iter_mut().enumerate().take(p + 1) {
             *d = ndu[j][p];
@@ -204,8 +222,17 @@ impl SplineBasis {
     /// first two rows of [`Self::ders`] at about half the work (the derivatives from the
     /// degree `p - 1` functions, Piegl–Tiller Eq. 2.9).
     pub fn values_and_rates(&self, span: usize, t: f64) -> [[f64; MAX_DEGREE + 1]; 2] {
-        let p = self.degree;
-        let ndu = self.triangle(span, t);
+        match self.degree {
+            3 => self.values_and_rates_of(3, span, t),
+            p => self.values_and_rates_of(p, span, t),
+        }
+    }
+
+    /// [`Self::values_and_rates`] for degree `p` (the basis'; inlined where it is a constant:
+    /// the same bits).
+    #[inline(always)]
+    fn values_and_rates_of(&self, p: usize, span: usize, t: f64) -> [[f64; MAX_DEGREE + 1]; 2] {
+        let ndu = self.triangle_of(p, span, t);
         let mut out = [[0.0; MAX_DEGREE + 1]; 2];
         // N'_{r} = p (N_{r-1, p-1} / (u_{r+p} - u_r) - N_{r, p-1} / (u_{r+p+1} - u_{r+1})), the
         // knot differences being ndu[p][.] and the degree p - 1 values ndu[.][p - 1].
@@ -240,6 +267,34 @@ impl SplineBasis {
                 *o = (0..=self.degree).map(|l| d[k][l] * c[first + l]).sum();
             }
             out(j, v);
+        }
+    }
+
+    /// The first derivatives alone of every spline of `coefficients` at `t`: `out(j, theta')`
+    /// of the `j`-th, bit for bit the `theta'` of [`Self::evaluate_each`] (the first-derivative
+    /// row of Piegl–Tiller A2.3, whose `k = 1` step is two terms per function, without the
+    /// second derivatives).
+    pub fn rates_each<C: AsRef<[f64]>>(&self, coefficients: &[C], t: f64, mut out: impl FnMut(usize, f64)) {
+        let p = self.degree;
+        let span = self.span_of_interval(self.interval(t));
+        let ndu = self.triangle(span, t);
+        let mut rate = [0.0; MAX_DEGREE + 1];
+        for (r, d) in rate.iter_mut().enumerate().take(p + 1) {
+            // A2.3 at k = 1: `a_0 = 1 / ndu[p][r - 1]` where `r >= 1`, `a_1 = -1 / ndu[p][r]`
+            // where `r <= p - 1`, each times its degree `p - 1` function; then times `p`.
+            let mut sum = 0.0;
+            if r >= 1 {
+                sum = 1.0 / ndu[p][r - 1] * ndu[r - 1][p - 1];
+            }
+            if r < p {
+                sum += -1.0 / ndu[p][r] * ndu[r][p - 1];
+            }
+            *d = sum * p as f64;
+        }
+        let first = span - p;
+        for (j, c) in coefficients.iter().enumerate() {
+            let c = c.as_ref();
+            out(j, (0..=p).map(|l| rate[l] * c[first + l]).sum());
         }
     }
 
@@ -278,5 +333,30 @@ impl SplineBasis {
         }
         tail_rev.reverse();
         (head, tail_rev)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::SplineBasis;
+
+    /// `rates_each` is the `theta'` of `evaluate_each` bit for bit (the peak velocity of a plan
+    /// is taken with it), on every degree, graded and uniform, at breakpoints and between them.
+    #[test]
+    fn rates_each_is_evaluate_each_bit_for_bit() {
+        for degree in 1..=5 {
+            for grading in [0, 2] {
+                let basis = SplineBasis::graded(degree, 7.3, 9, grading).expect("a valid basis");
+                let c: Vec<Vec<f64>> =
+                    (0..3).map(|j| (0..basis.len()).map(|i| ((i * 7 + j * 3) as f64 * 0.37).sin()).collect()).collect();
+                for k in 0..=400 {
+                    let t = 7.3 * k as f64 / 400.0;
+                    let mut want = [0.0; 3];
+                    basis.evaluate_each(&c, t, |j, [_, rate, _]| want[j] = rate);
+                    basis
+                        .rates_each(&c, t, |j, rate| assert_eq!(rate.to_bits(), want[j].to_bits(), "p {degree} t {t}"));
+                }
+            }
+        }
     }
 }
