@@ -1,6 +1,6 @@
 //! `freefloat plan` for every robot (docs/spec.md §3): only how the plan is obtained depends on
-//! the robot ([`pipelines`]: the paper's 2-link model through [`plan_with`], any other arm through
-//! [`plan_problem`]); the table ([`table`]), the JSON, the CSV, the ROS messages, the files and
+//! the method ([`pipelines`]: every robot's minimum-effort and ECSA plans through
+//! [`plan_problem`], the NFA's of the paper's 2-link model through [`plan_with`]); the table ([`table`]), the JSON, the CSV, the ROS messages, the files and
 //! the exit codes are written once, by [`run`].
 
 mod pipelines;
@@ -62,7 +62,7 @@ fn method(args: &PlanArgs, arm: Option<&Arm>) -> anyhow::Result<Method> {
 /// A plan as one robot's pipeline obtained it, with what the outputs need beside it.
 #[allow(clippy::large_enum_variant, reason = "one value per run, moved once")]
 enum Obtained {
-    /// The paper's 2-link model (the NFA, the ECSA, the minimum-effort front-end).
+    /// The NFA's plan of the paper's 2-link model.
     TwoLink {
         planned: Planned,
         geometry: freefloat::model::arm::collision::Geometry,
@@ -74,7 +74,7 @@ enum Obtained {
         /// The note on the tool frame.
         tool: String,
     },
-    /// Any other arm (the `n`-joint planners).
+    /// Every arm's, the paper's robot's too (the minimum-effort planner and the ECSA).
     Arm {
         planning: Planning,
         plot: Option<(PathBuf, PictureFormat)>,

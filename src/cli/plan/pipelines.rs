@@ -1,7 +1,8 @@
-//! How `plan` and `compare` obtain a plan for each robot: [`two_link`] (the paper's 2-link model
-//! through [`plan_with`]) and [`arm`] (any other arm through [`plan_problem`]: the same flags but
-//! the NFA's, `n + 1` angles in `--from`/`--to`, `n` in `--from-velocity`, `--to-ee` by the
-//! inverse kinematics of `n` links; docs/spec.md §1, §3).
+//! How `plan` and `compare` obtain a plan: [`arm`] for every robot's minimum-effort and ECSA
+//! plans, the paper's robot as its 2-link arm (through [`plan_problem`]: `n + 1` angles in
+//! `--from`/`--to`, `n` in `--from-velocity`, `--to-ee` by the inverse kinematics of `n` links),
+//! and [`two_link`] for the NFA, the paper's 2-link model's (through [`plan_with`]; docs/spec.md
+//! §1, §3).
 
 use std::path::PathBuf;
 
@@ -97,9 +98,10 @@ pub(in crate::cli) fn plan_with(
 const ELBOW_WITHOUT_POSE: &str =
     "--elbow chooses the inverse-kinematics solution of --to-ee: give --to-ee X,Y,PSI, or drop --elbow";
 
-/// The paper's 2-link robot (or a 2-link arm with limits, `limited`, planned by the NFA): the
-/// plan of [`plan_with`], its clearance and limits checked, with torques its closed-loop
-/// certificate; with the checked `--gif`. `--plot` is refused (it draws an arm's plan).
+/// The NFA's plan of the paper's 2-link model (for the paper's robot, or for a 2-link arm with
+/// limits, `limited`): the plan of [`plan_with`], its clearance and limits checked, with torques
+/// its closed-loop certificate; with the checked `--gif`. `--plot` is refused (it draws a
+/// minimum-effort or ECSA plan).
 pub(super) fn two_link(args: &PlanArgs, limited: Option<Arm>) -> anyhow::Result<(Obtained, Gif<'_>)> {
     if args.plot.is_some() {
         bail!(
@@ -122,8 +124,8 @@ pub(super) fn two_link(args: &PlanArgs, limited: Option<Arm>) -> anyhow::Result<
     Ok((Obtained::TwoLink { planned, geometry, limited, limits, closed_loop, tool }, gif))
 }
 
-/// Any other arm: the plan of [`plan_problem`], with the checked `--gif` (and `--plot`). A flag
-/// the arm cannot take is bad input.
+/// Every arm, the paper's robot too: the plan of [`plan_problem`], with the checked `--gif` (and
+/// `--plot`). A flag the arm cannot take is bad input.
 pub(super) fn arm<'a>(args: &'a PlanArgs, arm: &Arm) -> anyhow::Result<(Obtained, Gif<'a>)> {
     let p = &args.problem;
     refuse_flags(p, arm)?;
