@@ -98,6 +98,18 @@ fn bracketed_max<E>(
     golden_max(f, at(lo), at(hi), [scan[lo], scan[hi]], tolerance)
 }
 
+/// The largest value of `f` over the span of `times`, given its `values` there: [`refined_max`]
+/// of the sampled local maxima within twice the largest change between two samples of the top,
+/// to `1e-9` of the span in time (the peak joint velocities of a plan, not only its samples').
+pub fn refined_peak<E>(f: impl FnMut(f64) -> Result<f64, E>, times: &[f64], values: &[f64]) -> Result<f64, E> {
+    let slack = values.windows(2).map(|w| (w[1] - w[0]).abs()).fold(0.0, f64::max);
+    let span = match (times.first(), times.last()) {
+        (Some(a), Some(b)) => b - a,
+        _ => 0.0,
+    };
+    Ok(refined_max(f, times, values, 2.0 * slack, 1e-9 * span)?.1)
+}
+
 /// `n + 1` equally spaced times from 0 to `horizon`, the last exactly `horizon`.
 pub fn uniform_times(horizon: f64, n: usize) -> Vec<f64> {
     let h = horizon / n as f64;

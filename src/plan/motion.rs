@@ -6,7 +6,7 @@ use crate::error::Error;
 use crate::model::RobotParams;
 use crate::model::kinematics::task_point;
 pub use crate::model::system::MotionPoint;
-use crate::numerics::extremum::refined_max;
+use crate::numerics::extremum::refined_peak;
 
 /// A planned motion, evaluated exactly at any time `t` in `[0, T]`.
 pub trait Motion {
@@ -87,13 +87,11 @@ pub fn max_abs_controls(trajectory: &Trajectory) -> [f64; 2] {
 /// samples ([`refined_max`]; those within twice the largest change between two samples of the
 /// sampled maximum, to `1e-9 T` in time).
 pub fn peak_controls(motion: &dyn Motion, trajectory: &Trajectory) -> Result<[f64; 2], Error> {
-    let tolerance = 1e-9 * motion.horizon();
     let mut peak = max_abs_controls(trajectory);
     for (k, p) in peak.iter_mut().enumerate() {
         let values: Vec<f64> = trajectory.dq.iter().map(|dq| dq[k + 1].abs()).collect();
-        let slack = values.windows(2).map(|w| (w[1] - w[0]).abs()).fold(0.0, f64::max);
         let u = |t: f64| motion.controls(t).map(|u| u[k].abs());
-        *p = p.max(refined_max(u, &trajectory.t, &values, 2.0 * slack, tolerance)?.1);
+        *p = p.max(refined_peak(u, &trajectory.t, &values)?);
     }
     Ok(peak)
 }

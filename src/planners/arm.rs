@@ -18,7 +18,7 @@ use super::optimal::Cost;
 use crate::error::Error;
 use crate::model::InputError;
 use crate::model::arm::Arm;
-use crate::numerics::extremum::refined_max;
+use crate::numerics::extremum::refined_peak;
 use crate::numerics::ode::OdeOptions;
 use crate::plan::certificate::{ChainVerification, JointMotion};
 use crate::plan::limit_use::LimitReport;
@@ -215,9 +215,6 @@ impl ArmPlanned {
     }
 }
 
-/// The default tolerance of the velocity-level certificate \[rad\].
-const DEFAULT_TOLERANCE: f64 = 1e-9;
-
 /// Plans `request` for `arm` with `method` ([`Method::Optimal`] or [`Method::Ecsa`] with its
 /// default options; [`Method::Nfa`] is bad input naming the reason), certifies it, and adds the
 /// torque level when asked. The ECSA plans from rest (a moving start is bad input).
@@ -280,11 +277,12 @@ pub fn plan_arm(arm: &Arm, method: Method, request: &ArmRequest) -> Result<ArmPl
             ArmPlan::Optimal(shortest.plan)
         } else {
             ArmPlan::Optimal(match planner.plan_within_limits(&problem) {
-                Err(Error::NotCertified { .. }) if request.tolerance < DEFAULT_TOLERANCE => {
+                Err(Error::NotCertified { .. }) if request.tolerance < super::optimal::DEFAULT_TOLERANCE => {
                     // No plan holds the tolerance asked for: the plan at the default one, its
                     // certificate judged at the tolerance asked for, for the report to say by how
                     // much it misses (exit 3 with the numbers), as for the 2-link robot.
-                    let options = ChainOptions { tolerance: DEFAULT_TOLERANCE, ..planner.options.clone() };
+                    let options =
+                        ChainOptions { tolerance: super::optimal::DEFAULT_TOLERANCE, ..planner.options.clone() };
                     let mut plan = ChainPlanner::new(arm.clone(), options).plan_within_limits(&problem)?;
                     let v = &mut plan.verification;
                     v.tolerance = request.tolerance;
@@ -304,26 +302,21 @@ pub fn plan_arm(arm: &Arm, method: Method, request: &ArmRequest) -> Result<ArmPl
     Ok(ArmPlanned { arm: arm.clone(), method, plan, trajectory, torques, seconds, limits, peak_rates })
 }
 
-/// `max |theta_k'|` of `motion` over `[0, T]` per joint \[rad/s\], not only at the `samples`:
-/// their largest values, each joint's sampled local maxima near the top refined by
-/// golden-section search on the exact rates between their neighbouring samples
-/// ([`refined_max`]: those within twice the largest change between two samples of the sampled
-/// maximum, to `1e-9 T` in time), as [`crate::plan::motion::peak_controls`] for a 2-link plan.
+/// `max |theta_k'|` of `motion` over `[0, T]` per joint \[rad/s\], not only at the `samples`
+/// ([`refined_peak`]: the sampled maxima near the top refined on the exact rates), as
+/// [`crate::plan::motion::peak_controls`] for a 2-link plan.
 pub fn peak_rates(motion: &dyn JointMotion, samples: &[ChainPoint]) -> Vec<f64> {
-    let n = motion.joints();
     let times: Vec<f64> = samples.iter().map(|p| p.t).collect();
-    let tolerance = 1e-9 * times.last().copied().unwrap_or(0.0);
-    let mut rate = vec![0.0; n];
-    (0..n)
+    let mut rate = vec![0.0; motion.joints()];
+    (0..rate.len())
         .map(|k| {
             let values: Vec<f64> = samples.iter().map(|p| p.rate[k].abs()).collect();
-            let slack = values.windows(2).map(|w| (w[1] - w[0]).abs()).fold(0.0, f64::max);
             let f = |t: f64| -> Result<f64, std::convert::Infallible> {
                 motion.joint_rate(t, &mut rate);
                 Ok(rate[k].abs())
             };
-            match refined_max(f, &times, &values, 2.0 * slack, tolerance) {
-                Ok((_, peak)) => peak,
+            match refined_peak(f, &times, &values) {
+                Ok(peak) => peak,
                 Err(never) => match never {},
             }
         })

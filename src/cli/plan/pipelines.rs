@@ -310,11 +310,11 @@ fn name_flag(e: freefloat::Error, p: &ProblemArgs) -> anyhow::Error {
     anyhow::Error::from(e).context(format!("{flag} cannot be honoured here"))
 }
 
-/// The largest `|theta_k'|` of a plan \[rad/s\]: the samples', or the minimum-effort planner's
-/// (sampled finely), whichever is larger.
+/// The largest `|theta_k'|` of a plan \[rad/s\]: its peak rates (refined between the samples),
+/// or the minimum-effort planner's (sampled finely), whichever is larger.
 fn peak_velocity(planned: &ArmPlanned) -> f64 {
-    let sampled = planned.trajectory.iter().flat_map(|p| p.rate.iter()).fold(0.0_f64, |m, r| m.max(r.abs()));
-    sampled.max(planned.stats().map_or(0.0, |s| s.peak_velocity))
+    let peak = planned.peak_rates.iter().fold(0.0_f64, |m, r| m.max(*r));
+    peak.max(planned.stats().map_or(0.0, |s| s.peak_velocity))
 }
 
 /// The plan's note on the tool frame: for a URDF the frame that ends the last link

@@ -193,7 +193,7 @@ impl LastPlanner {
 }
 
 /// The default tolerance of the certificate \[rad\].
-const DEFAULT_TOLERANCE: f64 = 1e-9;
+pub(crate) const DEFAULT_TOLERANCE: f64 = 1e-9;
 
 /// The largest constraint residual \[rad\] of a coarse line beside a coil that is refined as an
 /// extra finalist (in the [chain](crate::planners::chain) planner).
