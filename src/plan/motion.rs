@@ -84,7 +84,7 @@ pub fn max_abs_controls(trajectory: &Trajectory) -> [f64; 2] {
 /// `[max |u1|, max |u2|]` \[rad/s\] of `motion` over `[0, T]`, not only at the samples: the
 /// samples' largest values of `trajectory`, each component's sampled local maxima near the top
 /// refined by golden-section search on the exact [`Motion::controls`] between their neighbouring
-/// samples ([`refined_max`]; those within twice the largest change between two samples of the
+/// samples ([`refined_peak`]: those within twice the largest change between two samples of the
 /// sampled maximum, to `1e-9 T` in time).
 pub fn peak_controls(motion: &dyn Motion, trajectory: &Trajectory) -> Result<[f64; 2], Error> {
     let mut peak = max_abs_controls(trajectory);
