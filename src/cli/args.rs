@@ -92,12 +92,14 @@ pub enum Preset {
 /// Start, goal and horizon of a planning problem (the paper's by default).
 #[derive(Debug, Args, Clone)]
 pub struct EndsArgs {
-    /// Start configuration PHI,TH1,TH2 in deg.
-    #[arg(long, value_name = "PHI,TH1,TH2", default_value = "45,120,80", allow_hyphen_values = true)]
+    /// Start configuration PHI,TH1,..,THn in deg: the base angle and the n joint angles of an
+    /// n-link arm (n + 1 values; the default is the paper's 2-link problem).
+    #[arg(long, value_name = "PHI,TH1,..,THn", default_value = "45,120,80", allow_hyphen_values = true)]
     pub from: String,
-    /// Goal configuration PHI,TH1,TH2 in deg: the optimal planner counts its angles modulo 360
-    /// (unless --no-wrap), the NFA and the ECSA take them literally.
-    #[arg(long, value_name = "PHI,TH1,TH2", default_value = "0,180,140", allow_hyphen_values = true)]
+    /// Goal configuration PHI,TH1,..,THn in deg (n + 1 values): the optimal planner counts its
+    /// angles modulo 360 (unless --no-wrap; a joint with a position range only to representatives inside it),
+    /// the NFA and the ECSA take them literally.
+    #[arg(long, value_name = "PHI,TH1,..,THn", default_value = "0,180,140", allow_hyphen_values = true)]
     pub to: String,
     /// Horizon T in s, from 1e-3 to 1e6; `plan` and `compare` of an arm with velocity,
     /// acceleration or torque limits (or `--max-velocity`) also take `auto`: the shortest horizon
@@ -137,8 +139,9 @@ pub struct ProblemArgs {
     /// again with the horizon stretched (velocities scale as 1/T); the report's `time` is the one used.
     #[arg(long, value_name = "RAD_PER_S", allow_hyphen_values = true)]
     pub max_velocity: Option<f64>,
-    /// Optimal: joint velocities at t = 0, DTH1,DTH2 in deg/s (re-planning; the verification starts there).
-    #[arg(long, value_name = "DTH1,DTH2", default_value = "0,0", allow_hyphen_values = true)]
+    /// Optimal: joint velocities at t = 0, DTH1,..,DTHn in deg/s, one per joint (re-planning; the
+    /// verification starts there).
+    #[arg(long, value_name = "DTH1,..,DTHn", default_value = "0,0", allow_hyphen_values = true)]
     pub from_velocity: String,
     /// Optimal: also zero joint accelerations at both ends (quintic splines), so that the
     /// torques start and end at zero.
