@@ -97,8 +97,8 @@ pub struct EndsArgs {
     #[arg(long, value_name = "PHI,TH1,..,THn", default_value = "45,120,80", allow_hyphen_values = true)]
     pub from: String,
     /// Goal configuration PHI,TH1,..,THn in deg (n + 1 values): the optimal planner counts its
-    /// angles modulo 360 (unless --no-wrap; a joint with a position range only to representatives inside it),
-    /// the NFA and the ECSA take them literally.
+    /// angles modulo 360 (unless --no-wrap; a joint with a position range only to representatives
+    /// inside it), the NFA and the ECSA take them literally.
     #[arg(long, value_name = "PHI,TH1,..,THn", default_value = "0,180,140", allow_hyphen_values = true)]
     pub to: String,
     /// Horizon T in s, from 1e-3 to 1e6; `plan` and `compare` of an arm with velocity,
