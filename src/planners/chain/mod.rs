@@ -406,3 +406,6 @@ mod tests_oracle_solver;
 
 #[cfg(test)]
 mod tests_recorded;
+
+#[cfg(test)]
+mod tests_spin;
