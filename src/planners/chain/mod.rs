@@ -30,6 +30,7 @@ mod queue;
 pub(crate) mod search;
 pub mod seeds;
 mod single;
+mod spin;
 mod starts;
 #[cfg(test)]
 pub(crate) use starts::LINE_SPANS_PER_TURN;
