@@ -85,7 +85,8 @@ impl Default for ReplanOptions {
                 far_finalists: 0,
                 // A re-plan starts from the plan it corrects, and is that plan's correction or
                 // none: the search after a failed warm start found no plan in 157 of 157 re-plans
-                // of the 3-link example at its velocity limit (stop 54).
+                // of the 3-link example at its velocity limit (stop 54). The ladder's last step
+                // searches on arms with shapes or without limits (`Replanner::replan`).
                 warm_start_only: true,
                 loop_planes: 1,
                 tolerance: 1e-6,
@@ -264,15 +265,20 @@ impl Replanner {
 
     /// A plan on `model` from the measured state at time `t` to the goal at `horizon` \[s\],
     /// warm-started by the rest of `current`, the reference being followed (no search where
-    /// that start does not converge, but on an arm with shapes at the ladder's last step, see
-    /// below): `None` when the planner fails, its
+    /// that start does not converge, but at the ladder's last step on an arm with shapes or
+    /// without limits, see below): `None` when the planner fails, its
     /// plan is not accepted (see [`ReplanOptions::accept`]) or its certificate finds it closer
     /// than the model's clearance to a body or an obstacle. The plan keeps the limit margin
     /// ([`ReplanOptions::limit_margin`]) except where the measured state is already beyond it
     /// (widened to it), or where no plan keeps it: then half of it, then none (the limits
     /// themselves). Every re-plan starts with the whole margin: starting where the last one
     /// ended (at none, soon) left the 3-link example at its velocity limit riding the limit, and
-    /// 4 of 4 trials broke it (3 of 4 succeeded starting with the whole margin).
+    /// 4 of 4 trials broke it (3 of 4 succeeded starting with the whole margin). On a robot
+    /// without limits the ladder is one step, and the search follows a warm start that fails:
+    /// near a plan whose base angle is costly to move (a large holonomy multiplier, e.g. a joint
+    /// spinning whole turns) the measured drift of 0.2 s can be more than the warm start's SQP
+    /// corrects in its iterations (hard set problem 10 with the spin goals: 259 failed re-plans
+    /// in 10 trials without the search, 2 with it).
     pub fn replan(
         &mut self,
         model: &Arm,
@@ -281,11 +287,12 @@ impl Replanner {
         horizon: f64,
         current: &Reference,
     ) -> Option<ChainPlan> {
-        let full = self.options.limit_margin;
+        // Without limits the margins of the ladder are one and the same problem: one step.
+        let full = if model.limits.is_empty() { 0.0 } else { self.options.limit_margin };
         let ladder = [full, 0.5 * full, 0.0];
         let last = if full > 0.0 { ladder.len() - 1 } else { 0 };
         for (step, margin) in ladder[..=last].iter().enumerate() {
-            let search = step == last && !model.geometry.is_empty();
+            let search = step == last && (!model.geometry.is_empty() || model.limits.is_empty());
             if let Ok(plan) = self.replan_inside(model, measured, t, horizon, current, (*margin, search)) {
                 return plan;
             }
@@ -297,7 +304,7 @@ impl Replanner {
     /// fails (the next step of the ladder follows), `Ok(None)` where its plan is refused. With
     /// `search` the planner's search follows a warm start that fails (the ladder's last step on
     /// an arm with shapes: the SPART-like arm's re-plans from its first plan found their plans
-    /// so, in 8 to 47 s), else [`ChainOptions::warm_start_only`] holds.
+    /// so, in 8 to 47 s; on an arm without limits), else [`ChainOptions::warm_start_only`] holds.
     fn replan_inside(
         &mut self,
         model: &Arm,
