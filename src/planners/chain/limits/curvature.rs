@@ -121,7 +121,7 @@ impl Limited<'_> {
         let c = self.disc.coefficients(x);
         let dim = self.disc.dim();
         let mut h = DMatrix::zeros(dim, dim);
-        let rule = GaussLegendre::new(8);
+        let rule = super::phi_path::rule(OBSTACLE_PIECES);
         let nodes = self.node_values(OBSTACLE_PIECES);
         let mut node = nodes.iter();
         let mut local = Local::new(n);
