@@ -31,6 +31,23 @@ pub fn connection<D: Scalar>(k: &Lumped, theta1: D, theta2: D) -> (D, D) {
     (s.G / s.F, s.H / s.F)
 }
 
+/// The holonomy integrand `g = a theta1' + b theta2' = (G theta1' + H theta2') / F` (`phi' = -g`,
+/// Eqs. 7, 8) alone: the value of [`holonomy_local`], for the quadratures of a motion's base
+/// angle.
+#[allow(non_snake_case)]
+pub fn holonomy_integrand(k: &Lumped, theta: [f64; 2], rate: [f64; 2]) -> f64 {
+    let Lumped { A, B, C, D: Dk, E, IP, a, b, .. } = *k;
+    let (s1, c1) = theta[0].sin_cos();
+    let (s2, c2) = theta[1].sin_cos();
+    let (s12, c12) = (s1 * c2 + c1 * s2, c1 * c2 - s1 * s2);
+    let k1 = a * c1 + b * s1;
+    let k12 = a * c12 + b * s12;
+    let F = 2.0 * C * c2 + 2.0 * Dk * k1 + 2.0 * E * k12 + IP + A + B;
+    let G = 2.0 * C * c2 + Dk * k1 + E * k12 + A + B;
+    let H = C * c2 + E * k12 + B;
+    (G * rate[0] + H * rate[1]) / F
+}
+
 /// The holonomy integrand `g = a theta1' + b theta2'` (`phi' = -g`, Eq. 7) with its exact
 /// gradient and Hessian in `(theta1, theta2, theta1', theta2')`.
 ///

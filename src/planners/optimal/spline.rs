@@ -218,6 +218,38 @@ impl SplineBasis {
         ders
     }
 
+    /// The Taylor coefficients `c_k = theta^(k)(b) / k!`, `k = 0..=p` (zero above), of the spline
+    /// with coefficients `c` on knot span `span` about its left breakpoint `b`: on the span,
+    /// `theta(b + x) = sum_k c_k x^k`, a polynomial for Horner's rule. The `k`-th derivative is
+    /// the degree `p - k` spline of the differenced coefficients
+    /// `c^(k)_i = (p - k + 1) (c^(k-1)_i - c^(k-1)_(i-1)) / (u_(i+p-k+1) - u_i)` (Piegl–Tiller
+    /// Eq. 3.8, A3.3), evaluated at `b` from the degree `p - k` functions of A2.3's table: rounding
+    /// relative to the differences, not to the coefficients (which the basis functions' `k`-th
+    /// derivatives, of size `h^-k` on a span `h` of the graded ends, would multiply).
+    pub fn taylor(&self, span: usize, c: &[f64]) -> [f64; MAX_DEGREE + 1] {
+        let (p, u) = (self.degree, &self.knots);
+        let ndu = self.triangle(span, u[span]);
+        let first = span - p;
+        // d[l]: the coefficient of function `first + l` of the current derivative, l = k..=p.
+        let mut d = [0.0; MAX_DEGREE + 1];
+        d[..=p].copy_from_slice(&c[first..=first + p]);
+        let mut out = [0.0; MAX_DEGREE + 1];
+        let mut factorial = 1.0;
+        for k in 0..=p {
+            if k > 0 {
+                for l in (k..=p).rev() {
+                    let i = first + l;
+                    d[l] = (p - k + 1) as f64 * (d[l] - d[l - 1]) / (u[i + p - k + 1] - u[i]);
+                }
+                factorial *= k as f64;
+            }
+            // The degree r = p - k functions `span - r + j` are ndu[j][r], j = 0..=r.
+            let r = p - k;
+            out[k] = (0..=r).map(|j| ndu[j][r] * d[k + j]).sum::<f64>() / factorial;
+        }
+        out
+    }
+
     /// Values and first derivatives of the basis functions of knot span `span` at `t`: the
     /// first two rows of [`Self::ders`] at about half the work (the derivatives from the
     /// degree `p - 1` functions, Piegl–Tiller Eq. 2.9).

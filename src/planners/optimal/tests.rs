@@ -232,6 +232,60 @@ fn holonomy_equals_the_ode_integration() {
     }
 }
 
+/// The sampled trajectory (joints by Horner's rule on each span's Taylor coefficients, `phi`
+/// accumulated from sample to sample) against an independent evaluation: the joints of the
+/// spline by de Boor's algorithm (`SplineBasis::evaluate`) to 1e-12 relative (the same
+/// polynomial, a few ulps of rounding apart; 1e-11 for the accelerations, whose basis functions
+/// are of size `h^-2` on the graded end spans `h`, where both evaluations round more), and `phi` by the 24-node rule on every knot span from `phi(0)`
+/// with the paper's [`connection`] (Eq. 8) to 1e-12 rad (the accuracy asked of the motion's base
+/// angle); `at` gives the samples' joints exactly. Cubic plans at three mounts and a quintic one
+/// (smooth ends), at sample counts that put many samples in a span, about one, and fewer (2, 7).
+#[test]
+#[allow(clippy::float_cmp)] // exactness is the property tested: the joints of at() and the samples
+fn sampled_trajectory_matches_de_boor_and_the_fine_rule() {
+    let smooth = OptimalOptions { smooth_ends: true, ..Default::default() };
+    let cases = [
+        (paper(0.1, 0.1), OptimalOptions::default()),
+        (paper(1.0, -1.0), OptimalOptions::default()),
+        (paper(0.0, 0.0), OptimalOptions::default()),
+        (paper(0.2, 0.2), smooth),
+    ];
+    let rule = crate::numerics::quadrature::GaussLegendre::new(motion::MOTION_NODES);
+    for (problem, options) in cases {
+        let m = OptimalPlanner::new(options).motion(&problem).unwrap();
+        let (basis, c, k) = (m.basis(), m.coefficients(), problem.robot.lumped());
+        let b = basis.breakpoints();
+        let integrand = |t: f64| {
+            let ([th1, w1, _], [th2, w2, _]) = (basis.evaluate(&c[0], t), basis.evaluate(&c[1], t));
+            let (a, bb) = connection(&k, th1, th2);
+            a * w1 + bb * w2
+        };
+        let phi_ref = |t: f64| {
+            let s = basis.interval(t);
+            let whole: f64 = (0..s).map(|i| rule.integrate(b[i], b[i + 1], integrand)).sum();
+            problem.start.phi - whole - rule.integrate(b[s], t, integrand)
+        };
+        for samples in [2, 7, 33, 257, 513, 769, 1001] {
+            let tr = m.trajectory(&problem, samples).unwrap();
+            let ddq = tr.ddq.as_ref().unwrap();
+            for (i, &t) in tr.t.iter().enumerate() {
+                let (q, dq, ddq) = (tr.q[i], tr.dq[i], ddq[i]);
+                assert!((q[0] - phi_ref(t)).abs() <= 1e-12, "{samples} samples, t {t}: {} vs {}", q[0], phi_ref(t));
+                for j in 0..2 {
+                    let want = basis.evaluate(&c[j], t);
+                    let got = [q[j + 1], dq[j + 1], ddq[j + 1]];
+                    for ((g, w), tolerance) in got.iter().zip(want).zip([1e-12, 1e-12, 1e-11]) {
+                        let close = (g - w).abs() <= tolerance * (1.0 + w.abs());
+                        assert!(close, "t {t}, joint {j}: {got:?} vs {want:?}");
+                    }
+                }
+                let exact = m.at(t).unwrap();
+                assert_eq!([exact.q.theta1, exact.q.theta2, exact.u[0], exact.u[1]], [q[1], q[2], dq[1], dq[2]]);
+            }
+        }
+    }
+}
+
 /// The problem's start velocity is honoured exactly, and the plan is certified at both levels:
 /// the torque certificate starts from that velocity (it used to start from rest, and failed).
 #[test]
