@@ -378,7 +378,7 @@ pub(crate) const CAPPED_LINE: usize = 8;
 const DECIDING_STALL: usize = 3;
 
 /// The least fraction by which a deciding search's infeasible solve must reduce its
-/// infeasibility in twice [`DECIDING_STALL`] iterations ([`SqpOptions::infeasible_progress`];
+/// infeasibility in twice [`DECIDING_STALL`] iterations ([`SqpOptions::feasibility_progress`];
 /// 1 % elsewhere). The search asks only whether a plan fits: a solve that falls by less than
 /// 30 % in 6 iterations would need about 300 iterations at that rate to reach the coarse
 /// tolerance from 1e-2, against its 40. On issue 20's `--time auto` bench (3-link, velocity
@@ -420,7 +420,7 @@ pub(crate) fn solve_watched(
     }
     let deciding = SqpOptions {
         stall_iterations: options.stall_iterations.min(DECIDING_STALL),
-        infeasible_progress: DECIDING_PROGRESS,
+        feasibility_progress: DECIDING_PROGRESS,
         ..*options
     };
     let options = if planner.deciding { &deciding } else { options };

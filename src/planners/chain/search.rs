@@ -22,7 +22,7 @@ pub(super) const COARSE_SQP: SqpOptions = SqpOptions {
     constraint_tolerance: 1e-10,
     kkt_tolerance: 1e-6,
     stall_iterations: 6,
-    infeasible_progress: 0.01,
+    feasibility_progress: 0.01,
 };
 
 /// After the first converged refinement, a representative's loops and coils are solved only

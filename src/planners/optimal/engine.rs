@@ -47,7 +47,7 @@ pub(crate) const COARSE_SQP: SqpOptions = SqpOptions {
     constraint_tolerance: 1e-10,
     kkt_tolerance: 1e-6,
     stall_iterations: 6,
-    infeasible_progress: 0.01,
+    feasibility_progress: 0.01,
 };
 
 impl OptimalPlanner {

@@ -113,7 +113,7 @@ pub struct SqpOptions {
     /// `stall_iterations` iterations that reduce its infeasibility by less than this fraction
     /// (a representative or a horizon the limits rule out: a crawl, not a convergence); default
     /// 0.01.
-    pub infeasible_progress: f64,
+    pub feasibility_progress: f64,
 }
 
 impl Default for SqpOptions {
@@ -123,7 +123,7 @@ impl Default for SqpOptions {
             constraint_tolerance: 1e-12,
             kkt_tolerance: 1e-7,
             stall_iterations: 8,
-            infeasible_progress: 0.01,
+            feasibility_progress: 0.01,
         }
     }
 }
