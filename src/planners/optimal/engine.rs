@@ -42,8 +42,13 @@ pub(crate) struct Tables(RefCell<Vec<TableEntry>>);
 type TableEntry = ((usize, usize), Arc<Table>);
 
 /// SQP options of the coarse ranking solves.
-pub(crate) const COARSE_SQP: SqpOptions =
-    SqpOptions { max_iterations: 40, constraint_tolerance: 1e-10, kkt_tolerance: 1e-6, stall_iterations: 6 };
+pub(crate) const COARSE_SQP: SqpOptions = SqpOptions {
+    max_iterations: 40,
+    constraint_tolerance: 1e-10,
+    kkt_tolerance: 1e-6,
+    stall_iterations: 6,
+    feasibility_progress: 0.01,
+};
 
 impl OptimalPlanner {
     fn basis(&self, horizon: f64, spans: usize) -> Result<SplineBasis, Error> {

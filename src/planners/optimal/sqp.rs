@@ -109,11 +109,22 @@ pub struct SqpOptions {
     /// Stop as [`Termination::Stalled`] after this many iterations without halving the best KKT
     /// residual while feasible; default 8.
     pub stall_iterations: usize,
+    /// With inequalities, an infeasible solve stops as [`Termination::Stalled`] after twice
+    /// `stall_iterations` iterations that reduce its infeasibility by less than this fraction
+    /// (a representative or a horizon the limits rule out: a crawl, not a convergence); default
+    /// 0.01.
+    pub feasibility_progress: f64,
 }
 
 impl Default for SqpOptions {
     fn default() -> Self {
-        Self { max_iterations: 200, constraint_tolerance: 1e-12, kkt_tolerance: 1e-7, stall_iterations: 8 }
+        Self {
+            max_iterations: 200,
+            constraint_tolerance: 1e-12,
+            kkt_tolerance: 1e-7,
+            stall_iterations: 8,
+            feasibility_progress: 0.01,
+        }
     }
 }
 

@@ -262,11 +262,11 @@ pub(super) fn solve<P: Discretised>(
         if radius < 1e-15 * (1.0 + m.norm(&x)) {
             break Termination::RadiusCollapsed;
         }
-        // Infeasible and no longer reducing the infeasibility by 1 % in twice `stall_iterations`
-        // (a representative or a horizon the limits rule out, or a local minimum of the
-        // infeasibility): stop rather than crawl.
+        // Infeasible and no longer reducing the infeasibility by `feasibility_progress` (1 % by
+        // default) in twice `stall_iterations` (a representative or a horizon the limits rule
+        // out, or a local minimum of the infeasibility): stop rather than crawl.
         let infeasibility = e.c.abs() + penalty(&g);
-        if infeasibility < 0.99 * least_infeasibility {
+        if infeasibility < (1.0 - options.feasibility_progress) * least_infeasibility {
             (least_infeasibility, since_infeasibility) = (infeasibility, 0);
         }
         // Infeasible where the steps have vanished: a stationary point of the infeasibility's
