@@ -228,7 +228,8 @@ impl ChainPlanner {
     /// [`SOFT_PIECES`] to a span keeping the clearance asked, and on its rows keeping the deficit
     /// twice over, up to [`CLEARANCE_RETRIES`] times (not where the denser rows' re-solve
     /// converged to a plan that clears inside every limit: that plan is the answer): the
-    /// converged plan of least effort that clears inside every limit. `Ok(Err(plan))` with the closest plan when none clears, or
+    /// converged plan of least effort that clears inside every limit. `Ok(Err(plan))` with the
+    /// closest plan when none clears, or
     /// with a clear plan whose re-solve stalled (moved onto the holonomy,
     /// [`super::limits::onto_holonomy`]): not proven a minimum, the search keeps it for the end
     /// (a later candidate may clear converged).

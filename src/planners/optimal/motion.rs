@@ -173,8 +173,9 @@ impl OptimalMotion {
     /// The sampled trajectory at `samples` equally spaced times: `q`, `q' = g(q) u` and `q''`
     /// exact; `z` is `None`. `phi` is accumulated from sample to sample, pieces split at the
     /// breakpoints (the integrand is smooth on a knot interval): on a piece at most a 24th of
-    /// its knot interval, as with 1001 samples on 32 spans, the 4-node Gauss–Lobatto rule, whose end nodes
-    /// are the samples' own `phi'` (two evaluations of the connection a sample instead of four),
+    /// its knot interval, as with 1001 samples on 32 spans, the 4-node Gauss–Lobatto rule, whose
+    /// end nodes are the samples' own `phi'` (two evaluations of the connection a sample instead
+    /// of four),
     /// else the 8-node Gauss–Legendre rule (the Lobatto rule's error goes as the piece's 7th
     /// power: on the paper's plans 1e-14 rad at a 24th, 1.6e-12 rad at an eighth of a span;
     /// the test `sampled_trajectory_matches_de_boor_and_the_fine_rule`). `problem` is the

@@ -236,8 +236,9 @@ fn holonomy_equals_the_ode_integration() {
 /// accumulated from sample to sample) against an independent evaluation: the joints of the
 /// spline by de Boor's algorithm (`SplineBasis::evaluate`) to 1e-12 relative (the same
 /// polynomial, a few ulps of rounding apart; 1e-11 for the accelerations, whose basis functions
-/// are of size `h^-2` on the graded end spans `h`, where both evaluations round more), and `phi` by the 24-node rule on every knot span from `phi(0)`
-/// with the paper's [`connection`] (Eq. 8) to 1e-12 rad (the accuracy asked of the motion's base
+/// are of size `h^-2` on the graded end spans `h`, where both evaluations round more), and `phi`
+/// by the 24-node rule on every knot span from `phi(0)` with the paper's [`connection`] (Eq. 8)
+/// to 1e-12 rad (the accuracy asked of the motion's base
 /// angle); `at` gives the samples' joints exactly. Cubic plans at three mounts and a quintic one
 /// (smooth ends), at sample counts that put many samples in a span, about one, and fewer (2, 7).
 #[test]
