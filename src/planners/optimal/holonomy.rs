@@ -36,16 +36,41 @@ pub fn connection<D: Scalar>(k: &Lumped, theta1: D, theta2: D) -> (D, D) {
 /// angle.
 #[allow(non_snake_case)]
 pub fn holonomy_integrand(k: &Lumped, theta: [f64; 2], rate: [f64; 2]) -> f64 {
-    let Lumped { A, B, C, D: Dk, E, IP, a, b, .. } = *k;
-    let (s1, c1) = theta[0].sin_cos();
-    let (s2, c2) = theta[1].sin_cos();
-    let (s12, c12) = (s1 * c2 + c1 * s2, c1 * c2 - s1 * s2);
-    let k1 = a * c1 + b * s1;
-    let k12 = a * c12 + b * s12;
-    let F = 2.0 * C * c2 + 2.0 * Dk * k1 + 2.0 * E * k12 + IP + A + B;
-    let G = 2.0 * C * c2 + Dk * k1 + E * k12 + A + B;
-    let H = C * c2 + E * k12 + B;
+    let [F, G, H] = Trig::new(k, theta).fgh(k);
     (G * rate[0] + H * rate[1]) / F
+}
+
+/// The trigonometric terms of Eq. (8) at `(theta1, theta2)`: `k1 = a c1 + b s1`,
+/// `k12 = a c12 + b s12` and their derivatives `m = dk/dtheta`.
+struct Trig {
+    s2: f64,
+    c2: f64,
+    k1: f64,
+    k12: f64,
+    m1: f64,
+    m12: f64,
+}
+
+impl Trig {
+    fn new(k: &Lumped, theta: [f64; 2]) -> Self {
+        let (a, b) = (k.a, k.b);
+        let (s1, c1) = theta[0].sin_cos();
+        let (s2, c2) = theta[1].sin_cos();
+        let (s12, c12) = (s1 * c2 + c1 * s2, c1 * c2 - s1 * s2);
+        Self { s2, c2, k1: a * c1 + b * s1, k12: a * c12 + b * s12, m1: b * c1 - a * s1, m12: b * c12 - a * s12 }
+    }
+
+    /// The values of `F, G, H` (Eq. 8).
+    #[allow(non_snake_case)]
+    fn fgh(&self, k: &Lumped) -> [f64; 3] {
+        let Lumped { A, B, C, D: Dk, E, IP, .. } = *k;
+        let Self { c2, k1, k12, .. } = *self;
+        [
+            2.0 * C * c2 + 2.0 * Dk * k1 + 2.0 * E * k12 + IP + A + B,
+            2.0 * C * c2 + Dk * k1 + E * k12 + A + B,
+            C * c2 + E * k12 + B,
+        ]
+    }
 }
 
 /// The holonomy integrand `g = a theta1' + b theta2'` (`phi' = -g`, Eq. 7) with its exact
@@ -57,32 +82,21 @@ pub fn holonomy_integrand(k: &Lumped, theta: [f64; 2], rate: [f64; 2]) -> f64 {
 /// `holonomy_derivatives_match_dual_numbers` holds them to num-dual's second derivatives.
 #[allow(non_snake_case)]
 pub fn holonomy_local(k: &Lumped, theta: [f64; 2], rate: [f64; 2]) -> Local {
-    let Lumped { A, B, C, D: Dk, E, IP, a, b, .. } = *k;
-    let (s1, c1) = theta[0].sin_cos();
-    let (s2, c2) = theta[1].sin_cos();
-    let (s12, c12) = (s1 * c2 + c1 * s2, c1 * c2 - s1 * s2);
-    let k1 = a * c1 + b * s1;
-    let k12 = a * c12 + b * s12;
-    let m1 = b * c1 - a * s1;
-    let m12 = b * c12 - a * s12;
+    let Lumped { C, D: Dk, E, .. } = *k;
+    let trig = Trig::new(k, theta);
+    let [f, g, h] = trig.fgh(k);
+    let Trig { s2, c2, k1, k12, m1, m12 } = trig;
     // Values, gradients [d1, d2] and Hessians [d11, d12, d22] of F, G, H.
     let F = [
-        2.0 * C * c2 + 2.0 * Dk * k1 + 2.0 * E * k12 + IP + A + B,
+        f,
         2.0 * Dk * m1 + 2.0 * E * m12,
         -2.0 * C * s2 + 2.0 * E * m12,
         -2.0 * Dk * k1 - 2.0 * E * k12,
         -2.0 * E * k12,
         -2.0 * C * c2 - 2.0 * E * k12,
     ];
-    let G = [
-        2.0 * C * c2 + Dk * k1 + E * k12 + A + B,
-        Dk * m1 + E * m12,
-        -2.0 * C * s2 + E * m12,
-        -Dk * k1 - E * k12,
-        -E * k12,
-        -2.0 * C * c2 - E * k12,
-    ];
-    let H = [C * c2 + E * k12 + B, E * m12, -C * s2 + E * m12, -E * k12, -E * k12, -C * c2 - E * k12];
+    let G = [g, Dk * m1 + E * m12, -2.0 * C * s2 + E * m12, -Dk * k1 - E * k12, -E * k12, -2.0 * C * c2 - E * k12];
+    let H = [h, E * m12, -C * s2 + E * m12, -E * k12, -E * k12, -C * c2 - E * k12];
     let ra = quotient(&G, &F);
     let rb = quotient(&H, &F);
     let [w1, w2] = rate;
