@@ -346,3 +346,34 @@ fn track_reports_the_clearance_of_each_run() {
     let o = freefloat(&["track", "--robot", p, "--obstacle", "circle:-0.3,-0.65"]);
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
 }
+
+/// The clearance margin holds over a run (issue 21 item 6, `--margin`, default 0.02 m): on the
+/// SPART-like example with the true robot the model and 2 % torque noise, each re-plan from a
+/// state the noise pushed inside the margin keeps part of it at its start and all of it from
+/// two re-plan periods on. A re-plan that kept half of what was left for its whole horizon let
+/// the margin erode re-plan by re-plan (seed 2: least clearance 0.0027 m, 10 trials 0.0018 m);
+/// the run keeps at least half the margin (0.0129 m measured).
+#[test]
+fn track_keeps_the_clearance_margin_over_a_run() {
+    let robot = example("spart_like_4dof.urdf");
+    let o = freefloat(&[
+        "track",
+        "--robot",
+        &robot,
+        "--from",
+        "0,30,-60,45,-30",
+        "--to",
+        "30,60,-30,20,-60",
+        "--torque-noise",
+        "0.02",
+        "--seed",
+        "2",
+        "--format",
+        "json",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let runs: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let c = &runs[0]["clearance"];
+    assert!(runs[0]["failure"].is_null(), "{}", runs[0]);
+    assert!(c["min"].as_f64().unwrap() >= 0.01, "the run keeps half the 0.02 m margin: {c}");
+}

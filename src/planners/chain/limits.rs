@@ -181,7 +181,8 @@ impl<'a> Limited<'a> {
         let clearance = planner
             .clearance_rows
             .then(|| {
-                clearance::Clearance::new(arm, planner.obstacle_rows, planner.options.clearance_reserve)
+                let o = &planner.options;
+                clearance::Clearance::new(arm, planner.obstacle_rows, o.clearance_reserve, o.clearance_rise)
                     .map(|c| c.at(planner.clearance_pieces))
             })
             .flatten();
@@ -503,5 +504,6 @@ pub(super) fn constrained(planner: &ChainPlanner) -> bool {
 /// True when `planner` solves with clearance rows: its arm has a pair of bodies (or a body and
 /// an obstacle, with obstacle rows on) that is checked, and the rows are on.
 pub(crate) fn keeps_clearance(planner: &ChainPlanner) -> bool {
-    planner.clearance_rows && clearance::Clearance::new(&planner.arm, planner.obstacle_rows, 0.0).is_some()
+    planner.clearance_rows
+        && clearance::Clearance::new(&planner.arm, planner.obstacle_rows, 0.0, Default::default()).is_some()
 }

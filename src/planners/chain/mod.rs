@@ -190,6 +190,11 @@ pub struct ChainOptions {
     /// ([`ChainStats::clearance_reserve`]), so that it does not dip under the clearance between
     /// the rows' points and solve again. At most 1 m; default 0.
     pub clearance_reserve: f64,
+    /// Clearance the rows keep beyond the clearance asked for, rising with time from the plan's
+    /// start (issue 21 item 6): a re-plan of `track` from a state already inside its margin
+    /// keeps part of it at the start and all of it from the rise's end on, so that the margin
+    /// is won back instead of eroding re-plan by re-plan. Default none.
+    pub clearance_rise: ClearanceRise,
     /// Where a [`ChainOptions::warm_start`] is given and does not give a plan, fail
     /// ([`Error::OptimalFailed`], termination `warm_start`) instead of the full search: a
     /// re-plan of `track` is a small correction of the plan it starts from, and the search after
@@ -197,6 +202,23 @@ pub struct ChainOptions {
     /// velocity limit, and took 8 to 47 s a re-plan on the SPART-like arm with shapes. Default
     /// false.
     pub warm_start_only: bool,
+}
+
+/// A clearance kept beyond the one asked for that rises linearly from none at `t = 0` to
+/// `extra` at `t = over` and stays ([`ChainOptions::clearance_rise`]).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct ClearanceRise {
+    /// The clearance kept from `over` on \[m\], in `[0, 1]`.
+    pub extra: f64,
+    /// The time of the rise \[s\], `>= 0` (none: all of `extra` from the start).
+    pub over: f64,
+}
+
+impl ClearanceRise {
+    /// The clearance kept at time `t` \[m\].
+    pub fn at(&self, t: f64) -> f64 {
+        if t >= self.over { self.extra } else { self.extra * (t / self.over).max(0.0) }
+    }
 }
 
 /// Sampled `(t, theta, theta')` of `n` joints, interpolated by cubic Hermite polynomials.
@@ -273,6 +295,7 @@ impl Default for ChainOptions {
             warm_start: None,
             knots: None,
             clearance_reserve: 0.0,
+            clearance_rise: ClearanceRise::default(),
             warm_start_only: false,
         }
     }
@@ -305,6 +328,10 @@ impl ChainOptions {
         }
         if !(0.0..=1.0).contains(&self.clearance_reserve) {
             return bad("clearance_reserve", self.clearance_reserve, "a clearance in [0, 1] m");
+        }
+        let rise = self.clearance_rise;
+        if !((0.0..=1.0).contains(&rise.extra) && rise.over.is_finite() && rise.over >= 0.0) {
+            return bad("clearance_rise", rise.extra, "a clearance in [0, 1] m rising over a time >= 0 s");
         }
         if !(self.refinement_tolerance > 0.0) {
             return bad("refinement_tolerance", self.refinement_tolerance, "a positive relative change");

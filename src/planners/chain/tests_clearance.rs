@@ -169,3 +169,61 @@ fn a_dip_between_the_rows_is_solved_again_on_denser_rows() {
     assert!(report.holds() && report.min >= 0.015, "least clearance {}", report.min);
     assert!(plan.verification.limits.as_ref().is_some_and(|l| l.inside), "outside a limit");
 }
+
+/// A plan from a state inside the clearance it should keep wins the clearance back
+/// ([`ClearanceRise`], a re-plan of `track` from inside its margin): the 3-link problem of
+/// [`around_the_obstacle`] with the obstacle moved to 0.01 m from the start, where the tool
+/// heads at first. Planned keeping 0.03 m more than the clearance asked (none) from 1 s on,
+/// rising linearly from none at the start, the plan is certified, and at 2000 times of its
+/// motion it keeps what the rise asks at that time (the rows keep 1e-3 m more than asked, for
+/// the dip between their points), so 0.03 m from 1 s on; the plan without the rise comes under
+/// 0.03 m after 1 s (so the rise has work to do).
+#[test]
+fn a_plan_from_inside_the_margin_wins_it_back() {
+    let (arm, problem) = around_the_obstacle(0.0);
+    let free = ChainPlanner::new(arm.clone(), ChainOptions::default());
+    let free = ChainPlanner { clearance_rows: false, ..free }.plan(&problem).unwrap();
+    let q = |p: &ChainPlan, t: f64| {
+        let at = p.at(t);
+        std::iter::once(at.phi).chain(at.theta.iter().copied()).collect::<Vec<f64>>()
+    };
+    let (t0, t1) = (arm.tool_point(&problem.start), arm.tool_point(&q(&free, 0.5)));
+    let way = [t1[0] - t0[0], t1[1] - t0[1]];
+    let norm = way[0].hypot(way[1]);
+    // The obstacle's centre on the tool's way, where the start's clearance is 0.01 m.
+    let placed = |s: f64| {
+        let centre = [t0[0] + s * way[0] / norm, t0[1] + s * way[1] / norm];
+        let mut arm = arm.clone();
+        arm.geometry.obstacles = vec![Shape::circle(centre, 0.05).unwrap()];
+        arm
+    };
+    let start_clearance = |s: f64| {
+        let arm = placed(s);
+        arm.geometry.min_clearance(&arm, &problem.start).unwrap().distance
+    };
+    let (mut lo, mut hi) = (0.0, 1.0);
+    for _ in 0..60 {
+        let mid = 0.5 * (lo + hi);
+        if start_clearance(mid) < 0.01 { lo = mid } else { hi = mid }
+    }
+    let arm = placed(hi);
+    assert!((start_clearance(hi) - 0.01).abs() < 1e-9);
+    let clearance = |p: &ChainPlan, t: f64| arm.geometry.min_clearance(&arm, &q(p, t)).unwrap().distance;
+    let rise = ClearanceRise { extra: 0.03, over: 1.0 };
+    let times = || (0..=2000).map(|i| problem.horizon * i as f64 / 2000.0);
+    let plain = ChainPlanner::new(arm.clone(), ChainOptions::default()).plan(&problem).unwrap();
+    let least_after = times().filter(|&t| t >= 1.0).map(|t| clearance(&plain, t)).fold(f64::INFINITY, f64::min);
+    assert!(least_after < 0.03, "without the rise: {least_after} m after 1 s");
+    let options = ChainOptions { clearance_rise: rise, ..Default::default() };
+    let plan = ChainPlanner::new(arm.clone(), options).plan(&problem).unwrap();
+    assert!(plan.verification.certified && plan.verification.collision().is_ok(), "{:?}", plan.verification);
+    let worst = times()
+        .map(|t| (clearance(&plan, t) - rise.at(t), t))
+        .fold((f64::INFINITY, 0.0), |m, x| if x.0 < m.0 { x } else { m });
+    eprintln!(
+        "least after 1 s: {least_after} m without the rise; worst {worst:?}, effort {} against {}",
+        plan.effort(),
+        plain.effort()
+    );
+    assert!(worst.0 >= 0.0, "under the rise by {} m at t = {} s", -worst.0, worst.1);
+}

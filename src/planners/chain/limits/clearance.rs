@@ -23,6 +23,7 @@ use num_dual::{Derivative, DualSVec64};
 
 use super::{Limited, PathPoint};
 use crate::model::arm::collision::{Body, Geometry, PairClearance};
+use crate::planners::chain::ClearanceRise;
 use crate::planners::optimal::sqp::{Discretised, Inequalities};
 
 /// Points per knot span at which every pair's clearance is bounded.
@@ -59,18 +60,26 @@ pub(super) struct Clearance {
     pairs: Vec<(Body, Body)>,
     /// Points per knot span of the rows of the robot's own bodies ([`PIECES`] unless set).
     pieces: usize,
+    /// The clearance kept beyond `keep` rising from none at `t = 0` to all of it at the rise's
+    /// end ([`crate::planners::chain::ClearanceRise`]).
+    rise: ClearanceRise,
 }
 
 impl Clearance {
     /// The rows for the arm's geometry, the obstacles' pairs only with `obstacles`, each keeping
     /// `reserve` \[m\] more ([`crate::planners::chain::ChainOptions::clearance_reserve`]);
-    /// `None` when no pair has a row.
+    /// and `rise` more from its end on; `None` when no pair has a row.
     /// An obstacle out of a body's reach ([`Geometry::pairs_within`]) gets no rows with it: a far
     /// one would turn on the dense rows through `phi(t)` for nothing (the certificate still
     /// checks every pair).
-    pub(super) fn new(arm: &crate::model::arm::Arm, obstacles: bool, reserve: f64) -> Option<Self> {
+    pub(super) fn new(
+        arm: &crate::model::arm::Arm,
+        obstacles: bool,
+        reserve: f64,
+        rise: ClearanceRise,
+    ) -> Option<Self> {
         let geometry: &Geometry = &arm.geometry;
-        let pairs = geometry.pairs_within(arm, geometry.clearance + MARGIN + reserve);
+        let pairs = geometry.pairs_within(arm, geometry.clearance + MARGIN + reserve + rise.extra);
         let against = |&(_, b): &(Body, Body)| matches!(b, Body::Obstacle(_));
         let obstacles = obstacles && pairs.iter().any(against);
         if !obstacles && pairs.iter().all(against) {
@@ -84,12 +93,18 @@ impl Clearance {
             obstacles,
             pairs,
             pieces: PIECES,
+            rise,
         })
     }
 
     /// The same rows at `pieces` points per knot span (at least one) where no obstacle has rows.
     pub(super) fn at(self, pieces: usize) -> Self {
         Self { pieces: pieces.max(1), ..self }
+    }
+
+    /// The least distance the rows at time `t` keep \[m\].
+    fn keep_at(&self, t: f64) -> f64 {
+        self.keep + self.rise.at(t)
     }
 }
 
@@ -131,6 +146,7 @@ impl Limited<'_> {
                 return;
             }
             let first = point.span - p;
+            let keep = rows.keep_at(point.t);
             let [value, _] = basis.values_and_rates(point.span, point.t);
             q[0] = point.phi;
             for j in 0..n {
@@ -138,7 +154,7 @@ impl Limited<'_> {
             }
             if order == 0 {
                 for pair in geometry.clearances_of(self.arm, &q, &rows.pairs) {
-                    out.values.push((rows.keep - pair.distance) * rows.scale);
+                    out.values.push((keep - pair.distance) * rows.scale);
                 }
                 return;
             }
@@ -151,7 +167,7 @@ impl Limited<'_> {
                 let real = geometry.clearances_of(self.arm, &q, &rows.pairs);
                 let values: Vec<f64> = real.iter().map(|x| x.distance).collect();
                 let against: Vec<bool> = real.iter().map(obstacle).collect();
-                let wanted = (0..real.len()).filter(|&k| !against[k] || values[k] <= rows.keep + NEAR).collect();
+                let wanted = (0..real.len()).filter(|&k| !against[k] || values[k] <= keep + NEAR).collect();
                 (values, against, wanted)
             } else {
                 (Vec::new(), Vec::new(), (0..rows.pairs.len()).collect::<Vec<usize>>())
@@ -187,13 +203,13 @@ impl Limited<'_> {
                 }
             }
             for ((d, s), far) in values.iter().zip(&slopes).zip(&against_obstacle) {
-                out.values.push((rows.keep - d) * rows.scale);
+                out.values.push((keep - d) * rows.scale);
                 // Through theta(t): the p + 1 coefficients of the span, per joint; and against
                 // an obstacle through phi(t) too, whose gradient reaches every earlier one.
                 // A body more than NEAR from the obstacle keeps its row but not its dense
                 // gradient: the row cannot become active in one step (the merit function judges
                 // every step on the rows' values), and the QP stays sparse.
-                if *far && *d > rows.keep + NEAR {
+                if *far && *d > keep + NEAR {
                     out.rows.push(Vec::new());
                     continue;
                 }
