@@ -25,12 +25,15 @@
 //! its plan is kept where it costs less; where it is another family's, that family is probed at
 //! the probes' failing horizon, and the bisection goes on from it where it fits there; else the
 //! full search at the failing horizon decides it (a family that is not the cheapest at the
-//! horizon found may fit shorter ones), and the bisection goes on below a plan it finds. Its
+//! horizon found may fit shorter ones), and the bisection goes on below a plan it finds (without
+//! the line of the probes' goal representative where the search at the horizon found solved
+//! that line alone into the probes' plan: the probes decided it). Its
 //! cost: one unconstrained search, two constrained ones (one of them failing), and about
 //! `log2(log(hi / lo) / log 1.01)` probes, fewer when the time-scaling bound is tight
 //! ([`ShortestHorizon::probes`]).
 
 use std::f64::consts::TAU;
+use std::sync::Arc;
 use std::time::Instant;
 
 use super::discrete::Targets;
@@ -195,6 +198,24 @@ const FIRST_STEP: f64 = 1.1;
 /// may find what this one did not.
 const RATE_BINDS: f64 = 0.99;
 
+/// Joint ends and base targets closer than this are the same goal representative \[rad\]
+/// (representatives differ by turns; a plan reaches its ends to the certificate's 1e-9).
+const SAME_TARGET: f64 = 1e-6;
+
+/// The goal representative `plan` ends at: its joint ends, and the base goal's turn nearest its
+/// base angle at the end.
+fn targets(problem: &ChainProblem, plan: &ChainPlan) -> Targets {
+    let end = plan.at(plan.horizon());
+    let goal0 = problem.goal[0];
+    Targets {
+        start: problem.start[1..].to_vec(),
+        initial_velocity: problem.initial_velocity.clone(),
+        end: end.theta,
+        phi_start: problem.start[0],
+        phi_end: goal0 + TAU * ((end.phi - goal0) / TAU).round(),
+    }
+}
+
 /// The verified motion inside every limit and clear of every body and obstacle by the clearance
 /// asked for: a plan the search may stop at. The planner returns a plan that does not clear as
 /// its least bad one (`keep_clear`), which is no horizon found.
@@ -320,7 +341,17 @@ impl ChainPlanner {
             // plan).
             probes += 1;
             let last = ChainPlanner { last_resort: false, ..self.clone() };
-            if let Ok(f) = last.plan(&ChainProblem { horizon: hi, ..problem.clone() })
+            let full = last.plan(&ChainProblem { horizon: hi, ..problem.clone() });
+            // The full search solved one seed, its first representative's line (no warm start,
+            // no clearance search's phases), into the probes' family: the probes' failure at
+            // `below` decided that line ([`ChainPlanner::line_decided`]).
+            let line = full.as_ref().is_ok_and(|f| {
+                f.stats.seeds == 1
+                    && f.stats.cost >= plan.stats.cost * (1.0 - OTHER_FAMILY)
+                    && self.options.warm_start.is_none()
+                    && !super::limits::keeps_clearance(self)
+            });
+            if let Ok(f) = full
                 && fits(&f)
                 && f.stats.cost < plan.stats.cost
             {
@@ -348,8 +379,11 @@ impl ChainPlanner {
             // crawl as the probes do and are not restarted off the constraint
             // (`ChainPlanner::deciding`): on issue 20's `--time auto` bench it failed in 292 QPs
             // instead of 426 (3564 Clarabel iterations instead of 5461), the same horizon and plan.
+            // Without the line the probes decided ([`ChainPlanner::line_decided`]): there it
+            // solved nothing else, and `--time auto` took 2041 M instructions instead of 4199 M.
             probes += 1;
-            let deciding = ChainPlanner { deciding: true, ..self.clone() };
+            let decided_line = line.then(|| Arc::new(targets(problem, &plan)));
+            let deciding = ChainPlanner { deciding: true, decided_line, ..self.clone() };
             match deciding.plan(&ChainProblem { horizon: below, ..problem.clone() }) {
                 Ok(p) if fits(&p) => (hi, plan) = (below, p),
                 Err(e) if e.is_bad_input() => return Err(e),
@@ -422,15 +456,7 @@ impl ChainPlanner {
             rate.push(p.rate.iter().map(|v| v * k).collect());
         }
         let path = WarmStart { t: times, theta, rate };
-        let end = plan.at(horizon);
-        let goal0 = problem.goal[0];
-        let targets = Targets {
-            start: problem.start[1..].to_vec(),
-            initial_velocity: problem.initial_velocity.clone(),
-            end: end.theta,
-            phi_start: problem.start[0],
-            phi_end: goal0 + TAU * ((end.phi - goal0) / TAU).round(),
-        };
+        let targets = targets(problem, plan);
         let scaled = ChainProblem { horizon: t, ..problem.clone() };
         // A table is built on one horizon's basis: a probe's are its own. On the plan's own
         // spans: near the shortest horizon the coarse basis' velocity rows (conservative by
@@ -448,6 +474,22 @@ impl ChainPlanner {
         Ok(self
             .solve_from(&scaled, targets, &path, (basis, guess, &PROBE_SQP), &tables, Instant::now())?
             .and_then(|p| if fits(&p) { Ok(p) } else { Err(f64::NAN) }))
+    }
+
+    /// Whether a deciding search skips the line of the goal representative `targets`: the
+    /// shortest horizon's probe at the search's horizon, from the plan at the top of the
+    /// bracket, failed on that representative, and the full search at the top solved that line
+    /// alone into the probe's family of paths (one seed, the probes' cost). The line solved
+    /// again from scratch at the failing horizon crawls off the holonomy to where the probe
+    /// stopped: on issue 20's 3-link `--time auto` bench the deciding search at 9.874 s solved
+    /// only that line (154 QPs, 45 % of the instructions) to stall 5.08e-3 rad off the holonomy,
+    /// the probe there 4.92e-3. The representative's other seeds and every other representative
+    /// are still solved.
+    pub(super) fn line_decided(&self, targets: &Targets) -> bool {
+        self.decided_line.as_ref().is_some_and(|d| {
+            let near = |a: &[f64], b: &[f64]| a.iter().zip(b).all(|(x, y)| (x - y).abs() <= SAME_TARGET);
+            near(&d.end, &targets.end) && (d.phi_end - targets.phi_end).abs() <= SAME_TARGET
+        })
     }
 
     /// [`ChainPlanner::plan`], and when the arm has a rate limit (velocity, acceleration or

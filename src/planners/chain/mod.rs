@@ -365,6 +365,9 @@ pub struct ChainPlanner {
     /// search at the probes' failing horizon, `horizon.rs`): its solves give up an infeasible
     /// crawl and are not restarted off the constraint (`limits::solve`).
     deciding: bool,
+    /// The goal representative whose line a deciding search does not solve: the shortest
+    /// horizon's probe at that horizon decided its family (`horizon.rs`, `decides_line`).
+    decided_line: Option<Arc<discrete::Targets>>,
     /// The margins of the torque and base-range rows of a plan solved again because it left those
     /// limits between the rows' points (`limits/hold.rs`; none otherwise).
     held: Option<Arc<limits::Margins>>,
@@ -388,6 +391,7 @@ impl ChainPlanner {
             clearance_pieces: limits::CLEARANCE_PIECES,
             last_resort: true,
             deciding: false,
+            decided_line: None,
             held: None,
             sites: coil::Sites::default(),
             tables: tables::KeptTables::default(),

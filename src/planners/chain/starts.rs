@@ -286,7 +286,8 @@ impl ChainPlanner {
         let coil = p.seeds.iter().any(|s| matches!(s, Seed::Coil { turns, .. } if *turns >= 2));
         // The seeds are independent: solved in parallel, gathered in their order (the first
         // error in that order is returned), so that the result does not depend on the threads.
-        let bases = self.seed_bases(p);
+        let mut bases = self.seed_bases(p);
+        bases.retain(|(seed, _)| *seed != Seed::Line || !self.line_decided(&p.targets));
         // Where no plan bounds the cost yet (the first batch, an infinite ceiling) and the
         // watch applies, the line on the coarse basis first (one cheap solve): its converged
         // cost is a ceiling for the other seeds ([`LINE_CEILING`]).
