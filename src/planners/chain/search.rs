@@ -23,6 +23,7 @@ pub(super) const COARSE_SQP: SqpOptions = SqpOptions {
     kkt_tolerance: 1e-6,
     stall_iterations: 6,
     feasibility_progress: 0.01,
+    initial_penalty: None,
 };
 
 /// After the first converged refinement, a representative's loops and coils are solved only

@@ -232,7 +232,7 @@ pub(super) fn solve<P: Discretised>(
     let working = RefCell::new(vec![false; g.values.len()]);
     let boxed = RefCell::new(vec![false; x.len()]);
     let solver = RefCell::new(None);
-    let mut mu = guess.map_or(1.0, |v| (2.0 * v.abs()).max(1.0));
+    let mut mu = options.initial_penalty.unwrap_or_else(|| guess.map_or(1.0, |v| (2.0 * v.abs()).max(1.0)));
     let mut radius = (m.norm(&x) * 0.5).max(1.0);
     let mut iterations = 0;
     // The least KKT residual of the QPs solved at the current iterate.
