@@ -23,6 +23,7 @@ pub(super) const COARSE_SQP: SqpOptions = SqpOptions {
     kkt_tolerance: 1e-6,
     stall_iterations: 6,
     feasibility_progress: 0.01,
+    initial_penalty: None,
 };
 
 /// After the first converged refinement, a representative's loops and coils are solved only
@@ -381,8 +382,17 @@ impl ChainPlanner {
             previous = Some(c.result.f);
         }
         // Never doubled (its basis already the finest, e.g. a long line's or a coil's): solved
-        // again at the refinement's accuracy.
-        if !resolved && (c.spans == first || !c.result.converged()) {
+        // again at the refinement's accuracy, unless its solve met that accuracy already (a
+        // solve on the same basis from the same point, the projection the identity, would stop
+        // after the one QP that measures its KKT residual: on issue 20's benches the rate-limited
+        // line on the finest basis, converged to a residual of 1e-10 and 1e-15 rad off the
+        // holonomy, one QP of 21 interior-point iterations for 3-link velocity limits).
+        let accurate = c.result.termination == Termination::Converged
+            && c.result.c.abs() <= o.sqp.constraint_tolerance
+            && c.result.kkt <= o.sqp.kkt_tolerance;
+        if !resolved && accurate && c.spans == first {
+            c.result.kkt_tolerance = o.sqp.kkt_tolerance;
+        } else if !resolved && (c.spans == first || !c.result.converged()) {
             c = self.resolve(problem, &c, c.spans, c.nodes, tables)?;
         }
         c = self.sharpen_ends(problem, c, tables)?;

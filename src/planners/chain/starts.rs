@@ -457,7 +457,8 @@ impl ChainPlanner {
                 // start is not feasible (issue 20's oracle case 6 stalled from it).
                 let (old, basis) = (c.disc.coefficients(&c.result.x), c.disc.basis());
                 let warm = fine.project(|t, out| basis.values_each(&old, t, out))?;
-                let solve = |x0| watched(&fine, x0, &COARSE_SQP, None).ok();
+                // The penalty balanced at the start ([`SqpOptions::balanced`]).
+                let solve = |x0: DVector<f64>| watched(&fine, x0.clone(), &COARSE_SQP.balanced(&fine, &x0), None).ok();
                 let mut result = solve(warm);
                 if !result.as_ref().is_some_and(|r| r.c.abs() <= 1e-6 && r.f.is_finite()) {
                     result = solve(fine.project(line.path_of(seed))?);

@@ -48,6 +48,7 @@ pub(crate) const COARSE_SQP: SqpOptions = SqpOptions {
     kkt_tolerance: 1e-6,
     stall_iterations: 6,
     feasibility_progress: 0.01,
+    initial_penalty: None,
 };
 
 impl OptimalPlanner {
