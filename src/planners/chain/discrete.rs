@@ -22,6 +22,8 @@ use crate::planners::optimal::discrete::Evaluation;
 use crate::planners::optimal::spline::{MAX_DEGREE, SplineBasis};
 use crate::planners::optimal::sqp::Discretised;
 
+mod hessian;
+
 /// Ends of the joint paths and the holonomy target.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Targets {
@@ -424,7 +426,7 @@ impl Discretisation {
                 continue;
             }
             if let (Some(_), Some(h)) = (&self.energy, hess_f.as_mut()) {
-                add_energy_hessian(h, &e_local, node, &idx[..=p], n, w);
+                hessian::add_energy(h, &e_local, node, &idx[..=p], n, w);
             }
             // The free local coefficients `(l, free index times n)`, in order: the loops below
             // run over them alone. (Every entry takes one term per node, so the order of the
@@ -439,7 +441,18 @@ impl Discretisation {
             }
             let free_locals = &free_locals[..count];
             let data = hess_c.as_mut_slice();
-            for (a, &(l, il)) in free_locals.iter().enumerate() {
+            // Every local coefficient free (all nodes but the end spans'), cubic splines: the
+            // same terms unrolled ([`hessian::interior`]).
+            let base = free_locals.first().map_or(0, |f| f.1);
+            let unrolled = count == p + 1
+                && match (n, p) {
+                    (2, 3) => hessian::interior::<2, 4>(data, dim, base, node, &local, w),
+                    (3, 3) => hessian::interior::<3, 4>(data, dim, base, node, &local, w),
+                    (4, 3) => hessian::interior::<4, 4>(data, dim, base, node, &local, w),
+                    _ => false,
+                };
+            let general = if unrolled { &free_locals[..0] } else { free_locals };
+            for (a, &(l, il)) in general.iter().enumerate() {
                 let (v, dr) = (node.value[l] * w, node.rate[l] * w);
                 for j in 0..n {
                     // d^2 g / d c_{l j} d(theta_jj, theta'_jj) contracted with c_{l j}'s factors.
@@ -460,7 +473,7 @@ impl Discretisation {
                     for ((o, rw), mv) in out.iter_mut().zip(&row[j..n]).zip(&mixed[j..n]) {
                         *o -= rw * vv + mv * rr;
                     }
-                    for &(ll, index) in &free_locals[a + 1..] {
+                    for &(ll, index) in &general[a + 1..] {
                         let (vv, rr) = (node.value[ll], node.rate[ll]);
                         let out = &mut data[col + index..col + index + n];
                         for ((o, rw), mv) in out.iter_mut().zip(&row[..n]).zip(&mixed[..n]) {
@@ -510,35 +523,5 @@ fn point_of(p: usize, c: &[Vec<f64>], node: &Node, theta: &mut [f64], rate: &mut
         }
         theta[j] = v;
         rate[j] = r;
-    }
-}
-
-/// Adds `weight *` the energy density's Hessian at `node` in the coefficients `idx` (free index
-/// times `n` per local basis function, `usize::MAX` where fixed) to `h`: for coefficients
-/// `(l, j)` and `(ll, jj)`, `v_l v_ll e_tt[j, jj] + v_l r_ll e_tw[j, jj] + r_l v_ll e_tw[jj, j]
-/// + r_l r_ll e_ww[j, jj]`.
-fn add_energy_hessian(h: &mut DMatrix<f64>, e: &EnergyLocal, node: &Node, idx: &[usize], n: usize, weight: f64) {
-    let dim = h.nrows();
-    let data = h.as_mut_slice();
-    for (l, &il) in idx.iter().enumerate() {
-        if il == usize::MAX {
-            continue;
-        }
-        let (v, r) = (node.value[l] * weight, node.rate[l] * weight);
-        for (ll, &ill) in idx.iter().enumerate() {
-            if ill == usize::MAX {
-                continue;
-            }
-            let (vv, rr) = (node.value[ll], node.rate[ll]);
-            for j in 0..n {
-                let col = (il + j) * dim + ill;
-                for jj in 0..n {
-                    data[col + jj] += v * vv * e.theta_theta[j * n + jj]
-                        + v * rr * e.theta_rate[j * n + jj]
-                        + r * vv * e.theta_rate[jj * n + j]
-                        + r * rr * e.rate_rate[j * n + jj];
-                }
-            }
-        }
     }
 }
