@@ -199,6 +199,31 @@ impl ChainPlanner {
             // within 20 % of the best one's.
             let first = coarse.first().filter(|c| near(c)).map_or(refined_best, |c| c.result.f.min(refined_best));
             let extra = extras.into_iter().filter(near).min_by(|a, b| a.result.f.total_cmp(&b.result.f));
+            let mut refined: Vec<f64> = std::mem::take(&mut stood_for);
+            // The far ones are independent (a refinement reads no other's result): refined in
+            // parallel and taken in their order, the same as one by one. On issue 20's 3-link
+            // `--time auto` bench the search at the probes' failing horizon refines two, of 129
+            // and 61 QPs, one after the other before.
+            let refine_far = |far: Vec<Candidate>, refined: &mut Vec<f64>| -> Result<Vec<Candidate>, Error> {
+                let far: Vec<Candidate> = far.into_iter().filter(|c| first_refinement(c.result.f, refined)).collect();
+                let far: Vec<Result<Candidate, Error>> =
+                    far.into_par_iter().map(|c| self.refine(problem, c, tables)).collect();
+                far.into_iter().collect()
+            };
+            // With no coarse finalist near the constraint and no plan refined yet, the far ones
+            // (refined in any case) before the extra: their plans bound it (below). On issue 21's
+            // SPART-like bench the line beside a coil (8.05, stalled on the coarse basis) took 71
+            // of 395 SQP iterations to refine to 7.42, thrown away for the coil's refined 5.39.
+            if !first.is_finite() && extra.is_some() {
+                for c in refine_far(std::mem::take(&mut far), &mut refined)? {
+                    iterations += c.iterations;
+                    if c.result.converged() {
+                        refined_best = refined_best.min(c.result.f);
+                    }
+                    keep(c, &mut best, &mut done, &mut best_failure);
+                }
+            }
+            let first = first.min(refined_best);
             // One more than 20 % above is set aside, not dropped: where no refined plan is
             // certified (and clear), it is the search's next answer.
             let (extra, aside) = match extra {
@@ -215,7 +240,6 @@ impl ChainPlanner {
             // rate-limited line's capped solution (cost equal to 12 digits) and its refinement,
             // 18 QPs, found the line's plan again.
             let (mut converged, mut tried) = (0, 0);
-            let mut refined: Vec<f64> = std::mem::take(&mut stood_for);
             let finalists = extra.into_iter().map(|c| (c, true)).chain(coarse.into_iter().map(|c| (c, false)));
             for (c, extra) in finalists {
                 if !extra && (converged >= o.finalists || tried >= 2 * o.finalists) {
@@ -237,15 +261,7 @@ impl ChainPlanner {
                     keep(c, &mut best, &mut done, &mut best_failure);
                 }
             }
-            // The far ones are independent (a refinement reads no other's result): refined in
-            // parallel and taken in their order, the same as one by one. On issue 20's 3-link
-            // `--time auto` bench the search at the probes' failing horizon refines two, of 129
-            // and 61 QPs, one after the other before.
-            let far: Vec<Candidate> = far.into_iter().filter(|c| first_refinement(c.result.f, &mut refined)).collect();
-            let far: Vec<Result<Candidate, Error>> =
-                far.into_par_iter().map(|c| self.refine(problem, c, tables)).collect();
-            for c in far {
-                let c = c?;
+            for c in refine_far(far, &mut refined)? {
                 iterations += c.iterations;
                 keep(c, &mut best, &mut done, &mut best_failure);
             }
@@ -317,7 +333,7 @@ impl ChainPlanner {
                 kkt_residual: b.result.kkt,
                 effort: b.result.f,
                 seeds,
-                termination: termination_name(b.result.termination),
+                termination: b.result.termination.name(),
             },
             None => Error::OptimalFailed {
                 iterations,
@@ -538,8 +554,4 @@ fn first_refinement(f: f64, refined: &mut Vec<f64>) -> bool {
     }
     refined.push(f);
     true
-}
-
-fn termination_name(t: Termination) -> &'static str {
-    t.name()
 }

@@ -18,7 +18,7 @@ use super::{ChainPlanner, ChainProblem};
 use crate::error::Error;
 use crate::model::wrap_angle;
 use crate::planners::optimal::Cost;
-use crate::planners::optimal::sqp::{Discretised, SqpOptions};
+use crate::planners::optimal::sqp::{Discretised, SqpOptions, SqpResult, Termination};
 
 /// Uniform knot spans per turn of a coil seed (cubic B-splines follow a circle to about 1e-3 of
 /// its radius at this resolution; the radius is then re-fitted to the constraint), as the
@@ -454,13 +454,16 @@ impl ChainPlanner {
                 )?;
                 // From the coarse line's solution (nearer the limits' minimum than the line; on
                 // the 3-link bench the plan's iterations 46 -> 18), and from the line where that
-                // start is not feasible (issue 20's oracle case 6 stalled from it).
+                // start is not feasible (issue 20's oracle case 6 stalled from it), but not where
+                // the watch gave it up: on issue 21's SPART-like bench (its plan without rows) the
+                // solve from the line was given up after 10 iterations too (9.73 -> 8.79 G).
                 let (old, basis) = (c.disc.coefficients(&c.result.x), c.disc.basis());
                 let warm = fine.project(|t, out| basis.values_each(&old, t, out))?;
                 // The penalty balanced at the start ([`SqpOptions::balanced`]).
                 let solve = |x0: DVector<f64>| watched(&fine, x0.clone(), &COARSE_SQP.balanced(&fine, &x0), None).ok();
                 let mut result = solve(warm);
-                if !result.as_ref().is_some_and(|r| r.c.abs() <= 1e-6 && r.f.is_finite()) {
+                let given_up = |r: &SqpResult| r.termination == Termination::Abandoned;
+                if !result.as_ref().is_some_and(|r| (r.c.abs() <= 1e-6 && r.f.is_finite()) || given_up(r)) {
                     result = solve(fine.project(line.path_of(seed))?);
                 }
                 if let Some(result) = result {
