@@ -106,6 +106,19 @@ pub struct ChainPlan {
 }
 
 impl ChainPlan {
+    /// Largest `|theta_j'|` over joints at 16 points per knot span \[rad/s\].
+    pub(super) fn peak_velocity(&self) -> f64 {
+        let b = self.basis().breakpoints();
+        let mut peak: f64 = 0.0;
+        for w in b.windows(2) {
+            for k in 0..=16 {
+                let t = w[0] + (w[1] - w[0]) * k as f64 / 16.0;
+                self.basis().rates_each(self.coefficients(), t, |_, rate| peak = peak.max(rate.abs()));
+            }
+        }
+        peak
+    }
+
     /// The plan of the joint splines `coefficients` on `basis`, `phi(0) = phi0`; statistics and
     /// certificate to be filled in.
     pub(super) fn new(

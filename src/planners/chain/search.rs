@@ -200,10 +200,8 @@ impl ChainPlanner {
             let first = coarse.first().filter(|c| near(c)).map_or(refined_best, |c| c.result.f.min(refined_best));
             let extra = extras.into_iter().filter(near).min_by(|a, b| a.result.f.total_cmp(&b.result.f));
             let mut refined: Vec<f64> = std::mem::take(&mut stood_for);
-            // The far ones are independent (a refinement reads no other's result): refined in
-            // parallel and taken in their order, the same as one by one. On issue 20's 3-link
-            // `--time auto` bench the search at the probes' failing horizon refines two, of 129
-            // and 61 QPs, one after the other before.
+            // The far ones are independent: refined in parallel, taken in their order (issue
+            // 20's `--time auto` bench refined two of 129 and 61 QPs one after the other before).
             let refine_far = |far: Vec<Candidate>, refined: &mut Vec<f64>| -> Result<Vec<Candidate>, Error> {
                 let far: Vec<Candidate> = far.into_iter().filter(|c| first_refinement(c.result.f, refined)).collect();
                 let far: Vec<Result<Candidate, Error>> =
@@ -211,9 +209,9 @@ impl ChainPlanner {
                 far.into_iter().collect()
             };
             // With no coarse finalist near the constraint and no plan refined yet, the far ones
-            // (refined in any case) before the extra: their plans bound it (below). On issue 21's
-            // SPART-like bench the line beside a coil (8.05, stalled on the coarse basis) took 71
-            // of 395 SQP iterations to refine to 7.42, thrown away for the coil's refined 5.39.
+            // before the extra, whose cut their plans set: on issue 21's SPART-like bench the
+            // extra line (8.05, stalled) took 71 of 395 SQP iterations to refine to 7.42, thrown
+            // away for the coil's 5.39.
             if !first.is_finite() && extra.is_some() {
                 for c in refine_far(std::mem::take(&mut far), &mut refined)? {
                     iterations += c.iterations;
@@ -398,11 +396,9 @@ impl ChainPlanner {
             previous = Some(c.result.f);
         }
         // Never doubled (its basis already the finest, e.g. a long line's or a coil's): solved
-        // again at the refinement's accuracy, unless its solve met that accuracy already (a
-        // solve on the same basis from the same point, the projection the identity, would stop
-        // after the one QP that measures its KKT residual: on issue 20's benches the rate-limited
-        // line on the finest basis, converged to a residual of 1e-10 and 1e-15 rad off the
-        // holonomy, one QP of 21 interior-point iterations for 3-link velocity limits).
+        // again at the refinement's accuracy, unless its solve met it already (the same basis
+        // and point: one QP to measure the KKT residual, 21 interior-point iterations for issue
+        // 20's 3-link rate-limited line, converged to 1e-10 and 1e-15 rad off the holonomy).
         let accurate = c.result.termination == Termination::Converged
             && c.result.c.abs() <= o.sqp.constraint_tolerance
             && c.result.kkt <= o.sqp.kkt_tolerance;
@@ -475,7 +471,7 @@ impl ChainPlanner {
         stats.iterations = iterations;
         let mut plan = self.plan_of(c, stats);
         plan.stats.holonomy_residual = (plan.phi(problem.horizon) - c.disc.targets().phi_end).abs();
-        plan.stats.peak_velocity = peak_velocity(&plan);
+        plan.stats.peak_velocity = plan.peak_velocity();
         plan.stats.plan_seconds = clock.elapsed().as_secs_f64();
         let o = &self.options;
         plan.stats.clearance_reserve = o.clearance_reserve;
@@ -520,19 +516,6 @@ impl ChainStats {
             clearance_reserve: 0.0,
         }
     }
-}
-
-/// Largest `|theta_j'|` over joints at 16 points per knot span \[rad/s\].
-fn peak_velocity(plan: &ChainPlan) -> f64 {
-    let b = plan.basis().breakpoints();
-    let mut peak: f64 = 0.0;
-    for w in b.windows(2) {
-        for k in 0..=16 {
-            let t = w[0] + (w[1] - w[0]) * k as f64 / 16.0;
-            plan.basis().rates_each(plan.coefficients(), t, |_, rate| peak = peak.max(rate.abs()));
-        }
-    }
-    peak
 }
 
 /// A refined candidate kept: converged, among the plans (and `best` lowered); else the best
