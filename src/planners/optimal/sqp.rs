@@ -135,8 +135,9 @@ impl Default for SqpOptions {
 }
 
 impl SqpOptions {
-    /// These options with the penalty starting at `|f(x0)| / |c(x0)|` (in `[1, 1e4]`): the
-    /// weight at which the start's infeasibility counts as much as its cost. For a warm start
+    /// These options with the penalty starting at `|f(x0)| / |c(x0)|` (in `[1, 1e4]`; the
+    /// default where that is not finite, e.g. on the constraint): the weight at which the
+    /// start's infeasibility counts as much as its cost. For a warm start
     /// off the constraint without a multiplier's estimate (the rate-limited line on the finest
     /// basis from the coarse line's infeasible solution, `chain::starts`), where a penalty of 1
     /// is steered up tenfold a QP at a time in the first iteration: on issue 20's benches the
@@ -145,7 +146,8 @@ impl SqpOptions {
     /// (2-link), 562 -> 523 (3-link velocity and torque), SPART-like unchanged.
     pub fn balanced<P: Discretised>(self, problem: &P, x0: &DVector<f64>) -> Self {
         let e = problem.evaluate(x0, 0);
-        let initial_penalty = (e.c.abs() > 0.0).then(|| (e.f.abs() / e.c.abs()).clamp(1.0, 1e4));
+        let ratio = e.f.abs() / e.c.abs();
+        let initial_penalty = (e.c.abs() > 0.0 && ratio.is_finite()).then(|| ratio.clamp(1.0, 1e4));
         Self { initial_penalty, ..self }
     }
 }
