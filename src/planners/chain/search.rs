@@ -16,15 +16,8 @@ use crate::planners::optimal::EXTRA_RESIDUAL;
 use crate::planners::optimal::sqp::{SqpOptions, SqpResult, Termination};
 use rayon::prelude::*;
 
-/// SQP options of the coarse solves.
-pub(super) const COARSE_SQP: SqpOptions = SqpOptions {
-    max_iterations: 40,
-    constraint_tolerance: 1e-10,
-    kkt_tolerance: 1e-6,
-    stall_iterations: 6,
-    feasibility_progress: 0.01,
-    initial_penalty: None,
-};
+/// SQP options of the coarse solves ([`SqpOptions::COARSE`]).
+pub(super) const COARSE_SQP: SqpOptions = SqpOptions::COARSE;
 
 /// After the first converged refinement, a representative's loops and coils are solved only
 /// when its estimate is at most this times the best cost found (the two-joint planner's rule:

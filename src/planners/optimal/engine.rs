@@ -41,15 +41,8 @@ pub(crate) struct Tables(RefCell<Vec<TableEntry>>);
 /// A cached table with its (uniform spans, quadrature nodes).
 type TableEntry = ((usize, usize), Arc<Table>);
 
-/// SQP options of the coarse ranking solves.
-pub(crate) const COARSE_SQP: SqpOptions = SqpOptions {
-    max_iterations: 40,
-    constraint_tolerance: 1e-10,
-    kkt_tolerance: 1e-6,
-    stall_iterations: 6,
-    feasibility_progress: 0.01,
-    initial_penalty: None,
-};
+/// SQP options of the coarse ranking solves ([`SqpOptions::COARSE`]).
+pub(crate) const COARSE_SQP: SqpOptions = SqpOptions::COARSE;
 
 impl OptimalPlanner {
     fn basis(&self, horizon: f64, spans: usize) -> Result<SplineBasis, Error> {

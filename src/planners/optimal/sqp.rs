@@ -135,6 +135,18 @@ impl Default for SqpOptions {
 }
 
 impl SqpOptions {
+    /// The options of the coarse solves that rank the seeds and goal representatives (the
+    /// 2-link planner's and the chain planner's alike): a looser KKT tolerance and fewer
+    /// iterations than the refinement's [`Default`].
+    pub const COARSE: Self = Self {
+        max_iterations: 40,
+        constraint_tolerance: 1e-10,
+        kkt_tolerance: 1e-6,
+        stall_iterations: 6,
+        feasibility_progress: 0.01,
+        initial_penalty: None,
+    };
+
     /// These options with the penalty starting at `|f(x0)| / |c(x0)|` (in `[1, 1e4]`; the
     /// default where that is not finite, e.g. on the constraint): the weight at which the
     /// start's infeasibility counts as much as its cost. For a warm start
