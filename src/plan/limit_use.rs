@@ -23,7 +23,7 @@
 use nalgebra::SVector;
 use serde::Serialize;
 
-use super::certificate::{JointMotion, check_lengths, eq7_rate, verify_chain};
+use super::certificate::{JointMotion, check_lengths, eq7_rate, integrate_once};
 use super::limits::MAX_TOLERANCE;
 use super::torques::torques_into;
 use crate::dynamics::arm::ArmDynamics;
@@ -203,7 +203,7 @@ pub fn limit_use(arm: &Arm, motion: &dyn JointMotion, start: &[f64], ode: &OdeOp
     }
     check_lengths(arm, motion, start, start)?;
     // The goal and the tolerance only set the certificate's final error, not used here.
-    let v = verify_chain(arm, motion, start, start, ode, MAX_TOLERANCE)?;
+    let v = integrate_once(arm, motion, start, start, ode, MAX_TOLERANCE)?;
     Ok(v.limits.unwrap_or_else(LimitReport::empty))
 }
 

@@ -230,6 +230,30 @@ fn chain_bad_problems_are_input_errors() {
     assert!(planner.plan(&good).is_ok());
 }
 
+/// Options out of their ranges are input errors naming the option, before any planning: the
+/// clearance a plan keeps beyond the arm's (`clearance_reserve`, `clearance_rise`: a clearance
+/// in [0, 1] m, rising over a finite time >= 0 s).
+#[test]
+fn chain_bad_options_are_input_errors_naming_them() {
+    let good = ChainProblem::rest_to_rest(vec![0.0; 4], vec![0.1; 4], 10.0);
+    let rise = |extra, over| ChainOptions { clearance_rise: ClearanceRise { extra, over }, ..ChainOptions::default() };
+    let bad = [
+        ("clearance_reserve", ChainOptions { clearance_reserve: -0.01, ..ChainOptions::default() }),
+        ("clearance_reserve", ChainOptions { clearance_reserve: f64::NAN, ..ChainOptions::default() }),
+        ("clearance_rise", rise(-0.01, 1.0)),
+        ("clearance_rise", rise(1.5, 1.0)),
+        ("clearance_rise", rise(f64::NAN, 1.0)),
+        ("clearance_rise", rise(0.01, -1.0)),
+        ("clearance_rise", rise(0.01, f64::INFINITY)),
+        ("clearance_rise", rise(0.01, f64::NAN)),
+    ];
+    for (name, options) in bad {
+        let err = ChainPlanner::new(three_link(), options).plan(&good).unwrap_err();
+        assert!(err.is_bad_input() && err.to_string().contains(name), "{name}: {err}");
+    }
+    assert!(ChainPlanner::new(three_link(), rise(0.01, 0.4)).plan(&good).is_ok());
+}
+
 /// A non-zero initial velocity is honoured: `theta'(0) = u0`, at rest at T, certified.
 #[test]
 fn chain_initial_velocity_is_honoured() {
@@ -378,4 +402,35 @@ fn sampled_base_angles_agree_with_phi() {
             }
         }
     }
+}
+
+/// A long motion over several turns (CI's proptest case: a = -0.77, b = -0.21, T = 18.3 s, a
+/// moving start): the integrator at rtol = atol = 1e-12 ends 1.03e-9 rad off, over the default
+/// tolerance, while the plan is right (5e-13 rad at 1e-15). The verdict near the tolerance is the
+/// second, tighter pass's: certified, with its final error; and a goal 2e-9 rad away from where the
+/// motion truly ends is refused by the same second pass, at 2e-9 (it does not hide a real miss).
+#[test]
+fn a_verdict_near_the_tolerance_is_the_tighter_integrations() {
+    use crate::numerics::ode::OdeOptions;
+    use crate::plan::certificate::verify_chain;
+    let robot = RobotParams::src().with_mount(Mount::new(-0.7708190867849999, -0.20503622375799277).unwrap()).unwrap();
+    let arm = Arm::from_params(&robot);
+    let problem = ChainProblem {
+        start: vec![-6.5703059571037175, 2.1434786145117997, 3.703724126470981],
+        goal: vec![-5.890409360165055, 3.2354243729747294, 2.189518257268296],
+        horizon: 18.27603367684202,
+        initial_velocity: vec![-0.11231380365989471, 0.25813072870767645],
+        wrap: true,
+    };
+    let plan = ChainPlanner::new(arm.clone(), ChainOptions::default()).plan(&problem).expect("certified");
+    let v = &plan.verification;
+    assert!(v.certified && v.final_error < 1e-11, "{}", v.final_error);
+    let ode = OdeOptions::default();
+    let once =
+        crate::plan::certificate::integrate_once(&arm, &plan, &problem.start, &problem.goal, &ode, 1e-9).unwrap();
+    assert!(once.final_error > 1e-9, "the first pass alone misses: {}", once.final_error);
+    let mut off = plan.verification.reached.clone();
+    off[0] += 2e-9;
+    let miss = verify_chain(&arm, &plan, &problem.start, &off, &ode, 1e-9).unwrap();
+    assert!(!miss.certified && (miss.final_error - 2e-9).abs() < 1e-10, "{}", miss.final_error);
 }

@@ -464,8 +464,9 @@ proptest! {
                 prop_assert!(plan.trajectory.q.iter().flatten().all(|x| x.is_finite()));
             }
             // A plan whose certificate misses the tolerance is a typed error with its numbers
-            // (the case kept in proptest-regressions, a = -0.77, b = -0.21, T = 18.3 s: the
-            // verified final error 1.031e-9 rad against 1e-9, as at stop 58).
+            // (the case kept in proptest-regressions, a = -0.77, b = -0.21, T = 18.3 s, missed
+            // it by the integrator's error alone until the verdict near the tolerance was a
+            // second, tighter integration's: chain::tests).
             Err(Error::NotCertified { final_error, tolerance, .. }) => {
                 prop_assert!(final_error.is_finite() && final_error > tolerance);
             }
