@@ -25,8 +25,11 @@ use super::discrete::{Discretisation, Evaluation};
 use crate::error::Error;
 use crate::model::InputError;
 
+mod active;
 mod inequality;
 mod subproblem;
+#[cfg(test)]
+mod tests_active;
 #[cfg(test)]
 mod tests_inequality;
 #[cfg(test)]
