@@ -21,7 +21,9 @@ use crate::model::arm::Arm;
 use libm::sincos as sin_cos;
 
 mod curvature;
+mod work;
 pub use curvature::Angles;
+use work::{STACK_JOINTS, Work, WorkSlices};
 
 /// `body(n)` with `n` a constant for two to seven joints (the loops of the inlined body unrolled,
 /// their bounds checks gone; the same operations in the same order, so the same bits), else
@@ -91,17 +93,9 @@ pub struct Local {
     pub hessian: Vec<f64>,
     /// `d^2 g / dtheta_m dtheta'_j = da_j / dtheta_m`, row-major `[m * n + j]`.
     pub mixed: Vec<f64>,
-    // Work space: F's gradient and Hessian, N = G . theta' with its gradient and Hessian, G's
-    // Jacobian `[j * n + m]`, the angles and the prefix sums of theta'.
-    f_grad: Vec<f64>,
-    f_hess: Vec<f64>,
-    g_jac: Vec<f64>,
-    psi: Vec<f64>,
-    rate_sum: Vec<f64>,
-    cs: Vec<(f64, f64)>,
-    pairs: Vec<[f64; 4]>,
-    suffix: Vec<[f64; 4]>,
-    prefix: Vec<[f64; 4]>,
+    /// Work space of [`Connection::local`] beyond [`STACK_JOINTS`] joints (empty up to them,
+    /// whose work space is on the stack).
+    work: Work,
 }
 
 impl Local {
@@ -113,15 +107,7 @@ impl Local {
             gradient: vec![0.0; n],
             hessian: vec![0.0; n * n],
             mixed: vec![0.0; n * n],
-            f_grad: vec![0.0; n],
-            f_hess: vec![0.0; n * n],
-            g_jac: vec![0.0; n * n],
-            psi: vec![0.0; n + 1],
-            rate_sum: vec![0.0; n + 1],
-            cs: vec![(0.0, 0.0); n + 1],
-            pairs: vec![[0.0; 4]; (n + 1) * (n + 1)],
-            suffix: vec![[0.0; 4]; (n + 1) * (n + 1)],
-            prefix: vec![[0.0; 4]; (n + 1) * (n + 1)],
+            work: if n > STACK_JOINTS { Work::new(n) } else { Work::default() },
         }
     }
 }
@@ -232,7 +218,6 @@ impl Connection {
     /// [`Self::local`] for `n = self.n` (inlined where `n` is a constant), with the sines and
     /// cosines of the links' angles `known` already where given (those [`Self::value_of`] kept at
     /// the same `theta`: the same bits).
-    #[allow(non_snake_case)]
     #[inline(always)]
     pub(super) fn local_of(
         &self,
@@ -242,25 +227,65 @@ impl Connection {
         out: &mut Local,
         known: Option<&[(f64, f64)]>,
     ) {
+        let Local { value, a, gradient, hessian, mixed, work } = out;
+        let outputs = (value, &mut a[..n], &mut gradient[..n], &mut hessian[..n * n], &mut mixed[..n * n]);
+        // The work space on the stack, `N1 = n + 1` and `SQ = N1^2` constants, up to
+        // [`STACK_JOINTS`] joints; on the heap beyond.
+        macro_rules! on_stack {
+            ($n1:literal) => {{
+                const SQ: usize = $n1 * $n1;
+                let (mut f_grad, mut f_hess, mut g_jac) = ([0.0; $n1], [0.0; SQ], [0.0; SQ]);
+                let (mut psi, mut rate_sum, mut cs) = ([0.0; $n1], [0.0; $n1], [(0.0, 0.0); $n1]);
+                let (mut pairs, mut suffix, mut prefix) = ([[0.0; 4]; SQ], [[0.0; 4]; SQ], [[0.0; 4]; SQ]);
+                let work = WorkSlices {
+                    f_grad: &mut f_grad,
+                    f_hess: &mut f_hess,
+                    g_jac: &mut g_jac,
+                    psi: &mut psi,
+                    rate_sum: &mut rate_sum,
+                    cs: &mut cs,
+                    pairs: &mut pairs,
+                    suffix: &mut suffix,
+                    prefix: &mut prefix,
+                };
+                self.local_in(n, theta, rate, outputs, work, known)
+            }};
+        }
+        match n {
+            0 | 1 => on_stack!(2),
+            2 => on_stack!(3),
+            3 => on_stack!(4),
+            4 => on_stack!(5),
+            5 => on_stack!(6),
+            6 => on_stack!(7),
+            7 => on_stack!(8),
+            _ => {
+                if work.pairs.len() != (n + 1) * (n + 1) {
+                    *work = Work::new(n);
+                }
+                let Work { f_grad, f_hess, g_jac, psi, rate_sum, cs, pairs, suffix, prefix } = work;
+                let work = WorkSlices { f_grad, f_hess, g_jac, psi, rate_sum, cs, pairs, suffix, prefix };
+                self.local_in(n, theta, rate, outputs, work, known)
+            }
+        }
+    }
+
+    /// [`Self::local_of`] with its work space.
+    #[allow(non_snake_case)]
+    #[inline(always)]
+    fn local_in(
+        &self,
+        n: usize,
+        theta: &[f64],
+        rate: &[f64],
+        (value, a, gradient, hessian, mixed): (&mut f64, &mut [f64], &mut [f64], &mut [f64], &mut [f64]),
+        work: WorkSlices,
+        known: Option<&[(f64, f64)]>,
+    ) {
         let (theta, rate) = (&theta[..n], &rate[..n]);
         let n1 = n + 1;
         // The buffers as separate slices (no reloads of their addresses between the loops).
-        let Local {
-            value,
-            a,
-            gradient,
-            hessian,
-            mixed,
-            f_grad,
-            f_hess,
-            g_jac,
-            psi,
-            rate_sum,
-            cs,
-            pairs,
-            suffix,
-            prefix,
-        } = out;
+        let WorkSlices { f_grad, f_hess, g_jac, psi, rate_sum, cs, pairs, suffix, prefix } = work;
         let (a, gradient, f_grad) = (&mut a[..n], &mut gradient[..n], &mut f_grad[..n]);
         let (hessian, mixed, f_hess, g_jac) =
             (&mut hessian[..n * n], &mut mixed[..n * n], &mut f_hess[..n * n], &mut g_jac[..n * n]);

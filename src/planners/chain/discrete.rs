@@ -366,7 +366,10 @@ impl Discretisation {
         let dim = x.len();
         let residual = |integral: f64| self.targets.phi_start - integral - self.targets.phi_end;
         let c = self.coefficients(x);
-        let (mut theta, mut rate) = (vec![0.0; n], vec![0.0; n]);
+        // The point and a row of the Hessian on the stack (kept in registers where `n` is a
+        // constant).
+        let ([mut theta, mut rate, mut row], m) = ([[0.0; MAX_JOINTS]; 3], n);
+        let (theta, rate, row) = (&mut theta[..m], &mut rate[..m], &mut row[..m]);
         let mut local = Local::new(n);
         let (mut f, mut integral) = (0.0, 0.0);
         let (mut grad_f, mut grad_c) = (DVector::zeros(dim), DVector::zeros(dim));
@@ -374,7 +377,7 @@ impl Discretisation {
         let mut hess_c = if second { self.zero_hessian(dim, hb) } else { DMatrix::zeros(0, 0) };
         // Free index of each local coefficient (usize::MAX when fixed).
         let mut idx = [usize::MAX; MAX_DEGREE + 1];
-        let (mut row, mut mixed) = (vec![0.0; n], [0.0; MAX_JOINTS]);
+        let mut mixed = [0.0; MAX_JOINTS];
         let mut hess_f = match (second, &self.energy) {
             // The effort's Hessian is the table's, not copied ([`Evaluation::hess_f_or`]).
             (true, None) => None,
@@ -388,12 +391,12 @@ impl Discretisation {
         let same = |y: &DVector<f64>| y.len() == dim && y.iter().zip(x.iter()).all(|(a, b)| a.to_bits() == b.to_bits());
         let known = memo.as_ref().filter(|(y, _)| same(y)).map(|(_, kept)| kept.as_slice());
         for (k, node) in table.nodes.iter().enumerate() {
-            point_of(p, &c, node, &mut theta, &mut rate);
-            self.connection.local_of(n, &theta, &rate, &mut local, known.map(|v| &v[k * n..(k + 1) * n]));
+            point_of(p, &c, node, theta, rate);
+            self.connection.local_of(n, theta, rate, &mut local, known.map(|v| &v[k * n..(k + 1) * n]));
             let w = node.weight;
             integral += w * local.value;
             if let Some(arm) = &self.energy {
-                energy_local(arm, &theta, &rate, &mut e_local);
+                energy_local(arm, theta, rate, &mut e_local);
                 f += w * e_local.value;
             } else {
                 f += w * rate.iter().map(|v| v * v).sum::<f64>();
@@ -417,7 +420,7 @@ impl Discretisation {
                         *g += et * v + er * dr;
                     }
                 } else {
-                    for (g, rj) in gf.iter_mut().zip(&rate) {
+                    for (g, rj) in gf.iter_mut().zip(rate.iter()) {
                         *g += 2.0 * rj * dr;
                     }
                 }

@@ -20,7 +20,7 @@
 use nalgebra::{DMatrix, DVector};
 use serde::Serialize;
 
-use super::band::{BandCholesky, matvec, matvec_into};
+use super::band::{BandCholesky, matvec, matvec_pair_into};
 use super::discrete::{Discretisation, Evaluation};
 use crate::error::Error;
 use crate::model::InputError;
@@ -309,6 +309,8 @@ pub fn solve_watched<P: Discretised>(
     let (mut best_kkt, mut since_best) = (kkt, 0);
     // The Lagrangian's Hessian, its band written at every iteration (zero outside it).
     let mut w = DMatrix::zeros(x.len(), x.len());
+    // W's [`Factor`], kept after a rejected step (which leaves `e`, `lambda_w` and W as they were).
+    let mut factor = None;
     let termination = loop {
         if !(e.f.is_finite() && e.c.is_finite() && kkt.is_finite()) {
             return Err(Error::from(InputError::InvalidParameter {
@@ -334,7 +336,10 @@ pub fn solve_watched<P: Discretised>(
         }
         iterations += 1;
         since_best += 1;
-        band_lagrangian(&e, m.s, lambda_w, hb, &mut w);
+        if factor.is_none() {
+            band_lagrangian(&e, m.s, lambda_w, hb, &mut w);
+            factor = Some(BandCholesky::new(&w, hb).map(|c| (c.solve(&e.grad_c), c)));
+        }
         let den = e.grad_c.dot(&a_s);
         if !(den > 0.0) && e.c.abs() > options.constraint_tolerance {
             break Termination::DegenerateConstraint;
@@ -354,7 +359,8 @@ pub fn solve_watched<P: Discretised>(
         let r0 = &e.grad_f + matvec(&w, hb, &v);
         // The Newton step on the constraint's tangent space when W is positive definite and the
         // step fits; else Steihaug's truncated CG.
-        let newton = newton_tangential(&w, hb, &r0, &e.grad_c).filter(|t| m.norm(t) <= tangential_radius);
+        let newton = factor.as_ref().and_then(|f| newton_tangential(f.as_ref()?, &r0, &e.grad_c));
+        let newton = newton.filter(|t| m.norm(t) <= tangential_radius);
         let t = match newton {
             Some(t) => t,
             None => steihaug(&m, &w, &r0, (&e.grad_c, &a_s, den), tangential_radius, x.len() + 5),
@@ -401,6 +407,7 @@ pub fn solve_watched<P: Discretised>(
         let step_norm = m.norm(&step);
         if accepted {
             x += &step;
+            factor = None;
             problem.recycle(std::mem::replace(&mut e.hess_c, DMatrix::zeros(0, 0)));
             e = problem.evaluate(&x, 2);
             (lambda, kkt, a_s) = multiplier(&m, &e);
@@ -487,8 +494,7 @@ fn steihaug(
     // `W p` and `S p`, written at every iteration.
     let (mut wp, mut sp) = (DVector::zeros(n), DVector::zeros(n));
     for _ in 0..max {
-        matvec_into(w, m.hb, &p, &mut wp);
-        matvec_into(m.s, m.hb, &p, &mut sp);
+        matvec_pair_into((w, m.s), m.hb, &p, (&mut wp, &mut sp));
         let kappa = p.dot(&wp);
         let pp = p.dot(&sp);
         if kappa <= 1e-14 * pp {
@@ -514,14 +520,15 @@ fn steihaug(
     t
 }
 
+/// `W^-1 a` with the band Cholesky factor of `W`.
+type Factor = (DVector<f64>, BandCholesky);
+
 /// The minimiser of `r0^T t + 1/2 t^T W t` subject to `a^T t = 0` when `W` is positive definite
-/// (band Cholesky), by the range-space formula `t = -(W^-1 r0 - W^-1 a (a^T W^-1 r0) / (a^T W^-1 a))`.
-fn newton_tangential(w: &DMatrix<f64>, hb: usize, r0: &DVector<f64>, a: &DVector<f64>) -> Option<DVector<f64>> {
-    let chol = BandCholesky::new(w, hb)?;
+/// (its [`Factor`]), by the range-space formula `t = -(W^-1 r0 - W^-1 a (a^T W^-1 r0) / (a^T W^-1 a))`.
+fn newton_tangential((y1, chol): &Factor, r0: &DVector<f64>, a: &DVector<f64>) -> Option<DVector<f64>> {
     let y2 = chol.solve(r0);
-    let y1 = chol.solve(a);
-    let den = a.dot(&y1);
-    let t = if den > 0.0 { -(&y2 - &y1 * (a.dot(&y2) / den)) } else { -y2 };
+    let den = a.dot(y1);
+    let t = if den > 0.0 { -(&y2 - y1 * (a.dot(&y2) / den)) } else { -y2 };
     t.iter().all(|x| x.is_finite()).then_some(t)
 }
 

@@ -5,7 +5,7 @@
 
 use nalgebra::DMatrix;
 
-use super::{EnergyLocal, Local, Node};
+use super::{EnergyLocal, Local, MAX_DEGREE, Node};
 
 /// Subtracts `w` times the holonomy integrand's Hessian at `node` from the lower band of
 /// `data` (column-major, `dim x dim`) for a node whose `Q = p + 1` local coefficients of `N`
@@ -25,31 +25,53 @@ pub(super) fn interior<const N: usize, const Q: usize>(
     local: &Local,
     w: f64,
 ) -> bool {
+    // One call per local coefficient `L`, a constant: every index of its columns is then known
+    // at compile time (the loop over `L` as written was not unrolled, and its index arithmetic
+    // and bounds checks were half of the block's instructions).
+    macro_rules! columns {
+        ($($l:literal)*) => {$(
+            if $l < Q {
+                columns_of::<N, Q, $l>(data, dim, base, node, local, w);
+            }
+        )*};
+    }
+    const _: () = assert!(MAX_DEGREE < 6, "one `columns!` entry per local coefficient");
+    columns!(0 1 2 3 4 5);
+    true
+}
+
+/// The `N` columns of local coefficient `L` of [`interior`]'s block.
+#[inline(always)]
+fn columns_of<const N: usize, const Q: usize, const L: usize>(
+    data: &mut [f64],
+    dim: usize,
+    base: usize,
+    node: &Node,
+    local: &Local,
+    w: f64,
+) {
     let (hessian, mixed) = (&local.hessian[..N * N], &local.mixed[..N * N]);
-    for l in 0..Q {
-        let (v, dr) = (node.value[l] * w, node.rate[l] * w);
-        for j in 0..N {
-            let (mut row, mut mv) = ([0.0; N], [0.0; N]);
+    let (v, dr) = (node.value[L] * w, node.rate[L] * w);
+    for j in 0..N {
+        let (mut row, mut mv) = ([0.0; N], [0.0; N]);
+        for jj in 0..N {
+            row[jj] = hessian[j * N + jj] * v + mixed[jj * N + j] * dr;
+            mv[jj] = mixed[j * N + jj] * v;
+        }
+        // Column `col` from its diagonal down to the block's last row.
+        let col = base + L * N + j;
+        let column = &mut data[col * dim + col..col * dim + base + Q * N];
+        let (vv, rr) = (node.value[L], node.rate[L]);
+        for jj in j..N {
+            column[jj - j] -= row[jj] * vv + mv[jj] * rr;
+        }
+        for ll in L + 1..Q {
+            let (vv, rr) = (node.value[ll], node.rate[ll]);
             for jj in 0..N {
-                row[jj] = hessian[j * N + jj] * v + mixed[jj * N + j] * dr;
-                mv[jj] = mixed[j * N + jj] * v;
-            }
-            // Column `col` from its diagonal down to the block's last row.
-            let col = base + l * N + j;
-            let column = &mut data[col * dim + col..col * dim + base + Q * N];
-            let (vv, rr) = (node.value[l], node.rate[l]);
-            for jj in j..N {
-                column[jj - j] -= row[jj] * vv + mv[jj] * rr;
-            }
-            for ll in l + 1..Q {
-                let (vv, rr) = (node.value[ll], node.rate[ll]);
-                for jj in 0..N {
-                    column[ll * N + jj - l * N - j] -= row[jj] * vv + mv[jj] * rr;
-                }
+                column[ll * N + jj - L * N - j] -= row[jj] * vv + mv[jj] * rr;
             }
         }
     }
-    true
 }
 
 /// Adds `weight *` the energy density's Hessian at `node` in the coefficients `idx` (free index
