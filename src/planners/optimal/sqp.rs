@@ -6,10 +6,9 @@
 //! `|d|_S = sqrt(d^T S d)`, which also preconditions the CG: the effort is the cost (or close to
 //! it), so the tangential subproblem is well conditioned in that metric whatever the knot grading.
 //!
-//! With inequalities `g(x) <= 0` ([`Discretised::inequalities`], linear bounds and nonlinear
-//! rows with exact gradients) the step is the S-l1-QP step of `sqp/inequality.rs`, solved by Clarabel;
-//! without them (every problem that declares none) the iteration is the equality-only one below,
-//! unchanged.
+//! With inequalities `g(x) <= 0` ([`Discretised::inequalities`], linear bounds and nonlinear rows
+//! with exact gradients) the step is the S-l1-QP step of `sqp/inequality.rs`; without them the
+//! iteration is the equality-only one below.
 //!
 //! ## Reference
 //! J. Nocedal, S. J. Wright, *Numerical Optimization*, 2nd ed., Springer (2006), Secs. 18.5
@@ -64,8 +63,7 @@ pub trait Discretised {
         None
     }
     /// Takes back the constraint's Hessian of an [`Evaluation`] the iteration is done with, for
-    /// the next evaluation to fill instead of allocating and zeroing another (the default drops
-    /// it).
+    /// the next evaluation to fill instead of allocating another (the default drops it).
     fn recycle(&self, _hess_c: DMatrix<f64>) {}
     /// The inequalities' curvature `sum_i z_i hess g_i(x)` weighted by the multipliers `z` (one
     /// per row of [`Discretised::inequalities`]), in the band of half-bandwidth
@@ -115,9 +113,8 @@ pub struct SqpOptions {
     /// residual while feasible; default 8.
     pub stall_iterations: usize,
     /// With inequalities, an infeasible solve stops as [`Termination::Stalled`] after twice
-    /// `stall_iterations` iterations that reduce its infeasibility by less than this fraction
-    /// (a representative or a horizon the limits rule out: a crawl, not a convergence); default
-    /// 0.01.
+    /// `stall_iterations` iterations that reduce its infeasibility by less than this fraction (a
+    /// representative or a horizon the limits rule out: a crawl, not a convergence); default 0.01.
     pub feasibility_progress: f64,
     /// With inequalities, the l1 penalty's first value; `None` (the default) for
     /// `max(1, 2 |guess|)`, or 1 without a guess (see [`SqpOptions::balanced`]).
@@ -309,7 +306,7 @@ pub fn solve_watched<P: Discretised>(
     let (mut best_kkt, mut since_best) = (kkt, 0);
     // The Lagrangian's Hessian, its band written at every iteration (zero outside it).
     let mut w = DMatrix::zeros(x.len(), x.len());
-    // W's [`Factor`], kept after a rejected step (which leaves `e`, `lambda_w` and W as they were).
+    // W's [`Factor`], kept after a rejected step (`e`, `lambda_w` and W stay as they were).
     let mut factor = None;
     let termination = loop {
         if !(e.f.is_finite() && e.c.is_finite() && kkt.is_finite()) {
