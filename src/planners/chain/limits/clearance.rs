@@ -151,11 +151,16 @@ impl Limited<'_> {
             let this = index;
             index += 1;
             if !before.is_empty() {
-                let mut step = Vec::new();
-                for (k, (g, b)) in point.grad.iter().zip(&mut before).enumerate() {
-                    if g - *b != 0.0 {
-                        step.push((k, g - *b));
-                        *b = *g;
+                // Only the coefficients of the point's span change `phi` since the last point.
+                let mut step = Vec::with_capacity((p + 1) * n);
+                for l in 0..=p {
+                    for j in 0..n {
+                        let Some(k) = self.index(point.span - p + l, j) else { continue };
+                        let change = point.grad[k] - before[k];
+                        if change != 0.0 {
+                            step.push((k, change));
+                            before[k] = point.grad[k];
+                        }
                     }
                 }
                 running.steps.push(step);
