@@ -23,9 +23,11 @@ use super::band::{BandCholesky, matvec, matvec_pair_into};
 use super::discrete::{Discretisation, Evaluation};
 use crate::error::Error;
 use crate::model::InputError;
+pub use running::{Running, RunningRow};
 
 mod active;
 mod inequality;
+mod running;
 mod subproblem;
 #[cfg(test)]
 mod tests_active;
@@ -41,6 +43,8 @@ pub struct Inequalities {
     pub values: Vec<f64>,
     /// `dg_i/dx` as `(free index, derivative)` pairs, one row per value (empty for order 0).
     pub rows: Vec<Vec<(usize, f64)>>,
+    /// The rows' local forms through a running sum (the QP's banded form; module `running`).
+    pub running: Option<Running>,
 }
 
 /// A discretised problem the SQP solves: cost and one equality constraint with exact first and

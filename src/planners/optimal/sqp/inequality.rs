@@ -304,6 +304,7 @@ pub(super) fn solve<P: Discretised>(
             hb,
             e: &e,
             rows: &g.rows,
+            running: g.running.as_ref(),
             working: &working,
             boxed: &boxed,
             solver: &solver,

@@ -37,6 +37,9 @@ pub(super) struct Model<'a> {
     pub(super) hb: usize,
     pub(super) e: &'a Evaluation,
     pub(super) rows: &'a [Vec<(usize, f64)>],
+    /// The rows' local forms through a running sum, sent to the QP in place of their dense
+    /// gradients ([`super::running`]).
+    pub(super) running: Option<&'a super::Running>,
     /// The working set: rows sent to the QP however far from their limit (those found near or
     /// broken by an earlier step of this solve; see [`Model::solve`]).
     pub(super) working: &'a RefCell<Vec<bool>>,
@@ -181,10 +184,18 @@ impl Model<'_> {
                 })
             })
             .collect();
+        // The running sum's points of the active rows with a local form ([`super::running`]).
+        let local = |i: usize| self.running.and_then(|r| r.row(i));
+        let mut points: Vec<usize> = active.iter().filter_map(|&i| local(i).map(|r| r.point)).collect();
+        points.sort_unstable();
+        points.dedup();
+        let links = self.running.map_or_else(Vec::new, |r| r.links(&points, dim));
+        let np = points.len();
         // Variables: d (dim), s+ and s- of the equality, w = grad c^T d, t_k of each elastic
-        // active row, v_i = b_i^T d of each dense term.
+        // active row, v_i = b_i^T d of each dense term, e_k = grad y_k^T d at each point.
         let nd = self.dense.len();
-        let nv = dim + 3 + ns + nd;
+        let ev = dim + 3 + ns + nd;
+        let nv = ev + np;
         let (sp, sm, wv) = (dim, dim + 1, dim + 2);
         let vv = dim + 3 + ns;
         // P: W's upper band in the d block, rho on w (all divided by mu: the slacks' weight is 1,
@@ -223,15 +234,31 @@ impl Model<'_> {
             a[vv + r].push((2 + r, -1.0));
             b.push(0.0);
         }
-        let mut row = 2 + nd;
+        // The points' definitions `e_k - e_j - (grad y_k - grad y_j)^T d = 0`.
+        for (r, link) in links.iter().enumerate() {
+            for &(k, v) in link {
+                a[k].push((2 + nd + r, -v));
+            }
+            a[ev + r].push((2 + nd + r, 1.0));
+            if r > 0 {
+                a[ev + r - 1].push((2 + nd + r, -1.0));
+            }
+            b.push(0.0);
+        }
+        let mut row = 2 + nd + np;
         for k in [sp, sm].into_iter().chain(dim + 3..vv) {
             a[k].push((row, -1.0));
             b.push(0.0);
             row += 1;
         }
         for (r, &i) in active.iter().enumerate() {
-            for &(k, v) in &self.rows[i] {
-                a[k].push((row, v));
+            match local(i) {
+                Some(form) => {
+                    form.local.iter().for_each(|&(k, v)| a[k].push((row, v)));
+                    let e = points.binary_search(&form.point).expect("invariant: each active point has its e_k");
+                    a[ev + e].push((row, form.slope));
+                }
+                None => self.rows[i].iter().for_each(|&(k, v)| a[k].push((row, v))),
             }
             if let Some(s) = elastic[r] {
                 a[dim + 3 + s].push((row, -1.0));
@@ -246,7 +273,7 @@ impl Model<'_> {
             row += 2;
         }
         let a = csc(row, nv, &a);
-        let cones: [SupportedConeT<f64>; 2] = [ZeroConeT(2 + nd), NonnegativeConeT(row - 2 - nd)];
+        let cones: [SupportedConeT<f64>; 2] = [ZeroConeT(2 + nd + np), NonnegativeConeT(row - 2 - nd - np)];
         let settings = DefaultSettingsBuilder::default()
             .verbose(false)
             .max_iter(100)
@@ -313,7 +340,7 @@ impl Model<'_> {
         }
         let mut z = vec![0.0; values.len()];
         for (r, &i) in active.iter().enumerate() {
-            z[i] = mu * sol.z[4 + nd + ns + r].max(0.0);
+            z[i] = mu * sol.z[4 + nd + np + ns + r].max(0.0);
         }
         // The equality's multiplier: its row's and w's (whose row carries rho grad c^T d).
         Some(Step { d, lambda: mu * (sol.z[0] + sol.z[1]), z })

@@ -45,7 +45,7 @@ impl Discretised for Concave {
     }
     fn inequalities(&self, x: &DVector<f64>, order: usize) -> Option<Inequalities> {
         let rows = if order >= 1 { vec![vec![(2, 1.0)], vec![(2, -1.0)]] } else { Vec::new() };
-        Some(Inequalities { values: vec![x[2] - 1.0, -x[2] - 1.0], rows })
+        Some(Inequalities { values: vec![x[2] - 1.0, -x[2] - 1.0], rows, running: None })
     }
 }
 
