@@ -183,7 +183,7 @@ impl<'a> Limited<'a> {
             .then(|| {
                 let o = &planner.options;
                 clearance::Clearance::new(arm, planner.obstacle_rows, o.clearance_reserve, o.clearance_rise)
-                    .map(|c| c.at(planner.clearance_pieces))
+                    .map(|c| c.at(planner.clearance_pieces, planner.clearance_dense.clone()))
             })
             .flatten();
         let held = planner.held.clone().filter(|m| m.fits(b.len() - 1));

@@ -357,6 +357,10 @@ pub struct ChainPlanner {
     /// Points per knot span at which the rows of the robot's own bodies hold (more in the
     /// clearance search's last resort, `keep_clear.rs`).
     clearance_pieces: usize,
+    /// The times where the rows of the robot's own bodies hold at `clearance_pieces` points per
+    /// span, [`limits::CLEARANCE_PIECES`] elsewhere: the spans near a dip of a plan solved again
+    /// with denser rows (`keep_clear.rs`); none: everywhere.
+    clearance_dense: Option<Arc<[[f64; 2]]>>,
     /// Whether the clearance search ends with its last resort where no plan cleared
     /// (`keep_clear.rs`; off for the shortest horizon's final search, which has a plan that
     /// clears already: `horizon.rs`).
@@ -389,6 +393,7 @@ impl ChainPlanner {
             clearance_rows: true,
             obstacle_rows: true,
             clearance_pieces: limits::CLEARANCE_PIECES,
+            clearance_dense: None,
             last_resort: true,
             deciding: false,
             decided_line: None,

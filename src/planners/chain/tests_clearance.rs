@@ -66,6 +66,41 @@ fn clearance_rows_derivatives_match_central_differences() {
     }
 }
 
+/// The rows of the robot's own bodies hold at the denser points only in the knot spans that
+/// meet a window of `ChainPlanner::clearance_dense` (the re-solve of a dip, `keep_clear.rs`), at
+/// `CLEARANCE_PIECES` elsewhere: on the 3-link arm's coarse basis, a window inside one span adds
+/// one span's share of what the denser rows everywhere add (every pair, 12 points more a span),
+/// and a window that is that span's closed interval the same (its neighbours only touch it).
+#[test]
+fn denser_rows_only_in_the_windows_spans() {
+    let arm = with_links(three_link(), Vec::new(), 0.0);
+    let problem = problem();
+    let targets = Targets {
+        start: problem.start[1..].to_vec(),
+        initial_velocity: vec![0.0; 3],
+        end: problem.goal[1..].to_vec(),
+        phi_start: problem.start[0],
+        phi_end: problem.goal[0],
+    };
+    let sparse = ChainPlanner::new(arm, ChainOptions::default());
+    let disc = sparse.discretise(&problem, targets, 8, 8, &Default::default()).expect("discretises");
+    let b = disc.basis().breakpoints().to_vec();
+    let x = DVector::from_fn(disc.dim(), |i, _| 0.3 * (i as f64 * 0.7).sin());
+    let rows = |dense: Option<Vec<[f64; 2]>>, pieces: usize| {
+        let planner =
+            ChainPlanner { clearance_pieces: pieces, clearance_dense: dense.map(Into::into), ..sparse.clone() };
+        let limited = super::limits::Limited::new(&planner, &disc).expect("clamped basis");
+        limited.inequalities(&x, 0).expect("rows").values.len()
+    };
+    let four = rows(None, super::limits::CLEARANCE_PIECES);
+    let everywhere = rows(None, 16);
+    let h = b[4] - b[3];
+    let inside = rows(Some(vec![[b[3] + 0.1 * h, b[3] + 0.2 * h]]), 16);
+    assert!(inside > four, "no denser rows in the window's span");
+    assert_eq!(everywhere - four, (b.len() - 1) * (inside - four), "rows {four}, {inside}, {everywhere}");
+    assert_eq!(rows(Some(vec![[b[3], b[4]]]), 16), inside, "a window's ends reach into its neighbours");
+}
+
 /// The 3-link example (examples/robots/three_link.toml, capsule links) around an obstacle that
 /// its unconstrained plan crosses by 0.069 m.
 fn around_the_obstacle(clearance: f64) -> (Arm, ChainProblem) {

@@ -64,6 +64,9 @@ pub(super) struct Clearance {
     pairs: Vec<(Body, Body)>,
     /// Points per knot span of the rows of the robot's own bodies ([`PIECES`] unless set).
     pieces: usize,
+    /// The times where they hold at `pieces` points per span, at [`PIECES`] in the other spans
+    /// (none: `pieces` everywhere).
+    dense: Option<std::sync::Arc<[[f64; 2]]>>,
     /// The clearance kept beyond `keep` rising from none at `t = 0` to all of it at the rise's
     /// end ([`crate::planners::chain::ClearanceRise`]).
     rise: ClearanceRise,
@@ -97,13 +100,15 @@ impl Clearance {
             obstacles,
             pairs,
             pieces: PIECES,
+            dense: None,
             rise,
         })
     }
 
-    /// The same rows at `pieces` points per knot span (at least one) where no obstacle has rows.
-    pub(super) fn at(self, pieces: usize) -> Self {
-        Self { pieces: pieces.max(1), ..self }
+    /// The same rows at `pieces` points per knot span (at least one) where no obstacle has rows:
+    /// in the spans that meet a window of `dense` only, where given, at [`PIECES`] elsewhere.
+    pub(super) fn at(self, pieces: usize, dense: Option<std::sync::Arc<[[f64; 2]]>>) -> Self {
+        Self { pieces: pieces.max(1), dense, ..self }
     }
 
     /// The least distance the rows at time `t` keep \[m\].
@@ -125,6 +130,18 @@ fn obstacle<D>(pair: &PairClearance<D>) -> bool {
 }
 
 impl Limited<'_> {
+    /// The points of the rows of the robot's own bodies: `rows.pieces` per knot span, or in the
+    /// spans outside `rows.dense`'s windows [`PIECES`].
+    fn own_points(&self, rows: &Clearance) -> Vec<PathPoint> {
+        let Some(dense) = &rows.dense else { return self.path_points(rows.pieces) };
+        let (b, p) = (self.disc.basis().breakpoints(), self.disc.basis().degree());
+        let near = |span: usize| dense.iter().any(|w| w[0] < b[span - p + 1] && b[span - p] < w[1]);
+        let mut points: Vec<PathPoint> = self.path_points(rows.pieces).into_iter().filter(|x| near(x.span)).collect();
+        points.extend(self.path_points(PIECES.min(rows.pieces)).into_iter().filter(|x| !near(x.span)));
+        points.sort_by(|x, y| x.t.total_cmp(&y.t));
+        points
+    }
+
     /// The clearance rows (one per pair and point) into `out`.
     pub(super) fn clearance(&self, c: &[Vec<f64>], order: usize, out: &mut Inequalities) {
         let Some(rows) = &self.clearance else { return };
@@ -270,7 +287,7 @@ impl Limited<'_> {
                 out.running = Some(running);
             }
         } else {
-            for p in self.path_points(rows.pieces) {
+            for p in self.own_points(rows) {
                 at(PathPoint { t: p.t, span: p.span, phi: p.phi, grad: &p.grad[..] });
             }
         }
