@@ -23,6 +23,7 @@ use super::band::{BandCholesky, matvec, matvec_pair_into};
 use super::discrete::{Discretisation, Evaluation};
 use crate::error::Error;
 use crate::model::InputError;
+pub use inequality::Inequalities;
 pub use running::{Running, RunningRow};
 
 mod active;
@@ -35,17 +36,6 @@ mod tests_active;
 mod tests_inequality;
 #[cfg(test)]
 mod tests_steihaug;
-
-/// Inequalities `g(x) <= 0` at a point: values and sparse gradient rows.
-#[derive(Debug, Clone, Default, PartialEq)]
-pub struct Inequalities {
-    /// `g_i(x)`, each scaled to its limit (dimensionless: 0 on the limit, -1 at zero use).
-    pub values: Vec<f64>,
-    /// `dg_i/dx` as `(free index, derivative)` pairs, one row per value (empty for order 0).
-    pub rows: Vec<Vec<(usize, f64)>>,
-    /// The rows' local forms through a running sum (the QP's banded form; module `running`).
-    pub running: Option<Running>,
-}
 
 /// A discretised problem the SQP solves: cost and one equality constraint with exact first and
 /// second derivatives, and the effort's constant Hessian as the trust-region metric (banded).

@@ -48,11 +48,22 @@ use nalgebra::{DMatrix, DVector};
 
 use super::active;
 use super::subproblem::Model;
-use super::{Discretised, Inequalities, Metric, SqpOptions, SqpResult, Termination};
+use super::{Discretised, Metric, Running, SqpOptions, SqpResult, Termination};
 use crate::error::Error;
 use crate::model::InputError;
 use crate::planners::optimal::band::BandCholesky;
 use crate::planners::optimal::discrete::Evaluation;
+
+/// Inequalities `g(x) <= 0` at a point: values and sparse gradient rows.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Inequalities {
+    /// `g_i(x)`, each scaled to its limit (dimensionless: 0 on the limit, -1 at zero use).
+    pub values: Vec<f64>,
+    /// `dg_i/dx` as `(free index, derivative)` pairs, one row per value (empty for order 0).
+    pub rows: Vec<Vec<(usize, f64)>>,
+    /// The rows' local forms through a running sum (the QP's banded form; module `running`).
+    pub running: Option<Running>,
+}
 
 /// The largest violation `max(0, g_i)` of the inequalities.
 fn violation(g: &Inequalities) -> f64 {

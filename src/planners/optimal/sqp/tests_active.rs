@@ -41,6 +41,7 @@ fn qp(broken: f64, radius: f64, mu: f64, guess: &[usize]) -> Solved {
         hb: 1,
         e: &e,
         rows: &rows,
+        running: None,
         working: &working,
         boxed: &boxed,
         solver: &solver,
