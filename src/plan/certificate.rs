@@ -253,18 +253,17 @@ fn recheck(v: &ChainVerification, ode: &OdeOptions) -> Option<OdeOptions> {
     (near && (tighter.rtol < ode.rtol || tighter.atol < ode.atol)).then_some(tighter)
 }
 
-/// One integration of [`verify_chain`] at `ode` as given, without the second pass near the
-/// tolerance: for callers that use the motion's limits or clearance, not its final error.
+/// One integration of [`verify_chain`] from `start` at `ode` as given, without the second pass
+/// near the tolerance, for callers that use the motion's limits or clearance and not its final
+/// error (measured against `start`, with a tolerance of 1e-3 rad).
 pub(crate) fn integrate_once(
     arm: &Arm,
     motion: &dyn JointMotion,
     start: &[f64],
-    goal: &[f64],
     ode: &OdeOptions,
-    tolerance: f64,
 ) -> Result<ChainVerification, Error> {
-    check_lengths(arm, motion, start, goal)?;
-    by_joints!(arm.joints(), 1, run(arm, motion, start, goal, ode, tolerance, &mut |_, _| {}))
+    check_lengths(arm, motion, start, start)?;
+    by_joints!(arm.joints(), 1, run(arm, motion, start, start, ode, 1e-3, &mut |_, _| {}))
 }
 
 /// [`verify_chain`] with the state `(phi, theta)` of static size `M = n + 1`.

@@ -23,8 +23,7 @@
 use nalgebra::SVector;
 use serde::Serialize;
 
-use super::certificate::{JointMotion, check_lengths, eq7_rate, integrate_once};
-use super::limits::MAX_TOLERANCE;
+use super::certificate::{JointMotion, eq7_rate, integrate_once};
 use super::torques::torques_into;
 use crate::dynamics::arm::ArmDynamics;
 use crate::error::Error;
@@ -201,9 +200,7 @@ pub fn limit_use(arm: &Arm, motion: &dyn JointMotion, start: &[f64], ode: &OdeOp
     if arm.limits.is_empty() {
         return Ok(LimitReport::empty());
     }
-    check_lengths(arm, motion, start, start)?;
-    // The goal and the tolerance only set the certificate's final error, not used here.
-    let v = integrate_once(arm, motion, start, start, ode, MAX_TOLERANCE)?;
+    let v = integrate_once(arm, motion, start, ode)?;
     Ok(v.limits.unwrap_or_else(LimitReport::empty))
 }
 
