@@ -1,5 +1,6 @@
 //! Tests of the QP step from a guessed active set ([`super::active`]) against Clarabel's
-//! solution of the same QP ([`super::subproblem::Model::solve`]).
+//! solution of the same QP ([`super::subproblem::Model::solve`]), and of the QP's running form
+//! of dense rows ([`super::running`]) against their dense gradients.
 
 use std::cell::{Cell, RefCell};
 
@@ -89,4 +90,63 @@ fn a_binding_trust_region_is_left_to_clarabel() {
     let (guessed, reference, ..) = qp(-0.02, 0.01, 10.0, &[]);
     assert!(guessed.is_none());
     assert!(reference.expect("Clarabel's step").d.amax() <= 0.01 * (1.0 + 1e-9));
+}
+
+/// The QP with rows in their running form ([`super::Running`], a variable `e_k` per point) is
+/// the QP with their dense gradients: the same step and multipliers. Rows of the form
+/// `l_i + a_i grad y_k`, `y_k` a running sum whose gradient fills in point by point (the base
+/// angle at the rows' points), one of them broken at `d = 0`.
+#[test]
+fn the_running_form_is_the_same_qp() {
+    use super::{Running, RunningRow};
+    let dim = 6;
+    let w = DMatrix::from_fn(dim, dim, |i, j| match i.abs_diff(j) {
+        0 => 2.0,
+        1 => -0.5,
+        _ => 0.0,
+    });
+    let e = Evaluation {
+        f: 0.0,
+        c: 0.3,
+        grad_f: DVector::from_vec(vec![-1.0, -0.5, 0.2, -0.8, 0.1, -0.3]),
+        grad_c: DVector::from_element(dim, 1.0),
+        hess_f: None,
+        hess_c: DMatrix::zeros(dim, dim),
+    };
+    let steps: Vec<Vec<(usize, f64)>> = (0..3).map(|k| vec![(2 * k, 0.3), (2 * k + 1, -0.2)]).collect();
+    let local = |i: usize| vec![(2 * i, 0.5), (2 * i + 1, 0.25)];
+    let slope = |i: usize| 1.0 + 0.5 * i as f64;
+    let rows: Vec<Vec<(usize, f64)>> = (0..3)
+        .map(|i| {
+            let mut g = vec![0.0; dim];
+            steps[..=i].iter().flatten().for_each(|&(k, v)| g[k] += slope(i) * v);
+            local(i).iter().for_each(|&(k, v)| g[k] += v);
+            g.into_iter().enumerate().filter(|(_, v)| *v != 0.0).collect()
+        })
+        .collect();
+    let running = Running {
+        steps,
+        rows: (0..3).map(|i| RunningRow { row: i, point: i, slope: slope(i), local: local(i) }).collect(),
+    };
+    let values = vec![-0.01, 0.02, -0.05];
+    let solve = |running: Option<&Running>| {
+        let (working, boxed, solver) = (RefCell::new(vec![true; 3]), RefCell::new(vec![true; dim]), RefCell::new(None));
+        let model = Model {
+            w: w.clone(),
+            rho: 0.5,
+            dense: Vec::new(),
+            full: Cell::new(false),
+            hb: 1,
+            e: &e,
+            rows: &rows,
+            running,
+            working: &working,
+            boxed: &boxed,
+            solver: &solver,
+        };
+        model.solve(e.c, &values, 10.0, 10.0).expect("Clarabel's step")
+    };
+    let (banded, dense) = (solve(Some(&running)), solve(None));
+    assert_same(&banded, &dense);
+    assert!(dense.z.iter().filter(|z| **z > 1e-3).count() >= 1, "a row binds: {:?}", dense.z);
 }
