@@ -13,11 +13,9 @@ use crate::planners::optimal::discrete::Evaluation;
 /// The step from the guess, Clarabel's, and the QP's row values and rows.
 type Solved = (Option<Step>, Option<Step>, Vec<f64>, Vec<Vec<(usize, f64)>>);
 
-/// A QP in 6 variables: `W` tridiagonal and positive definite, the equality `sum d_k = -c`,
-/// upper bounds `x_k + d_k <= 0.1` as rows of value `x_k - 0.1` (the first broken at `d = 0`
-/// by `broken`, so it has an elastic variable), the cost's gradient pushing against them.
-fn qp(broken: f64, radius: f64, mu: f64, guess: &[usize]) -> Solved {
-    let dim = 6;
+/// `W` tridiagonal and positive definite in `dim` variables (6 for the gradient given), and the
+/// evaluation: the equality `sum d_k = -c` (`c = 0.3`), the cost's gradient.
+fn model_terms(dim: usize) -> (DMatrix<f64>, Evaluation) {
     let w = DMatrix::from_fn(dim, dim, |i, j| match i.abs_diff(j) {
         0 => 2.0,
         1 => -0.5,
@@ -31,6 +29,15 @@ fn qp(broken: f64, radius: f64, mu: f64, guess: &[usize]) -> Solved {
         hess_f: None,
         hess_c: DMatrix::zeros(dim, dim),
     };
+    (w, e)
+}
+
+/// A QP in 6 variables: `W` tridiagonal and positive definite, the equality `sum d_k = -c`,
+/// upper bounds `x_k + d_k <= 0.1` as rows of value `x_k - 0.1` (the first broken at `d = 0`
+/// by `broken`, so it has an elastic variable), the cost's gradient pushing against them.
+fn qp(broken: f64, radius: f64, mu: f64, guess: &[usize]) -> Solved {
+    let dim = 6;
+    let (w, e) = model_terms(dim);
     let rows: Vec<Vec<(usize, f64)>> = (0..dim).map(|k| vec![(k, 1.0)]).collect();
     let values: Vec<f64> = (0..dim).map(|k| if k == 0 { broken } else { -0.05 * k as f64 }).collect();
     let (working, boxed, solver) = (RefCell::new(vec![true; dim]), RefCell::new(vec![true; dim]), RefCell::new(None));
@@ -100,19 +107,7 @@ fn a_binding_trust_region_is_left_to_clarabel() {
 fn the_running_form_is_the_same_qp() {
     use super::{Running, RunningRow};
     let dim = 6;
-    let w = DMatrix::from_fn(dim, dim, |i, j| match i.abs_diff(j) {
-        0 => 2.0,
-        1 => -0.5,
-        _ => 0.0,
-    });
-    let e = Evaluation {
-        f: 0.0,
-        c: 0.3,
-        grad_f: DVector::from_vec(vec![-1.0, -0.5, 0.2, -0.8, 0.1, -0.3]),
-        grad_c: DVector::from_element(dim, 1.0),
-        hess_f: None,
-        hess_c: DMatrix::zeros(dim, dim),
-    };
+    let (w, e) = model_terms(dim);
     let steps: Vec<Vec<(usize, f64)>> = (0..3).map(|k| vec![(2 * k, 0.3), (2 * k + 1, -0.2)]).collect();
     let local = |i: usize| vec![(2 * i, 0.5), (2 * i + 1, 0.25)];
     let slope = |i: usize| 1.0 + 0.5 * i as f64;
