@@ -319,6 +319,7 @@ pub(super) fn solve<P: Discretised>(
             working: &working,
             boxed: &boxed,
             solver: &solver,
+            columns: Default::default(),
         };
         let left = |d: &DVector<f64>| model.infeasibility(e.c, &g.values, d);
         // Each QP from the active set of the last accepted one first ([`active::step`], exact

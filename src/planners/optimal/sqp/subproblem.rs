@@ -57,6 +57,9 @@ pub(super) struct Model<'a> {
     /// velocity), 42 of 63 (2-link) and 76 of 106 (SPART-like) reuse a solver, to the same
     /// plans, Clarabel's iterations within 0.6 %.
     pub(super) solver: &'a RefCell<Option<Cached>>,
+    /// The active-set step's factor and columns, shared by the iterate's QPs
+    /// ([`super::active::step`]).
+    pub(super) columns: RefCell<super::active::Columns>,
 }
 
 /// A QP solver with the rows it was sent and its box's components.

@@ -53,6 +53,7 @@ fn qp(broken: f64, radius: f64, mu: f64, guess: &[usize]) -> Solved {
         working: &working,
         boxed: &boxed,
         solver: &solver,
+        columns: Default::default(),
     };
     let guessed = active::step(&model, e.c, &values, mu, radius, guess);
     let reference = model.solve(e.c, &values, mu, radius);
@@ -138,6 +139,7 @@ fn the_running_form_is_the_same_qp() {
             working: &working,
             boxed: &boxed,
             solver: &solver,
+            columns: Default::default(),
         };
         model.solve(e.c, &values, 10.0, 10.0).expect("Clarabel's step")
     };
