@@ -13,6 +13,7 @@ use super::seeds::{Line, Seed};
 use super::tables::Tables;
 use super::{ChainPlanner, ChainProblem};
 use crate::error::Error;
+use crate::model::arm::collision::Body;
 use crate::planners::optimal::sqp::Termination;
 
 /// Points per knot span of the rows in the search's last resort ([`ChainPlanner::soft_search`]):
@@ -22,6 +23,14 @@ const SOFT_PIECES: usize = 16;
 
 /// How many times a plan under the clearance between the rows' points is solved again.
 const CLEARANCE_RETRIES: usize = 3;
+
+/// Points of a straight line at which [`ChainPlanner::clear_lines`] checks the clearance.
+const LINE_SAMPLES: usize = 64;
+
+/// The last resort's goal representatives besides the free plan's
+/// ([`ChainPlanner::clear_lines`]): each costs one soft search (about 18 s of a core on the
+/// SPART-like arm, stop 48).
+const OTHER_LINES: usize = 2;
 
 /// The band above the clearance kept \[m\] within which a plan under the clearance comes, at
 /// the denser rows' points of a knot span, for that span (and its neighbours) to take the denser
@@ -107,13 +116,22 @@ impl ChainPlanner {
         // The last resort also where the plan kept is a stalled re-solve's (not proven a
         // minimum): the lower effort of the two.
         let proven = |k: &ChainPlan| clears(k) && k.stats.converged;
-        if self.last_resort
-            && !kept.as_ref().is_ok_and(proven)
-            && let Ok(Some(plan)) = (ChainPlanner { clearance_pieces: SOFT_PIECES, ..own.clone() })
-                .soft_search(problem, &free, tables, clock)
-            && !kept.as_ref().is_ok_and(|k| clears(k) && k.effort() <= plan.effort())
-        {
-            return Ok(plan);
+        if self.last_resort && !kept.as_ref().is_ok_and(proven) {
+            // The free plan's goal representative first, then the other joint ends whose straight
+            // line keeps the clearance (`clear_lines`): the 2-link fold of `tests_clearance.rs`,
+            // whose free plan folds link 2 through the base, is cleared only the long way round.
+            let soft = ChainPlanner { clearance_pieces: SOFT_PIECES, ..own.clone() };
+            let basis = (free.stats.spans, free.stats.quadrature_nodes);
+            let first = reached(problem, &free);
+            let others = self.clear_lines(problem, &first.end);
+            for targets in std::iter::once(first).chain(others) {
+                if let Ok(Some(plan)) = soft.soft_search(problem, targets, basis, tables, clock) {
+                    if kept.as_ref().is_ok_and(|k| clears(k) && k.effort() <= plan.effort()) {
+                        break;
+                    }
+                    return Ok(plan);
+                }
+            }
         }
         match kept {
             Ok(k) if least(&free) > least(&k) => Ok(free),
@@ -192,18 +210,17 @@ impl ChainPlanner {
     fn soft_search(
         &self,
         problem: &ChainProblem,
-        free: &ChainPlan,
+        targets: Targets,
+        (spans, nodes): (usize, usize),
         tables: &Tables,
         clock: Instant,
     ) -> Result<Option<ChainPlan>, Error> {
-        let targets = reached(problem, free);
         let line = Line {
             start: targets.start.clone(),
             end: targets.end.clone(),
             initial_velocity: targets.initial_velocity.clone(),
             horizon: problem.horizon,
         };
-        let (spans, nodes) = (free.stats.spans, free.stats.quadrature_nodes);
         let disc = self.discretise(problem, targets, spans, nodes, tables)?;
         let x0 = disc.project(line.path_of(Seed::Line))?;
         let Some((x, lambda)) = super::limits::soft_start(self, &disc, x0, 1e-6) else { return Ok(None) };
@@ -229,6 +246,47 @@ impl ChainPlanner {
             }
         }
         Ok(None)
+    }
+
+    /// The goal representatives besides the one ending at `skip` for the last resort: the joint
+    /// ends of the search's lines ([`ChainPlanner::lines`]: inside the ranges and within reach of
+    /// the rate limits) whose straight line keeps the clearance between the robot's own bodies
+    /// (which does not depend on the base angle) at [`LINE_SAMPLES`] points, shortest line first,
+    /// at most [`OTHER_LINES`]; each with the base goal's turn nearest where the line ends
+    /// (`phi(0)` less its holonomy, Eq. 7).
+    fn clear_lines(&self, problem: &ChainProblem, skip: &[f64]) -> Vec<Targets> {
+        let arm = &self.arm;
+        let geometry = &arm.geometry;
+        let own = |b: &Body| !matches!(b, Body::Obstacle(_));
+        let pairs: Vec<(Body, Body)> =
+            geometry.pairs(arm.joints()).into_iter().filter(|(a, b)| own(a) && own(b)).collect();
+        let (mut lines, _) = self.lines(problem);
+        lines.retain(|l| l.end.iter().zip(skip).any(|(a, b)| (a - b).abs() > 1e-9));
+        lines.sort_by(|a, b| a.length().total_cmp(&b.length()));
+        let clear = |l: &Line| {
+            (0..=LINE_SAMPLES).all(|k| {
+                let s = k as f64 / LINE_SAMPLES as f64;
+                let q: Vec<f64> =
+                    std::iter::once(0.0).chain(l.start.iter().zip(&l.end).map(|(a, b)| a + s * (b - a))).collect();
+                geometry.clearances_of(arm, &q, &pairs).iter().all(|c| c.distance >= geometry.clearance)
+            })
+        };
+        let goal0 = problem.goal[0];
+        lines
+            .into_iter()
+            .filter(clear)
+            .take(OTHER_LINES)
+            .map(|l| {
+                let end = problem.start[0] - l.holonomy(&self.connection);
+                Targets {
+                    start: l.start.clone(),
+                    initial_velocity: l.initial_velocity.clone(),
+                    phi_start: problem.start[0],
+                    phi_end: goal0 + std::f64::consts::TAU * ((end - goal0) / std::f64::consts::TAU).round(),
+                    end: l.end,
+                }
+            })
+            .collect()
     }
 
     /// [`Self::certified`], and where the certified plan comes under the clearance (the rows
