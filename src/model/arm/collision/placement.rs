@@ -8,7 +8,7 @@
 use super::{Body, Geometry, PairClearance};
 use crate::Scalar;
 use crate::model::arm::Arm;
-use crate::model::geometry::{Pose, signed_distance};
+use crate::model::geometry::{Pose, Shape, signed_distance};
 
 /// The buffers of [`Geometry::clearances_into`], reused between calls: no allocation once they
 /// have grown to the arm's size.
@@ -24,11 +24,31 @@ pub struct Placement<D> {
     first: Vec<usize>,
     /// The points' real parts, once a body of several shapes asks (empty before).
     real: Vec<[f64; 2]>,
+    /// Whether each pair's distance of the last call is a bound ([`Geometry::clearances_beyond`]).
+    bounded: Vec<bool>,
+    /// Each body's [`capsule_of`] placed by its frame's real parts (as `first`; with a `far`).
+    capsules: Vec<([[f64; 2]; 2], f64)>,
+}
+
+impl<D> Placement<D> {
+    /// Whether each pair's distance of the last [`Geometry::clearances_beyond`] is a bound above
+    /// its `far` (not the exact distance).
+    pub fn bounded(&self) -> &[bool] {
+        &self.bounded
+    }
 }
 
 impl<D> Default for Placement<D> {
     fn default() -> Self {
-        Self { frames: Vec::new(), points: Vec::new(), ranges: Vec::new(), first: Vec::new(), real: Vec::new() }
+        Self {
+            frames: Vec::new(),
+            points: Vec::new(),
+            ranges: Vec::new(),
+            first: Vec::new(),
+            real: Vec::new(),
+            bounded: Vec::new(),
+            capsules: Vec::new(),
+        }
     }
 }
 
@@ -87,6 +107,51 @@ pub(crate) fn disc_bound(a: &[[f64; 2]], ra: f64, b: &[[f64; 2]], rb: f64) -> f6
     gap - 1e-12 * (1.0 + gap.abs())
 }
 
+/// A capsule in a body's frame that holds all of its shapes: the segment along the frame's `x`
+/// axis across their points' `x` range at the middle of their `y` range, and the radius that
+/// reaches every point's disc (a point `(x, y)` of that `x` range is `|y - y_0|` from it).
+fn capsule_of(shapes: &[Shape]) -> ([[f64; 2]; 2], f64) {
+    let points = || shapes.iter().flat_map(|s| s.points.iter());
+    let (lo, hi) = points().fold(([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]), |(lo, hi), p| {
+        ([lo[0].min(p[0]), lo[1].min(p[1])], [hi[0].max(p[0]), hi[1].max(p[1])])
+    });
+    let mid = (lo[1] + hi[1]) / 2.0;
+    let radius =
+        shapes.iter().flat_map(|s| s.points.iter().map(move |p| (p[1] - mid).abs() + s.radius)).fold(0.0, f64::max);
+    ([[lo[0], mid], [hi[0], mid]], radius)
+}
+
+/// The distance between the segments `p` and `q` \[m\] (0 where they cross or touch).
+fn segments_gap(p: [[f64; 2]; 2], q: [[f64; 2]; 2]) -> f64 {
+    let cross = |o: [f64; 2], a: [f64; 2], b: [f64; 2]| (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
+    let (d1, d2) = (cross(q[0], q[1], p[0]), cross(q[0], q[1], p[1]));
+    let (d3, d4) = (cross(p[0], p[1], q[0]), cross(p[0], p[1], q[1]));
+    if d1 * d2 <= 0.0 && d3 * d4 <= 0.0 {
+        return 0.0;
+    }
+    let to = |x: [f64; 2], [a, b]: [[f64; 2]; 2]| {
+        let d = [b[0] - a[0], b[1] - a[1]];
+        let len2 = d[0] * d[0] + d[1] * d[1];
+        let t = if len2 > 0.0 { (((x[0] - a[0]) * d[0] + (x[1] - a[1]) * d[1]) / len2).clamp(0.0, 1.0) } else { 0.0 };
+        let (ex, ey) = (x[0] - a[0] - t * d[0], x[1] - a[1] - t * d[1]);
+        (ex * ex + ey * ey).sqrt()
+    };
+    to(p[0], q).min(to(p[1], q)).min(to(q[0], p)).min(to(q[1], p))
+}
+
+/// A body's [`capsule_of`] placed by its frame's real parts `(x, y, sin, cos)`.
+fn placed_capsule(shapes: &[Shape], [x, y, s, c]: [f64; 4]) -> ([[f64; 2]; 2], f64) {
+    let (spine, radius) = capsule_of(shapes);
+    (spine.map(|p| [x + c * p[0] - s * p[1], y + s * p[0] + c * p[1]]), radius)
+}
+
+/// A lower bound on the signed distance of two bodies \[m\]: that of their placed capsules
+/// ([`placed_capsule`]; a hair less, for the rounding).
+fn capsule_bound((pa, ra): ([[f64; 2]; 2], f64), (pb, rb): ([[f64; 2]; 2], f64)) -> f64 {
+    let gap = segments_gap(pa, pb) - ra - rb;
+    gap - 1e-12 * (1.0 + gap.abs() + ra + rb)
+}
+
 impl Geometry {
     /// [`Geometry::clearances_of`] into `out` (cleared first), with `placement`'s buffers: the
     /// same values bit for bit, without allocating once the buffers have grown.
@@ -101,11 +166,11 @@ impl Geometry {
         self.clearances_beyond(arm, q, pairs, f64::INFINITY, placement, out);
     }
 
-    /// [`Geometry::clearances_into`], but a body's distance to an obstacle whose [`disc_bound`]
-    /// (the least over their shapes) exceeds `far` \[m\] is that bound, a constant (no
-    /// derivatives): a lower bound of the distance, above `far`, where the exact distance is
-    /// not needed (the planner's rows of bodies far from an obstacle carry no gradient). Every
-    /// distance at or below `far` is exact, and so are the robot's own pairs.
+    /// [`Geometry::clearances_into`], but a pair whose bodies' [`capsule_bound`] exceeds `far`
+    /// \[m\] has that bound as its distance, a constant (no derivatives; marked in
+    /// [`Placement::bounded`]): a lower bound of the distance, above `far`, where the exact
+    /// distance is not needed (the planner's rows of bodies far apart carry no gradient). Every
+    /// distance at or below `far` is exact.
     pub fn clearances_beyond<D: Scalar>(
         &self,
         arm: &Arm,
@@ -115,7 +180,7 @@ impl Geometry {
         placement: &mut Placement<D>,
         out: &mut Vec<PairClearance<D>>,
     ) {
-        let Placement { frames, points, ranges, first, real } = placement;
+        let Placement { frames, points, ranges, first, real, bounded, capsules } = placement;
         frames_into(arm, q, frames);
         let zero = D::from(0.0);
         let inertial = (Pose { x: zero, y: zero, angle: zero }, zero.sin_cos());
@@ -129,17 +194,26 @@ impl Geometry {
         ranges.clear();
         first.clear();
         real.clear();
+        capsules.clear();
         for body in bodies {
             first.push(ranges.len());
             let shapes = self.shapes(body);
-            if shapes.is_empty() {
-                continue;
-            }
             let (pose, sin_cos) = match body {
                 Body::Base => frames[0],
                 Body::Link(k) => frames[k],
                 Body::Obstacle(_) => inertial,
             };
+            if far < f64::INFINITY {
+                let (s, c) = sin_cos;
+                capsules.push(if shapes.is_empty() {
+                    ([[0.0; 2]; 2], f64::INFINITY)
+                } else {
+                    placed_capsule(shapes, [pose.x.re(), pose.y.re(), s.re(), c.re()])
+                });
+            }
+            if shapes.is_empty() {
+                continue;
+            }
             for shape in shapes {
                 let from = points.len();
                 shape.placed_into(&pose, sin_cos, points);
@@ -152,27 +226,19 @@ impl Geometry {
             Body::Obstacle(k) => n + k,
         };
         out.clear();
+        bounded.clear();
         for &(a, b) in pairs {
             let (ia, ib) = (index(a), index(b));
             let (sa, sb) = (self.shapes(a), self.shapes(b));
-            if far < f64::INFINITY && matches!(b, Body::Obstacle(_)) {
-                if real.is_empty() {
-                    real.extend(points.iter().map(|p| [p[0].re(), p[1].re()]));
-                }
-                let re = |body: usize, shape: usize| {
-                    let (from, to) = ranges[first[body] + shape];
-                    &real[from..to]
-                };
-                let mut bound = f64::INFINITY;
-                for (i, shape_a) in sa.iter().enumerate() {
-                    for (j, shape_b) in sb.iter().enumerate() {
-                        bound = bound.min(disc_bound(re(ia, i), shape_a.radius, re(ib, j), shape_b.radius));
-                    }
-                }
+            if far < f64::INFINITY {
+                let bound = capsule_bound(capsules[ia], capsules[ib]);
+                bounded.push(bound > far);
                 if bound > far {
                     out.push(PairClearance { a, b, distance: D::from(bound) });
                     continue;
                 }
+            } else {
+                bounded.push(false);
             }
             // The pair of shapes of least distance by the real parts (a union's distance is its
             // least), then that pair alone in `D`: the same value and derivatives as every pair
@@ -226,7 +292,6 @@ mod tests {
     use super::*;
     use crate::model::Mount;
     use crate::model::arm::{Base, Link};
-    use crate::model::geometry::Shape;
 
     /// A small deterministic generator (xorshift), uniform in [0, 1).
     fn rng(seed: u64) -> impl FnMut() -> f64 {
@@ -291,22 +356,24 @@ mod tests {
         assert!(apart > 100 && overlapping > 100, "{apart} apart, {overlapping} overlapping");
     }
 
-    /// `clearances_beyond`: every distance at or below `far` and every pair of the robot's own
-    /// bodies is `clearances_of`'s bit for bit; a body's distance to an obstacle above `far` is
-    /// either that or a bound between `far` and it. `clearances_of` itself is checked against
-    /// the brute force and central differences (`collision.rs`, `geometry.rs`).
+    /// `clearances_beyond`: every distance at or below `far` is `clearances_of`'s bit for bit,
+    /// and every one above it either that or a bound between `far` and it (the capsules' bound
+    /// below the brute-force-checked distance), marked as such. `clearances_of` itself is checked against the brute force and central
+    /// differences (`collision.rs`, `geometry.rs`).
     #[test]
     fn distances_beyond_far_are_bounds_above_it_and_the_rest_exact() {
         let link = Link { length: 0.5, com: 0.25, mass: 2.0, inertia: 2.0 * 0.25 / 12.0 };
-        let arm = Arm::new(Base { mass: 20.0, inertia: 1.0 }, Mount::new(0.25, 0.0).unwrap(), vec![link; 3]).unwrap();
+        let arm = Arm::new(Base { mass: 20.0, inertia: 1.0 }, Mount::new(0.25, 0.0).unwrap(), vec![link; 4]).unwrap();
+        let spheres = |k: usize| (0..k).map(|i| Shape::circle([0.1 * i as f64, 0.01], 0.04).unwrap());
         let geometry = Geometry {
             base: vec![Shape::rectangle([0.0, 0.0], [0.5, 0.5]).unwrap()],
-            links: (0..3)
-                .map(|_| {
-                    vec![
+            links: (0..4)
+                .map(|k| match k % 2 {
+                    0 => spheres(6).collect(),
+                    _ => vec![
                         Shape::circle([0.1, 0.0], 0.05).unwrap(),
                         Shape::capsule([0.2, 0.0], [0.5, 0.0], 0.04).unwrap(),
-                    ]
+                    ],
                 })
                 .collect(),
             obstacles: vec![
@@ -315,24 +382,23 @@ mod tests {
             ],
             ..Default::default()
         };
-        let pairs = geometry.pairs(3);
+        let pairs = geometry.pairs(4);
         let mut next = rng(3);
         let (mut placement, mut out) = (Placement::default(), Vec::new());
         let (mut bounded, mut exact_near) = (0, 0);
         for _ in 0..300 {
-            let q: Vec<f64> = (0..4).map(|_| 6.0 * next() - 3.0).collect();
+            let q: Vec<f64> = (0..5).map(|_| 6.0 * next() - 3.0).collect();
             let far = 0.4 * next();
             let exact = geometry.clearances_of(&arm, &q, &pairs);
             geometry.clearances_beyond(&arm, &q, &pairs, far, &mut placement, &mut out);
-            for (e, x) in exact.iter().zip(&out) {
+            for (k, (e, x)) in exact.iter().zip(&out).enumerate() {
                 assert_eq!((e.a, e.b), (x.a, x.b));
-                let same = e.distance.to_bits() == x.distance.to_bits();
-                if e.distance <= far || !matches!(e.b, Body::Obstacle(_)) {
-                    assert!(same, "{e:?} {x:?} far {far}");
-                    exact_near += usize::from(e.distance <= far);
-                } else if !same {
+                if placement.bounded()[k] {
                     assert!(far < x.distance && x.distance <= e.distance, "{e:?} {x:?} far {far}");
                     bounded += 1;
+                } else {
+                    assert_eq!(e.distance.to_bits(), x.distance.to_bits(), "{e:?} {x:?} far {far}");
+                    exact_near += usize::from(e.distance <= far);
                 }
             }
         }
