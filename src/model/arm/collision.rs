@@ -21,6 +21,9 @@ use crate::Scalar;
 use crate::model::InputError;
 use crate::model::geometry::{Pose, Shape, signed_distance};
 
+mod placement;
+pub use placement::Placement;
+
 /// One body of the robot, or an obstacle.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
@@ -265,85 +268,9 @@ impl Geometry {
     /// [`Geometry::clearances`] of the pairs `pairs` only (some of [`Geometry::pairs`], in their
     /// order), for a caller that evaluates them at many `q`: the pairs found once.
     pub fn clearances_of<D: Scalar>(&self, arm: &Arm, q: &[D], pairs: &[(Body, Body)]) -> Vec<PairClearance<D>> {
-        let poses = body_poses(arm, q);
-        let zero = D::from(0.0);
-        let inertial = Pose { x: zero, y: zero, angle: zero };
-        let n = arm.joints();
-        // Every body's shapes placed once (base, links 1..n, obstacles), into one buffer: shape
-        // `k` of the placed ones is `points[ranges[k].0..ranges[k].1]`, body `i`'s first shape is
-        // `first[i]`; the pose's sine and cosine once per body (the same points, bit for bit, as
-        // [`Shape::placed`] of each shape).
-        let bodies = std::iter::once(Body::Base)
-            .chain((1..=n).map(Body::Link))
-            .chain((1..=self.obstacles.len()).map(Body::Obstacle));
-        let mut points: Vec<[D; 2]> = Vec::new();
-        let mut ranges: Vec<(usize, usize)> = Vec::new();
-        let mut first: Vec<usize> = Vec::with_capacity(n + 2 + self.obstacles.len());
-        for body in bodies {
-            first.push(ranges.len());
-            let shapes = self.shapes(body);
-            if shapes.is_empty() {
-                continue;
-            }
-            let pose = match body {
-                Body::Base => poses[0],
-                Body::Link(k) => poses[k],
-                Body::Obstacle(_) => inertial,
-            };
-            let sin_cos = pose.angle.sin_cos();
-            for shape in shapes {
-                let from = points.len();
-                shape.placed_into(&pose, sin_cos, &mut points);
-                ranges.push((from, points.len()));
-            }
-        }
-        let placed = |body: usize, shape: usize| {
-            let (from, to) = ranges[first[body] + shape];
-            &points[from..to]
-        };
-        // Their real parts, once a pair of bodies with more than one shape asks.
-        let real: std::cell::OnceCell<Vec<[f64; 2]>> = std::cell::OnceCell::new();
-        let real = || real.get_or_init(|| points.iter().map(|p| [p[0].re(), p[1].re()]).collect());
-        let index = |body: Body| match body {
-            Body::Base => 0,
-            Body::Link(k) => k,
-            Body::Obstacle(k) => n + k,
-        };
-        pairs
-            .iter()
-            .map(|&(a, b)| {
-                let (ia, ib) = (index(a), index(b));
-                let (sa, sb) = (self.shapes(a), self.shapes(b));
-                // The pair of shapes of least distance by the real parts (a union's distance is
-                // its least), then that pair alone in `D`: the same value and derivatives as
-                // every pair in `D`, the first least kept. One shape each: that pair, without
-                // its distance in the real parts first (the same pair, half the work).
-                let best = if sa.len() == 1 && sb.len() == 1 {
-                    Some((0, 0))
-                } else {
-                    let real = real();
-                    let re = |body: usize, shape: usize| {
-                        let (from, to) = ranges[first[body] + shape];
-                        &real[from..to]
-                    };
-                    let mut best: Option<(usize, usize, f64)> = None;
-                    for (i, shape_a) in sa.iter().enumerate() {
-                        for (j, shape_b) in sb.iter().enumerate() {
-                            let d = signed_distance(re(ia, i), shape_a.radius, re(ib, j), shape_b.radius);
-                            if best.is_none_or(|(_, _, x)| d < x) {
-                                best = Some((i, j, d));
-                            }
-                        }
-                    }
-                    best.map(|(i, j, _)| (i, j))
-                };
-                let distance = match best {
-                    Some((i, j)) => signed_distance(placed(ia, i), sa[i].radius, placed(ib, j), sb[j].radius),
-                    None => D::from(f64::INFINITY),
-                };
-                PairClearance { a, b, distance }
-            })
-            .collect()
+        let mut out = Vec::with_capacity(pairs.len());
+        self.clearances_into(arm, q, pairs, &mut Placement::default(), &mut out);
+        out
     }
 
     /// The least clearance at `q` and its pair; `None` when no pair is checked.

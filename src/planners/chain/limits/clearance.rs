@@ -26,7 +26,7 @@ use nalgebra::{Const, U1};
 use num_dual::{Derivative, DualSVec64};
 
 use super::{Limited, PathPoint};
-use crate::model::arm::collision::{Body, Geometry, PairClearance};
+use crate::model::arm::collision::{Body, Geometry, Placement};
 use crate::planners::chain::ClearanceRise;
 use crate::planners::optimal::sqp::{Discretised, Inequalities, Running, RunningRow};
 
@@ -124,11 +124,6 @@ pub(crate) fn obstacles_within_reach(arm: &crate::model::arm::Arm, reserve: f64)
     arm.geometry.pairs_within(arm, keep).iter().any(|(_, b)| matches!(b, Body::Obstacle(_)))
 }
 
-/// True for a pair of a body and an obstacle.
-fn obstacle<D>(pair: &PairClearance<D>) -> bool {
-    matches!(pair.b, Body::Obstacle(_))
-}
-
 impl Limited<'_> {
     /// The points of the rows of the robot's own bodies: `rows.pieces` per knot span, or in the
     /// spans outside `rows.dense`'s windows [`PIECES`].
@@ -164,6 +159,11 @@ impl Limited<'_> {
         // form, [`crate::planners::optimal::sqp::Running`]), and `phi`'s gradient at the last point.
         let mut running = Running::default();
         let mut before = vec![0.0; if rows.obstacles && order >= 1 { dim } else { 0 }];
+        // The distances' buffers, kept from point to point (no allocation at each).
+        let (mut placement, mut real) = (Placement::<f64>::default(), Vec::with_capacity(rows.pairs.len()));
+        let (mut dual_placement, mut dual) = (Placement::<Multi>::default(), Vec::with_capacity(rows.pairs.len()));
+        // `d d_ab / d q_i` of pair `k` at `slopes[k (n + 1) + i]`.
+        let mut slopes: Vec<f64> = Vec::new();
         let mut at = |point: PathPoint<&[f64]>| {
             let this = index;
             index += 1;
@@ -192,8 +192,18 @@ impl Limited<'_> {
             for j in 0..n {
                 q[j + 1] = (0..=p).map(|l| value[l] * c[j][first + l]).sum();
             }
+            // A pair whose bodies' bounding capsules are farther apart than `keep + NEAR` has that
+            // bound as its distance where no gradient is wanted (`Geometry::clearances_beyond`):
+            // in the values alone (order 0), which the merit function reads as `max(0, g)`, zero
+            // either way, and a body's row against an obstacle at order 1 (below: no gradient
+            // there, a value under `-NEAR / L`, which the QP never sends). The robot's own pairs
+            // keep their exact values and gradients at order 1: without them the QP's steps went
+            // through a far pair of bodies (the SPART-like bench's plan 5.3854 -> 7.4516, a
+            // different minimum), a step of more than NEAR.
+            let far = keep + NEAR;
             if order == 0 {
-                for pair in geometry.clearances_of(self.arm, &q, &rows.pairs) {
+                geometry.clearances_beyond(self.arm, &q, &rows.pairs, far, &mut placement, &mut real);
+                for pair in &real {
                     out.values.push((keep - pair.distance) * rows.scale);
                 }
                 return;
@@ -201,23 +211,24 @@ impl Limited<'_> {
             // The distances in `f64` first where obstacles have rows: a body's row against an
             // obstacle carries its gradient only within NEAR (below), and most are farther, so
             // the dual pass takes only the pairs whose gradient a row carries (3-link obstacle
-            // bench: 7.35 -> 7.15 G instructions, the same plan); the robot's own pairs alone
-            // all carry theirs, and their values come with the dual pass.
-            let (values, against_obstacle, wanted) = if rows.obstacles {
-                let real = geometry.clearances_of(self.arm, &q, &rows.pairs);
-                let values: Vec<f64> = real.iter().map(|x| x.distance).collect();
-                let against: Vec<bool> = real.iter().map(obstacle).collect();
-                let wanted = (0..real.len()).filter(|&k| !against[k] || values[k] <= keep + NEAR).collect();
-                (values, against, wanted)
-            } else {
-                (Vec::new(), Vec::new(), (0..rows.pairs.len()).collect::<Vec<usize>>())
-            };
-            let (mut values, mut against_obstacle) = (values, against_obstacle);
+            // bench: 7.35 -> 7.15 G instructions, the same plan); the robot's own pairs all carry
+            // theirs, and their values come with the dual pass.
+            let against_obstacle: Vec<bool> = rows.pairs.iter().map(|(_, b)| matches!(b, Body::Obstacle(_))).collect();
+            let mut values = vec![0.0; rows.pairs.len()];
+            let mut bounded = vec![false; rows.pairs.len()];
+            if rows.obstacles {
+                geometry.clearances_beyond(self.arm, &q, &rows.pairs, far, &mut placement, &mut real);
+                values.iter_mut().zip(&real).for_each(|(v, x)| *v = x.distance);
+                bounded.copy_from_slice(placement.bounded());
+            }
+            let wanted: Vec<usize> =
+                (0..rows.pairs.len()).filter(|&k| !against_obstacle[k] || (!bounded[k] && values[k] <= far)).collect();
             let subset: Vec<(Body, Body)> = wanted.iter().map(|&k| rows.pairs[k]).collect();
             // d d_ab / d q_i, one vector-dual pass per CHUNK coordinates (phi's only with
             // obstacles): the same exact derivatives as one pass per coordinate, with the poses'
             // sines and cosines computed once per pass.
-            let mut slopes: Vec<Vec<f64>> = vec![vec![0.0; n + 1]; rows.pairs.len()];
+            slopes.clear();
+            slopes.resize(rows.pairs.len() * (n + 1), 0.0);
             for start in (from..=n).step_by(CHUNK) {
                 if subset.is_empty() {
                     break;
@@ -230,33 +241,32 @@ impl Limited<'_> {
                         None => Multi::from(v),
                     })
                     .collect();
-                let pairs = geometry.clearances_of(self.arm, &dq, &subset);
-                if values.is_empty() {
-                    values = pairs.iter().map(|x| x.distance.re).collect();
-                    against_obstacle = pairs.iter().map(obstacle).collect();
-                }
-                for (&k, x) in wanted.iter().zip(&pairs) {
+                geometry.clearances_into(self.arm, &dq, &subset, &mut dual_placement, &mut dual);
+                for (&k, x) in wanted.iter().zip(&dual) {
+                    if !against_obstacle[k] {
+                        values[k] = x.distance.re;
+                    }
                     let eps = x.distance.eps.unwrap_generic(Const::<CHUNK>, U1);
-                    for (r, slot) in slopes[k].iter_mut().skip(start).take(CHUNK).enumerate() {
+                    for (r, slot) in slopes[k * (n + 1)..][..n + 1].iter_mut().skip(start).take(CHUNK).enumerate() {
                         *slot = eps[r];
                     }
                 }
             }
-            for ((d, s), far) in values.iter().zip(&slopes).zip(&against_obstacle) {
+            for (k, ((d, s), against)) in values.iter().zip(slopes.chunks(n + 1)).zip(&against_obstacle).enumerate() {
                 out.values.push((keep - d) * rows.scale);
                 // Through theta(t): the p + 1 coefficients of the span, per joint; and against
                 // an obstacle through phi(t) too, whose gradient reaches every earlier one.
                 // A body more than NEAR from the obstacle keeps its row but not its dense
                 // gradient: the row cannot become active in one step (the merit function judges
                 // every step on the rows' values), and the QP stays sparse.
-                if *far && *d > keep + NEAR {
+                if *against && (bounded[k] || *d > keep + NEAR) {
                     out.rows.push(Vec::new());
                     continue;
                 }
-                if *far {
+                if *against {
                     slopes_of_phi.push((out.values.len() - 1, this, -rows.scale * s[0]));
                 }
-                let mut dense = vec![0.0; if *far { dim } else { 0 }];
+                let mut dense = vec![0.0; if *against { dim } else { 0 }];
                 for (k, g) in dense.iter_mut().zip(point.grad) {
                     *k = -rows.scale * s[0] * g;
                 }
@@ -272,7 +282,7 @@ impl Limited<'_> {
                         }
                     }
                 }
-                if *far {
+                if *against {
                     let local =
                         std::mem::replace(&mut row, dense.into_iter().enumerate().filter(|(_, v)| *v != 0.0).collect());
                     let (at, slope) = (out.values.len() - 1, -rows.scale * s[0]);

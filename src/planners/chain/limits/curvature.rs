@@ -128,8 +128,15 @@ impl Limited<'_> {
         let (mut th, mut w) = (vec![0.0; n], vec![0.0; n]);
         // A span's block in its `p + 1` coefficients of each joint, `(l n + j, ll n + jj)`,
         // summed over its nodes and added to `h` once.
-        let size = (p + 1) * n;
-        let mut block = vec![0.0; size * size];
+        // A span's block in its `p + 1` coefficients of each joint, as `(p + 1)^2` tiles of
+        // `n x n` (tile `(l, ll)` at `((l (p + 1) + ll) n + j) n + jj`), the tiles `ll >= l`
+        // summed over its nodes (each node's term is symmetric; the others are their
+        // transposes) and added to `h` once.
+        let (tiles, nn) = (p + 1, n * n);
+        let mut block = vec![0.0; tiles * tiles * nn];
+        // A node's `scale (value_ll hess g + rate_ll mixed)` and `scale value_ll mixed^T` of
+        // each `ll`: tile `(l, ll)` adds `value_l` times the first and `rate_l` the second.
+        let (mut first_term, mut second_term) = (vec![0.0; tiles * nn], vec![0.0; tiles * nn]);
         for (s, win) in b.windows(2).enumerate() {
             let span = basis.span_of_interval(s);
             let first = span - p;
@@ -154,18 +161,23 @@ impl Limited<'_> {
                     self.connection.local(&th, &w, &mut local);
                     let scale = -half * wi * weight[part];
                     // d^2 g / dc_lj dc_ll,jj: theta-theta, theta-theta' both ways.
-                    for l in 0..=p {
-                        for ll in 0..=p {
-                            let vv = scale * value[l] * value[ll];
-                            let vr = scale * value[l] * rate[ll];
-                            let rv = scale * rate[l] * value[ll];
-                            for j in 0..n {
-                                let out = &mut block[(l * n + j) * size + ll * n..][..n];
-                                for (jj, slot) in out.iter_mut().enumerate() {
-                                    *slot += vv * local.hessian[j * n + jj]
-                                        + vr * local.mixed[j * n + jj]
-                                        + rv * local.mixed[jj * n + j];
-                                }
+                    for ll in 0..tiles {
+                        let (v, r) = (scale * value[ll], scale * rate[ll]);
+                        let (one, two) = (&mut first_term[ll * nn..][..nn], &mut second_term[ll * nn..][..nn]);
+                        for j in 0..n {
+                            for jj in 0..n {
+                                one[j * n + jj] = v * local.hessian[j * n + jj] + r * local.mixed[j * n + jj];
+                                two[j * n + jj] = v * local.mixed[jj * n + j];
+                            }
+                        }
+                    }
+                    for l in 0..tiles {
+                        let (v, r) = (value[l], rate[l]);
+                        for ll in l..tiles {
+                            let tile = &mut block[(l * tiles + ll) * nn..][..nn];
+                            let terms = first_term[ll * nn..][..nn].iter().zip(&second_term[ll * nn..][..nn]);
+                            for (slot, (one, two)) in tile.iter_mut().zip(terms) {
+                                *slot += v * one + r * two;
                             }
                         }
                     }
@@ -174,7 +186,14 @@ impl Limited<'_> {
             if !touched {
                 continue;
             }
-            self.add_to_span(&mut h, first, (p, n), |l, j, ll, jj| block[(l * n + j) * size + ll * n + jj]);
+            let entry = |l: usize, j: usize, ll: usize, jj: usize| {
+                if ll >= l {
+                    block[(l * tiles + ll) * nn + j * n + jj]
+                } else {
+                    block[(ll * tiles + l) * nn + jj * n + j]
+                }
+            };
+            self.add_to_span(&mut h, first, (p, n), entry);
         }
         Some(h)
     }

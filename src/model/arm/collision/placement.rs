@@ -1,0 +1,407 @@
+//! The bodies' shapes placed at one configuration and the pairs' signed distances from them
+//! (issue 21; docs/spec.md §1): [`Geometry::clearances_of`]'s work, with its buffers kept
+//! between calls ([`Placement`]) for a caller that evaluates many configurations (the
+//! planner's clearance rows, thousands of points per evaluation), each angle's sine and cosine
+//! computed once, and a body's union of shapes searched for its nearest pair with a cheap lower
+//! bound that skips the shape pairs that cannot be nearer than one already found.
+
+use super::{Body, Geometry, PairClearance};
+use crate::Scalar;
+use crate::model::arm::Arm;
+use crate::model::geometry::{Pose, Shape, signed_distance};
+
+/// The buffers of [`Geometry::clearances_into`], reused between calls: no allocation once they
+/// have grown to the arm's size.
+#[derive(Debug, Clone)]
+pub struct Placement<D> {
+    /// Each body's frame with its angle's sine and cosine: the base's, then links `1..n`'s.
+    frames: Vec<(Pose<D>, (D, D))>,
+    /// Every placed shape's points (base, links, obstacles).
+    points: Vec<[D; 2]>,
+    /// Shape `k`'s points are `points[ranges[k].0..ranges[k].1]`.
+    ranges: Vec<(usize, usize)>,
+    /// Body `i`'s first shape among `ranges` (base 0, link `k` at `k`, obstacle `k` at `n + k`).
+    first: Vec<usize>,
+    /// The points' real parts, once a body of several shapes asks (empty before).
+    real: Vec<[f64; 2]>,
+    /// Whether each pair's distance of the last call is a bound ([`Geometry::clearances_beyond`]).
+    bounded: Vec<bool>,
+    /// Each body's [`capsule_of`] placed by its frame's real parts (as `first`; with a `far`).
+    capsules: Vec<([[f64; 2]; 2], f64)>,
+}
+
+impl<D> Placement<D> {
+    /// Whether each pair's distance of the last [`Geometry::clearances_beyond`] is a bound above
+    /// its `far` (not the exact distance).
+    pub fn bounded(&self) -> &[bool] {
+        &self.bounded
+    }
+}
+
+impl<D> Default for Placement<D> {
+    fn default() -> Self {
+        Self {
+            frames: Vec::new(),
+            points: Vec::new(),
+            ranges: Vec::new(),
+            first: Vec::new(),
+            real: Vec::new(),
+            bounded: Vec::new(),
+            capsules: Vec::new(),
+        }
+    }
+}
+
+/// The frames of [`super::body_poses`] with each one's sine and cosine, into `out`: the same
+/// arithmetic, bit for bit, as [`Arm::base_position`] and [`super::body_poses`] (which take every
+/// angle's sine and cosine twice, and the shapes' placing a third time), each once.
+pub(super) fn frames_into<D: Scalar>(arm: &Arm, q: &[D], out: &mut Vec<(Pose<D>, (D, D))>) {
+    out.clear();
+    let total = arm.total_mass();
+    let (sp, cp) = q[0].sin_cos();
+    let (a, b) = (arm.mount.a, arm.mount.b);
+    let zero = D::from(0.0);
+    // The base's centre as `Arm::base_position` finds it, the links' angles kept.
+    let mut joint = [cp * a - sp * b, sp * a + cp * b];
+    let mut psi = q[0];
+    let mut base = [zero, zero];
+    out.push((Pose { x: zero, y: zero, angle: q[0] }, (sp, cp)));
+    for (link, &theta) in arm.links.iter().zip(&q[1..]) {
+        psi += theta;
+        let (s, c) = psi.sin_cos();
+        let rel = [joint[0] + c * link.com, joint[1] + s * link.com];
+        let w = -link.mass / total;
+        base = [base[0] + rel[0] * w, base[1] + rel[1] * w];
+        joint = [joint[0] + c * link.length, joint[1] + s * link.length];
+        out.push((Pose { x: zero, y: zero, angle: psi }, (s, c)));
+    }
+    // The joints from the base's centre, as `body_poses` places them.
+    out[0].0 = Pose { x: base[0], y: base[1], angle: q[0] };
+    let mut joint = [base[0] + cp * a - sp * b, base[1] + sp * a + cp * b];
+    for (frame, link) in out[1..].iter_mut().zip(&arm.links) {
+        let (s, c) = frame.1;
+        (frame.0.x, frame.0.y) = (joint[0], joint[1]);
+        joint = [joint[0] + c * link.length, joint[1] + s * link.length];
+    }
+}
+
+/// A lower bound on the signed distance of `hull(a) + disc(ra)` and `hull(b) + disc(rb)` \[m\]:
+/// that of their bounding discs (each centred at its points' mean), `|c_a - c_b| - R_a - R_b`.
+/// It holds penetrating too: moving the discs apart by their depth separates the shapes inside
+/// them, so the shapes' depth is at most the discs'.
+pub(crate) fn disc_bound(a: &[[f64; 2]], ra: f64, b: &[[f64; 2]], rb: f64) -> f64 {
+    let disc = |p: &[[f64; 2]], r: f64| match p {
+        [x] => (*x, r),
+        _ => {
+            let k = p.len() as f64;
+            let c = p.iter().fold([0.0, 0.0], |s, x| [s[0] + x[0], s[1] + x[1]]);
+            let c = [c[0] / k, c[1] / k];
+            let far = p.iter().map(|x| (x[0] - c[0]).powi(2) + (x[1] - c[1]).powi(2)).fold(0.0, f64::max);
+            // A hair more than the rounded radius, so that the bound never exceeds the distance.
+            (c, far.sqrt() * (1.0 + 1e-12) + r)
+        }
+    };
+    let ((ca, ra), (cb, rb)) = (disc(a, ra), disc(b, rb));
+    let (dx, dy) = (ca[0] - cb[0], ca[1] - cb[1]);
+    let gap = (dx * dx + dy * dy).sqrt() - ra - rb;
+    gap - 1e-12 * (1.0 + gap.abs())
+}
+
+/// A capsule in a body's frame that holds all of its shapes: the segment along the frame's `x`
+/// axis across their points' `x` range at the middle of their `y` range, and the radius that
+/// reaches every point's disc (a point `(x, y)` of that `x` range is `|y - y_0|` from it).
+fn capsule_of(shapes: &[Shape]) -> ([[f64; 2]; 2], f64) {
+    let points = || shapes.iter().flat_map(|s| s.points.iter());
+    let (lo, hi) = points().fold(([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]), |(lo, hi), p| {
+        ([lo[0].min(p[0]), lo[1].min(p[1])], [hi[0].max(p[0]), hi[1].max(p[1])])
+    });
+    let mid = (lo[1] + hi[1]) / 2.0;
+    let radius =
+        shapes.iter().flat_map(|s| s.points.iter().map(move |p| (p[1] - mid).abs() + s.radius)).fold(0.0, f64::max);
+    ([[lo[0], mid], [hi[0], mid]], radius)
+}
+
+/// The distance between the segments `p` and `q` \[m\] (0 where they cross or touch).
+fn segments_gap(p: [[f64; 2]; 2], q: [[f64; 2]; 2]) -> f64 {
+    let cross = |o: [f64; 2], a: [f64; 2], b: [f64; 2]| (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
+    let (d1, d2) = (cross(q[0], q[1], p[0]), cross(q[0], q[1], p[1]));
+    let (d3, d4) = (cross(p[0], p[1], q[0]), cross(p[0], p[1], q[1]));
+    if d1 * d2 <= 0.0 && d3 * d4 <= 0.0 {
+        return 0.0;
+    }
+    let to = |x: [f64; 2], [a, b]: [[f64; 2]; 2]| {
+        let d = [b[0] - a[0], b[1] - a[1]];
+        let len2 = d[0] * d[0] + d[1] * d[1];
+        let t = if len2 > 0.0 { (((x[0] - a[0]) * d[0] + (x[1] - a[1]) * d[1]) / len2).clamp(0.0, 1.0) } else { 0.0 };
+        let (ex, ey) = (x[0] - a[0] - t * d[0], x[1] - a[1] - t * d[1]);
+        (ex * ex + ey * ey).sqrt()
+    };
+    to(p[0], q).min(to(p[1], q)).min(to(q[0], p)).min(to(q[1], p))
+}
+
+/// A body's [`capsule_of`] placed by its frame's real parts `(x, y, sin, cos)`.
+fn placed_capsule(shapes: &[Shape], [x, y, s, c]: [f64; 4]) -> ([[f64; 2]; 2], f64) {
+    let (spine, radius) = capsule_of(shapes);
+    (spine.map(|p| [x + c * p[0] - s * p[1], y + s * p[0] + c * p[1]]), radius)
+}
+
+/// A lower bound on the signed distance of two bodies \[m\]: that of their placed capsules
+/// ([`placed_capsule`]; a hair less, for the rounding).
+fn capsule_bound((pa, ra): ([[f64; 2]; 2], f64), (pb, rb): ([[f64; 2]; 2], f64)) -> f64 {
+    let gap = segments_gap(pa, pb) - ra - rb;
+    gap - 1e-12 * (1.0 + gap.abs() + ra + rb)
+}
+
+impl Geometry {
+    /// [`Geometry::clearances_of`] into `out` (cleared first), with `placement`'s buffers: the
+    /// same values bit for bit, without allocating once the buffers have grown.
+    pub fn clearances_into<D: Scalar>(
+        &self,
+        arm: &Arm,
+        q: &[D],
+        pairs: &[(Body, Body)],
+        placement: &mut Placement<D>,
+        out: &mut Vec<PairClearance<D>>,
+    ) {
+        self.clearances_beyond(arm, q, pairs, f64::INFINITY, placement, out);
+    }
+
+    /// [`Geometry::clearances_into`], but a pair whose bodies' [`capsule_bound`] exceeds `far`
+    /// \[m\] has that bound as its distance, a constant (no derivatives; marked in
+    /// [`Placement::bounded`]): a lower bound of the distance, above `far`, where the exact
+    /// distance is not needed (the planner's rows of bodies far apart carry no gradient). Every
+    /// distance at or below `far` is exact.
+    pub fn clearances_beyond<D: Scalar>(
+        &self,
+        arm: &Arm,
+        q: &[D],
+        pairs: &[(Body, Body)],
+        far: f64,
+        placement: &mut Placement<D>,
+        out: &mut Vec<PairClearance<D>>,
+    ) {
+        let Placement { frames, points, ranges, first, real, bounded, capsules } = placement;
+        frames_into(arm, q, frames);
+        let zero = D::from(0.0);
+        let inertial = (Pose { x: zero, y: zero, angle: zero }, zero.sin_cos());
+        let n = arm.joints();
+        // Every body's shapes placed once (base, links 1..n, obstacles), with its frame's sine
+        // and cosine (the same points, bit for bit, as [`crate::model::geometry::Shape::placed`]).
+        let bodies = std::iter::once(Body::Base)
+            .chain((1..=n).map(Body::Link))
+            .chain((1..=self.obstacles.len()).map(Body::Obstacle));
+        points.clear();
+        ranges.clear();
+        first.clear();
+        real.clear();
+        capsules.clear();
+        for body in bodies {
+            first.push(ranges.len());
+            let shapes = self.shapes(body);
+            let (pose, sin_cos) = match body {
+                Body::Base => frames[0],
+                Body::Link(k) => frames[k],
+                Body::Obstacle(_) => inertial,
+            };
+            if far < f64::INFINITY {
+                let (s, c) = sin_cos;
+                capsules.push(if shapes.is_empty() {
+                    ([[0.0; 2]; 2], f64::INFINITY)
+                } else {
+                    placed_capsule(shapes, [pose.x.re(), pose.y.re(), s.re(), c.re()])
+                });
+            }
+            if shapes.is_empty() {
+                continue;
+            }
+            for shape in shapes {
+                let from = points.len();
+                shape.placed_into(&pose, sin_cos, points);
+                ranges.push((from, points.len()));
+            }
+        }
+        let index = |body: Body| match body {
+            Body::Base => 0,
+            Body::Link(k) => k,
+            Body::Obstacle(k) => n + k,
+        };
+        out.clear();
+        bounded.clear();
+        for &(a, b) in pairs {
+            let (ia, ib) = (index(a), index(b));
+            let (sa, sb) = (self.shapes(a), self.shapes(b));
+            if far < f64::INFINITY {
+                let bound = capsule_bound(capsules[ia], capsules[ib]);
+                bounded.push(bound > far);
+                if bound > far {
+                    out.push(PairClearance { a, b, distance: D::from(bound) });
+                    continue;
+                }
+            } else {
+                bounded.push(false);
+            }
+            // The pair of shapes of least distance by the real parts (a union's distance is its
+            // least), then that pair alone in `D`: the same value and derivatives as every pair
+            // in `D`, the first least kept. One shape each: that pair, without its distance in
+            // the real parts first (the same pair, half the work). A pair of shapes whose
+            // [`disc_bound`] exceeds the least distance found is not nearer: skipped (a box
+            // against a link's spheres, most of them far).
+            let best = if sa.len() == 1 && sb.len() == 1 {
+                Some((0, 0))
+            } else {
+                if real.is_empty() {
+                    real.extend(points.iter().map(|p| [p[0].re(), p[1].re()]));
+                }
+                let re = |body: usize, shape: usize| {
+                    let (from, to) = ranges[first[body] + shape];
+                    &real[from..to]
+                };
+                let mut best: Option<(usize, usize, f64)> = None;
+                for (i, shape_a) in sa.iter().enumerate() {
+                    for (j, shape_b) in sb.iter().enumerate() {
+                        let (pa, pb) = (re(ia, i), re(ib, j));
+                        if let Some((_, _, least)) = best
+                            && pa.len() * pb.len() > 1
+                            && disc_bound(pa, shape_a.radius, pb, shape_b.radius) > least
+                        {
+                            continue;
+                        }
+                        let d = signed_distance(pa, shape_a.radius, pb, shape_b.radius);
+                        if best.is_none_or(|(_, _, x)| d < x) {
+                            best = Some((i, j, d));
+                        }
+                    }
+                }
+                best.map(|(i, j, _)| (i, j))
+            };
+            let placed = |body: usize, shape: usize| {
+                let (from, to) = ranges[first[body] + shape];
+                &points[from..to]
+            };
+            let distance = match best {
+                Some((i, j)) => signed_distance(placed(ia, i), sa[i].radius, placed(ib, j), sb[j].radius),
+                None => D::from(f64::INFINITY),
+            };
+            out.push(PairClearance { a, b, distance });
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::Mount;
+    use crate::model::arm::{Base, Link};
+
+    /// A small deterministic generator (xorshift), uniform in [0, 1).
+    fn rng(seed: u64) -> impl FnMut() -> f64 {
+        let mut s = seed;
+        move || {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            (s >> 11) as f64 / (1u64 << 53) as f64
+        }
+    }
+
+    /// The frames are `body_poses`' bit for bit, each with its angle's sine and cosine, on an
+    /// arm mounted off the base's centre (so that every term of the base's centre counts).
+    #[test]
+    fn frames_are_the_body_poses_with_their_sines_and_cosines() {
+        let link = |l: f64, m: f64| Link { length: l, com: 0.4 * l, mass: m, inertia: m * l * l / 12.0 };
+        let arm = Arm::new(
+            Base { mass: 15.0, inertia: 1.0 },
+            Mount::new(0.2, -0.1).unwrap(),
+            vec![link(0.5, 2.0), link(0.4, 1.5), link(0.3, 1.0)],
+        )
+        .unwrap();
+        let mut next = rng(7);
+        let mut frames = Vec::new();
+        for _ in 0..50 {
+            let q: Vec<f64> = (0..4).map(|_| 6.0 * next() - 3.0).collect();
+            frames_into(&arm, &q, &mut frames);
+            let poses = super::super::body_poses(&arm, &q);
+            assert_eq!(frames.len(), poses.len());
+            for ((pose, (s, c)), expected) in frames.iter().zip(&poses) {
+                assert_eq!(pose.x.to_bits(), expected.x.to_bits());
+                assert_eq!(pose.y.to_bits(), expected.y.to_bits());
+                assert_eq!(pose.angle.to_bits(), expected.angle.to_bits());
+                let (es, ec) = expected.angle.sin_cos();
+                assert_eq!((s.to_bits(), c.to_bits()), (es.to_bits(), ec.to_bits()));
+            }
+        }
+    }
+
+    /// The disc bound never exceeds the exact signed distance (brute force over random shapes
+    /// apart and overlapping: circles, capsules and boxes, as the robots carry).
+    #[test]
+    fn the_disc_bound_is_below_the_signed_distance() {
+        let mut next = rng(11);
+        let shape = |next: &mut dyn FnMut() -> f64| {
+            let c = [2.0 * next() - 1.0, 2.0 * next() - 1.0];
+            match (next() * 3.0) as usize {
+                0 => Shape::circle(c, 0.3 * next()).unwrap(),
+                1 => Shape::capsule(c, [c[0] + next() - 0.5, c[1] + next() - 0.5], 0.1 * next()).unwrap(),
+                _ => Shape::rectangle(c, [0.05 + next(), 0.05 + next()]).unwrap(),
+            }
+        };
+        let (mut apart, mut overlapping) = (0, 0);
+        for _ in 0..2000 {
+            let (a, b) = (shape(&mut next), shape(&mut next));
+            let exact = signed_distance(&a.points, a.radius, &b.points, b.radius);
+            let bound = disc_bound(&a.points, a.radius, &b.points, b.radius);
+            assert!(bound <= exact, "{a:?} {b:?}: bound {bound} above {exact}");
+            if exact > 0.0 { apart += 1 } else { overlapping += 1 }
+        }
+        assert!(apart > 100 && overlapping > 100, "{apart} apart, {overlapping} overlapping");
+    }
+
+    /// `clearances_beyond`: every distance at or below `far` is `clearances_of`'s bit for bit,
+    /// and every one above it either that or a bound between `far` and it (the capsules' bound
+    /// below the brute-force-checked distance), marked as such. `clearances_of` itself is checked against the brute force and central
+    /// differences (`collision.rs`, `geometry.rs`).
+    #[test]
+    fn distances_beyond_far_are_bounds_above_it_and_the_rest_exact() {
+        let link = Link { length: 0.5, com: 0.25, mass: 2.0, inertia: 2.0 * 0.25 / 12.0 };
+        let arm = Arm::new(Base { mass: 20.0, inertia: 1.0 }, Mount::new(0.25, 0.0).unwrap(), vec![link; 4]).unwrap();
+        let spheres = |k: usize| (0..k).map(|i| Shape::circle([0.1 * i as f64, 0.01], 0.04).unwrap());
+        let geometry = Geometry {
+            base: vec![Shape::rectangle([0.0, 0.0], [0.5, 0.5]).unwrap()],
+            links: (0..4)
+                .map(|k| match k % 2 {
+                    0 => spheres(6).collect(),
+                    _ => vec![
+                        Shape::circle([0.1, 0.0], 0.05).unwrap(),
+                        Shape::capsule([0.2, 0.0], [0.5, 0.0], 0.04).unwrap(),
+                    ],
+                })
+                .collect(),
+            obstacles: vec![
+                Shape::circle([0.9, 0.3], 0.1).unwrap(),
+                Shape::polygon(vec![[-0.9, 0.6], [-0.4, 0.7], [-0.7, 1.2]]).unwrap(),
+            ],
+            ..Default::default()
+        };
+        let pairs = geometry.pairs(4);
+        let mut next = rng(3);
+        let (mut placement, mut out) = (Placement::default(), Vec::new());
+        let (mut bounded, mut exact_near) = (0, 0);
+        for _ in 0..300 {
+            let q: Vec<f64> = (0..5).map(|_| 6.0 * next() - 3.0).collect();
+            let far = 0.4 * next();
+            let exact = geometry.clearances_of(&arm, &q, &pairs);
+            geometry.clearances_beyond(&arm, &q, &pairs, far, &mut placement, &mut out);
+            for (k, (e, x)) in exact.iter().zip(&out).enumerate() {
+                assert_eq!((e.a, e.b), (x.a, x.b));
+                if placement.bounded()[k] {
+                    assert!(far < x.distance && x.distance <= e.distance, "{e:?} {x:?} far {far}");
+                    bounded += 1;
+                } else {
+                    assert_eq!(e.distance.to_bits(), x.distance.to_bits(), "{e:?} {x:?} far {far}");
+                    exact_near += usize::from(e.distance <= far);
+                }
+            }
+        }
+        assert!(bounded > 100 && exact_near > 100, "{bounded} bounded, {exact_near} exact near");
+    }
+}
