@@ -2,7 +2,8 @@
 //! `profile_clearance CASE N [CLEARANCE]` with CASE `spart` (the SPART-like fixture with its base
 //! box, `benches/clearance.rs`), `3link` (the 3-link example around an obstacle) or `random`
 //! (N random problems on the SPART-like fixture; `FF_ONLY=K` runs problem K alone,
-//! `FF_RATES=free` lifts the joints' velocity, acceleration and torque limits).
+//! `FF_RATES=free` lifts the joints' velocity, acceleration and torque limits, `FF_CLEARANCES=0.02`
+//! plans at the clearances listed only, 0, 0.02 and 0.04 m by default).
 use freefloat::model::arm::Arm;
 use freefloat::model::arm::collision::Body;
 use freefloat::model::geometry::Shape;
@@ -87,7 +88,10 @@ fn random(arm: Arm, n: usize) -> Result<(), Box<dyn std::error::Error>> {
         if std::env::var("FF_ONLY").is_ok_and(|v| v != k.to_string()) {
             continue;
         }
-        for clearance in [0.0, 0.02, 0.04] {
+        let clearances: Vec<f64> = std::env::var("FF_CLEARANCES")
+            .map(|v| v.split(',').filter_map(|x| x.parse().ok()).collect())
+            .unwrap_or(vec![0.0, 0.02, 0.04]);
+        for clearance in clearances {
             let mut arm = arm.clone();
             if std::env::var("FF_RATES").is_ok_and(|v| v == "free") {
                 // The joints' rates unlimited (their ranges kept): SPART's own file declares

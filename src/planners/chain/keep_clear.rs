@@ -54,7 +54,11 @@ fn reached(problem: &ChainProblem, free: &ChainPlan) -> Targets {
 }
 
 impl ChainPlanner {
-    /// [`Self::plan`] where the arm keeps a clearance. First the search without the clearance
+    /// [`Self::plan`] where the arm keeps a clearance. Where no obstacle is within reach, the
+    /// search with the rows of the robot's own bodies first: its plan, where it is a converged
+    /// one that clears inside every limit, is the answer (where it passes more than
+    /// [`DIP_BAND`] clear, the lower effort of it and the free plan that clears). Else the
+    /// search without the clearance
     /// rows: where its plan clears, it is the
     /// constrained minimum too (the rows would not be active), found at the unconstrained
     /// search's speed. Else, where there are obstacles, that plan pushed clear by the rows in its
@@ -83,9 +87,41 @@ impl ChainPlanner {
         }
         let own = ChainPlanner { obstacle_rows: false, ..self.clone() };
         let with_own_rows = super::limits::keeps_clearance(&own);
+        let obstacles = super::limits::obstacles_within_reach(&self.arm, self.options.clearance_reserve);
+        // Without obstacles, the search with the rows first, and where its plan is a converged
+        // one that clears inside every limit, within [`DIP_BAND`] of the clearance, the search
+        // without them is not run: on the SPART-like bench (`benches/clearance.rs`) the free plan
+        // passes inside the base, and the search without the rows before the one with them took
+        // 7.80 -> 4.68 G instructions a plan (callgrind, `examples/profile_clearance.rs spart`),
+        // the same plan (5.3854331294 rad^2/s, 0.02077 m). Farther from the clearance the rows
+        // do not shape the plan, and the free search's plan, where it clears at no more effort,
+        // is the answer as before: on 19 of the random problems of `profile_clearance random 32`
+        // at 0.02 m that end in a plan, the efforts were the same but on problem 25, whose plan
+        // from the rows passes 0.156 m clear at 0.5888014833 against the free plan's
+        // 0.5841780331 rad^2/s.
+        let least = |p: &ChainPlan| p.verification.clearance.map_or(f64::INFINITY, |r| r.min);
+        let (mut searched, mut proven) = (None, None);
+        if with_own_rows && !obstacles {
+            let inside = |p: &ChainPlan| p.verification.limits.as_ref().is_none_or(|l| l.inside);
+            match own.search(problem, tables, clock) {
+                Ok(k) if clears(&k) && k.stats.converged && inside(&k) => {
+                    if least(&k) <= self.arm.geometry.clearance + DIP_BAND {
+                        return Ok(k);
+                    }
+                    proven = Some(k);
+                }
+                kept => searched = Some(kept),
+            }
+        }
         let free = ChainPlanner { clearance_rows: false, ..self.clone() }.plan(problem);
+        if let Some(k) = proven {
+            return Ok(match free {
+                Ok(free) if clears(&free) && free.effort() <= k.effort() => free,
+                _ => k,
+            });
+        }
         let Ok(free) = free else {
-            return if with_own_rows { own.search(problem, tables, clock) } else { free };
+            return if with_own_rows { searched.unwrap_or_else(|| own.search(problem, tables, clock)) } else { free };
         };
         if clears(&free) {
             return Ok(free);
@@ -98,21 +134,19 @@ impl ChainPlanner {
         // (problem 8) the search with the rows finds 0.9 to 2 % less effort (3.8961 against
         // 3.9323 at 0 m, 3.9525 / 4.0296 at 0.02 m, 4.0576 / 4.0896 at 0.04 m). So without
         // obstacles the search with the rows follows at once.
-        let obstacles = super::limits::obstacles_within_reach(&self.arm, self.options.clearance_reserve);
         if obstacles && let Ok(Some(repaired)) = self.repair(problem, &free, tables, clock, true) {
             return Ok(repaired);
         }
         if !with_own_rows {
             return Ok(free);
         }
-        let kept = match own.search(problem, tables, clock) {
+        let kept = match searched.unwrap_or_else(|| own.search(problem, tables, clock)) {
             Ok(k) if !clears(&k) && obstacles => match self.repair(problem, &k, tables, clock, true) {
                 Ok(Some(repaired)) => return Ok(repaired),
                 _ => Ok(k),
             },
             kept => kept,
         };
-        let least = |p: &ChainPlan| p.verification.clearance.map_or(f64::INFINITY, |r| r.min);
         // The last resort also where the plan kept is a stalled re-solve's (not proven a
         // minimum): the lower effort of the two.
         let proven = |k: &ChainPlan| clears(k) && k.stats.converged;
