@@ -244,9 +244,12 @@ fn multiplier(m: &Metric, e: &Evaluation) -> (f64, f64, DVector<f64>) {
     let den = e.grad_c.dot(&a_s);
     let lambda = if den > 0.0 { -a_s.dot(&e.grad_f) / den } else { 0.0 };
     let r = &e.grad_f + &e.grad_c * lambda;
-    let kkt = r.dot(&m.chol.solve(&r)).max(0.0).sqrt();
-    let scale = e.grad_f.dot(&m.chol.solve(&e.grad_f)).max(0.0).sqrt().max(1.0);
-    (lambda, kkt / scale, a_s)
+    let kkt = r.dot(&m.chol.solve(&r)).max(0.0);
+    // `|grad f|^2` in the metric without a third solve: `grad f = r - lambda grad c` with `r`
+    // orthogonal to `grad c` there (`a_s^T r = 0` by the choice of `lambda`), so
+    // `|grad f|^2 = |r|^2 + lambda^2 den`.
+    let scale = (kkt + lambda * lambda * den).max(0.0).sqrt().max(1.0);
+    (lambda, kkt.sqrt() / scale, a_s)
 }
 
 /// Solves the discretised problem from `x0` (Byrd–Omojokun trust-region SQP; the S-l1-QP step
