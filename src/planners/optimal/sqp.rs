@@ -305,6 +305,8 @@ pub fn solve_watched<P: Discretised>(
     let mut w = DMatrix::zeros(x.len(), x.len());
     // W's [`Factor`], kept after a rejected step (`e`, `lambda_w` and W stay as they were).
     let mut factor = None;
+    // Whether `abandon` was asked at this iterate already (before its derivatives, below).
+    let mut asked = false;
     let termination = loop {
         if !(e.f.is_finite() && e.c.is_finite() && kkt.is_finite()) {
             return Err(Error::from(InputError::InvalidParameter {
@@ -322,7 +324,7 @@ pub fn solve_watched<P: Discretised>(
         if iterations >= options.max_iterations {
             break Termination::MaxIterations;
         }
-        if abandon(iterations, e.f, e.c) {
+        if !std::mem::take(&mut asked) && abandon(iterations, e.f, e.c) {
             break Termination::Abandoned;
         }
         if radius < 1e-15 * (1.0 + m.norm(&x)) {
@@ -386,6 +388,7 @@ pub fn solve_watched<P: Discretised>(
         };
         let (mut accepted, mut ratio) = accept(&trial);
         let mut step = d.clone();
+        let corrected = !accepted;
         if !accepted && den > 0.0 {
             // Second-order correction: back to the constraint along the metric's normal.
             let soc = &a_s * (-trial.c / den);
@@ -401,6 +404,21 @@ pub fn solve_watched<P: Discretised>(
         let step_norm = m.norm(&step);
         if accepted {
             x += &step;
+            // Asked before the new iterate's derivatives where they could not change the answer:
+            // off the constraint (neither converged nor stalled there) and short of the
+            // iteration limit, the checks before `abandon`'s at the loop's top; at the trial
+            // point itself (not a second-order correction's sum, whose bits differ).
+            if !corrected
+                && trial.c.abs() > options.constraint_tolerance
+                && iterations < options.max_iterations
+                && trial.f.is_finite()
+            {
+                if abandon(iterations, trial.f, trial.c) {
+                    (e.f, e.c) = (trial.f, trial.c);
+                    break Termination::Abandoned;
+                }
+                asked = true;
+            }
             factor = None;
             problem.recycle(std::mem::replace(&mut e.hess_c, DMatrix::zeros(0, 0)));
             e = problem.evaluate(&x, 2);
