@@ -244,10 +244,7 @@ fn multiplier(m: &Metric, e: &Evaluation) -> (f64, f64, DVector<f64>) {
     let den = e.grad_c.dot(&a_s);
     let lambda = if den > 0.0 { -a_s.dot(&e.grad_f) / den } else { 0.0 };
     let r = &e.grad_f + &e.grad_c * lambda;
-    let kkt = r.dot(&m.chol.solve(&r)).max(0.0);
-    // `|grad f|^2` in the metric without a third solve: `grad f = r - lambda grad c` with `r`
-    // orthogonal to `grad c` there (`a_s^T r = 0` by the choice of `lambda`), so
-    // `|grad f|^2 = |r|^2 + lambda^2 den`.
+    let kkt = r.dot(&m.chol.solve(&r)).max(0.0); // |grad f|_S^2 = kkt + lambda^2 den (a_s^T r = 0)
     let scale = (kkt + lambda * lambda * den).max(0.0).sqrt().max(1.0);
     (lambda, kkt.sqrt() / scale, a_s)
 }
@@ -299,14 +296,12 @@ pub fn solve_watched<P: Discretised>(
     let guess = guess.filter(|g| g.is_finite());
     let mut mu = guess.map_or(1.0, |g| (2.0 * g.abs()).max(1.0));
     let mut lambda_w = guess.unwrap_or(lambda);
-    let mut iterations = 0;
-    let (mut best_kkt, mut since_best) = (kkt, 0);
+    let (mut best_kkt, mut since_best, mut iterations) = (kkt, 0, 0);
     // The Lagrangian's Hessian, its band written at every iteration (zero outside it).
     let mut w = DMatrix::zeros(x.len(), x.len());
     // W's [`Factor`], kept after a rejected step (`e`, `lambda_w` and W stay as they were).
     let mut factor = None;
-    // Whether `abandon` was asked at this iterate already (before its derivatives, below).
-    let mut asked = false;
+    let mut asked = false; // `abandon` asked at this iterate already (before its derivatives)
     let termination = loop {
         if !(e.f.is_finite() && e.c.is_finite() && kkt.is_finite()) {
             return Err(Error::from(InputError::InvalidParameter {
@@ -388,7 +383,6 @@ pub fn solve_watched<P: Discretised>(
         };
         let (mut accepted, mut ratio) = accept(&trial);
         let mut step = d.clone();
-        let corrected = !accepted;
         if !accepted && den > 0.0 {
             // Second-order correction: back to the constraint along the metric's normal.
             let soc = &a_s * (-trial.c / den);
@@ -404,20 +398,12 @@ pub fn solve_watched<P: Discretised>(
         let step_norm = m.norm(&step);
         if accepted {
             x += &step;
-            // Asked before the new iterate's derivatives where they could not change the answer:
-            // off the constraint (neither converged nor stalled there) and short of the
-            // iteration limit, the checks before `abandon`'s at the loop's top; at the trial
-            // point itself (not a second-order correction's sum, whose bits differ).
-            if !corrected
-                && trial.c.abs() > options.constraint_tolerance
-                && iterations < options.max_iterations
-                && trial.f.is_finite()
-            {
+            if accept(&trial).0 && trial.c.abs() > options.constraint_tolerance && iterations < options.max_iterations {
+                asked = true; // the watch before the derivatives (off the constraint, short of the limit)
                 if abandon(iterations, trial.f, trial.c) {
                     (e.f, e.c) = (trial.f, trial.c);
                     break Termination::Abandoned;
                 }
-                asked = true;
             }
             factor = None;
             problem.recycle(std::mem::replace(&mut e.hess_c, DMatrix::zeros(0, 0)));
