@@ -244,9 +244,9 @@ fn multiplier(m: &Metric, e: &Evaluation) -> (f64, f64, DVector<f64>) {
     let den = e.grad_c.dot(&a_s);
     let lambda = if den > 0.0 { -a_s.dot(&e.grad_f) / den } else { 0.0 };
     let r = &e.grad_f + &e.grad_c * lambda;
-    let kkt = r.dot(&m.chol.solve(&r)).max(0.0).sqrt();
-    let scale = e.grad_f.dot(&m.chol.solve(&e.grad_f)).max(0.0).sqrt().max(1.0);
-    (lambda, kkt / scale, a_s)
+    let kkt = r.dot(&m.chol.solve(&r)).max(0.0); // |grad f|_S^2 = kkt + lambda^2 den (a_s^T r = 0)
+    let scale = (kkt + lambda * lambda * den).max(0.0).sqrt().max(1.0);
+    (lambda, kkt.sqrt() / scale, a_s)
 }
 
 /// Solves the discretised problem from `x0` (Byrd–Omojokun trust-region SQP; the S-l1-QP step
@@ -296,12 +296,12 @@ pub fn solve_watched<P: Discretised>(
     let guess = guess.filter(|g| g.is_finite());
     let mut mu = guess.map_or(1.0, |g| (2.0 * g.abs()).max(1.0));
     let mut lambda_w = guess.unwrap_or(lambda);
-    let mut iterations = 0;
-    let (mut best_kkt, mut since_best) = (kkt, 0);
+    let (mut best_kkt, mut since_best, mut iterations) = (kkt, 0, 0);
     // The Lagrangian's Hessian, its band written at every iteration (zero outside it).
     let mut w = DMatrix::zeros(x.len(), x.len());
     // W's [`Factor`], kept after a rejected step (`e`, `lambda_w` and W stay as they were).
     let mut factor = None;
+    let mut asked = false; // `abandon` asked at this iterate already (before its derivatives)
     let termination = loop {
         if !(e.f.is_finite() && e.c.is_finite() && kkt.is_finite()) {
             return Err(Error::from(InputError::InvalidParameter {
@@ -319,7 +319,7 @@ pub fn solve_watched<P: Discretised>(
         if iterations >= options.max_iterations {
             break Termination::MaxIterations;
         }
-        if abandon(iterations, e.f, e.c) {
+        if !std::mem::take(&mut asked) && abandon(iterations, e.f, e.c) {
             break Termination::Abandoned;
         }
         if radius < 1e-15 * (1.0 + m.norm(&x)) {
@@ -398,6 +398,13 @@ pub fn solve_watched<P: Discretised>(
         let step_norm = m.norm(&step);
         if accepted {
             x += &step;
+            if accept(&trial).0 && trial.c.abs() > options.constraint_tolerance && iterations < options.max_iterations {
+                asked = true; // the watch before the derivatives (off the constraint, short of the limit)
+                if abandon(iterations, trial.f, trial.c) {
+                    (e.f, e.c) = (trial.f, trial.c);
+                    break Termination::Abandoned;
+                }
+            }
             factor = None;
             problem.recycle(std::mem::replace(&mut e.hess_c, DMatrix::zeros(0, 0)));
             e = problem.evaluate(&x, 2);
