@@ -157,7 +157,9 @@ impl ChainPlanner {
             let soft = ChainPlanner { clearance_pieces: SOFT_PIECES, ..own.clone() };
             let basis = (free.stats.spans, free.stats.quadrature_nodes);
             let first = reached(problem, &free);
-            let others = self.clear_lines(problem, &first.end);
+            // The others only where the first gives no plan (their lines' clearance sampled).
+            let skip = first.end.clone();
+            let others = std::iter::once_with(|| self.clear_lines(problem, &skip)).flatten();
             for targets in std::iter::once(first).chain(others) {
                 if let Ok(Some(plan)) = soft.soft_search(problem, targets, basis, tables, clock) {
                     if kept.as_ref().is_ok_and(|k| clears(k) && k.effort() <= plan.effort()) {
