@@ -166,7 +166,7 @@ impl Geometry {
         self.clearances_beyond(arm, q, pairs, f64::INFINITY, placement, out);
     }
 
-    /// [`Geometry::clearances_into`], but a pair whose bodies' [`capsule_bound`] exceeds `far`
+    /// [`Geometry::clearances_into`], but a pair whose bodies' `capsule_bound` exceeds `far`
     /// \[m\] has that bound as its distance, a constant (no derivatives; marked in
     /// [`Placement::bounded`]): a lower bound of the distance, above `far`, where the exact
     /// distance is not needed (the planner's rows of bodies far apart carry no gradient). Every
