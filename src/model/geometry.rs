@@ -289,12 +289,12 @@ fn origin_signed_distance<D: Scalar>(k: &[[D; 2]]) -> D {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use num_dual::Dual64;
 
     /// A small deterministic generator (xorshift), uniform in [0, 1).
-    fn rng(seed: u64) -> impl FnMut() -> f64 {
+    pub(crate) fn rng(seed: u64) -> impl FnMut() -> f64 {
         let mut s = seed;
         move || {
             s ^= s << 13;

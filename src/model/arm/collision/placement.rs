@@ -292,17 +292,7 @@ mod tests {
     use super::*;
     use crate::model::Mount;
     use crate::model::arm::{Base, Link};
-
-    /// A small deterministic generator (xorshift), uniform in [0, 1).
-    fn rng(seed: u64) -> impl FnMut() -> f64 {
-        let mut s = seed;
-        move || {
-            s ^= s << 13;
-            s ^= s >> 7;
-            s ^= s << 17;
-            (s >> 11) as f64 / (1u64 << 53) as f64
-        }
-    }
+    use crate::model::geometry::tests::rng;
 
     /// The frames are `body_poses`' bit for bit, each with its angle's sine and cosine, on an
     /// arm mounted off the base's centre (so that every term of the base's centre counts).
