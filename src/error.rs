@@ -276,17 +276,18 @@ pub enum Error {
         termination: &'static str,
     },
     /// The given horizon is too short for the robot's limits (issue 20 item 4): no plan inside
-    /// every limit was found in it, and the shortest horizon with one is longer; the limit that
-    /// binds there is named (`joint` from 1, 0 for the base angle).
-    #[error(
-        "no plan inside the robot's limits in T = {horizon} s: the shortest feasible horizon found is {shortest:.6} s, where {} binds; give --time {shortest:.6} or longer (or --time auto)",
-        binding_limit(*joint, quantity, *limit)
-    )]
+    /// every limit (and clear, issue 21) was found in it, and a longer horizon has one; the limit
+    /// that binds there is named (`joint` from 1, 0 for the base angle).
+    #[error("{}", too_short_message(*horizon, *shortest, *searched, binding_limit(*joint, quantity, *limit)))]
     HorizonTooShort {
         /// The given horizon \[s\].
         horizon: f64,
-        /// The shortest feasible horizon found, within 1 % \[s\].
+        /// A horizon with a certified plan inside every limit \[s\]: the shortest, within 1 %,
+        /// where `searched`; else one proven to fit, an upper bound on the shortest.
         shortest: f64,
+        /// Whether `shortest` was searched for (`--time auto`'s search), or is the horizon at which
+        /// the plan without the rate limits, time-scaled, was certified (docs/spec.md §2).
+        searched: bool,
         /// The binding limit's joint, counted from 1 (0: the base angle).
         joint: usize,
         /// `velocity`, `acceleration`, `torque`, `position` or `base`.
@@ -490,8 +491,9 @@ impl Error {
             E::LimitExceeded { joint, quantity, value, limit, time } => json!({
                 "joint": joint, "quantity": quantity, "value": value, "limit": limit, "time": time,
             }),
-            E::HorizonTooShort { horizon, shortest, joint, quantity, limit } => json!({
-                "horizon": horizon, "shortest": shortest, "joint": joint, "quantity": quantity, "limit": limit,
+            E::HorizonTooShort { horizon, shortest, searched, joint, quantity, limit } => json!({
+                "horizon": horizon, "shortest": shortest, "searched": searched, "joint": joint, "quantity": quantity,
+                "limit": limit,
             }),
             E::OptimalFailed { iterations, constraint_residual, kkt_residual, effort, seeds, termination } => json!({
                 "iterations": iterations, "constraint_residual": constraint_residual, "kkt_residual": kkt_residual,
@@ -517,6 +519,22 @@ fn limit_value(quantity: &str, x: f64, digits: usize) -> String {
         "acceleration" => format!("{} rad/s^2 ({} deg/s^2)", shown(x), shown(x.to_degrees())),
         _ => format!("{} N m", shown(x)),
     }
+}
+
+/// [`Error::HorizonTooShort`]'s message: the shortest horizon found, or a horizon proven to fit.
+fn too_short_message(horizon: f64, shortest: f64, searched: bool, binding: String) -> String {
+    let found = if searched {
+        format!("the shortest feasible horizon found is {shortest:.6} s")
+    } else {
+        format!(
+            "the horizon is too short for them: the plan without the rate limits, time-scaled, is certified \
+             inside every limit and clearance at {shortest:.6} s (not searched down to the shortest)"
+        )
+    };
+    format!(
+        "no plan inside the robot's limits in T = {horizon} s: {found}, where {binding} binds; give --time \
+         {shortest:.6} or longer (or --time auto)"
+    )
 }
 
 /// The limit that binds at the shortest horizon: `joint 2's velocity limit 0.174533 rad/s

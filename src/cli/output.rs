@@ -136,6 +136,7 @@ pub fn error_json(err: &anyhow::Error) -> String {
         Some(E::GoalMissed { .. }) => "goal_missed",
         Some(E::Collision { .. }) => "collision",
         Some(E::LimitExceeded { .. }) => "limit_exceeded",
+        Some(E::HorizonTooShort { .. }) => "horizon_too_short",
         Some(e) if e.is_bad_input() => "bad_input",
         Some(_) => "no_certified_plan",
         None => "bad_input",

@@ -434,7 +434,7 @@ impl ChainPlanner {
 
     /// This planner with the arm's velocity, acceleration and torque limits removed (its ranges
     /// kept).
-    fn without_rate_limits(&self) -> ChainPlanner {
+    pub(super) fn without_rate_limits(&self) -> ChainPlanner {
         let mut limits = self.arm().limits.clone();
         for j in &mut limits.joints {
             (j.velocity, j.acceleration, j.torque) = (None, None, None);
@@ -497,32 +497,6 @@ impl ChainPlanner {
         self.decided_line.as_ref().is_some_and(|d| {
             let near = |a: &[f64], b: &[f64]| a.iter().zip(b).all(|(x, y)| (x - y).abs() <= SAME_TARGET);
             near(&d.end, &targets.end) && (d.phi_end - targets.phi_end).abs() <= SAME_TARGET
-        })
-    }
-
-    /// [`ChainPlanner::plan`], and when the arm has a rate limit (velocity, acceleration or
-    /// torque: [`crate::model::arm::Limits::rate_limited`]) and no plan is found, the shortest
-    /// feasible horizon: an [`Error::HorizonTooShort`] naming the limit that binds there when it
-    /// is longer than the problem's horizon (else the planner's own error).
-    pub fn plan_within_limits(&self, problem: &ChainProblem) -> Result<ChainPlan, Error> {
-        let error = match self.plan(problem) {
-            Ok(plan) => return Ok(plan),
-            Err(e) if e.is_bad_input() || !self.arm().limits.rate_limited() => return Err(e),
-            Err(e) => e,
-        };
-        let shortest = match self.shortest_horizon(&ChainProblem { horizon: problem.horizon * 1.5, ..problem.clone() })
-        {
-            Ok(s) if s.horizon > problem.horizon => s,
-            // A limit no horizon satisfies: that, rather than the planner's failure here.
-            Err(e) if e.is_bad_input() => return Err(e),
-            _ => return Err(error),
-        };
-        Err(Error::HorizonTooShort {
-            horizon: problem.horizon,
-            shortest: shortest.horizon,
-            joint: shortest.binding.joint,
-            quantity: shortest.binding.quantity,
-            limit: shortest.binding.limit,
         })
     }
 }

@@ -35,6 +35,7 @@ mod starts;
 #[cfg(test)]
 pub(crate) use starts::LINE_SPANS_PER_TURN;
 mod tables;
+mod too_short;
 mod warm;
 
 use std::sync::Arc;
@@ -446,3 +447,5 @@ mod tests_recorded;
 
 #[cfg(test)]
 mod tests_spin;
+#[cfg(test)]
+mod tests_too_short;
