@@ -420,10 +420,10 @@ fn a_three_link_arm_reaches_around_an_obstacle_that_its_free_plan_crosses() {
 /// base (stop 61: exit 3, base and link 3 0.317 m into each other), while the plan without the
 /// rate limits clears. The answer is the horizon too short (exit 3, `horizon_too_short`, not
 /// searched) at a longer horizon, at which the plan is then certified, clear and inside every
-/// limit. Ignored: the two searches at 4.3 s and the one at the horizon named take about 60 s of
+/// limit. Ignored: the two searches at 4.3 s and the one at the horizon named take about 51 s of
 /// CPU in release (`cargo test --release -- --ignored`).
 #[test]
-#[ignore = "about 60 s of CPU in release: three clearance searches of the SPART-like arm"]
+#[ignore = "about 50 s of CPU in release: three clearance searches of the SPART-like arm"]
 fn the_spart_like_horizon_too_short_is_told_with_one_that_fits() {
     let f = format!("{}/examples/robots/spart_like_4dof.urdf", env!("CARGO_MANIFEST_DIR"));
     let problem = ["--from=-41,-9.7,-14.9,31.2,69.3", "--to=53.9,6.2,-7.7,-32.4,-65.0", "--clearance", "0.02"];
