@@ -215,11 +215,29 @@ impl Connection {
         specialised!(self.n, |n| self.local_of(n, theta, rate, out, None))
     }
 
+    /// [`Self::local`]'s value, `a` and gradient alone, bit for bit (`hessian`, `mixed` untouched).
+    pub fn first_order(&self, theta: &[f64], rate: &[f64], out: &mut Local) {
+        specialised!(self.n, |n| self.local_with::<false>(n, theta, rate, out, None))
+    }
+
     /// [`Self::local`] for `n = self.n` (inlined where `n` is a constant), with the sines and
     /// cosines of the links' angles `known` already where given (those [`Self::value_of`] kept at
     /// the same `theta`: the same bits).
     #[inline(always)]
     pub(super) fn local_of(
+        &self,
+        n: usize,
+        theta: &[f64],
+        rate: &[f64],
+        out: &mut Local,
+        known: Option<&[(f64, f64)]>,
+    ) {
+        self.local_with::<true>(n, theta, rate, out, known)
+    }
+
+    /// [`Self::local_of`], the second derivatives only with `SECOND`.
+    #[inline(always)]
+    fn local_with<const SECOND: bool>(
         &self,
         n: usize,
         theta: &[f64],
@@ -248,7 +266,7 @@ impl Connection {
                     suffix: &mut suffix,
                     prefix: &mut prefix,
                 };
-                self.local_in(n, theta, rate, outputs, work, known)
+                self.local_in::<SECOND>(n, theta, rate, outputs, work, known)
             }};
         }
         match n {
@@ -265,15 +283,15 @@ impl Connection {
                 }
                 let Work { f_grad, f_hess, g_jac, psi, rate_sum, cs, pairs, suffix, prefix } = work;
                 let work = WorkSlices { f_grad, f_hess, g_jac, psi, rate_sum, cs, pairs, suffix, prefix };
-                self.local_in(n, theta, rate, outputs, work, known)
+                self.local_in::<SECOND>(n, theta, rate, outputs, work, known)
             }
         }
     }
 
-    /// [`Self::local_of`] with its work space.
+    /// [`Self::local_of`] with its work space (the second derivatives only with `SECOND`).
     #[allow(non_snake_case)]
     #[inline(always)]
-    fn local_in(
+    fn local_in<const SECOND: bool>(
         &self,
         n: usize,
         theta: &[f64],
@@ -360,13 +378,16 @@ impl Connection {
         for m in 0..n {
             f_grad[m] = q(m, m, 2);
             gradient[m] = q(m, m, 3);
+            if !SECOND {
+                continue;
+            }
             for p in 0..n {
                 f_hess[m * n + p] = -q(m, p, 0);
                 hessian[m * n + p] = -q(m, p, 1);
             }
         }
         // dG_j/dtheta_m = sum_{j < s <= m} E_2K S[s][m] + 1/2 Q_2K S[min(j, m)][max(j, m)].
-        for m in 0..n {
+        for m in (0..n).filter(|_| SECOND) {
             let mut first = 0.0;
             for j in (0..n).rev() {
                 g_jac[j * n + m] = first + 0.5 * q(j, m, 2);
@@ -383,7 +404,7 @@ impl Connection {
             a[j] *= inv;
             gradient[j] = (gradient[j] - g * f_grad[j]) * inv;
         }
-        for m in 0..n {
+        for m in (0..n).filter(|_| SECOND) {
             for p in 0..n {
                 let i = m * n + p;
                 hessian[i] = (hessian[i] - gradient[m] * f_grad[p] - gradient[p] * f_grad[m] - g * f_hess[i]) * inv;
@@ -461,6 +482,23 @@ pub(crate) mod tests {
                         assert_eq!(got.to_bits() & !(1 << 63), expected.to_bits() & !(1 << 63), "n {n} ({i}, {j})");
                     }
                 }
+            }
+        }
+    }
+
+    /// [`Connection::first_order`] is [`Connection::local`]'s first order, bit for bit.
+    #[test]
+    fn first_order_is_local_bit_for_bit() {
+        for n in 2..=MAX_JOINTS {
+            let (c, mut local, mut first) = (Connection::new(&arm(n)), Local::new(n), Local::new(n));
+            for trial in 0..10 {
+                let theta: Vec<f64> = (0..n).map(|i| ((i * 7 + trial * 3) as f64 * 0.77).sin() * 3.0).collect();
+                c.local(&theta, &theta, &mut local);
+                c.first_order(&theta, &theta, &mut first);
+                let bits = |l: &Local| -> Vec<u64> {
+                    [[l.value].as_slice(), &l.a, &l.gradient].concat().iter().map(|x| x.to_bits()).collect()
+                };
+                assert_eq!(bits(&local), bits(&first), "n {n}");
             }
         }
     }

@@ -28,6 +28,15 @@ pub struct Placement<D> {
     bounded: Vec<bool>,
     /// Each body's [`capsule_of`] placed by its frame's real parts (as `first`; with a `far`).
     capsules: Vec<([[f64; 2]; 2], f64)>,
+    /// Each pair's capsules' bound (with a `far`).
+    bounds: Vec<f64>,
+    /// Whether each body's shapes are placed (those of a pair not [`Placement::bounded`]).
+    needed: Vec<bool>,
+    /// Each placed shape's bounding disc ([`disc`]; as `ranges`, once a body of several shapes
+    /// asks).
+    discs: Vec<([f64; 2], f64)>,
+    /// The shape pairs' [`discs_gap`] of one pair of bodies.
+    gaps: Vec<f64>,
 }
 
 impl<D> Placement<D> {
@@ -48,6 +57,10 @@ impl<D> Default for Placement<D> {
             real: Vec::new(),
             bounded: Vec::new(),
             capsules: Vec::new(),
+            bounds: Vec::new(),
+            needed: Vec::new(),
+            discs: Vec::new(),
+            gaps: Vec::new(),
         }
     }
 }
@@ -88,9 +101,17 @@ pub(super) fn frames_into<D: Scalar>(arm: &Arm, q: &[D], out: &mut Vec<(Pose<D>,
 /// A lower bound on the signed distance of `hull(a) + disc(ra)` and `hull(b) + disc(rb)` \[m\]:
 /// that of their bounding discs (each centred at its points' mean), `|c_a - c_b| - R_a - R_b`.
 /// It holds penetrating too: moving the discs apart by their depth separates the shapes inside
-/// them, so the shapes' depth is at most the discs'.
-pub(crate) fn disc_bound(a: &[[f64; 2]], ra: f64, b: &[[f64; 2]], rb: f64) -> f64 {
-    let disc = |p: &[[f64; 2]], r: f64| match p {
+/// them, so the shapes' depth is at most the discs'. ([`Geometry::clearances_beyond`] takes it
+/// as [`discs_gap`] of discs found once per shape.)
+#[cfg(test)]
+fn disc_bound(a: &[[f64; 2]], ra: f64, b: &[[f64; 2]], rb: f64) -> f64 {
+    discs_gap(disc(a, ra), disc(b, rb))
+}
+
+/// The bounding disc of `hull(p) + disc(r)` of [`disc_bound`]: its centre (the points' mean) and
+/// radius.
+fn disc(p: &[[f64; 2]], r: f64) -> ([f64; 2], f64) {
+    match p {
         [x] => (*x, r),
         _ => {
             let k = p.len() as f64;
@@ -100,8 +121,11 @@ pub(crate) fn disc_bound(a: &[[f64; 2]], ra: f64, b: &[[f64; 2]], rb: f64) -> f6
             // A hair more than the rounded radius, so that the bound never exceeds the distance.
             (c, far.sqrt() * (1.0 + 1e-12) + r)
         }
-    };
-    let ((ca, ra), (cb, rb)) = (disc(a, ra), disc(b, rb));
+    }
+}
+
+/// [`disc_bound`] of two discs.
+fn discs_gap((ca, ra): ([f64; 2], f64), (cb, rb): ([f64; 2], f64)) -> f64 {
     let (dx, dy) = (ca[0] - cb[0], ca[1] - cb[1]);
     let gap = (dx * dx + dy * dy).sqrt() - ra - rb;
     gap - 1e-12 * (1.0 + gap.abs())
@@ -129,14 +153,16 @@ fn segments_gap(p: [[f64; 2]; 2], q: [[f64; 2]; 2]) -> f64 {
     if d1 * d2 <= 0.0 && d3 * d4 <= 0.0 {
         return 0.0;
     }
+    // The squared distances, one square root of their least (the same value: the square root
+    // is monotonic and correctly rounded).
     let to = |x: [f64; 2], [a, b]: [[f64; 2]; 2]| {
         let d = [b[0] - a[0], b[1] - a[1]];
         let len2 = d[0] * d[0] + d[1] * d[1];
         let t = if len2 > 0.0 { (((x[0] - a[0]) * d[0] + (x[1] - a[1]) * d[1]) / len2).clamp(0.0, 1.0) } else { 0.0 };
         let (ex, ey) = (x[0] - a[0] - t * d[0], x[1] - a[1] - t * d[1]);
-        (ex * ex + ey * ey).sqrt()
+        ex * ex + ey * ey
     };
-    to(p[0], q).min(to(p[1], q)).min(to(q[0], p)).min(to(q[1], p))
+    to(p[0], q).min(to(p[1], q)).min(to(q[0], p)).min(to(q[1], p)).sqrt()
 }
 
 /// A body's [`capsule_of`] placed by its frame's real parts `(x, y, sin, cos)`.
@@ -180,99 +206,126 @@ impl Geometry {
         placement: &mut Placement<D>,
         out: &mut Vec<PairClearance<D>>,
     ) {
-        let Placement { frames, points, ranges, first, real, bounded, capsules } = placement;
+        let Placement { frames, points, ranges, first, real, bounded, capsules, bounds, needed, discs, gaps } =
+            placement;
         frames_into(arm, q, frames);
         let zero = D::from(0.0);
         let inertial = (Pose { x: zero, y: zero, angle: zero }, zero.sin_cos());
         let n = arm.joints();
-        // Every body's shapes placed once (base, links 1..n, obstacles), with its frame's sine
-        // and cosine (the same points, bit for bit, as [`crate::model::geometry::Shape::placed`]).
-        let bodies = std::iter::once(Body::Base)
-            .chain((1..=n).map(Body::Link))
-            .chain((1..=self.obstacles.len()).map(Body::Obstacle));
-        points.clear();
-        ranges.clear();
-        first.clear();
-        real.clear();
+        // Body `i`: the base (0), links `1..n`, then the obstacles.
+        let count = n + 1 + self.obstacles.len();
+        let body = |i: usize| match i {
+            0 => Body::Base,
+            i if i <= n => Body::Link(i),
+            i => Body::Obstacle(i - n),
+        };
+        let index = |body: Body| match body {
+            Body::Base => 0,
+            Body::Link(k) => k,
+            Body::Obstacle(k) => n + k,
+        };
+        let frame = |i: usize| if i <= n { frames[i] } else { inertial };
+        // The bodies' capsules and the pairs' bounds first: only the bodies of a pair within
+        // `far` have their shapes placed (the same points, bit for bit, as every body placed).
         capsules.clear();
-        for body in bodies {
-            first.push(ranges.len());
-            let shapes = self.shapes(body);
-            let (pose, sin_cos) = match body {
-                Body::Base => frames[0],
-                Body::Link(k) => frames[k],
-                Body::Obstacle(_) => inertial,
-            };
-            if far < f64::INFINITY {
-                let (s, c) = sin_cos;
+        bounds.clear();
+        bounded.clear();
+        needed.clear();
+        needed.resize(count, !(far < f64::INFINITY));
+        if far < f64::INFINITY {
+            for i in 0..count {
+                let (shapes, (pose, (s, c))) = (self.shapes(body(i)), frame(i));
                 capsules.push(if shapes.is_empty() {
                     ([[0.0; 2]; 2], f64::INFINITY)
                 } else {
                     placed_capsule(shapes, [pose.x.re(), pose.y.re(), s.re(), c.re()])
                 });
             }
-            if shapes.is_empty() {
+            for &(a, b) in pairs {
+                let (ia, ib) = (index(a), index(b));
+                let bound = capsule_bound(capsules[ia], capsules[ib]);
+                bounds.push(bound);
+                bounded.push(bound > far);
+                if !(bound > far) {
+                    (needed[ia], needed[ib]) = (true, true);
+                }
+            }
+        } else {
+            bounded.resize(pairs.len(), false);
+        }
+        // The needed bodies' shapes placed once, with their frame's sine and cosine (the same
+        // points, bit for bit, as [`crate::model::geometry::Shape::placed`]).
+        points.clear();
+        ranges.clear();
+        first.clear();
+        real.clear();
+        discs.clear();
+        for (i, &need) in needed.iter().enumerate() {
+            first.push(ranges.len());
+            if !need {
                 continue;
             }
-            for shape in shapes {
+            let (pose, sin_cos) = frame(i);
+            for shape in self.shapes(body(i)) {
                 let from = points.len();
                 shape.placed_into(&pose, sin_cos, points);
                 ranges.push((from, points.len()));
             }
         }
-        let index = |body: Body| match body {
-            Body::Base => 0,
-            Body::Link(k) => k,
-            Body::Obstacle(k) => n + k,
-        };
         out.clear();
-        bounded.clear();
-        for &(a, b) in pairs {
+        for (k, &(a, b)) in pairs.iter().enumerate() {
+            if bounded[k] {
+                out.push(PairClearance { a, b, distance: D::from(bounds[k]) });
+                continue;
+            }
             let (ia, ib) = (index(a), index(b));
             let (sa, sb) = (self.shapes(a), self.shapes(b));
-            if far < f64::INFINITY {
-                let bound = capsule_bound(capsules[ia], capsules[ib]);
-                bounded.push(bound > far);
-                if bound > far {
-                    out.push(PairClearance { a, b, distance: D::from(bound) });
-                    continue;
-                }
-            } else {
-                bounded.push(false);
-            }
             // The pair of shapes of least distance by the real parts (a union's distance is its
-            // least), then that pair alone in `D`: the same value and derivatives as every pair
-            // in `D`, the first least kept. One shape each: that pair, without its distance in
-            // the real parts first (the same pair, half the work). A pair of shapes whose
-            // [`disc_bound`] exceeds the least distance found is not nearer: skipped (a box
+            // least; of equal ones the first in the shapes' order), then that pair alone in `D`:
+            // the same value and derivatives as every pair in `D`. One shape each: that pair,
+            // without its distance in the real parts first (the same pair, half the work).
+            // Otherwise the pair of least [`disc_bound`] first, then every other pair whose
+            // bound is not above the least distance found (a pair above it is not nearer: a box
             // against a link's spheres, most of them far).
             let best = if sa.len() == 1 && sb.len() == 1 {
                 Some((0, 0))
+            } else if sa.is_empty() || sb.is_empty() {
+                None
             } else {
                 if real.is_empty() {
                     real.extend(points.iter().map(|p| [p[0].re(), p[1].re()]));
+                    for i in (0..count).filter(|&i| needed[i]) {
+                        for (j, shape) in self.shapes(body(i)).iter().enumerate() {
+                            let (from, to) = ranges[first[i] + j];
+                            discs.push(disc(&real[from..to], shape.radius));
+                        }
+                    }
                 }
                 let re = |body: usize, shape: usize| {
                     let (from, to) = ranges[first[body] + shape];
                     &real[from..to]
                 };
-                let mut best: Option<(usize, usize, f64)> = None;
-                for (i, shape_a) in sa.iter().enumerate() {
-                    for (j, shape_b) in sb.iter().enumerate() {
-                        let (pa, pb) = (re(ia, i), re(ib, j));
-                        if let Some((_, _, least)) = best
-                            && pa.len() * pb.len() > 1
-                            && disc_bound(pa, shape_a.radius, pb, shape_b.radius) > least
-                        {
-                            continue;
-                        }
-                        let d = signed_distance(pa, shape_a.radius, pb, shape_b.radius);
-                        if best.is_none_or(|(_, _, x)| d < x) {
-                            best = Some((i, j, d));
-                        }
+                let nb = sb.len();
+                gaps.clear();
+                for i in 0..sa.len() {
+                    gaps.extend((0..nb).map(|j| discs_gap(discs[first[ia] + i], discs[first[ib] + j])));
+                }
+                let distance = |k: usize| {
+                    let (i, j) = (k / nb, k % nb);
+                    signed_distance(re(ia, i), sa[i].radius, re(ib, j), sb[j].radius)
+                };
+                let start = (0..gaps.len()).fold(0, |m, k| if gaps[k] < gaps[m] { k } else { m });
+                let (mut at, mut least) = (start, distance(start));
+                for (k, &gap) in gaps.iter().enumerate() {
+                    if k == start || gap > least {
+                        continue;
+                    }
+                    let d = distance(k);
+                    if d < least || (d <= least && k < at) {
+                        (at, least) = (k, d);
                     }
                 }
-                best.map(|(i, j, _)| (i, j))
+                Some((at / nb, at % nb))
             };
             let placed = |body: usize, shape: usize| {
                 let (from, to) = ranges[first[body] + shape];
@@ -346,12 +399,42 @@ mod tests {
         assert!(apart > 100 && overlapping > 100, "{apart} apart, {overlapping} overlapping");
     }
 
-    /// `clearances_beyond`: every distance at or below `far` is `clearances_of`'s bit for bit,
-    /// and every one above it either that or a bound between `far` and it (the capsules' bound
-    /// below the brute-force-checked distance), marked as such. `clearances_of` itself is checked against the brute force and central
-    /// differences (`collision.rs`, `geometry.rs`).
+    /// A union's distance is the least signed distance over every pair of its shapes, bit for
+    /// bit (the exhaustive search, each shape placed by [`Shape::placed`]): the search of least
+    /// disc bound first skips only shape pairs farther than one found. On the fixture of
+    /// `distances_beyond_far_are_bounds_above_it_and_the_rest_exact` (a box, links of spheres or
+    /// a circle and a capsule, two obstacles).
     #[test]
-    fn distances_beyond_far_are_bounds_above_it_and_the_rest_exact() {
+    fn a_union_is_at_its_least_shape_pair() {
+        let (arm, geometry) = fixture();
+        let pairs = geometry.pairs(4);
+        let mut next = rng(5);
+        for _ in 0..300 {
+            let q: Vec<f64> = (0..5).map(|_| 6.0 * next() - 3.0).collect();
+            let poses = super::super::body_poses(&arm, &q);
+            let inertial = Pose { x: 0.0, y: 0.0, angle: 0.0 };
+            let pose = |b: Body| match b {
+                Body::Base => poses[0],
+                Body::Link(k) => poses[k],
+                Body::Obstacle(_) => inertial,
+            };
+            for (pair, got) in pairs.iter().zip(geometry.clearances_of(&arm, &q, &pairs)) {
+                let (sa, sb) = (geometry.shapes(pair.0), geometry.shapes(pair.1));
+                let mut least = f64::INFINITY;
+                for a in sa {
+                    for b in sb {
+                        let d = signed_distance(&a.placed(&pose(pair.0)), a.radius, &b.placed(&pose(pair.1)), b.radius);
+                        least = least.min(d);
+                    }
+                }
+                assert_eq!(got.distance.to_bits(), least.to_bits(), "{pair:?} at {q:?}");
+            }
+        }
+    }
+
+    /// An arm of four links with a base box, links of spheres or of a circle and a capsule, and
+    /// two obstacles.
+    fn fixture() -> (Arm, Geometry) {
         let link = Link { length: 0.5, com: 0.25, mass: 2.0, inertia: 2.0 * 0.25 / 12.0 };
         let arm = Arm::new(Base { mass: 20.0, inertia: 1.0 }, Mount::new(0.25, 0.0).unwrap(), vec![link; 4]).unwrap();
         let spheres = |k: usize| (0..k).map(|i| Shape::circle([0.1 * i as f64, 0.01], 0.04).unwrap());
@@ -372,6 +455,16 @@ mod tests {
             ],
             ..Default::default()
         };
+        (arm, geometry)
+    }
+
+    /// `clearances_beyond`: every distance at or below `far` is `clearances_of`'s bit for bit,
+    /// and every one above it either that or a bound between `far` and it (the capsules' bound
+    /// below the brute-force-checked distance), marked as such. `clearances_of` itself is checked against the brute force and central
+    /// differences (`collision.rs`, `geometry.rs`).
+    #[test]
+    fn distances_beyond_far_are_bounds_above_it_and_the_rest_exact() {
+        let (arm, geometry) = fixture();
         let pairs = geometry.pairs(4);
         let mut next = rng(3);
         let (mut placement, mut out) = (Placement::default(), Vec::new());

@@ -164,6 +164,12 @@ impl Limited<'_> {
         let (mut dual_placement, mut dual) = (Placement::<Multi>::default(), Vec::with_capacity(rows.pairs.len()));
         // `d d_ab / d q_i` of pair `k` at `slopes[k (n + 1) + i]`.
         let mut slopes: Vec<f64> = Vec::new();
+        // Each pair's work space, kept from point to point.
+        let against_obstacle: Vec<bool> = rows.pairs.iter().map(|(_, b)| matches!(b, Body::Obstacle(_))).collect();
+        let (mut values, mut bounded) = (vec![0.0; rows.pairs.len()], vec![false; rows.pairs.len()]);
+        let (mut wanted, mut subset): (Vec<usize>, Vec<(Body, Body)>) = (Vec::new(), Vec::new());
+        let mut dq: Vec<Multi> = Vec::with_capacity(n + 1);
+        let mut dense: Vec<f64> = Vec::new();
         let mut at = |point: PathPoint<&[f64]>| {
             let this = index;
             index += 1;
@@ -213,17 +219,17 @@ impl Limited<'_> {
             // the dual pass takes only the pairs whose gradient a row carries (3-link obstacle
             // bench: 7.35 -> 7.15 G instructions, the same plan); the robot's own pairs all carry
             // theirs, and their values come with the dual pass.
-            let against_obstacle: Vec<bool> = rows.pairs.iter().map(|(_, b)| matches!(b, Body::Obstacle(_))).collect();
-            let mut values = vec![0.0; rows.pairs.len()];
-            let mut bounded = vec![false; rows.pairs.len()];
+            values.iter_mut().for_each(|v| *v = 0.0);
+            bounded.iter_mut().for_each(|b| *b = false);
             if rows.obstacles {
                 geometry.clearances_beyond(self.arm, &q, &rows.pairs, far, &mut placement, &mut real);
                 values.iter_mut().zip(&real).for_each(|(v, x)| *v = x.distance);
                 bounded.copy_from_slice(placement.bounded());
             }
-            let wanted: Vec<usize> =
-                (0..rows.pairs.len()).filter(|&k| !against_obstacle[k] || (!bounded[k] && values[k] <= far)).collect();
-            let subset: Vec<(Body, Body)> = wanted.iter().map(|&k| rows.pairs[k]).collect();
+            wanted.clear();
+            wanted.extend((0..rows.pairs.len()).filter(|&k| !against_obstacle[k] || (!bounded[k] && values[k] <= far)));
+            subset.clear();
+            subset.extend(wanted.iter().map(|&k| rows.pairs[k]));
             // d d_ab / d q_i, one vector-dual pass per CHUNK coordinates (phi's only with
             // obstacles): the same exact derivatives as one pass per coordinate, with the poses'
             // sines and cosines computed once per pass.
@@ -233,14 +239,11 @@ impl Limited<'_> {
                 if subset.is_empty() {
                     break;
                 }
-                let dq: Vec<Multi> = q
-                    .iter()
-                    .enumerate()
-                    .map(|(k, &v)| match k.checked_sub(start).filter(|r| *r < CHUNK) {
-                        Some(r) => Multi::new(v, Derivative::derivative_generic(Const::<CHUNK>, U1, r)),
-                        None => Multi::from(v),
-                    })
-                    .collect();
+                dq.clear();
+                dq.extend(q.iter().enumerate().map(|(k, &v)| match k.checked_sub(start).filter(|r| *r < CHUNK) {
+                    Some(r) => Multi::new(v, Derivative::derivative_generic(Const::<CHUNK>, U1, r)),
+                    None => Multi::from(v),
+                }));
                 geometry.clearances_into(self.arm, &dq, &subset, &mut dual_placement, &mut dual);
                 for (&k, x) in wanted.iter().zip(&dual) {
                     if !against_obstacle[k] {
@@ -266,7 +269,8 @@ impl Limited<'_> {
                 if *against {
                     slopes_of_phi.push((out.values.len() - 1, this, -rows.scale * s[0]));
                 }
-                let mut dense = vec![0.0; if *against { dim } else { 0 }];
+                dense.clear();
+                dense.resize(if *against { dim } else { 0 }, 0.0);
                 for (k, g) in dense.iter_mut().zip(point.grad) {
                     *k = -rows.scale * s[0] * g;
                 }
@@ -283,8 +287,10 @@ impl Limited<'_> {
                     }
                 }
                 if *against {
-                    let local =
-                        std::mem::replace(&mut row, dense.into_iter().enumerate().filter(|(_, v)| *v != 0.0).collect());
+                    let local = std::mem::replace(
+                        &mut row,
+                        dense.iter().copied().enumerate().filter(|(_, v)| *v != 0.0).collect(),
+                    );
                     let (at, slope) = (out.values.len() - 1, -rows.scale * s[0]);
                     running.rows.push(RunningRow { row: at, point: this, slope, local });
                 }
