@@ -70,6 +70,27 @@ pub(super) struct Clearance {
     /// The clearance kept beyond `keep` rising from none at `t = 0` to all of it at the rise's
     /// end ([`crate::planners::chain::ClearanceRise`]).
     rise: ClearanceRise,
+    /// The distances of the last evaluation of the values alone, with obstacles.
+    last: std::cell::RefCell<Distances>,
+}
+
+/// The distances of an evaluation of the values alone with obstacles, at coefficients `key`: the
+/// SQP takes the rows' gradients at the point of its last trial when it accepts the step
+/// (`crate::planners::optimal::sqp::inequality`), where the same coefficients give the same
+/// `theta(t)` and `phi(t)` (the same bits at either order, [`Limited::phi_path_each`]) and so
+/// the same distances: each point's are taken again where its `phi(t)` is the one recorded
+/// (3-link obstacle bench: half of the `f64` distance passes).
+#[derive(Debug, Clone, Default)]
+struct Distances {
+    /// The coefficients' bits.
+    key: Vec<u64>,
+    /// Each point's `phi(t)` bits (the points before the horizon's end, in order).
+    phi: Vec<u64>,
+    /// Each point's distances of every pair ([`Geometry::clearances_beyond`]'s, bounds where
+    /// bounded), `pairs` per point.
+    values: Vec<f64>,
+    /// Whether each is a bound ([`crate::model::arm::collision::Placement::bounded`]).
+    bounded: Vec<bool>,
 }
 
 impl Clearance {
@@ -102,6 +123,7 @@ impl Clearance {
             pieces: PIECES,
             dense: None,
             rise,
+            last: Default::default(),
         })
     }
 
@@ -170,6 +192,14 @@ impl Limited<'_> {
         let (mut wanted, mut subset): (Vec<usize>, Vec<(Body, Body)>) = (Vec::new(), Vec::new());
         let mut dq: Vec<Multi> = Vec::with_capacity(n + 1);
         let mut dense: Vec<f64> = Vec::new();
+        // The last distances of the values alone, taken again at the same coefficients (order
+        // 1), or recorded anew (order 0), with obstacles only: the order-1 pass without them
+        // takes no distances in `f64`.
+        let key: Vec<u64> = if rows.obstacles { c.iter().flatten().map(|v| v.to_bits()).collect() } else { Vec::new() };
+        let mut last = rows.last.borrow_mut();
+        let same = order >= 1 && rows.obstacles && last.key == key;
+        let mut fresh = Distances::default();
+        let (m, mut evaluated) = (rows.pairs.len(), 0);
         let mut at = |point: PathPoint<&[f64]>| {
             let this = index;
             index += 1;
@@ -207,10 +237,17 @@ impl Limited<'_> {
             // through a far pair of bodies (the SPART-like bench's plan 5.3854 -> 7.4516, a
             // different minimum), a step of more than NEAR.
             let far = keep + NEAR;
+            let k = evaluated;
+            evaluated += 1;
             if order == 0 {
                 geometry.clearances_beyond(self.arm, &q, &rows.pairs, far, &mut placement, &mut real);
                 for pair in &real {
                     out.values.push((keep - pair.distance) * rows.scale);
+                }
+                if rows.obstacles {
+                    fresh.phi.push(point.phi.to_bits());
+                    fresh.values.extend(real.iter().map(|x| x.distance));
+                    fresh.bounded.extend_from_slice(placement.bounded());
                 }
                 return;
             }
@@ -221,7 +258,10 @@ impl Limited<'_> {
             // theirs, and their values come with the dual pass.
             values.iter_mut().for_each(|v| *v = 0.0);
             bounded.iter_mut().for_each(|b| *b = false);
-            if rows.obstacles {
+            if rows.obstacles && same && last.phi.get(k) == Some(&point.phi.to_bits()) {
+                values.copy_from_slice(&last.values[k * m..(k + 1) * m]);
+                bounded.copy_from_slice(&last.bounded[k * m..(k + 1) * m]);
+            } else if rows.obstacles {
                 geometry.clearances_beyond(self.arm, &q, &rows.pairs, far, &mut placement, &mut real);
                 values.iter_mut().zip(&real).for_each(|(v, x)| *v = x.distance);
                 bounded.copy_from_slice(placement.bounded());
@@ -301,6 +341,8 @@ impl Limited<'_> {
             self.phi_path_each(c, OBSTACLE_PIECES, order, at);
             if order >= 1 {
                 out.running = Some(running);
+            } else {
+                *last = Distances { key, ..fresh };
             }
         } else {
             for p in self.own_points(rows) {

@@ -137,9 +137,11 @@ impl Limited<'_> {
                     let weight = half * wi;
                     if order >= 1 {
                         // First derivatives only: the gradient of `phi(t)` (bit for bit
-                        // `Connection::local`'s, without its Hessian's sums).
+                        // `Connection::local`'s, without its Hessian's sums), and `phi(t)` the
+                        // same bits as at order 0 (`plain`: the clearance rows reuse the order-0
+                        // distances at the same coefficients, `super::clearance`).
                         connection.first_order(&th, &w, &mut local);
-                        phi -= weight * local.value;
+                        phi -= weight * local.plain;
                         for &(l, j, idx) in &free {
                             grad[idx] -= weight * (local.gradient[j] * value[l] + local.a[j] * rate[l]);
                         }
