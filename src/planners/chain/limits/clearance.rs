@@ -46,6 +46,10 @@ type Multi = DualSVec64<CHUNK>;
 /// Extra clearance each row keeps \[m\] (a distance's dip between points, module docs).
 const MARGIN: f64 = 1e-3;
 
+/// What a carried lower bound loses at each point beyond its bodies' motion \[m\]: the rounding
+/// of the bounds and of the motion's sum (about `1e-15` m on an arm of a metre).
+const MOVED_SLACK: f64 = 1e-9;
+
 /// A body's row against an obstacle carries its gradient only within this distance of the
 /// clearance kept \[m\]: the dense rows of far bodies would fill the QP's factor for nothing.
 const NEAR: f64 = 0.1;
@@ -72,6 +76,8 @@ pub(super) struct Clearance {
     rise: ClearanceRise,
     /// The distances of the last evaluation of the values alone, with obstacles.
     last: std::cell::RefCell<Distances>,
+    /// Each pair's bodies' capsules' speed bounds ([`Geometry::capsule_speeds`]), summed.
+    speeds: Vec<Vec<f64>>,
 }
 
 /// The distances of an evaluation of the values alone with obstacles, at coefficients `key`: the
@@ -114,7 +120,16 @@ impl Clearance {
             return None;
         }
         let mean = arm.links.iter().map(|l| l.length).sum::<f64>() / arm.joints() as f64;
-        let pairs = pairs.into_iter().filter(|pair| obstacles || !against(pair)).collect();
+        let pairs: Vec<(Body, Body)> = pairs.into_iter().filter(|pair| obstacles || !against(pair)).collect();
+        let (n, bodies) = (arm.joints(), geometry.capsule_speeds(arm));
+        let index = |b: Body| match b {
+            Body::Base => 0,
+            Body::Link(k) => k,
+            Body::Obstacle(k) => n + k,
+        };
+        let speeds =
+            pairs.iter().map(|&(a, b)| bodies[index(a)].iter().zip(&bodies[index(b)]).map(|(x, y)| x + y).collect());
+        let speeds = speeds.collect();
         Some(Self {
             keep: geometry.clearance + MARGIN + reserve,
             scale: 1.0 / mean.max(1e-3),
@@ -124,6 +139,7 @@ impl Clearance {
             dense: None,
             rise,
             last: Default::default(),
+            speeds,
         })
     }
 
@@ -200,6 +216,14 @@ impl Limited<'_> {
         let same = order >= 1 && rows.obstacles && last.key == key;
         let mut fresh = Distances::default();
         let (m, mut evaluated) = (rows.pairs.len(), 0);
+        // The values alone: a lower bound on each pair's distance carried from the last point
+        // where it was found, less what its bodies can have moved since
+        // ([`Geometry::capsule_speeds`]: at most the speed bounds times the coordinates'
+        // changes); where every pair's is beyond `far`, the point keeps those bounds and takes
+        // no distances (a bound beyond `far` is what `clearances_beyond` gives such a pair, and
+        // its row's value is read only as negative: no gradient, never sent to the QP, none in
+        // the merit function). On the 3-link obstacle bench most points are far from the obstacle.
+        let (mut lower, mut last_q, mut moved) = (vec![f64::NEG_INFINITY; m], vec![f64::NAN; n + 1], vec![0.0; n + 1]);
         let mut at = |point: PathPoint<&[f64]>| {
             let this = index;
             index += 1;
@@ -240,14 +264,25 @@ impl Limited<'_> {
             let k = evaluated;
             evaluated += 1;
             if order == 0 {
-                geometry.clearances_beyond(self.arm, &q, &rows.pairs, far, &mut placement, &mut real);
-                for pair in &real {
-                    out.values.push((keep - pair.distance) * rows.scale);
+                // (The first point's bounds are -inf: `last_q` NaN keeps them so.)
+                moved.iter_mut().zip(q.iter().zip(&last_q)).for_each(|(d, (a, b))| *d = (a - b).abs());
+                for (bound, speeds) in lower.iter_mut().zip(&rows.speeds) {
+                    *bound -= speeds.iter().zip(&moved).map(|(l, d)| l * d).sum::<f64>() + MOVED_SLACK;
                 }
+                last_q.copy_from_slice(&q);
+                let far_apart = lower.iter().all(|b| *b > far);
+                if !far_apart {
+                    geometry.clearances_beyond(self.arm, &q, &rows.pairs, far, &mut placement, &mut real);
+                    lower.iter_mut().zip(&real).for_each(|(b, x)| *b = x.distance);
+                }
+                out.values.extend(lower.iter().map(|d| (keep - d) * rows.scale));
                 if rows.obstacles {
                     fresh.phi.push(point.phi.to_bits());
-                    fresh.values.extend(real.iter().map(|x| x.distance));
-                    fresh.bounded.extend_from_slice(placement.bounded());
+                    fresh.values.extend_from_slice(&lower);
+                    match far_apart {
+                        true => fresh.bounded.extend(std::iter::repeat_n(true, m)),
+                        false => fresh.bounded.extend_from_slice(placement.bounded()),
+                    }
                 }
                 return;
             }
