@@ -21,48 +21,18 @@ use crate::model::arm::Arm;
 use libm::sincos as sin_cos;
 
 mod curvature;
+mod specialised;
 mod work;
 pub use curvature::Angles;
+pub(crate) use specialised::specialised;
 use work::{STACK_JOINTS, Work, WorkSlices};
-
-/// `body(n)` with `n` a constant for two to seven joints (the loops of the inlined body unrolled,
-/// their bounds checks gone; the same operations in the same order, so the same bits), else
-/// with `n` as it comes.
-macro_rules! specialised {
-    ($n:expr, |$k:ident| $body:expr) => {
-        match $n {
-            2 => {
-                let $k = 2;
-                $body
-            }
-            3 => {
-                let $k = 3;
-                $body
-            }
-            4 => {
-                let $k = 4;
-                $body
-            }
-            5 => {
-                let $k = 5;
-                $body
-            }
-            6 => {
-                let $k = 6;
-                $body
-            }
-            7 => {
-                let $k = 7;
-                $body
-            }
-            $k => $body,
-        }
-    };
-}
-pub(crate) use specialised;
 
 /// Largest number of joints the chain planner takes.
 pub const MAX_JOINTS: usize = crate::model::arm::MAX_LINKS;
+
+/// The outputs of [`Connection::local_in`]: `(value, plain)`, `a`, the gradient, the Hessian
+/// and the mixed derivatives.
+type Outputs<'a> = ((&'a mut f64, &'a mut f64), &'a mut [f64], &'a mut [f64], &'a mut [f64], &'a mut [f64]);
 
 /// The constants of an arm's momentum coefficients (see the [module docs](self)).
 #[derive(Debug, Clone, PartialEq)]
@@ -85,6 +55,9 @@ pub struct Connection {
 pub struct Local {
     /// `g = a . theta'` \[rad/s\].
     pub value: f64,
+    /// `g` rounded as [`Connection::value`] rounds it, bit for bit (`value` is the quotient of
+    /// the derivatives' sums): a base angle the same at every order of its derivatives.
+    pub plain: f64,
     /// `a = G / F`, which is also `dg/dtheta'`.
     pub a: Vec<f64>,
     /// `dg/dtheta`.
@@ -103,6 +76,7 @@ impl Local {
     pub fn new(n: usize) -> Self {
         Self {
             value: 0.0,
+            plain: 0.0,
             a: vec![0.0; n],
             gradient: vec![0.0; n],
             hessian: vec![0.0; n * n],
@@ -215,6 +189,11 @@ impl Connection {
         specialised!(self.n, |n| self.local_of(n, theta, rate, out, None))
     }
 
+    /// [`Self::local`]'s value, `a` and gradient alone, bit for bit (`hessian`, `mixed` untouched).
+    pub fn first_order(&self, theta: &[f64], rate: &[f64], out: &mut Local) {
+        specialised!(self.n, |n| self.local_with::<false>(n, theta, rate, out, None))
+    }
+
     /// [`Self::local`] for `n = self.n` (inlined where `n` is a constant), with the sines and
     /// cosines of the links' angles `known` already where given (those [`Self::value_of`] kept at
     /// the same `theta`: the same bits).
@@ -227,8 +206,21 @@ impl Connection {
         out: &mut Local,
         known: Option<&[(f64, f64)]>,
     ) {
-        let Local { value, a, gradient, hessian, mixed, work } = out;
-        let outputs = (value, &mut a[..n], &mut gradient[..n], &mut hessian[..n * n], &mut mixed[..n * n]);
+        self.local_with::<true>(n, theta, rate, out, known)
+    }
+
+    /// [`Self::local_of`], the second derivatives only with `SECOND`.
+    #[inline(always)]
+    fn local_with<const SECOND: bool>(
+        &self,
+        n: usize,
+        theta: &[f64],
+        rate: &[f64],
+        out: &mut Local,
+        known: Option<&[(f64, f64)]>,
+    ) {
+        let Local { value, plain, a, gradient, hessian, mixed, work } = out;
+        let outputs = ((value, plain), &mut a[..n], &mut gradient[..n], &mut hessian[..n * n], &mut mixed[..n * n]);
         // The work space on the stack, `N1 = n + 1` and `SQ = N1^2` constants, up to
         // [`STACK_JOINTS`] joints; on the heap beyond.
         macro_rules! on_stack {
@@ -248,7 +240,7 @@ impl Connection {
                     suffix: &mut suffix,
                     prefix: &mut prefix,
                 };
-                self.local_in(n, theta, rate, outputs, work, known)
+                self.local_in::<SECOND>(n, theta, rate, outputs, work, known)
             }};
         }
         match n {
@@ -265,20 +257,20 @@ impl Connection {
                 }
                 let Work { f_grad, f_hess, g_jac, psi, rate_sum, cs, pairs, suffix, prefix } = work;
                 let work = WorkSlices { f_grad, f_hess, g_jac, psi, rate_sum, cs, pairs, suffix, prefix };
-                self.local_in(n, theta, rate, outputs, work, known)
+                self.local_in::<SECOND>(n, theta, rate, outputs, work, known)
             }
         }
     }
 
-    /// [`Self::local_of`] with its work space.
+    /// [`Self::local_of`] with its work space (the second derivatives only with `SECOND`).
     #[allow(non_snake_case)]
     #[inline(always)]
-    fn local_in(
+    fn local_in<const SECOND: bool>(
         &self,
         n: usize,
         theta: &[f64],
         rate: &[f64],
-        (value, a, gradient, hessian, mixed): (&mut f64, &mut [f64], &mut [f64], &mut [f64], &mut [f64]),
+        ((value, plain), a, gradient, hessian, mixed): Outputs,
         work: WorkSlices,
         known: Option<&[(f64, f64)]>,
     ) {
@@ -309,6 +301,8 @@ impl Connection {
         // X_st for s < t: [2K C, h C, 2K S, h S] with h = K (W_s + W_t).
         let mut F = self.f0;
         let mut N: f64 = self.g0[..n].iter().zip(&rate[..n]).map(|(g, r)| g * r).sum();
+        // `N` as [`Self::f_and_n`] sums it.
+        let mut N_plain = N;
         for s in 0..n {
             let (ss, cs_s) = cs[s];
             let k = &self.k[s * n1..(s + 1) * n1];
@@ -319,6 +313,7 @@ impl Connection {
                 let h = 0.5 * kk * (rate_sum[s] + rate_sum[t]);
                 F += kk * C;
                 N += h * C;
+                N_plain += 0.5 * kk * C * (rate_sum[s] + rate_sum[t]);
                 pairs[s * n1 + t] = [kk * C, h * C, kk * S, h * S];
             }
         }
@@ -360,13 +355,16 @@ impl Connection {
         for m in 0..n {
             f_grad[m] = q(m, m, 2);
             gradient[m] = q(m, m, 3);
+            if !SECOND {
+                continue;
+            }
             for p in 0..n {
                 f_hess[m * n + p] = -q(m, p, 0);
                 hessian[m * n + p] = -q(m, p, 1);
             }
         }
         // dG_j/dtheta_m = sum_{j < s <= m} E_2K S[s][m] + 1/2 Q_2K S[min(j, m)][max(j, m)].
-        for m in 0..n {
+        for m in (0..n).filter(|_| SECOND) {
             let mut first = 0.0;
             for j in (0..n).rev() {
                 g_jac[j * n + m] = first + 0.5 * q(j, m, 2);
@@ -376,14 +374,14 @@ impl Connection {
             }
         }
         let g = N / F;
-        *value = g;
+        (*value, *plain) = (g, N_plain / F);
         // One division (the quotient rule's `1 / F` as a factor).
         let inv = 1.0 / F;
         for j in 0..n {
             a[j] *= inv;
             gradient[j] = (gradient[j] - g * f_grad[j]) * inv;
         }
-        for m in 0..n {
+        for m in (0..n).filter(|_| SECOND) {
             for p in 0..n {
                 let i = m * n + p;
                 hessian[i] = (hessian[i] - gradient[m] * f_grad[p] - gradient[p] * f_grad[m] - g * f_hess[i]) * inv;
@@ -461,6 +459,25 @@ pub(crate) mod tests {
                         assert_eq!(got.to_bits() & !(1 << 63), expected.to_bits() & !(1 << 63), "n {n} ({i}, {j})");
                     }
                 }
+            }
+        }
+    }
+
+    /// [`Connection::first_order`] is [`Connection::local`]'s first order, bit for bit, and its
+    /// `plain` value [`Connection::value`]'s.
+    #[test]
+    fn first_order_is_local_bit_for_bit() {
+        for n in 2..=MAX_JOINTS {
+            let (c, mut local, mut first) = (Connection::new(&arm(n)), Local::new(n), Local::new(n));
+            for trial in 0..10 {
+                let theta: Vec<f64> = (0..n).map(|i| ((i * 7 + trial * 3) as f64 * 0.77).sin() * 3.0).collect();
+                c.local(&theta, &theta, &mut local);
+                c.first_order(&theta, &theta, &mut first);
+                assert_eq!(first.plain.to_bits(), c.value(&theta, &theta).to_bits(), "n {n}");
+                let bits = |l: &Local| -> Vec<u64> {
+                    [[l.value].as_slice(), &l.a, &l.gradient].concat().iter().map(|x| x.to_bits()).collect()
+                };
+                assert_eq!(bits(&local), bits(&first), "n {n}");
             }
         }
     }

@@ -28,6 +28,15 @@ pub struct Placement<D> {
     bounded: Vec<bool>,
     /// Each body's [`capsule_of`] placed by its frame's real parts (as `first`; with a `far`).
     capsules: Vec<([[f64; 2]; 2], f64)>,
+    /// Each pair's capsules' bound (with a `far`).
+    bounds: Vec<f64>,
+    /// Whether each body's shapes are placed (those of a pair not [`Placement::bounded`]).
+    needed: Vec<bool>,
+    /// Each placed shape's bounding disc ([`disc`]; as `ranges`, once a body of several shapes
+    /// asks).
+    discs: Vec<([f64; 2], f64)>,
+    /// The shape pairs' [`discs_gap`] of one pair of bodies.
+    gaps: Vec<f64>,
 }
 
 impl<D> Placement<D> {
@@ -48,6 +57,10 @@ impl<D> Default for Placement<D> {
             real: Vec::new(),
             bounded: Vec::new(),
             capsules: Vec::new(),
+            bounds: Vec::new(),
+            needed: Vec::new(),
+            discs: Vec::new(),
+            gaps: Vec::new(),
         }
     }
 }
@@ -88,9 +101,17 @@ pub(super) fn frames_into<D: Scalar>(arm: &Arm, q: &[D], out: &mut Vec<(Pose<D>,
 /// A lower bound on the signed distance of `hull(a) + disc(ra)` and `hull(b) + disc(rb)` \[m\]:
 /// that of their bounding discs (each centred at its points' mean), `|c_a - c_b| - R_a - R_b`.
 /// It holds penetrating too: moving the discs apart by their depth separates the shapes inside
-/// them, so the shapes' depth is at most the discs'.
-pub(crate) fn disc_bound(a: &[[f64; 2]], ra: f64, b: &[[f64; 2]], rb: f64) -> f64 {
-    let disc = |p: &[[f64; 2]], r: f64| match p {
+/// them, so the shapes' depth is at most the discs'. ([`Geometry::clearances_beyond`] takes it
+/// as [`discs_gap`] of discs found once per shape.)
+#[cfg(test)]
+fn disc_bound(a: &[[f64; 2]], ra: f64, b: &[[f64; 2]], rb: f64) -> f64 {
+    discs_gap(disc(a, ra), disc(b, rb))
+}
+
+/// The bounding disc of `hull(p) + disc(r)` of [`disc_bound`]: its centre (the points' mean) and
+/// radius.
+fn disc(p: &[[f64; 2]], r: f64) -> ([f64; 2], f64) {
+    match p {
         [x] => (*x, r),
         _ => {
             let k = p.len() as f64;
@@ -100,8 +121,11 @@ pub(crate) fn disc_bound(a: &[[f64; 2]], ra: f64, b: &[[f64; 2]], rb: f64) -> f6
             // A hair more than the rounded radius, so that the bound never exceeds the distance.
             (c, far.sqrt() * (1.0 + 1e-12) + r)
         }
-    };
-    let ((ca, ra), (cb, rb)) = (disc(a, ra), disc(b, rb));
+    }
+}
+
+/// [`disc_bound`] of two discs.
+fn discs_gap((ca, ra): ([f64; 2], f64), (cb, rb): ([f64; 2], f64)) -> f64 {
     let (dx, dy) = (ca[0] - cb[0], ca[1] - cb[1]);
     let gap = (dx * dx + dy * dy).sqrt() - ra - rb;
     gap - 1e-12 * (1.0 + gap.abs())
@@ -129,14 +153,16 @@ fn segments_gap(p: [[f64; 2]; 2], q: [[f64; 2]; 2]) -> f64 {
     if d1 * d2 <= 0.0 && d3 * d4 <= 0.0 {
         return 0.0;
     }
+    // The squared distances, one square root of their least (the same value: the square root
+    // is monotonic and correctly rounded).
     let to = |x: [f64; 2], [a, b]: [[f64; 2]; 2]| {
         let d = [b[0] - a[0], b[1] - a[1]];
         let len2 = d[0] * d[0] + d[1] * d[1];
         let t = if len2 > 0.0 { (((x[0] - a[0]) * d[0] + (x[1] - a[1]) * d[1]) / len2).clamp(0.0, 1.0) } else { 0.0 };
         let (ex, ey) = (x[0] - a[0] - t * d[0], x[1] - a[1] - t * d[1]);
-        (ex * ex + ey * ey).sqrt()
+        ex * ex + ey * ey
     };
-    to(p[0], q).min(to(p[1], q)).min(to(q[0], p)).min(to(q[1], p))
+    to(p[0], q).min(to(p[1], q)).min(to(q[0], p)).min(to(q[1], p)).sqrt()
 }
 
 /// A body's [`capsule_of`] placed by its frame's real parts `(x, y, sin, cos)`.
@@ -153,6 +179,48 @@ fn capsule_bound((pa, ra): ([[f64; 2]; 2], f64), (pb, rb): ([[f64; 2]; 2], f64))
 }
 
 impl Geometry {
+    /// For each body (the base, links `1..n`, then the obstacles), bounds `L_i` \[m/rad\] on the
+    /// speed of every point of its bounding capsule (the one [`Geometry::clearances_beyond`]'s
+    /// bounds take) in each coordinate of `q = (phi, theta_1..theta_n)`: such a point moves by
+    /// at most `sum_i L_i |q'_i - q_i|` from `q` to `q'` (along the segment between them), so a
+    /// pair's capsule bound falls by at most both bodies' sums. Turning `phi` turns everything
+    /// about the system's centre of mass (a point's speed is its distance from it, bounded as
+    /// [`Geometry::reach`] bounds it); `theta_i` turns the links from `i` on about joint `i` and
+    /// moves the base's centre by the links' mass-weighted turn.
+    pub fn capsule_speeds(&self, arm: &Arm) -> Vec<Vec<f64>> {
+        let n = arm.joints();
+        let total = arm.total_mass();
+        let mount = arm.mount.a.hypot(arm.mount.b);
+        // 1-based: `l[s]`, `com[k]`, `w[k] = m_k / M` of link `k`.
+        let l: Vec<f64> = std::iter::once(0.0).chain(arm.links.iter().map(|x| x.length.abs())).collect();
+        let com: Vec<f64> = std::iter::once(0.0).chain(arm.links.iter().map(|x| x.com.abs())).collect();
+        let w: Vec<f64> = std::iter::once(0.0).chain(arm.links.iter().map(|x| x.mass.abs() / total)).collect();
+        let reach_in = |from: usize, to: usize| (from..to).map(|s| l[s]).sum::<f64>();
+        // The base's centre's speed in `phi` (its distance from the origin) and in `theta_i`.
+        let base0: f64 = (1..=n).map(|k| w[k] * (mount + reach_in(1, k) + com[k])).sum();
+        let base: Vec<f64> = (0..=n)
+            .map(|i| if i == 0 { base0 } else { (i..=n).map(|k| w[k] * (reach_in(i, k) + com[k])).sum() })
+            .collect();
+        let body_count = n + 1 + self.obstacles.len();
+        (0..body_count)
+            .map(|j| {
+                let shapes = match j {
+                    0 => self.shapes(Body::Base),
+                    j if j <= n => self.shapes(Body::Link(j)),
+                    _ => return vec![0.0; n + 1],
+                };
+                if shapes.is_empty() {
+                    return vec![0.0; n + 1];
+                }
+                let (spine, _) = capsule_of(shapes);
+                let u = spine.iter().map(|p| p[0].hypot(p[1])).fold(0.0, f64::max);
+                let phi = base0 + u + if j >= 1 { mount + reach_in(1, j) } else { 0.0 };
+                let joints = (1..=n).map(|i| base[i] + if j >= i { reach_in(i, j) + u } else { 0.0 });
+                std::iter::once(phi).chain(joints).collect()
+            })
+            .collect()
+    }
+
     /// [`Geometry::clearances_of`] into `out` (cleared first), with `placement`'s buffers: the
     /// same values bit for bit, without allocating once the buffers have grown.
     pub fn clearances_into<D: Scalar>(
@@ -180,99 +248,126 @@ impl Geometry {
         placement: &mut Placement<D>,
         out: &mut Vec<PairClearance<D>>,
     ) {
-        let Placement { frames, points, ranges, first, real, bounded, capsules } = placement;
+        let Placement { frames, points, ranges, first, real, bounded, capsules, bounds, needed, discs, gaps } =
+            placement;
         frames_into(arm, q, frames);
         let zero = D::from(0.0);
         let inertial = (Pose { x: zero, y: zero, angle: zero }, zero.sin_cos());
         let n = arm.joints();
-        // Every body's shapes placed once (base, links 1..n, obstacles), with its frame's sine
-        // and cosine (the same points, bit for bit, as [`crate::model::geometry::Shape::placed`]).
-        let bodies = std::iter::once(Body::Base)
-            .chain((1..=n).map(Body::Link))
-            .chain((1..=self.obstacles.len()).map(Body::Obstacle));
-        points.clear();
-        ranges.clear();
-        first.clear();
-        real.clear();
+        // Body `i`: the base (0), links `1..n`, then the obstacles.
+        let count = n + 1 + self.obstacles.len();
+        let body = |i: usize| match i {
+            0 => Body::Base,
+            i if i <= n => Body::Link(i),
+            i => Body::Obstacle(i - n),
+        };
+        let index = |body: Body| match body {
+            Body::Base => 0,
+            Body::Link(k) => k,
+            Body::Obstacle(k) => n + k,
+        };
+        let frame = |i: usize| if i <= n { frames[i] } else { inertial };
+        // The bodies' capsules and the pairs' bounds first: only the bodies of a pair within
+        // `far` have their shapes placed (the same points, bit for bit, as every body placed).
         capsules.clear();
-        for body in bodies {
-            first.push(ranges.len());
-            let shapes = self.shapes(body);
-            let (pose, sin_cos) = match body {
-                Body::Base => frames[0],
-                Body::Link(k) => frames[k],
-                Body::Obstacle(_) => inertial,
-            };
-            if far < f64::INFINITY {
-                let (s, c) = sin_cos;
+        bounds.clear();
+        bounded.clear();
+        needed.clear();
+        needed.resize(count, !(far < f64::INFINITY));
+        if far < f64::INFINITY {
+            for i in 0..count {
+                let (shapes, (pose, (s, c))) = (self.shapes(body(i)), frame(i));
                 capsules.push(if shapes.is_empty() {
                     ([[0.0; 2]; 2], f64::INFINITY)
                 } else {
                     placed_capsule(shapes, [pose.x.re(), pose.y.re(), s.re(), c.re()])
                 });
             }
-            if shapes.is_empty() {
+            for &(a, b) in pairs {
+                let (ia, ib) = (index(a), index(b));
+                let bound = capsule_bound(capsules[ia], capsules[ib]);
+                bounds.push(bound);
+                bounded.push(bound > far);
+                if !(bound > far) {
+                    (needed[ia], needed[ib]) = (true, true);
+                }
+            }
+        } else {
+            bounded.resize(pairs.len(), false);
+        }
+        // The needed bodies' shapes placed once, with their frame's sine and cosine (the same
+        // points, bit for bit, as [`crate::model::geometry::Shape::placed`]).
+        points.clear();
+        ranges.clear();
+        first.clear();
+        real.clear();
+        discs.clear();
+        for (i, &need) in needed.iter().enumerate() {
+            first.push(ranges.len());
+            if !need {
                 continue;
             }
-            for shape in shapes {
+            let (pose, sin_cos) = frame(i);
+            for shape in self.shapes(body(i)) {
                 let from = points.len();
                 shape.placed_into(&pose, sin_cos, points);
                 ranges.push((from, points.len()));
             }
         }
-        let index = |body: Body| match body {
-            Body::Base => 0,
-            Body::Link(k) => k,
-            Body::Obstacle(k) => n + k,
-        };
         out.clear();
-        bounded.clear();
-        for &(a, b) in pairs {
+        for (k, &(a, b)) in pairs.iter().enumerate() {
+            if bounded[k] {
+                out.push(PairClearance { a, b, distance: D::from(bounds[k]) });
+                continue;
+            }
             let (ia, ib) = (index(a), index(b));
             let (sa, sb) = (self.shapes(a), self.shapes(b));
-            if far < f64::INFINITY {
-                let bound = capsule_bound(capsules[ia], capsules[ib]);
-                bounded.push(bound > far);
-                if bound > far {
-                    out.push(PairClearance { a, b, distance: D::from(bound) });
-                    continue;
-                }
-            } else {
-                bounded.push(false);
-            }
             // The pair of shapes of least distance by the real parts (a union's distance is its
-            // least), then that pair alone in `D`: the same value and derivatives as every pair
-            // in `D`, the first least kept. One shape each: that pair, without its distance in
-            // the real parts first (the same pair, half the work). A pair of shapes whose
-            // [`disc_bound`] exceeds the least distance found is not nearer: skipped (a box
+            // least; of equal ones the first in the shapes' order), then that pair alone in `D`:
+            // the same value and derivatives as every pair in `D`. One shape each: that pair,
+            // without its distance in the real parts first (the same pair, half the work).
+            // Otherwise the pair of least [`disc_bound`] first, then every other pair whose
+            // bound is not above the least distance found (a pair above it is not nearer: a box
             // against a link's spheres, most of them far).
             let best = if sa.len() == 1 && sb.len() == 1 {
                 Some((0, 0))
+            } else if sa.is_empty() || sb.is_empty() {
+                None
             } else {
                 if real.is_empty() {
                     real.extend(points.iter().map(|p| [p[0].re(), p[1].re()]));
+                    for i in (0..count).filter(|&i| needed[i]) {
+                        for (j, shape) in self.shapes(body(i)).iter().enumerate() {
+                            let (from, to) = ranges[first[i] + j];
+                            discs.push(disc(&real[from..to], shape.radius));
+                        }
+                    }
                 }
                 let re = |body: usize, shape: usize| {
                     let (from, to) = ranges[first[body] + shape];
                     &real[from..to]
                 };
-                let mut best: Option<(usize, usize, f64)> = None;
-                for (i, shape_a) in sa.iter().enumerate() {
-                    for (j, shape_b) in sb.iter().enumerate() {
-                        let (pa, pb) = (re(ia, i), re(ib, j));
-                        if let Some((_, _, least)) = best
-                            && pa.len() * pb.len() > 1
-                            && disc_bound(pa, shape_a.radius, pb, shape_b.radius) > least
-                        {
-                            continue;
-                        }
-                        let d = signed_distance(pa, shape_a.radius, pb, shape_b.radius);
-                        if best.is_none_or(|(_, _, x)| d < x) {
-                            best = Some((i, j, d));
-                        }
+                let nb = sb.len();
+                gaps.clear();
+                for i in 0..sa.len() {
+                    gaps.extend((0..nb).map(|j| discs_gap(discs[first[ia] + i], discs[first[ib] + j])));
+                }
+                let distance = |k: usize| {
+                    let (i, j) = (k / nb, k % nb);
+                    signed_distance(re(ia, i), sa[i].radius, re(ib, j), sb[j].radius)
+                };
+                let start = (0..gaps.len()).fold(0, |m, k| if gaps[k] < gaps[m] { k } else { m });
+                let (mut at, mut least) = (start, distance(start));
+                for (k, &gap) in gaps.iter().enumerate() {
+                    if k == start || gap > least {
+                        continue;
+                    }
+                    let d = distance(k);
+                    if d < least || (d <= least && k < at) {
+                        (at, least) = (k, d);
                     }
                 }
-                best.map(|(i, j, _)| (i, j))
+                Some((at / nb, at % nb))
             };
             let placed = |body: usize, shape: usize| {
                 let (from, to) = ranges[first[body] + shape];
@@ -288,110 +383,4 @@ impl Geometry {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::model::Mount;
-    use crate::model::arm::{Base, Link};
-    use crate::model::geometry::tests::rng;
-
-    /// The frames are `body_poses`' bit for bit, each with its angle's sine and cosine, on an
-    /// arm mounted off the base's centre (so that every term of the base's centre counts).
-    #[test]
-    fn frames_are_the_body_poses_with_their_sines_and_cosines() {
-        let link = |l: f64, m: f64| Link { length: l, com: 0.4 * l, mass: m, inertia: m * l * l / 12.0 };
-        let arm = Arm::new(
-            Base { mass: 15.0, inertia: 1.0 },
-            Mount::new(0.2, -0.1).unwrap(),
-            vec![link(0.5, 2.0), link(0.4, 1.5), link(0.3, 1.0)],
-        )
-        .unwrap();
-        let mut next = rng(7);
-        let mut frames = Vec::new();
-        for _ in 0..50 {
-            let q: Vec<f64> = (0..4).map(|_| 6.0 * next() - 3.0).collect();
-            frames_into(&arm, &q, &mut frames);
-            let poses = super::super::body_poses(&arm, &q);
-            assert_eq!(frames.len(), poses.len());
-            for ((pose, (s, c)), expected) in frames.iter().zip(&poses) {
-                assert_eq!(pose.x.to_bits(), expected.x.to_bits());
-                assert_eq!(pose.y.to_bits(), expected.y.to_bits());
-                assert_eq!(pose.angle.to_bits(), expected.angle.to_bits());
-                let (es, ec) = expected.angle.sin_cos();
-                assert_eq!((s.to_bits(), c.to_bits()), (es.to_bits(), ec.to_bits()));
-            }
-        }
-    }
-
-    /// The disc bound never exceeds the exact signed distance (brute force over random shapes
-    /// apart and overlapping: circles, capsules and boxes, as the robots carry).
-    #[test]
-    fn the_disc_bound_is_below_the_signed_distance() {
-        let mut next = rng(11);
-        let shape = |next: &mut dyn FnMut() -> f64| {
-            let c = [2.0 * next() - 1.0, 2.0 * next() - 1.0];
-            match (next() * 3.0) as usize {
-                0 => Shape::circle(c, 0.3 * next()).unwrap(),
-                1 => Shape::capsule(c, [c[0] + next() - 0.5, c[1] + next() - 0.5], 0.1 * next()).unwrap(),
-                _ => Shape::rectangle(c, [0.05 + next(), 0.05 + next()]).unwrap(),
-            }
-        };
-        let (mut apart, mut overlapping) = (0, 0);
-        for _ in 0..2000 {
-            let (a, b) = (shape(&mut next), shape(&mut next));
-            let exact = signed_distance(&a.points, a.radius, &b.points, b.radius);
-            let bound = disc_bound(&a.points, a.radius, &b.points, b.radius);
-            assert!(bound <= exact, "{a:?} {b:?}: bound {bound} above {exact}");
-            if exact > 0.0 { apart += 1 } else { overlapping += 1 }
-        }
-        assert!(apart > 100 && overlapping > 100, "{apart} apart, {overlapping} overlapping");
-    }
-
-    /// `clearances_beyond`: every distance at or below `far` is `clearances_of`'s bit for bit,
-    /// and every one above it either that or a bound between `far` and it (the capsules' bound
-    /// below the brute-force-checked distance), marked as such. `clearances_of` itself is checked against the brute force and central
-    /// differences (`collision.rs`, `geometry.rs`).
-    #[test]
-    fn distances_beyond_far_are_bounds_above_it_and_the_rest_exact() {
-        let link = Link { length: 0.5, com: 0.25, mass: 2.0, inertia: 2.0 * 0.25 / 12.0 };
-        let arm = Arm::new(Base { mass: 20.0, inertia: 1.0 }, Mount::new(0.25, 0.0).unwrap(), vec![link; 4]).unwrap();
-        let spheres = |k: usize| (0..k).map(|i| Shape::circle([0.1 * i as f64, 0.01], 0.04).unwrap());
-        let geometry = Geometry {
-            base: vec![Shape::rectangle([0.0, 0.0], [0.5, 0.5]).unwrap()],
-            links: (0..4)
-                .map(|k| match k % 2 {
-                    0 => spheres(6).collect(),
-                    _ => vec![
-                        Shape::circle([0.1, 0.0], 0.05).unwrap(),
-                        Shape::capsule([0.2, 0.0], [0.5, 0.0], 0.04).unwrap(),
-                    ],
-                })
-                .collect(),
-            obstacles: vec![
-                Shape::circle([0.9, 0.3], 0.1).unwrap(),
-                Shape::polygon(vec![[-0.9, 0.6], [-0.4, 0.7], [-0.7, 1.2]]).unwrap(),
-            ],
-            ..Default::default()
-        };
-        let pairs = geometry.pairs(4);
-        let mut next = rng(3);
-        let (mut placement, mut out) = (Placement::default(), Vec::new());
-        let (mut bounded, mut exact_near) = (0, 0);
-        for _ in 0..300 {
-            let q: Vec<f64> = (0..5).map(|_| 6.0 * next() - 3.0).collect();
-            let far = 0.4 * next();
-            let exact = geometry.clearances_of(&arm, &q, &pairs);
-            geometry.clearances_beyond(&arm, &q, &pairs, far, &mut placement, &mut out);
-            for (k, (e, x)) in exact.iter().zip(&out).enumerate() {
-                assert_eq!((e.a, e.b), (x.a, x.b));
-                if placement.bounded()[k] {
-                    assert!(far < x.distance && x.distance <= e.distance, "{e:?} {x:?} far {far}");
-                    bounded += 1;
-                } else {
-                    assert_eq!(e.distance.to_bits(), x.distance.to_bits(), "{e:?} {x:?} far {far}");
-                    exact_near += usize::from(e.distance <= far);
-                }
-            }
-        }
-        assert!(bounded > 100 && exact_near > 100, "{bounded} bounded, {exact_near} exact near");
-    }
-}
+mod tests;

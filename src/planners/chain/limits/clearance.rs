@@ -46,6 +46,10 @@ type Multi = DualSVec64<CHUNK>;
 /// Extra clearance each row keeps \[m\] (a distance's dip between points, module docs).
 const MARGIN: f64 = 1e-3;
 
+/// What a carried lower bound loses at each point beyond its bodies' motion \[m\]: the rounding
+/// of the bounds and of the motion's sum (about `1e-15` m on an arm of a metre).
+const MOVED_SLACK: f64 = 1e-9;
+
 /// A body's row against an obstacle carries its gradient only within this distance of the
 /// clearance kept \[m\]: the dense rows of far bodies would fill the QP's factor for nothing.
 const NEAR: f64 = 0.1;
@@ -70,6 +74,29 @@ pub(super) struct Clearance {
     /// The clearance kept beyond `keep` rising from none at `t = 0` to all of it at the rise's
     /// end ([`crate::planners::chain::ClearanceRise`]).
     rise: ClearanceRise,
+    /// The distances of the last evaluation of the values alone, with obstacles.
+    last: std::cell::RefCell<Distances>,
+    /// Each pair's bodies' capsules' speed bounds ([`Geometry::capsule_speeds`]), summed.
+    speeds: Vec<Vec<f64>>,
+}
+
+/// The distances of an evaluation of the values alone with obstacles, at coefficients `key`: the
+/// SQP takes the rows' gradients at the point of its last trial when it accepts the step
+/// (`crate::planners::optimal::sqp::inequality`), where the same coefficients give the same
+/// `theta(t)` and `phi(t)` (the same bits at either order, [`Limited::phi_path_each`]) and so
+/// the same distances: each point's are taken again where its `phi(t)` is the one recorded
+/// (3-link obstacle bench: half of the `f64` distance passes).
+#[derive(Debug, Clone, Default)]
+struct Distances {
+    /// The coefficients' bits.
+    key: Vec<u64>,
+    /// Each point's `phi(t)` bits (the points before the horizon's end, in order).
+    phi: Vec<u64>,
+    /// Each point's distances of every pair ([`Geometry::clearances_beyond`]'s, bounds where
+    /// bounded), `pairs` per point.
+    values: Vec<f64>,
+    /// Whether each is a bound ([`crate::model::arm::collision::Placement::bounded`]).
+    bounded: Vec<bool>,
 }
 
 impl Clearance {
@@ -93,7 +120,16 @@ impl Clearance {
             return None;
         }
         let mean = arm.links.iter().map(|l| l.length).sum::<f64>() / arm.joints() as f64;
-        let pairs = pairs.into_iter().filter(|pair| obstacles || !against(pair)).collect();
+        let pairs: Vec<(Body, Body)> = pairs.into_iter().filter(|pair| obstacles || !against(pair)).collect();
+        let (n, bodies) = (arm.joints(), geometry.capsule_speeds(arm));
+        let index = |b: Body| match b {
+            Body::Base => 0,
+            Body::Link(k) => k,
+            Body::Obstacle(k) => n + k,
+        };
+        let speeds =
+            pairs.iter().map(|&(a, b)| bodies[index(a)].iter().zip(&bodies[index(b)]).map(|(x, y)| x + y).collect());
+        let speeds = speeds.collect();
         Some(Self {
             keep: geometry.clearance + MARGIN + reserve,
             scale: 1.0 / mean.max(1e-3),
@@ -102,6 +138,8 @@ impl Clearance {
             pieces: PIECES,
             dense: None,
             rise,
+            last: Default::default(),
+            speeds,
         })
     }
 
@@ -164,6 +202,28 @@ impl Limited<'_> {
         let (mut dual_placement, mut dual) = (Placement::<Multi>::default(), Vec::with_capacity(rows.pairs.len()));
         // `d d_ab / d q_i` of pair `k` at `slopes[k (n + 1) + i]`.
         let mut slopes: Vec<f64> = Vec::new();
+        // Each pair's work space, kept from point to point.
+        let against_obstacle: Vec<bool> = rows.pairs.iter().map(|(_, b)| matches!(b, Body::Obstacle(_))).collect();
+        let (mut values, mut bounded) = (vec![0.0; rows.pairs.len()], vec![false; rows.pairs.len()]);
+        let (mut wanted, mut subset): (Vec<usize>, Vec<(Body, Body)>) = (Vec::new(), Vec::new());
+        let mut dq: Vec<Multi> = Vec::with_capacity(n + 1);
+        let mut dense: Vec<f64> = Vec::new();
+        // The last distances of the values alone, taken again at the same coefficients (order
+        // 1), or recorded anew (order 0), with obstacles only: the order-1 pass without them
+        // takes no distances in `f64`.
+        let key: Vec<u64> = if rows.obstacles { c.iter().flatten().map(|v| v.to_bits()).collect() } else { Vec::new() };
+        let mut last = rows.last.borrow_mut();
+        let same = order >= 1 && rows.obstacles && last.key == key;
+        let mut fresh = Distances::default();
+        let (m, mut evaluated) = (rows.pairs.len(), 0);
+        // The values alone: a lower bound on each pair's distance carried from the last point
+        // where it was found, less what its bodies can have moved since
+        // ([`Geometry::capsule_speeds`]: at most the speed bounds times the coordinates'
+        // changes); where every pair's is beyond `far`, the point keeps those bounds and takes
+        // no distances (a bound beyond `far` is what `clearances_beyond` gives such a pair, and
+        // its row's value is read only as negative: no gradient, never sent to the QP, none in
+        // the merit function). On the 3-link obstacle bench most points are far from the obstacle.
+        let (mut lower, mut last_q, mut moved) = (vec![f64::NEG_INFINITY; m], vec![f64::NAN; n + 1], vec![0.0; n + 1]);
         let mut at = |point: PathPoint<&[f64]>| {
             let this = index;
             index += 1;
@@ -201,10 +261,28 @@ impl Limited<'_> {
             // through a far pair of bodies (the SPART-like bench's plan 5.3854 -> 7.4516, a
             // different minimum), a step of more than NEAR.
             let far = keep + NEAR;
+            let k = evaluated;
+            evaluated += 1;
             if order == 0 {
-                geometry.clearances_beyond(self.arm, &q, &rows.pairs, far, &mut placement, &mut real);
-                for pair in &real {
-                    out.values.push((keep - pair.distance) * rows.scale);
+                // (The first point's bounds are -inf: `last_q` NaN keeps them so.)
+                moved.iter_mut().zip(q.iter().zip(&last_q)).for_each(|(d, (a, b))| *d = (a - b).abs());
+                for (bound, speeds) in lower.iter_mut().zip(&rows.speeds) {
+                    *bound -= speeds.iter().zip(&moved).map(|(l, d)| l * d).sum::<f64>() + MOVED_SLACK;
+                }
+                last_q.copy_from_slice(&q);
+                let far_apart = lower.iter().all(|b| *b > far);
+                if !far_apart {
+                    geometry.clearances_beyond(self.arm, &q, &rows.pairs, far, &mut placement, &mut real);
+                    lower.iter_mut().zip(&real).for_each(|(b, x)| *b = x.distance);
+                }
+                out.values.extend(lower.iter().map(|d| (keep - d) * rows.scale));
+                if rows.obstacles {
+                    fresh.phi.push(point.phi.to_bits());
+                    fresh.values.extend_from_slice(&lower);
+                    match far_apart {
+                        true => fresh.bounded.extend(std::iter::repeat_n(true, m)),
+                        false => fresh.bounded.extend_from_slice(placement.bounded()),
+                    }
                 }
                 return;
             }
@@ -213,17 +291,20 @@ impl Limited<'_> {
             // the dual pass takes only the pairs whose gradient a row carries (3-link obstacle
             // bench: 7.35 -> 7.15 G instructions, the same plan); the robot's own pairs all carry
             // theirs, and their values come with the dual pass.
-            let against_obstacle: Vec<bool> = rows.pairs.iter().map(|(_, b)| matches!(b, Body::Obstacle(_))).collect();
-            let mut values = vec![0.0; rows.pairs.len()];
-            let mut bounded = vec![false; rows.pairs.len()];
-            if rows.obstacles {
+            values.iter_mut().for_each(|v| *v = 0.0);
+            bounded.iter_mut().for_each(|b| *b = false);
+            if rows.obstacles && same && last.phi.get(k) == Some(&point.phi.to_bits()) {
+                values.copy_from_slice(&last.values[k * m..(k + 1) * m]);
+                bounded.copy_from_slice(&last.bounded[k * m..(k + 1) * m]);
+            } else if rows.obstacles {
                 geometry.clearances_beyond(self.arm, &q, &rows.pairs, far, &mut placement, &mut real);
                 values.iter_mut().zip(&real).for_each(|(v, x)| *v = x.distance);
                 bounded.copy_from_slice(placement.bounded());
             }
-            let wanted: Vec<usize> =
-                (0..rows.pairs.len()).filter(|&k| !against_obstacle[k] || (!bounded[k] && values[k] <= far)).collect();
-            let subset: Vec<(Body, Body)> = wanted.iter().map(|&k| rows.pairs[k]).collect();
+            wanted.clear();
+            wanted.extend((0..rows.pairs.len()).filter(|&k| !against_obstacle[k] || (!bounded[k] && values[k] <= far)));
+            subset.clear();
+            subset.extend(wanted.iter().map(|&k| rows.pairs[k]));
             // d d_ab / d q_i, one vector-dual pass per CHUNK coordinates (phi's only with
             // obstacles): the same exact derivatives as one pass per coordinate, with the poses'
             // sines and cosines computed once per pass.
@@ -233,14 +314,11 @@ impl Limited<'_> {
                 if subset.is_empty() {
                     break;
                 }
-                let dq: Vec<Multi> = q
-                    .iter()
-                    .enumerate()
-                    .map(|(k, &v)| match k.checked_sub(start).filter(|r| *r < CHUNK) {
-                        Some(r) => Multi::new(v, Derivative::derivative_generic(Const::<CHUNK>, U1, r)),
-                        None => Multi::from(v),
-                    })
-                    .collect();
+                dq.clear();
+                dq.extend(q.iter().enumerate().map(|(k, &v)| match k.checked_sub(start).filter(|r| *r < CHUNK) {
+                    Some(r) => Multi::new(v, Derivative::derivative_generic(Const::<CHUNK>, U1, r)),
+                    None => Multi::from(v),
+                }));
                 geometry.clearances_into(self.arm, &dq, &subset, &mut dual_placement, &mut dual);
                 for (&k, x) in wanted.iter().zip(&dual) {
                     if !against_obstacle[k] {
@@ -266,7 +344,8 @@ impl Limited<'_> {
                 if *against {
                     slopes_of_phi.push((out.values.len() - 1, this, -rows.scale * s[0]));
                 }
-                let mut dense = vec![0.0; if *against { dim } else { 0 }];
+                dense.clear();
+                dense.resize(if *against { dim } else { 0 }, 0.0);
                 for (k, g) in dense.iter_mut().zip(point.grad) {
                     *k = -rows.scale * s[0] * g;
                 }
@@ -283,8 +362,10 @@ impl Limited<'_> {
                     }
                 }
                 if *against {
-                    let local =
-                        std::mem::replace(&mut row, dense.into_iter().enumerate().filter(|(_, v)| *v != 0.0).collect());
+                    let local = std::mem::replace(
+                        &mut row,
+                        dense.iter().copied().enumerate().filter(|(_, v)| *v != 0.0).collect(),
+                    );
                     let (at, slope) = (out.values.len() - 1, -rows.scale * s[0]);
                     running.rows.push(RunningRow { row: at, point: this, slope, local });
                 }
@@ -295,6 +376,8 @@ impl Limited<'_> {
             self.phi_path_each(c, OBSTACLE_PIECES, order, at);
             if order >= 1 {
                 out.running = Some(running);
+            } else {
+                *last = Distances { key, ..fresh };
             }
         } else {
             for p in self.own_points(rows) {

@@ -60,9 +60,13 @@ impl Limited<'_> {
     pub(super) fn path_with(&self, c: &[Vec<f64>], span: usize, [value, rate]: &Values, th: &mut [f64], w: &mut [f64]) {
         let basis = self.disc.basis();
         let (p, first) = (basis.degree(), span - basis.degree());
-        for j in 0..th.len() {
-            th[j] = (0..=p).map(|l| value[l] * c[j][first + l]).sum();
-            w[j] = (0..=p).map(|l| rate[l] * c[j][first + l]).sum();
+        let (value, rate) = (&value[..=p], &rate[..=p]);
+        // The same sums in the same order as `(0..=p).map(..).sum()`, without a bounds check
+        // per term.
+        for ((th, w), c) in th.iter_mut().zip(w.iter_mut()).zip(c) {
+            let c = &c[first..=first + p];
+            *th = value.iter().zip(c).map(|(v, c)| v * c).sum();
+            *w = rate.iter().zip(c).map(|(r, c)| r * c).sum();
         }
     }
 
@@ -113,10 +117,15 @@ impl Limited<'_> {
         let mut grad = vec![0.0; if order >= 1 { self.disc.dim() } else { 0 }];
         let mut local = Local::new(n);
         let (mut th, mut w) = (vec![0.0; n], vec![0.0; n]);
+        // The span's free coefficients `(l, j, index)` (found once per span, not per node).
+        let mut free = Vec::with_capacity((p + 1) * n);
         for (s, win) in b.windows(2).enumerate() {
             let span = basis.span_of_interval(s);
             let first = span - p;
             let width = (win[1] - win[0]) / pieces as f64;
+            free.clear();
+            let span_free = (0..=p).flat_map(|l| (0..n).map(move |j| (l, j)));
+            free.extend(span_free.filter_map(|(l, j)| self.index(first + l, j).map(|k| (l, j, k))));
             for k in 0..pieces {
                 let (from, to) =
                     (win[0] + width * k as f64, if k + 1 == pieces { win[1] } else { win[0] + width * (k + 1) as f64 });
@@ -127,14 +136,14 @@ impl Limited<'_> {
                     let [value, rate] = values;
                     let weight = half * wi;
                     if order >= 1 {
-                        connection.local(&th, &w, &mut local);
-                        phi -= weight * local.value;
-                        for l in 0..=p {
-                            for j in 0..n {
-                                if let Some(idx) = self.index(first + l, j) {
-                                    grad[idx] -= weight * (local.gradient[j] * value[l] + local.a[j] * rate[l]);
-                                }
-                            }
+                        // First derivatives only: the gradient of `phi(t)` (bit for bit
+                        // `Connection::local`'s, without its Hessian's sums), and `phi(t)` the
+                        // same bits as at order 0 (`plain`: the clearance rows reuse the order-0
+                        // distances at the same coefficients, `super::clearance`).
+                        connection.first_order(&th, &w, &mut local);
+                        phi -= weight * local.plain;
+                        for &(l, j, idx) in &free {
+                            grad[idx] -= weight * (local.gradient[j] * value[l] + local.a[j] * rate[l]);
                         }
                     } else {
                         phi -= weight * connection.value(&th, &w);
