@@ -21,6 +21,7 @@ pub mod coil;
 pub mod connection;
 pub mod discrete;
 pub mod energy;
+mod gauge;
 mod hopeless;
 pub mod horizon;
 mod keep_clear;

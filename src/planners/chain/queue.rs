@@ -10,6 +10,7 @@
 //! decreases, so the search would skip it when it came to it). The representatives taken, and
 //! their order, are those of the eager [`ChainPlanner::prepare`].
 
+use super::gauge::Gauge;
 use super::seeds::Line;
 use super::starts::{Prepared, SeedContext};
 use super::{ChainPlanner, ChainProblem};
@@ -41,6 +42,8 @@ pub(super) struct Representatives {
     context: Option<SeedContext>,
     /// The place of the representative taken last.
     last: usize,
+    /// A two-joint arm's gauge, made when first needed (`None` inside: another joint count).
+    gauge: Option<Option<Gauge>>,
 }
 
 impl Representatives {
@@ -58,7 +61,8 @@ impl Representatives {
                 entries.push(Entry { index, line: k, phi_end, floor, bound_floor, prepared: None });
             }
         }
-        Self { lines: lines.into_iter().map(|l| (l, None)).collect(), entries, context: Some(context), last: 0 }
+        let lines = lines.into_iter().map(|l| (l, None)).collect();
+        Self { lines, entries, context: Some(context), last: 0, gauge: None }
     }
 
     /// Representatives prepared already, in their order.
@@ -75,7 +79,7 @@ impl Representatives {
                 prepared: Some(p),
             })
             .collect();
-        Self { lines: Vec::new(), entries, context: None, last: 0 }
+        Self { lines: Vec::new(), entries, context: None, last: 0, gauge: None }
     }
 
     /// Drops every representative left.
@@ -106,12 +110,19 @@ impl Representatives {
                     .min_by(|a, b| order(&a.1, &b.1))
             };
             let (top, low) = (first(true), first(false));
-            match (top, low) {
+            let k = match (top, low) {
                 (None, None) => return None,
-                (Some((k, _)), None) => return self.take(k),
-                (Some((k, t)), Some((_, l))) if order(&t, &l).is_lt() => return self.take(k),
-                (_, Some((k, _))) => self.prepare(planner, problem, k),
+                (Some((k, _)), None) => k,
+                (Some((k, t)), Some((_, l))) if order(&t, &l).is_lt() => k,
+                (_, Some((k, _))) => {
+                    self.prepare(planner, problem, k);
+                    continue;
+                }
+            };
+            if !self.beyond_gauge(planner, k, best) {
+                return self.take(k);
             }
+            self.entries.remove(k);
         }
     }
 
@@ -137,6 +148,19 @@ impl Representatives {
             out.push(p);
         }
         out
+    }
+
+    /// Whether the prepared entry `k`'s bound, raised to the gauge's ([`super::gauge`]) where a
+    /// plan bounds the cost (`best` finite: the gauge is made only then, and most plans of the
+    /// paper's problem at a = b = 0.1 never need it), is above `best`.
+    fn beyond_gauge(&mut self, planner: &ChainPlanner, k: usize, best: f64) -> bool {
+        let Some(scale) = self.context.as_ref().map(|c| c.scale).filter(|_| best.is_finite()) else { return false };
+        let Some(gauge) = self.gauge.get_or_insert_with(|| Gauge::new(&planner.connection)) else { return false };
+        let Some(p) = self.entries[k].prepared.as_mut() else { return false };
+        let holonomy = p.targets.phi_start - p.targets.phi_end;
+        let bound = scale * gauge.effort_bound(&p.line.start, &p.line.end, holonomy, p.line.horizon);
+        p.bound = p.bound.max(bound);
+        p.bound > best
     }
 
     /// Removes entry `k`, prepared, and keeps its place.

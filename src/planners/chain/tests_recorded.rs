@@ -51,3 +51,27 @@ fn never_worse_than_either_two_link_planner_on_300_problems() {
     let above: Vec<_> = rows.iter().filter(|r| !(r.1 <= r.2 * (1.0 + 1e-6))).collect();
     assert!(above.is_empty(), "uncertified or above a recorded planner's effort (index, effort, best): {above:?}");
 }
+
+/// The chain planner's effort and SQP iterations on each recorded problem, one line each
+/// (`index effort iterations`), for comparing a change's efforts problem by problem:
+/// `cargo test --release --lib recorded_efforts -- --ignored --nocapture`.
+#[test]
+#[ignore = "a measurement, not a check (about a minute on two cores)"]
+fn recorded_efforts() {
+    let rows: Vec<(usize, f64, usize)> = fixture()
+        .into_par_iter()
+        .map(|r| {
+            let problem = &r.1;
+            let chain = ChainPlanner::new(Arm::from_params(&problem.robot), ChainOptions::default());
+            let (q0, qd) = (problem.start.to_array().to_vec(), problem.goal.to_array().to_vec());
+            match chain.plan(&ChainProblem::rest_to_rest(q0, qd, problem.horizon)) {
+                Ok(p) if p.verification.certified => (r.0, p.effort(), p.stats.iterations),
+                _ => (r.0, f64::INFINITY, 0),
+            }
+        })
+        .collect();
+    for (i, effort, iterations) in &rows {
+        println!("recorded {i} {effort:.12e} {iterations}");
+    }
+    println!("recorded total iterations {}", rows.iter().map(|r| r.2).sum::<usize>());
+}
