@@ -215,18 +215,8 @@ fn hull(mut points: Vec<[f64; 2]>) -> Vec<[f64; 2]> {
 mod tests {
     use super::*;
     use crate::model::arm::Arm;
+    use crate::model::geometry::tests::rng;
     use crate::{Mount, RobotParams};
-
-    /// A xorshift generator in `[0, 1)`.
-    fn generator(seed: u64) -> impl FnMut() -> f64 {
-        let mut state = seed;
-        move || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 11) as f64 / (1u64 << 53) as f64
-        }
-    }
 
     /// The bound holds for joint paths of every kind: on the paper's robot at four mounts, 50
     /// random paths each (a straight line of up to two turns per joint plus up to four harmonics
@@ -234,7 +224,7 @@ mod tests {
     /// rule of 20000 steps (relative error about 1e-7, hence the 1e-4 allowance).
     #[test]
     fn the_bound_is_below_the_effort_of_random_paths() {
-        let mut next = generator(0x6A06E);
+        let mut next = rng(0x6A06E);
         for (a, b) in [(1.0, -1.0), (0.1, 0.1), (0.0, -1.0), (-1.4, 1.2)] {
             let robot = RobotParams::src().with_mount(Mount::new(a, b).unwrap()).unwrap();
             let connection = Connection::new(&Arm::from_params(&robot));
@@ -286,7 +276,7 @@ mod tests {
     /// The hull holds every point's distance from any `-nu`: its largest is the points' largest.
     #[test]
     fn the_hull_keeps_the_farthest_point_in_every_direction() {
-        let mut next = generator(0x4011);
+        let mut next = rng(0x4011);
         let points: Vec<[f64; 2]> = (0..500).map(|_| [next() - 0.5, (next() - 0.5) * next()]).collect();
         let hull = hull(points.clone());
         assert!(hull.len() < points.len());

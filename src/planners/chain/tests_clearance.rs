@@ -265,16 +265,10 @@ fn a_plan_from_inside_the_margin_wins_it_back() {
     assert!(worst.0 >= 0.0, "under the rise by {} m at t = {} s", -worst.0, worst.1);
 }
 
-/// A 2-link arm whose 0.6 m link 2 is longer than the 0.3 m link 1 plus the base's half width:
-/// folded back (theta2 = 180 deg) it reaches 0.1 m past the centre of the 0.4 m x 0.4 m base
-/// box. From theta2 = 120 to -120 deg the short way (through 180 deg, the free plan's) passes
-/// through the base; the long way (through 0, 240 deg of travel) clears it. The search with the
-/// rows stalled on the long way's line (101 rad^2/s at its iteration cap) and the last resort
-/// tried the free plan's representative only: the planner returned the short way, 0.22 m into
-/// the base (stop 61). The plan must now be certified, clear on the integrated motion, and reach
-/// theta2 = -120 deg the long way: its joint 2 ends 240 deg below its start.
-#[test]
-fn the_last_resort_tries_the_other_clear_lines() {
+/// A 2-link arm whose 0.6 m link 2 is longer than the 0.3 m link 1 plus the base's half width
+/// (base box 0.4 m x 0.4 m, mount a = 0.2 m, 4 cm capsules): folding joint 2 through 180 deg
+/// passes link 2 through the base.
+pub(super) fn fold_arm() -> Arm {
     let capsule = |l: f64| vec![Shape::capsule([0.0, 0.0], [l, 0.0], 0.02).unwrap()];
     let arm = Arm {
         base: Base { mass: 10.0, inertia: 0.2 },
@@ -288,7 +282,20 @@ fn the_last_resort_tries_the_other_clear_lines() {
     };
     let base = vec![Shape::rectangle([0.0, 0.0], [0.4, 0.4]).unwrap()];
     let geometry = Geometry { base, links: vec![capsule(0.3), capsule(0.6)], ..Default::default() };
-    let arm = arm.with_geometry(geometry).expect("valid geometry");
+    arm.with_geometry(geometry).expect("valid geometry")
+}
+
+/// A 2-link arm whose 0.6 m link 2 is longer than the 0.3 m link 1 plus the base's half width:
+/// folded back (theta2 = 180 deg) it reaches 0.1 m past the centre of the 0.4 m x 0.4 m base
+/// box. From theta2 = 120 to -120 deg the short way (through 180 deg, the free plan's) passes
+/// through the base; the long way (through 0, 240 deg of travel) clears it. The search with the
+/// rows stalled on the long way's line (101 rad^2/s at its iteration cap) and the last resort
+/// tried the free plan's representative only: the planner returned the short way, 0.22 m into
+/// the base (stop 61). The plan must now be certified, clear on the integrated motion, and reach
+/// theta2 = -120 deg the long way: its joint 2 ends 240 deg below its start.
+#[test]
+fn the_last_resort_tries_the_other_clear_lines() {
+    let arm = fold_arm();
     let problem =
         ChainProblem::rest_to_rest(vec![0.0, 0.0, 120f64.to_radians()], vec![0.0, 0.0, -120f64.to_radians()], 6.0);
     let plan = ChainPlanner::new(arm, ChainOptions::default()).plan(&problem).expect("a plan");

@@ -5,29 +5,13 @@
 
 use super::*;
 use crate::dynamics::arm::inverse_dynamics;
-use crate::model::Mount;
-use crate::model::arm::collision::Geometry;
-use crate::model::arm::{Base, JointLimits, Limits, Link};
-use crate::model::geometry::Shape;
+use crate::model::arm::{JointLimits, Limits};
 use crate::plan::certificate::verify_chain;
 
 /// The 2-link fold arm of `tests_clearance.rs` (a 0.4 m base box, 4 cm capsule links) with
 /// `limits`.
 fn fold(limits: Limits) -> Arm {
-    let capsule = |l: f64| vec![Shape::capsule([0.0, 0.0], [l, 0.0], 0.02).unwrap()];
-    let arm = Arm {
-        base: Base { mass: 10.0, inertia: 0.2 },
-        mount: Mount { a: 0.2, b: 0.0 },
-        links: vec![
-            Link { length: 0.3, com: 0.15, mass: 1.0, inertia: 0.0075 },
-            Link { length: 0.6, com: 0.3, mass: 1.0, inertia: 0.03 },
-        ],
-        limits: Default::default(),
-        geometry: Default::default(),
-    };
-    let base = vec![Shape::rectangle([0.0, 0.0], [0.4, 0.4]).unwrap()];
-    let geometry = Geometry { base, links: vec![capsule(0.3), capsule(0.6)], ..Default::default() };
-    arm.with_geometry(geometry).expect("valid geometry").with_limits(limits).expect("valid limits")
+    super::tests_clearance::fold_arm().with_limits(limits).expect("valid limits")
 }
 
 fn rate(velocity: f64, torque: f64) -> JointLimits {
