@@ -118,9 +118,9 @@ impl ChainPlanner {
     }
 
     /// The plan without the rate limits (ranges and clearance kept) at the problem's horizon,
-    /// time-scaled to where it fits them ([`uses`]' factor times each of [`SCALE_MARGINS`] in
+    /// time-scaled to where it fits them ([`uses`]' factor times each of `SCALE_MARGINS` in
     /// turn, at least the problem's horizon) and certified there as it is: the first that is
-    /// certified inside every limit and clear (see the [module docs](self)). `None` from a moving
+    /// certified inside every limit and clear (docs/spec.md §2; this module's docs). `None` from a moving
     /// start (a time-scaling changes the initial velocity), where that plan is not found or does
     /// not clear, or where the horizon would pass [`HORIZON_RANGE`]. Its cost: one search
     /// without the rate limits and up to two certificates.
