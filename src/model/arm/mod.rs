@@ -291,8 +291,16 @@ impl Arm {
     /// [`BodyFrames::base`] of [`Arm::bodies`] by the same arithmetic, without the links'
     /// Jacobians (the collision model places every body from it at every point of every row).
     pub fn base_position<D: Scalar>(&self, q: &[D]) -> [D; 2] {
+        self.base_position_each(q, |_, _| {})
+    }
+
+    /// [`Self::base_position`], handing `each` the base's angle and then every link's absolute
+    /// angle, each with its sine and cosine `(s, c)` as taken there (the collision model's frames
+    /// reuse them).
+    pub(crate) fn base_position_each<D: Scalar>(&self, q: &[D], mut each: impl FnMut(D, (D, D))) -> [D; 2] {
         let total = self.total_mass();
         let (sp, cp) = q[0].sin_cos();
+        each(q[0], (sp, cp));
         let (a, b) = (self.mount.a, self.mount.b);
         let mut joint = [cp * a - sp * b, sp * a + cp * b];
         let mut psi = q[0];
@@ -301,6 +309,7 @@ impl Arm {
         for (link, &theta) in self.links.iter().zip(&q[1..]) {
             psi += theta;
             let (s, c) = psi.sin_cos();
+            each(psi, (s, c));
             let rel = [joint[0] + c * link.com, joint[1] + s * link.com];
             let w = -link.mass / total;
             base = [base[0] + rel[0] * w, base[1] + rel[1] * w];

@@ -70,24 +70,9 @@ impl<D> Default for Placement<D> {
 /// angle's sine and cosine twice, and the shapes' placing a third time), each once.
 pub(super) fn frames_into<D: Scalar>(arm: &Arm, q: &[D], out: &mut Vec<(Pose<D>, (D, D))>) {
     out.clear();
-    let total = arm.total_mass();
-    let (sp, cp) = q[0].sin_cos();
-    let (a, b) = (arm.mount.a, arm.mount.b);
     let zero = D::from(0.0);
-    // The base's centre as `Arm::base_position` finds it, the links' angles kept.
-    let mut joint = [cp * a - sp * b, sp * a + cp * b];
-    let mut psi = q[0];
-    let mut base = [zero, zero];
-    out.push((Pose { x: zero, y: zero, angle: q[0] }, (sp, cp)));
-    for (link, &theta) in arm.links.iter().zip(&q[1..]) {
-        psi += theta;
-        let (s, c) = psi.sin_cos();
-        let rel = [joint[0] + c * link.com, joint[1] + s * link.com];
-        let w = -link.mass / total;
-        base = [base[0] + rel[0] * w, base[1] + rel[1] * w];
-        joint = [joint[0] + c * link.length, joint[1] + s * link.length];
-        out.push((Pose { x: zero, y: zero, angle: psi }, (s, c)));
-    }
+    let base = arm.base_position_each(q, |angle, sc| out.push((Pose { x: zero, y: zero, angle }, sc)));
+    let ((sp, cp), (a, b)) = (out[0].1, (arm.mount.a, arm.mount.b));
     // The joints from the base's centre, as `body_poses` places them.
     out[0].0 = Pose { x: base[0], y: base[1], angle: q[0] };
     let mut joint = [base[0] + cp * a - sp * b, base[1] + sp * a + cp * b];
