@@ -81,18 +81,19 @@ impl ChainPlanner {
             Err(e) if e.is_bad_input() || !rate_limited => return Err(e),
             result if clearance => match self.time_scaled_fit(problem)? {
                 Some(fit) if fit.horizon() <= problem.horizon => return Ok(fit),
-                Some(fit) => {
-                    let binding = uses(self, &fit).0;
+                Some(fit) if let Some(binding) = uses(self, &fit).0 => {
                     return Err(Error::HorizonTooShort {
                         horizon: problem.horizon,
                         shortest: fit.horizon(),
                         searched: false,
-                        joint: binding.map_or(0, |b| b.joint),
-                        quantity: binding.map_or("none", |b| b.quantity),
-                        limit: binding.map_or(f64::NAN, |b| b.limit),
+                        joint: binding.joint,
+                        quantity: binding.quantity,
+                        limit: binding.limit,
                     });
                 }
-                None => match result {
+                // None, or a longer horizon where no limit binds (a scale above 1 means one
+                // does): the least bad plan's report, never a limit without a number.
+                _ => match result {
                     Ok(plan) => return Ok(plan),
                     Err(e) => e,
                 },
