@@ -21,6 +21,7 @@ use crate::model::arm::Arm;
 use libm::sincos as sin_cos;
 
 mod curvature;
+mod known;
 mod specialised;
 mod work;
 pub use curvature::Angles;

@@ -105,6 +105,12 @@ pub(crate) struct Limited<'a> {
     /// slope in the base angle there (their curvature through `phi(t)`,
     /// [`Limited::obstacle_curvature`]).
     phi_slopes: std::cell::RefCell<Vec<(usize, usize, f64)>>,
+    /// The last [`Limited::obstacle_curvature`], keyed by the bits of its iterate and of its
+    /// nodes' weights (asked again after a rejected step).
+    obstacle_hessian: std::cell::RefCell<Option<(Vec<u64>, nalgebra::DMatrix<f64>)>>,
+    /// The links' sines and cosines at the path's quadrature nodes, by parts per span
+    /// ([`Limited::node_sines`]).
+    sines: std::cell::RefCell<Vec<phi_path::Sines>>,
 }
 
 /// The derivative spline's control-point rows: row `k` of the `m`-th derivative as
@@ -199,6 +205,8 @@ impl<'a> Limited<'a> {
             held,
             nodes: Default::default(),
             phi_slopes: Default::default(),
+            obstacle_hessian: Default::default(),
+            sines: Default::default(),
         })
     }
 

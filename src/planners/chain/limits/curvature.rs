@@ -16,8 +16,9 @@
 
 use nalgebra::{DMatrix, DVector};
 
-use super::super::connection::Local;
+use super::super::connection::{Local, specialised};
 use super::clearance::OBSTACLE_PIECES;
+use super::phi_path::Values;
 use super::{Limited, torque_times};
 use crate::numerics::quadrature::GaussLegendre;
 use crate::planners::optimal::sqp::Discretised;
@@ -118,6 +119,13 @@ impl Limited<'_> {
         for k in (0..parts - 1).rev() {
             weight[k] += weight[k + 1];
         }
+        // A rejected step's next iteration asks again at the same iterate and multipliers: the
+        // same weights at the same coefficients give the same matrix (3-link obstacle bench: 4
+        // of its 62 calls).
+        let key: Vec<u64> = x.iter().chain(&weight).map(|v| v.to_bits()).collect();
+        if let Some((_, h)) = self.obstacle_hessian.borrow().as_ref().filter(|(k, _)| *k == key) {
+            return Some(h.clone());
+        }
         let c = self.disc.coefficients(x);
         let dim = self.disc.dim();
         let mut h = DMatrix::zeros(dim, dim);
@@ -126,8 +134,9 @@ impl Limited<'_> {
         let mut node = nodes.iter();
         let mut local = Local::new(n);
         let (mut th, mut w) = (vec![0.0; n], vec![0.0; n]);
-        // A span's block in its `p + 1` coefficients of each joint, `(l n + j, ll n + jj)`,
-        // summed over its nodes and added to `h` once.
+        // The nodes' sines and cosines where the rows' evaluation at this iterate kept them.
+        let sines = self.known_sines(&c, OBSTACLE_PIECES, nodes.len());
+        let mut sines = sines.as_deref().map(|v| v.chunks_exact(n));
         // A span's block in its `p + 1` coefficients of each joint, as `(p + 1)^2` tiles of
         // `n x n` (tile `(l, ll)` at `((l (p + 1) + ll) n + j) n + jj`), the tiles `ll >= l`
         // summed over its nodes (each node's term is symmetric; the others are their
@@ -135,8 +144,8 @@ impl Limited<'_> {
         let (tiles, nn) = (p + 1, n * n);
         let mut block = vec![0.0; tiles * tiles * nn];
         // A node's `scale (value_ll hess g + rate_ll mixed)` and `scale value_ll mixed^T` of
-        // each `ll`: tile `(l, ll)` adds `value_l` times the first and `rate_l` the second.
-        let (mut first_term, mut second_term) = (vec![0.0; tiles * nn], vec![0.0; tiles * nn]);
+        // each `ll` ([`node_terms`]).
+        let mut terms = vec![0.0; 2 * tiles * nn];
         for (s, win) in b.windows(2).enumerate() {
             let span = basis.span_of_interval(s);
             let first = span - p;
@@ -152,35 +161,18 @@ impl Limited<'_> {
                 let half = (to - from) / 2.0;
                 for wi in &rule.weights {
                     let values = node.next().expect("one basis' values per node");
+                    let known = sines.as_mut().and_then(|s| s.next());
                     if weight[part] == 0.0 {
                         continue;
                     }
                     touched = true;
                     self.path_with(&c, span, values, &mut th, &mut w);
-                    let [value, rate] = values;
-                    self.connection.local(&th, &w, &mut local);
+                    match known {
+                        Some(sines) => self.connection.local_known(&th, &w, &mut local, sines),
+                        None => self.connection.local(&th, &w, &mut local),
+                    }
                     let scale = -half * wi * weight[part];
-                    // d^2 g / dc_lj dc_ll,jj: theta-theta, theta-theta' both ways.
-                    for ll in 0..tiles {
-                        let (v, r) = (scale * value[ll], scale * rate[ll]);
-                        let (one, two) = (&mut first_term[ll * nn..][..nn], &mut second_term[ll * nn..][..nn]);
-                        for j in 0..n {
-                            for jj in 0..n {
-                                one[j * n + jj] = v * local.hessian[j * n + jj] + r * local.mixed[j * n + jj];
-                                two[j * n + jj] = v * local.mixed[jj * n + j];
-                            }
-                        }
-                    }
-                    for l in 0..tiles {
-                        let (v, r) = (value[l], rate[l]);
-                        for ll in l..tiles {
-                            let tile = &mut block[(l * tiles + ll) * nn..][..nn];
-                            let terms = first_term[ll * nn..][..nn].iter().zip(&second_term[ll * nn..][..nn]);
-                            for (slot, (one, two)) in tile.iter_mut().zip(terms) {
-                                *slot += v * one + r * two;
-                            }
-                        }
-                    }
+                    add_node(n, p, scale, values, &local, &mut terms, &mut block);
                 }
             }
             if !touched {
@@ -195,6 +187,7 @@ impl Limited<'_> {
             };
             self.add_to_span(&mut h, first, (p, n), entry);
         }
+        *self.obstacle_hessian.borrow_mut() = Some((key, h.clone()));
         Some(h)
     }
 
@@ -208,15 +201,64 @@ impl Limited<'_> {
         (p, n): (usize, usize),
         mut entry: impl FnMut(usize, usize, usize, usize) -> f64,
     ) {
-        for l in 0..=p {
-            for j in 0..n {
-                let Some(row) = self.index(first + l, j) else { continue };
-                for ll in 0..=p {
-                    for jj in 0..n {
-                        let Some(col) = self.index(first + ll, jj) else { continue };
-                        h[(row, col)] += entry(l, j, ll, jj);
-                    }
-                }
+        // The span's free indices `(l, j, index)`, found once (not per entry).
+        let free: Vec<(usize, usize, usize)> = (0..=p)
+            .flat_map(|l| (0..n).map(move |j| (l, j)))
+            .filter_map(|(l, j)| Some((l, j, self.index(first + l, j)?)))
+            .collect();
+        for &(l, j, row) in &free {
+            for &(ll, jj, col) in &free {
+                h[(row, col)] += entry(l, j, ll, jj);
+            }
+        }
+    }
+}
+
+/// Adds one node's term to a span's block of [`Limited::obstacle_curvature`]: tile `(l, ll)`,
+/// `ll >= l`, gains `value_l (v hess g + r mixed) + rate_l v mixed^T`, `v = scale value_ll` and
+/// `r = scale rate_ll` (`terms` the work space of the bracketed factors of each `ll`, `2 (p + 1)
+/// n^2`). Specialised on the joint count and the cubic degree (the loops unrolled, the same
+/// operations in the same order: the same bits).
+fn add_node(n: usize, p: usize, scale: f64, values: &Values, local: &Local, terms: &mut [f64], block: &mut [f64]) {
+    specialised!(n, |n| match p {
+        3 => node_terms(n, 3, scale, values, local, terms, block),
+        p => node_terms(n, p, scale, values, local, terms, block),
+    })
+}
+
+/// [`add_node`] for `n` joints and degree `p` (inlined where they are constants).
+#[inline(always)]
+fn node_terms(
+    n: usize,
+    p: usize,
+    scale: f64,
+    [value, rate]: &Values,
+    local: &Local,
+    terms: &mut [f64],
+    block: &mut [f64],
+) {
+    let (tiles, nn) = (p + 1, n * n);
+    let (hessian, mixed) = (&local.hessian[..nn], &local.mixed[..nn]);
+    let (first, second) = terms[..2 * tiles * nn].split_at_mut(tiles * nn);
+    // d^2 g / dc_lj dc_ll,jj: theta-theta, theta-theta' both ways.
+    for ll in 0..tiles {
+        let (v, r) = (scale * value[ll], scale * rate[ll]);
+        let (one, two) = (&mut first[ll * nn..(ll + 1) * nn], &mut second[ll * nn..(ll + 1) * nn]);
+        for j in 0..n {
+            for jj in 0..n {
+                one[j * n + jj] = v * hessian[j * n + jj] + r * mixed[j * n + jj];
+                two[j * n + jj] = v * mixed[jj * n + j];
+            }
+        }
+    }
+    let block = &mut block[..tiles * tiles * nn];
+    for l in 0..tiles {
+        let (v, r) = (value[l], rate[l]);
+        for ll in l..tiles {
+            let tile = &mut block[(l * tiles + ll) * nn..(l * tiles + ll + 1) * nn];
+            let (one, two) = (&first[ll * nn..(ll + 1) * nn], &second[ll * nn..(ll + 1) * nn]);
+            for i in 0..nn {
+                tile[i] += v * one[i] + r * two[i];
             }
         }
     }

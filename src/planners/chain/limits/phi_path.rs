@@ -3,7 +3,7 @@
 //! ends of equal parts of every knot span ([`super::Limited::phi_path`]), and the joint path at a
 //! time that the rows and their curvature ([`super::curvature`]) share.
 
-use super::super::connection::Local;
+use super::super::connection::{Local, specialised};
 use super::Limited;
 use crate::numerics::quadrature::GaussLegendre;
 use crate::planners::optimal::spline::MAX_DEGREE;
@@ -23,6 +23,19 @@ const LEAST_NODES: usize = 2;
 /// the plan's instructions on 4096 nodes an evaluation.
 pub(super) fn rule(pieces: usize) -> GaussLegendre {
     GaussLegendre::new((NODES / pieces.max(1)).max(LEAST_NODES))
+}
+
+/// [`Limited::path_with`] for `n` joints and degree `p`, the span's first coefficient `first`
+/// (inlined where `n` and `p` are constants: the loops unrolled, the same sums in the same
+/// order as `(0..=p).map(..).sum()`).
+#[inline(always)]
+fn path_of(n: usize, p: usize, c: &[Vec<f64>], first: usize, [value, rate]: &Values, th: &mut [f64], w: &mut [f64]) {
+    let (value, rate) = (&value[..=p], &rate[..=p]);
+    for ((th, w), c) in th[..n].iter_mut().zip(&mut w[..n]).zip(&c[..n]) {
+        let c = &c[first..=first + p];
+        *th = value.iter().zip(c).map(|(v, c)| v * c).sum();
+        *w = rate.iter().zip(c).map(|(r, c)| r * c).sum();
+    }
 }
 
 /// The basis' values and rates at one time (those of the `p + 1` functions of its span).
@@ -57,17 +70,13 @@ impl Limited<'_> {
     }
 
     /// [`Limited::path_at`] with the basis' values and rates at the time given.
-    pub(super) fn path_with(&self, c: &[Vec<f64>], span: usize, [value, rate]: &Values, th: &mut [f64], w: &mut [f64]) {
-        let basis = self.disc.basis();
-        let (p, first) = (basis.degree(), span - basis.degree());
-        let (value, rate) = (&value[..=p], &rate[..=p]);
-        // The same sums in the same order as `(0..=p).map(..).sum()`, without a bounds check
-        // per term.
-        for ((th, w), c) in th.iter_mut().zip(w.iter_mut()).zip(c) {
-            let c = &c[first..=first + p];
-            *th = value.iter().zip(c).map(|(v, c)| v * c).sum();
-            *w = rate.iter().zip(c).map(|(r, c)| r * c).sum();
-        }
+    pub(super) fn path_with(&self, c: &[Vec<f64>], span: usize, values: &Values, th: &mut [f64], w: &mut [f64]) {
+        let p = self.disc.basis().degree();
+        let first = span - p;
+        specialised!(self.arm.joints(), |n| match p {
+            3 => path_of(n, 3, c, first, values, th, w),
+            p => path_of(n, p, c, first, values, th, w),
+        })
     }
 
     /// The basis' values and rates at every quadrature node of [`Limited::phi_path_each`] at
@@ -117,6 +126,10 @@ impl Limited<'_> {
         let mut grad = vec![0.0; if order >= 1 { self.disc.dim() } else { 0 }];
         let mut local = Local::new(n);
         let (mut th, mut w) = (vec![0.0; n], vec![0.0; n]);
+        // Each node's sines and cosines, kept where they are taken (the trial's values) and read
+        // where they are known (the accepted iterate's rows, [`Limited::obstacle_curvature`]).
+        let (known, mut sines) = self.node_sines(c, pieces, nodes.len());
+        let mut sines = sines.chunks_exact_mut(n);
         // The span's free coefficients `(l, j, index)` (found once per span, not per node).
         let mut free = Vec::with_capacity((p + 1) * n);
         for (s, win) in b.windows(2).enumerate() {
@@ -132,6 +145,7 @@ impl Limited<'_> {
                 let half = (to - from) / 2.0;
                 for wi in &rule.weights {
                     let values = node.next().expect("one basis' values per node");
+                    let keep = sines.next().expect("one node's sines per node");
                     self.path_with(c, span, values, &mut th, &mut w);
                     let [value, rate] = values;
                     let weight = half * wi;
@@ -140,18 +154,64 @@ impl Limited<'_> {
                         // `Connection::local`'s, without its Hessian's sums), and `phi(t)` the
                         // same bits as at order 0 (`plain`: the clearance rows reuse the order-0
                         // distances at the same coefficients, `super::clearance`).
-                        connection.first_order(&th, &w, &mut local);
+                        if !known {
+                            connection.value_keeping(&th, &w, keep);
+                        }
+                        connection.first_order_known(&th, &w, &mut local, keep);
                         phi -= weight * local.plain;
                         for &(l, j, idx) in &free {
                             grad[idx] -= weight * (local.gradient[j] * value[l] + local.a[j] * rate[l]);
                         }
                     } else {
-                        phi -= weight * connection.value(&th, &w);
+                        phi -= weight * connection.value_keeping(&th, &w, keep);
                     }
                 }
                 each(PathPoint { t: to, span, phi, grad: &grad });
             }
         }
+    }
+
+    /// The sines and cosines of the links' angles at the `len` quadrature nodes of
+    /// [`Limited::phi_path_each`] at `pieces` parts per knot span, `n` per node, and whether
+    /// they are those of the coefficients `c` (else they are to be found, and are kept for `c`).
+    pub(super) fn node_sines(
+        &self,
+        c: &[Vec<f64>],
+        pieces: usize,
+        len: usize,
+    ) -> (bool, std::cell::RefMut<'_, Vec<(f64, f64)>>) {
+        let key: Vec<u64> = c.iter().flatten().map(|v| v.to_bits()).collect();
+        let mut memo = self.sines.borrow_mut();
+        let i = match memo.iter().position(|s| s.pieces == pieces) {
+            Some(i) => i,
+            None => {
+                memo.push(Sines { pieces, ..Default::default() });
+                memo.len() - 1
+            }
+        };
+        let size = len * self.arm.joints();
+        let known = memo[i].key == key && memo[i].values.len() == size;
+        if !known {
+            memo[i].key = key;
+            memo[i].values.clear();
+            memo[i].values.resize(size, (0.0, 0.0));
+        }
+        (known, std::cell::RefMut::map(memo, |m| &mut m[i].values))
+    }
+
+    /// [`Limited::node_sines`] where they are those of the coefficients `c` (read only).
+    pub(super) fn known_sines(
+        &self,
+        c: &[Vec<f64>],
+        pieces: usize,
+        len: usize,
+    ) -> Option<std::cell::Ref<'_, [(f64, f64)]>> {
+        let memo = self.sines.borrow();
+        let size = len * self.arm.joints();
+        let i = memo.iter().position(|s| s.pieces == pieces && s.values.len() == size)?;
+        let same = memo[i].key.len() == c.iter().map(Vec::len).sum::<usize>()
+            && memo[i].key.iter().zip(c.iter().flatten()).all(|(k, v)| *k == v.to_bits());
+        same.then(|| std::cell::Ref::map(memo, |m| &m[i].values[..]))
     }
 
     /// The times of [`Limited::phi_path`] without the base angle (`phi` 0, no gradient).
@@ -168,6 +228,16 @@ impl Limited<'_> {
         }
         out
     }
+}
+
+/// The sines and cosines of the links' angles at every quadrature node of
+/// [`Limited::phi_path_each`] at `pieces` parts per knot span, at the coefficients whose bits are
+/// `key` ([`Limited::node_sines`]).
+#[derive(Debug, Clone, Default)]
+pub(super) struct Sines {
+    pieces: usize,
+    key: Vec<u64>,
+    values: Vec<(f64, f64)>,
 }
 
 /// The base angle at one time of [`Limited::phi_path`] (its gradient owned, or borrowed by
