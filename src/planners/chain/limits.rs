@@ -100,6 +100,9 @@ pub(crate) struct Limited<'a> {
     /// The basis' values at [`Limited::phi_path_each`]'s quadrature nodes, by parts per span
     /// (found at its first call).
     nodes: std::cell::RefCell<Vec<(usize, std::rc::Rc<[phi_path::Values]>)>>,
+    /// The basis' values and rates at [`Limited::phi_path_each`]'s points, by parts per span
+    /// ([`Limited::end_values`]).
+    ends: std::cell::RefCell<Vec<(usize, std::rc::Rc<[phi_path::Values]>)>>,
     /// The obstacles' rows that carry a gradient at the last evaluation with gradients, as
     /// `(row, point, d g / d phi)`: the row's index, its point's among the path's, and its
     /// slope in the base angle there (their curvature through `phi(t)`,
@@ -204,6 +207,7 @@ impl<'a> Limited<'a> {
             free,
             held,
             nodes: Default::default(),
+            ends: Default::default(),
             phi_slopes: Default::default(),
             obstacle_hessian: Default::default(),
             sines: Default::default(),

@@ -247,7 +247,7 @@ impl Limited<'_> {
             }
             let first = point.span - p;
             let keep = rows.keep_at(point.t);
-            let [value, _] = basis.values_and_rates(point.span, point.t);
+            let [value, _] = point.values;
             q[0] = point.phi;
             for j in 0..n {
                 q[j + 1] = (0..=p).map(|l| value[l] * c[j][first + l]).sum();
@@ -381,7 +381,7 @@ impl Limited<'_> {
             }
         } else {
             for p in self.own_points(rows) {
-                at(PathPoint { t: p.t, span: p.span, phi: p.phi, grad: &p.grad[..] });
+                at(PathPoint { t: p.t, span: p.span, phi: p.phi, grad: &p.grad[..], values: p.values });
             }
         }
     }

@@ -18,10 +18,11 @@ use nalgebra::{DMatrix, DVector};
 
 use super::super::connection::{Local, specialised};
 use super::clearance::OBSTACLE_PIECES;
-use super::phi_path::Values;
+use super::phi_path::{Values, path_on};
 use super::{Limited, torque_times};
 use crate::numerics::quadrature::GaussLegendre;
 use crate::planners::optimal::sqp::Discretised;
+use rayon::prelude::*;
 
 impl Limited<'_> {
     /// The indices of the base-range rows among [`Limited::inequalities`]' (empty without a
@@ -130,54 +131,60 @@ impl Limited<'_> {
         let dim = self.disc.dim();
         let mut h = DMatrix::zeros(dim, dim);
         let rule = super::phi_path::rule(OBSTACLE_PIECES);
+        let per_part = rule.weights.len();
         let nodes = self.node_values(OBSTACLE_PIECES);
-        let mut node = nodes.iter();
-        let mut local = Local::new(n);
-        let (mut th, mut w) = (vec![0.0; n], vec![0.0; n]);
+        let nodes: &[Values] = &nodes;
         // The nodes' sines and cosines where the rows' evaluation at this iterate kept them.
         let sines = self.known_sines(&c, OBSTACLE_PIECES, nodes.len());
-        let mut sines = sines.as_deref().map(|v| v.chunks_exact(n));
+        let sines = sines.as_deref();
+        let connection = self.connection;
         // A span's block in its `p + 1` coefficients of each joint, as `(p + 1)^2` tiles of
         // `n x n` (tile `(l, ll)` at `((l (p + 1) + ll) n + j) n + jj`), the tiles `ll >= l`
         // summed over its nodes (each node's term is symmetric; the others are their
-        // transposes) and added to `h` once.
+        // transposes); `None` where no node of the span has a weight.
         let (tiles, nn) = (p + 1, n * n);
-        let mut block = vec![0.0; tiles * tiles * nn];
-        // A node's `scale (value_ll hess g + rate_ll mixed)` and `scale value_ll mixed^T` of
-        // each `ll` ([`node_terms`]).
-        let mut terms = vec![0.0; 2 * tiles * nn];
-        for (s, win) in b.windows(2).enumerate() {
-            let span = basis.span_of_interval(s);
-            let first = span - p;
+        let block_of = |s: usize| -> Option<Vec<f64>> {
+            let parts = s * OBSTACLE_PIECES..(s + 1) * OBSTACLE_PIECES;
+            if weight[parts].iter().all(|v| *v == 0.0) {
+                return None;
+            }
+            let (win, span) = (&b[s..s + 2], basis.span_of_interval(s));
+            let mut local = Local::new(n);
+            let (mut th, mut w) = (vec![0.0; n], vec![0.0; n]);
+            let mut block = vec![0.0; tiles * tiles * nn];
+            // A node's `scale (value_ll hess g + rate_ll mixed)` and `scale value_ll mixed^T`
+            // of each `ll` ([`node_terms`]).
+            let mut terms = vec![0.0; 2 * tiles * nn];
             let width = (win[1] - win[0]) / OBSTACLE_PIECES as f64;
-            block.iter_mut().for_each(|v| *v = 0.0);
-            let mut touched = false;
             for k in 0..OBSTACLE_PIECES {
                 let part = s * OBSTACLE_PIECES + k;
+                if weight[part] == 0.0 {
+                    continue;
+                }
                 let (from, to) = (
                     win[0] + width * k as f64,
                     if k + 1 == OBSTACLE_PIECES { win[1] } else { win[0] + width * (k + 1) as f64 },
                 );
                 let half = (to - from) / 2.0;
-                for wi in &rule.weights {
-                    let values = node.next().expect("one basis' values per node");
-                    let known = sines.as_mut().and_then(|s| s.next());
-                    if weight[part] == 0.0 {
-                        continue;
-                    }
-                    touched = true;
-                    self.path_with(&c, span, values, &mut th, &mut w);
-                    match known {
-                        Some(sines) => self.connection.local_known(&th, &w, &mut local, sines),
-                        None => self.connection.local(&th, &w, &mut local),
+                for (i, wi) in rule.weights.iter().enumerate() {
+                    let at = part * per_part + i;
+                    let values = &nodes[at];
+                    path_on(n, p, &c, span, values, &mut th, &mut w);
+                    match sines {
+                        Some(v) => connection.local_known(&th, &w, &mut local, &v[at * n..(at + 1) * n]),
+                        None => connection.local(&th, &w, &mut local),
                     }
                     let scale = -half * wi * weight[part];
                     add_node(n, p, scale, values, &local, &mut terms, &mut block);
                 }
             }
-            if !touched {
-                continue;
-            }
+            Some(block)
+        };
+        // The spans share nothing: their blocks in parallel, added to `h` in their order (the
+        // same sums as one pass over them).
+        let blocks: Vec<Option<Vec<f64>>> = (0..b.len() - 1).into_par_iter().map(block_of).collect();
+        for (s, block) in blocks.iter().enumerate() {
+            let Some(block) = block else { continue };
             let entry = |l: usize, j: usize, ll: usize, jj: usize| {
                 if ll >= l {
                     block[(l * tiles + ll) * nn + j * n + jj]
@@ -185,7 +192,7 @@ impl Limited<'_> {
                     block[(ll * tiles + l) * nn + jj * n + j]
                 }
             };
-            self.add_to_span(&mut h, first, (p, n), entry);
+            self.add_to_span(&mut h, basis.span_of_interval(s) - p, (p, n), entry);
         }
         *self.obstacle_hessian.borrow_mut() = Some((key, h.clone()));
         Some(h)
