@@ -14,10 +14,14 @@
 //! motion at `T max(u_v, sqrt(u_a), sqrt(u_tau))`.
 //!
 //! The bracket's top is the plan without the rate limits (ranges kept) time-scaled that way and
-//! re-solved with them; full searches at doubling horizons only when that fails. Each probe of
+//! re-solved with them; where that fails, the time-scaled plan as it is, certified there
+//! (`too_short.rs`: a certified upper bound at the cost of that one search); full searches at
+//! doubling horizons only when both fail. Each probe of
 //! the bisection starts from the best plan so far, time-scaled to the probe's horizon (its
 //! holonomy multiplier too), and is solved on its goal representative alone (a failed full
-//! search costs every seed of every representative; a probe about as much as one refinement).
+//! search costs every seed of every representative; a probe about as much as one refinement);
+//! where the arm keeps a clearance, a probe's refinement that stalls on the constraints fits as
+//! well as a converged one (the certificate decides; `warm::Ending::Feasible`).
 //! The first probes step down from the top by 10 % until one fails (the bound below is often far
 //! from the shortest horizon, and a probe far below it fails at the cost of a stalled solve).
 //! The shortest horizon is thus that of the plan's own family of paths; the full search then runs
@@ -27,7 +31,8 @@
 //! full search at the failing horizon decides it (a family that is not the cheapest at the
 //! horizon found may fit shorter ones), and the bisection goes on below a plan it finds (without
 //! the line of the probes' goal representative where the search at the horizon found solved
-//! that line alone into the probes' plan: the probes decided it). Its
+//! that line alone into the probes' plan: the probes decided it; and without the clearance
+//! search's last resort). Its
 //! cost: one unconstrained search, two constrained ones (one of them failing), and about
 //! `log2(log(hi / lo) / log 1.01)` probes, fewer when the time-scaling bound is tight
 //! ([`ShortestHorizon::probes`]).
@@ -39,6 +44,7 @@ use std::time::Instant;
 use super::discrete::Targets;
 use super::search::COARSE_SQP;
 use super::tables::Tables;
+use super::warm::Ending;
 use super::{ChainPlan, ChainPlanner, ChainPoint, ChainProblem, WarmStart};
 use crate::dynamics::arm::inverse_dynamics;
 use crate::error::Error;
@@ -279,6 +285,11 @@ impl ChainPlanner {
                     && let Ok(plan) = self.probe(problem, &free, scaled)?
                 {
                     found = Some((scaled, plan));
+                } else if let Some(fit) = self.scaled_fit(&ChainProblem { horizon: t, ..problem.clone() }, &free)? {
+                    // That plan as it is, certified there (`too_short.rs`): on issue 21's
+                    // SPART-like example at 0.02 m the re-solve at 15.00 s stalled, and full
+                    // searches at doubling horizons, each with the clearance search, followed.
+                    found = Some((fit.horizon(), fit));
                 }
             }
             Err(e) if e.is_bad_input() => return Err(e),
@@ -391,7 +402,12 @@ impl ChainPlanner {
             // solved nothing else, and `--time auto` took 2041 M instructions instead of 4199 M.
             probes += 1;
             let decided_line = line.then(|| Arc::new(targets(problem, &plan)));
-            let deciding = ChainPlanner { deciding: true, decided_line, ..self.clone() };
+            // Without the clearance search's last resort (`keep_clear`), a soft search per goal
+            // representative: on issue 21's SPART-like example at 0.02 m it found a plan at
+            // every failing horizon, from which every probe failed, 0.6 % a round at 60 to 90 s
+            // each (8.40 s in 11.5 min of CPU); with the probes that accept a stalled refinement
+            // and without it, 7.79 s in 52 s (with it, the same in 79 s).
+            let deciding = ChainPlanner { deciding: true, decided_line, last_resort: false, ..self.clone() };
             match deciding.plan(&ChainProblem { horizon: below, ..problem.clone() }) {
                 Ok(p) if fits(&p) => (hi, plan) = (below, p),
                 Err(e) if e.is_bad_input() => return Err(e),
@@ -479,8 +495,13 @@ impl ChainPlanner {
         // steps keep to the holonomy instead of trading it for effort at a unit penalty (from
         // none, the 3-link velocity bench's probes first stepped 1.9 rad off it).
         let guess = Some(plan.stats.multiplier * k).filter(|g| g.is_finite() && *g != 0.0);
+        // Where the arm keeps a clearance, a refinement that stalls on the constraints is a plan
+        // that fits too (`Ending::Feasible`): on issue 21's SPART-like example at 0.02 m every
+        // probe's refinement stalled (KKT) 5e-11 rad off the holonomy, and the search went on
+        // by full searches at the failing horizons, one per 0.6 % (8.40 s in 11.5 min of CPU).
+        let ending = if super::limits::keeps_clearance(self) { Ending::Feasible } else { Ending::Converged };
         Ok(self
-            .solve_from(&scaled, targets, &path, (basis, guess, &PROBE_SQP), &tables, Instant::now())?
+            .solve_from(&scaled, targets, &path, (basis, guess, &PROBE_SQP, ending), &tables, Instant::now())?
             .and_then(|p| if fits(&p) { Ok(p) } else { Err(f64::NAN) }))
     }
 

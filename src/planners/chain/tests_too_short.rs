@@ -122,3 +122,71 @@ fn a_fold_too_short_is_planned_at_the_horizon_named() {
     );
     assert!(v.limits.as_ref().is_some_and(|l| l.inside), "{:?}", v.limits);
 }
+
+/// `shortest_horizon` on a SPART-like arm with shapes, `(start, goal)` in degrees (base angle
+/// first) from rest, the first probe at 10 s: the plan at the horizon found is certified on the
+/// integrated motion, inside every limit and clear by the clearance asked for, and the horizon
+/// is within 1 % of the largest known to fail. Returns the horizon and the time-scaled bound
+/// (`time_scaled_fit` at 10 s).
+fn spart_auto(file: &str, clearance: f64, start: [f64; 5], goal: [f64; 5]) -> (f64, f64) {
+    let mut arm = Arm::load(std::path::Path::new(&format!("{}/{file}", env!("CARGO_MANIFEST_DIR")))).expect("the file");
+    arm.geometry.clearance = clearance;
+    let deg = |v: [f64; 5]| v.iter().map(|x| x.to_radians()).collect::<Vec<_>>();
+    let problem = ChainProblem::rest_to_rest(deg(start), deg(goal), 10.0);
+    let planner = ChainPlanner::new(arm, ChainOptions::default());
+    let s = planner.shortest_horizon(&problem).expect("a horizon");
+    let v = &s.plan.verification;
+    let c = v.clearance.expect("shapes");
+    assert!(
+        v.certified && c.holds(),
+        "certified {}, least clearance {} between {} and {}",
+        v.certified,
+        c.min,
+        c.a,
+        c.b
+    );
+    assert!(v.limits.as_ref().is_some_and(|l| l.inside), "{:?}", v.limits);
+    assert!(s.horizon <= s.infeasible_below * 1.01 + 1e-12, "{} / {}", s.horizon, s.infeasible_below);
+    let bound = planner.time_scaled_fit(&problem).expect("no error").map_or(f64::INFINITY, |p| p.horizon());
+    eprintln!(
+        "{file}: T = {:.4} s ({} probes), effort {:.4}, {:.4} m clear; bound {bound:.4} s",
+        s.horizon,
+        s.probes,
+        s.plan.effort(),
+        c.min
+    );
+    (s.horizon, bound)
+}
+
+/// Issue 21's `--time auto` on the SPART-like tight fixture (its base box), (0, 30, -60, 45, -30)
+/// -> (30, 60, -30, 20, -60) deg: certified, clear, inside the limits, within 1 % of a failure
+/// ([`spart_auto`]), and at most the time-scaled bound (the bracket's top). Ignored: about 25 s
+/// of CPU in release, the bound's search included (`--time auto` alone: 12 s; stop 62: 59 s).
+#[test]
+#[ignore = "about 25 s of CPU in release: the clearance search of the SPART-like arm, twice"]
+fn spart_tight_auto_is_certified_and_clear() {
+    let (horizon, bound) = spart_auto(
+        "tests/fixtures/spart_like_4dof_tight.urdf",
+        0.0,
+        [0.0, 30.0, -60.0, 45.0, -30.0],
+        [30.0, 60.0, -30.0, 20.0, -60.0],
+    );
+    assert!(horizon <= bound, "{horizon} s above the bound {bound} s");
+}
+
+/// Issue 21's SPART-like example (1 rad/s, 20 N m) at 0.02 m, (-41, -9.7, -14.9, 31.2, 69.3) ->
+/// (53.9, 6.2, -7.7, -32.4, -65.0) deg (`tests/it/geometry.rs`): as [`spart_tight_auto_is_certified_and_clear`],
+/// and the probes descend below the time-scaled bound (15.27 s: the re-solve there stalls, and
+/// every probe's refinement stalls on the constraints). Ignored: about 80 s of CPU in release,
+/// the bound's search included (`--time auto` alone: 52 s; stop 61: 11.5 min).
+#[test]
+#[ignore = "about 80 s of CPU in release: the clearance search of the SPART-like arm, twice"]
+fn spart_example_auto_descends_below_the_time_scaled_bound() {
+    let (horizon, bound) = spart_auto(
+        "examples/robots/spart_like_4dof.urdf",
+        0.02,
+        [-41.0, -9.7, -14.9, 31.2, 69.3],
+        [53.9, 6.2, -7.7, -32.4, -65.0],
+    );
+    assert!(horizon < bound / 1.1, "{horizon} s against the bound {bound} s");
+}

@@ -134,7 +134,17 @@ impl ChainPlanner {
             Err(e) if e.is_bad_input() => return Err(e),
             _ => return Ok(None),
         };
-        let (_, scale) = uses(self, &free);
+        self.scaled_fit(problem, &free)
+    }
+
+    /// `free`, a plan of `problem` without the rate limits that clears, time-scaled and certified
+    /// as [`Self::time_scaled_fit`] does (its second half: up to two certificates, no search);
+    /// `None` from a moving start or where no margin fits.
+    pub(super) fn scaled_fit(&self, problem: &ChainProblem, free: &ChainPlan) -> Result<Option<ChainPlan>, Error> {
+        if problem.initial_velocity.iter().any(|w| *w != 0.0) || !fits(free) {
+            return Ok(None);
+        }
+        let (_, scale) = uses(self, free);
         let o = &self.options;
         for margin in SCALE_MARGINS {
             let horizon = problem.horizon * (scale * margin).max(1.0);
