@@ -382,6 +382,8 @@ pub struct ChainPlanner {
     sites: coil::Sites,
     /// The tables built by its calls ([`tables::KeptTables`]).
     tables: tables::KeptTables,
+    /// A two-joint arm's gauge, made by its first call that needs it ([`gauge::KeptGauge`]).
+    gauge: gauge::KeptGauge,
 }
 
 impl ChainPlanner {
@@ -402,6 +404,7 @@ impl ChainPlanner {
             held: None,
             sites: coil::Sites::default(),
             tables: tables::KeptTables::default(),
+            gauge: gauge::KeptGauge::default(),
         }
     }
 

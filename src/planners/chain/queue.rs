@@ -10,7 +10,6 @@
 //! decreases, so the search would skip it when it came to it). The representatives taken, and
 //! their order, are those of the eager [`ChainPlanner::prepare`].
 
-use super::gauge::Gauge;
 use super::seeds::Line;
 use super::starts::{Prepared, SeedContext};
 use super::{ChainPlanner, ChainProblem};
@@ -42,8 +41,6 @@ pub(super) struct Representatives {
     context: Option<SeedContext>,
     /// The place of the representative taken last.
     last: usize,
-    /// A two-joint arm's gauge, made when first needed (`None` inside: another joint count).
-    gauge: Option<Option<Gauge>>,
 }
 
 impl Representatives {
@@ -62,7 +59,7 @@ impl Representatives {
             }
         }
         let lines = lines.into_iter().map(|l| (l, None)).collect();
-        Self { lines, entries, context: Some(context), last: 0, gauge: None }
+        Self { lines, entries, context: Some(context), last: 0 }
     }
 
     /// Representatives prepared already, in their order.
@@ -79,7 +76,7 @@ impl Representatives {
                 prepared: Some(p),
             })
             .collect();
-        Self { lines: Vec::new(), entries, context: None, last: 0, gauge: None }
+        Self { lines: Vec::new(), entries, context: None, last: 0 }
     }
 
     /// Drops every representative left.
@@ -151,14 +148,15 @@ impl Representatives {
     }
 
     /// Whether the prepared entry `k`'s bound, raised to the gauge's ([`super::gauge`]) where a
-    /// plan bounds the cost (`best` finite: the gauge is made only then, and most plans of the
-    /// paper's problem at a = b = 0.1 never need it), is above `best`.
+    /// plan bounds the cost (`best` finite: the planner's gauge is made only then, and most plans
+    /// of the paper's problem at a = b = 0.1 never need it), is above `best`.
     fn beyond_gauge(&mut self, planner: &ChainPlanner, k: usize, best: f64) -> bool {
         let Some(scale) = self.context.as_ref().map(|c| c.scale).filter(|_| best.is_finite()) else { return false };
-        let Some(gauge) = self.gauge.get_or_insert_with(|| Gauge::new(&planner.connection)) else { return false };
+        let Some(gauge) = planner.gauge.get(&planner.connection) else { return false };
         let Some(p) = self.entries[k].prepared.as_mut() else { return false };
         let holonomy = p.targets.phi_start - p.targets.phi_end;
-        let bound = scale * gauge.effort_bound(&p.line.start, &p.line.end, holonomy, p.line.horizon);
+        let enough = best / scale;
+        let bound = scale * gauge.effort_bound(&p.line.start, &p.line.end, holonomy, p.line.horizon, enough);
         p.bound = p.bound.max(bound);
         p.bound > best
     }
