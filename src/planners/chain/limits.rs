@@ -24,7 +24,6 @@
 //! Every limit is tightened by a relative `1e-9` of itself so that a solution within the SQP's
 //! tolerance is inside the declared one.
 
-mod beside;
 mod clearance;
 pub(crate) use clearance::obstacles_within_reach;
 mod curvature;
@@ -115,8 +114,6 @@ pub(crate) struct Limited<'a> {
     /// The links' sines and cosines at the path's quadrature nodes, by parts per span
     /// ([`Limited::node_sines`]).
     sines: std::cell::RefCell<Vec<phi_path::Sines>>,
-    /// The rows found beside the last evaluation ([`beside`]).
-    beside: std::cell::RefCell<Option<beside::Beside>>,
 }
 
 /// The derivative spline's control-point rows: row `k` of the `m`-th derivative as
@@ -214,7 +211,6 @@ impl<'a> Limited<'a> {
             phi_slopes: Default::default(),
             obstacle_hessian: Default::default(),
             sines: Default::default(),
-            beside: Default::default(),
         })
     }
 
@@ -357,26 +353,9 @@ impl Discretised for Limited<'_> {
         self.disc.effort_cholesky()
     }
     fn evaluate(&self, x: &DVector<f64>, order: usize) -> Evaluation {
-        self.evaluate_beside(x, order)
+        self.disc.evaluate(x, order)
     }
     fn inequalities(&self, x: &DVector<f64>, order: usize) -> Option<Inequalities> {
-        Some(self.taken_beside(x, order).unwrap_or_else(|| self.rows(x, order)))
-    }
-    fn curvature(&self, x: &DVector<f64>, z: &[f64]) -> Option<nalgebra::DMatrix<f64>> {
-        let base = self.base_curvature(x, z);
-        match (base, self.obstacle_curvature(x, z)) {
-            (Some(a), Some(b)) => Some(a + b),
-            (a, b) => a.or(b),
-        }
-    }
-    fn curved_rows(&self) -> std::ops::Range<usize> {
-        self.base_rows()
-    }
-}
-
-impl Limited<'_> {
-    /// Every row of [`Discretised::inequalities`] at `x`, with gradients for `order >= 1`.
-    fn rows(&self, x: &DVector<f64>, order: usize) -> Inequalities {
         let c = self.disc.coefficients(x);
         let mut out = Inequalities::default();
         for row in &self.linear {
@@ -390,7 +369,17 @@ impl Limited<'_> {
         self.torques(&c, order, &mut out);
         self.base(&c, order, &mut out);
         self.clearance(&c, order, &mut out);
-        out
+        Some(out)
+    }
+    fn curvature(&self, x: &DVector<f64>, z: &[f64]) -> Option<nalgebra::DMatrix<f64>> {
+        let base = self.base_curvature(x, z);
+        match (base, self.obstacle_curvature(x, z)) {
+            (Some(a), Some(b)) => Some(a + b),
+            (a, b) => a.or(b),
+        }
+    }
+    fn curved_rows(&self) -> std::ops::Range<usize> {
+        self.base_rows()
     }
 }
 
