@@ -142,8 +142,10 @@ impl ChainPlanner {
                     // cheaper than the seeds' estimate); the next ones, of larger estimates, are
                     // lines too and are solved beside it, in parallel (one seed each), and then
                     // taken in order as if one by one (a result that lowers the best cost drops
-                    // the later ones its bound cuts).
-                    group.extend(queue.more(self, problem, best, rayon::current_num_threads() - 1, line_only));
+                    // the later ones its bound cuts). One line beside it, whatever the thread
+                    // count: the group's makeup decides the plan, which must not depend on the
+                    // machine (it was the thread count less one: 1 on two cores).
+                    group.extend(queue.more(self, problem, best, 1, line_only));
                     group.iter_mut().for_each(|p| p.seeds.truncate(1));
                 } else {
                     // Once a plan is refined, the batch's other representatives are solved beside
